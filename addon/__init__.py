@@ -1,0 +1,16 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""The Blender layer: operators and menus.  Register and unregister are symmetric."""
+
+from . import menus, operators
+
+_modules = (operators, menus)
+
+
+def register():
+    for module in _modules:
+        module.register()
+
+
+def unregister():
+    for module in reversed(_modules):
+        module.unregister()

@@ -1,0 +1,51 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Shift+A ▸ Phong in the Shader Editor."""
+
+import bpy
+
+from .operators import PHONG_OT_add_node_group, PHONG_OT_load_node_groups
+
+_SECTIONS = (
+    ("Lights", ("Phong Directional Light", "Phong Point Light", "Phong Spot Light",
+                "Phong Power Falloff")),
+    ("Terms", ("Phong Irradiant", "Phong Ambient", "Phong Diffuse", "Phong Specular",
+               "Phong Blinn Specular")),
+    ("Colour", ("Phong Color Add", "Phong Color Multiply")),
+    ("Model", ("Phong Shading",)),
+)
+
+
+class NODE_MT_phong_add(bpy.types.Menu):
+    """Node groups of the textbook Phong lighting model"""
+
+    bl_idname = "NODE_MT_phong_add"
+    bl_label = "Phong"
+
+    def draw(self, context):
+        layout = self.layout
+        for index, (_title, names) in enumerate(_SECTIONS):
+            if index:
+                layout.separator()
+            for name in names:
+                op = layout.operator(PHONG_OT_add_node_group.bl_idname,
+                                     text=name.removeprefix("Phong "))
+                op.group_name = name
+        layout.separator()
+        layout.operator(PHONG_OT_load_node_groups.bl_idname, icon="FILE_REFRESH")
+
+
+def _draw_add_menu(self, context):
+    space = context.space_data
+    if space is not None and getattr(space, "tree_type", None) == "ShaderNodeTree":
+        self.layout.separator()
+        self.layout.menu(NODE_MT_phong_add.bl_idname)
+
+
+def register():
+    bpy.utils.register_class(NODE_MT_phong_add)
+    bpy.types.NODE_MT_add.append(_draw_add_menu)
+
+
+def unregister():
+    bpy.types.NODE_MT_add.remove(_draw_add_menu)
+    bpy.utils.unregister_class(NODE_MT_phong_add)

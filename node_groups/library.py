@@ -1,0 +1,338 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""The Phong node-group library: every group of SPEC.md, as Python.
+
+Each group is a function that declares its sockets and returns its outputs as
+expressions (``expr.py``) that read like the seed formulas.  The same
+definitions are written as nodes by ``loader.py`` and evaluated on numpy arrays
+by the tests.  Section numbers refer to seed 000 (French notes) and seed 004
+(Italian slides).
+
+No ``bpy`` here.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+from dataclasses import dataclass, field
+
+from .expr import (
+    FLOAT, SHADER, VECTOR, Expr, at_least, cos, dot, emission, evaluate, geometry, input_,
+    length, less_than, maximum, minimum, normalize, power, select,
+)
+
+#: Bump when any group changes: files with older groups are upgraded in place.
+LIBRARY_VERSION = 1
+
+#: Smallest falloff denominator (SPEC: max(denominator, 1e-6)).
+MIN_DENOMINATOR = 1e-6
+
+WHITE = (1.0, 1.0, 1.0)
+BLACK = (0.0, 0.0, 0.0)
+GREY = (0.8, 0.8, 0.8)
+ZERO = (0.0, 0.0, 0.0)
+DOWN = (0.0, 0.0, -1.0)
+BIG = 1.0e9
+
+
+# -- the seed formulas, shared by the groups ---------------------------------
+
+def lambert(l, n):
+    """max(ℓ·n, 0) (seed 000 §3.4, seed 004 slide 37)."""
+    return maximum(dot(l, n), 0.0)
+
+
+def reflect(l, n):
+    """r = 2(ℓ·n)n - ℓ (seed 000 §3.5, Lemma 1)."""
+    return 2.0 * dot(l, n) * n - l
+
+
+def phong_factor(l, n, v, e):
+    """(r·v)^e where ℓ·n ≥ 0 and r·v ≥ 0, else 0 (seed 000 §3.5)."""
+    rv = dot(reflect(l, n), v)
+    return at_least(dot(l, n), 0.0) * at_least(rv, 0.0) * power(maximum(rv, 0.0), maximum(e, 0.0))
+
+
+def blinn_factor(l, n, v, e):
+    """(h·n)^e with h = (ℓ+v)/‖ℓ+v‖, where ℓ·n ≥ 0 and h·n ≥ 0, else 0 (seed 000 §3.5)."""
+    hn = dot(normalize(l + v), n)
+    return at_least(dot(l, n), 0.0) * at_least(hn, 0.0) * power(maximum(hn, 0.0), maximum(e, 0.0))
+
+
+def falloff(i0, r, quadratic, linear, constant):
+    """i0/(αr² + βr + γ) (seed 000 §2.2), denominator at least 1e-6."""
+    return i0 / maximum(quadratic * r * r + linear * r + constant, MIN_DENOMINATOR)
+
+
+def clamp_add(a, b):
+    """Cl1 ⊕ Cl2 = min(Cl1 + Cl2, 1) per channel (seed 000 §1.3)."""
+    return minimum(a + b, 1.0)
+
+
+# -- declaring groups ------------------------------------------------------
+
+@dataclass
+class Socket:
+    name: str
+    socket_type: str  # NodeSocketFloat / NodeSocketVector / NodeSocketColor / NodeSocketShader
+    description: str = ""
+    default: object = None
+    min: float | None = None
+    max: float | None = None
+    subtype: str | None = None
+
+    @property
+    def kind(self):
+        return {"NodeSocketFloat": FLOAT, "NodeSocketShader": SHADER}.get(self.socket_type, VECTOR)
+
+
+@dataclass
+class GroupDef:
+    name: str
+    description: str
+    inputs: list = field(default_factory=list)
+    outputs: list = field(default_factory=list)
+    expressions: dict = field(default_factory=dict)
+
+    # inputs ---------------------------------------------------------------
+    def _input(self, sock: Socket) -> Expr:
+        self.inputs.append(sock)
+        return input_(sock.name, sock.kind)
+
+    def value(self, name, default, description, min=-BIG, max=BIG, subtype=None) -> Expr:
+        return self._input(Socket(name, "NodeSocketFloat", description, float(default), min, max, subtype))
+
+    def vector(self, name, default, description) -> Expr:
+        return self._input(Socket(name, "NodeSocketVector", description, tuple(default), -BIG, BIG))
+
+    def color(self, name, default, description) -> Expr:
+        return self._input(Socket(name, "NodeSocketColor", description, (*default, 1.0)))
+
+    def normal(self) -> Expr:
+        """The Normal input: zero means Geometry ▸ Normal, anything else is normalized."""
+        n = self.vector("Normal", ZERO, "Surface normal n; leave at zero for the shading normal, "
+                                         "or plug a Normal Map / Bump node")
+        return select(less_than(length(n), 1e-30), geometry("Normal"), normalize(n))
+
+    def view(self) -> Expr:
+        """The View Vector input: zero means Geometry ▸ Incoming, anything else is normalized."""
+        v = self.vector("View Vector", ZERO, "Unit vector v from the point toward the viewer; "
+                                              "leave at zero for the camera direction")
+        return select(less_than(length(v), 1e-30), geometry("Incoming"), normalize(v))
+
+    # outputs --------------------------------------------------------------
+    def output(self, name, expression, description="") -> None:
+        socket_type = {FLOAT: "NodeSocketFloat", SHADER: "NodeSocketShader"}.get(expression.kind)
+        if socket_type is None:
+            socket_type = "NodeSocketColor" if name in _COLOR_OUTPUTS else "NodeSocketVector"
+        self.outputs.append(Socket(name, socket_type, description))
+        self.expressions[name] = expression
+
+    # for the tests and the loader ------------------------------------------
+    def defaults(self) -> dict:
+        return {s.name: s.default for s in self.inputs}
+
+    def evaluate(self, inputs: dict, geometry_values: dict | None = None) -> dict:
+        """The group's outputs on numpy arrays; missing inputs take their defaults."""
+        values = {**self.defaults(), **inputs}
+        memo: dict = {}
+        return {name: evaluate(e, values, geometry_values or {}, memo)
+                for name, e in self.expressions.items() if e.kind != SHADER}
+
+    @property
+    def fingerprint(self) -> str:
+        """Changes whenever the sockets or the formulas change."""
+        text = repr((self.inputs, self.outputs, sorted(self.expressions.items())))
+        return hashlib.sha256(text.encode()).hexdigest()[:16]
+
+
+_COLOR_OUTPUTS = {"Color", "Irradiant", "Ambient", "Diffuse", "Specular"}
+
+GROUPS: dict = {}
+
+
+def group(name, description):
+    def register(fn):
+        g = GroupDef(name, description)
+        fn(g)
+        GROUPS[name] = g
+        return fn
+    return register
+
+
+# Tooltips used by several groups
+_L = "Unit vector ℓ from the shaded point toward the light (from a Phong light group)"
+_I = "Light intensity i_source (dimensionless, not watts)"
+_LC = "Colour of the light, Cl_source"
+_OC = "Colour of the object, Cl_objet"
+_SC = "Colour of the highlights (seed 004's H; seed 000 uses the object colour)"
+_E = "Specular exponent (shininess): higher gives smaller, sharper highlights"
+_POS = "Position S of the light in world space"
+_I0 = "Intensity i0 received at distance 1"
+_ALPHA = "α in 1/(αr²+βr+γ): 1 gives the physical i0/r²"
+_BETA = "β in 1/(αr²+βr+γ)"
+_GAMMA = "γ in 1/(αr²+βr+γ)"
+
+
+# -- light models (seed 000 §2, seed 004 slides 43-46) ---------------------
+
+@group("Phong Directional Light", "Sun-like light: the same direction and intensity everywhere (seed 000 §2.1)")
+def _directional(g):
+    u = g.vector("Direction", DOWN, "Direction u in which the rays travel")
+    i = g.value("Intensity", 1.0, _I, min=0.0)
+    g.output("Light Vector", -normalize(u), "ℓ = -u/‖u‖")
+    g.output("Intensity", i, "The light's intensity, the same at every point")
+
+
+def _falloff_inputs(g):
+    i0 = g.value("Intensity", 1.0, _I0, min=0.0)
+    a = g.value("Quadratic", 1.0, _ALPHA, min=0.0)
+    b = g.value("Linear", 0.0, _BETA, min=0.0)
+    c = g.value("Constant", 0.0, _GAMMA, min=0.0)
+    return i0, a, b, c
+
+
+@group("Phong Point Light", "Bulb-like light radiating from a point, with distance falloff (seed 000 §2.2)")
+def _point(g):
+    s = g.vector("Position", ZERO, _POS)
+    i0, a, b, c = _falloff_inputs(g)
+    to_light = s - geometry("Position")
+    r = length(to_light)
+    g.output("Light Vector", normalize(to_light), "ℓ = (S-P)/‖S-P‖")
+    g.output("Intensity", falloff(i0, r, a, b, c), "i0/(αr²+βr+γ)")
+    g.output("Distance", r, "r = ‖S-P‖")
+
+
+@group("Phong Spot Light", "Point light limited to a cone, with a cos^e soft edge (seed 000 §2.3)")
+def _spot(g):
+    s = g.vector("Position", ZERO, _POS)
+    u = g.vector("Direction", DOWN, "Axis u of the cone (normalized inside)")
+    theta = g.value("Half Angle", math.radians(30.0), "Half angle θ of the cone",
+                    min=0.0, max=math.pi, subtype="ANGLE")
+    e_att = g.value("Edge Exponent", 0.0, "e_att: 0 gives a hard edge, higher values a softer one",
+                    min=0.0, max=10000.0)
+    i0, a, b, c = _falloff_inputs(g)
+    to_light = s - geometry("Position")
+    r = length(to_light)
+    l = normalize(to_light)
+    cos_w = -dot(l, normalize(u))
+    in_cone = at_least(cos_w, cos(theta))
+    edge = power(maximum(cos_w, 0.0), maximum(e_att, 0.0))
+    g.output("Light Vector", l, "ℓ = (S-P)/‖S-P‖")
+    g.output("Intensity", falloff(i0, r, a, b, c) * edge * in_cone,
+             "i0/(αr²+βr+γ)·cos(ω)^e_att inside the cone, else 0")
+    g.output("Distance", r, "r = ‖S-P‖")
+    g.output("Cos Angle", cos_w, "cos ω = -ℓ·u")
+    g.output("In Cone", in_cone, "1 where cos ω ≥ cos θ, else 0")
+
+
+@group("Phong Power Falloff", "Attenuation i0/d^k (seed 004 slide 46: k = 2 physical, 1 softer, 0 none)")
+def _power_falloff(g):
+    d = g.value("Distance", 1.0, "Distance d to the light", min=0.0)
+    i0 = g.value("Intensity", 1.0, _I0, min=0.0)
+    k = g.value("Exponent", 2.0, "k: 2 physical, 1 softer, 0 no attenuation", min=0.0, max=16.0)
+    g.output("Intensity", i0 / maximum(power(maximum(d, 0.0), maximum(k, 0.0)), MIN_DENOMINATOR),
+             "i0/d^k")
+
+
+# -- Phong terms (seed 000 §3, seed 004 slides 38-66) ----------------------
+
+@group("Phong Irradiant", "Light emitted by the object itself, Cl_irr (seed 000 §3.2)")
+def _irradiant(g):
+    g.output("Color", g.color("Color", BLACK, "Irradiant colour Cl_irr"), "Cl_irr")
+
+
+@group("Phong Ambient", "Sourceless light, the same everywhere (seed 000 §3.3)")
+def _ambient(g):
+    i = g.value("Intensity", 1.0, "Ambient intensity i_source", min=0.0)
+    lc = g.color("Light Color", WHITE, "Colour of the ambient light")
+    oc = g.color("Object Color", GREY, _OC)
+    g.output("Color", i * lc * oc, "i·Cl_source ⊗ Cl_objet")
+
+
+def _term_inputs(g, color_name, color_default, color_tip):
+    l = g.vector("Light Vector", ZERO, _L)
+    i = g.value("Intensity", 1.0, _I, min=0.0)
+    lc = g.color("Light Color", WHITE, _LC)
+    c = g.color(color_name, color_default, color_tip)
+    return l, i, lc, c
+
+
+@group("Phong Diffuse", "Lambert diffuse term of matte surfaces (seed 000 §3.4)")
+def _diffuse(g):
+    l, i, lc, oc = _term_inputs(g, "Object Color", GREY, _OC)
+    n = g.normal()
+    g.output("Color", i * lambert(l, n) * lc * oc, "i·max(ℓ·n, 0)·Cl_source ⊗ Cl_objet")
+
+
+def _specular_group(g, factor, formula):
+    l, i, lc, sc = _term_inputs(g, "Specular Color", WHITE, _SC)
+    e = g.value("Exponent", 30.0, _E, min=0.0, max=10000.0)
+    n = g.normal()
+    v = g.view()
+    g.output("Color", i * factor(l, n, v, e) * lc * sc, formula)
+
+
+@group("Phong Specular", "Phong highlight around the mirror direction (seed 000 §3.5)")
+def _specular(g):
+    _specular_group(g, phong_factor, "i·(r·v)^e·Cl_source ⊗ Cl_spec, r = 2(ℓ·n)n - ℓ")
+
+
+@group("Phong Blinn Specular", "Blinn-Phong highlight with the half vector (seed 000 §3.5)")
+def _blinn(g):
+    _specular_group(g, blinn_factor, "i·(h·n)^e·Cl_source ⊗ Cl_spec, h = (ℓ+v)/‖ℓ+v‖")
+
+
+# -- colour operations (seed 000 §1.3) -------------------------------------
+
+@group("Phong Color Add", "Colour addition without exceeding 1 (seed 000 §1.3)")
+def _color_add(g):
+    a = g.color("A", BLACK, "First colour")
+    b = g.color("B", BLACK, "Second colour")
+    g.output("Color", clamp_add(a, b), "min(A + B, 1) per channel")
+
+
+@group("Phong Color Multiply", "Colour product: the colour an object shows under a light (seed 000 §1.3)")
+def _color_multiply(g):
+    a = g.color("A", WHITE, "First colour, e.g. the light's")
+    b = g.color("B", WHITE, "Second colour, e.g. the object's")
+    f = g.value("Factor", 1.0, "Multiplier to brighten dark products", min=0.0)
+    g.output("Color", f * a * b, "Factor·A ⊗ B")
+
+
+# -- one light, every term ---------------------------------------------------
+
+@group("Phong Shading", "The whole Phong model for one light: irradiant + ambient + diffuse + specular")
+def _shading(g):
+    l = g.vector("Light Vector", ZERO, _L)
+    i = g.value("Light Intensity", 1.0, _I, min=0.0)
+    lc = g.color("Light Color", WHITE, _LC)
+    oc = g.color("Object Color", GREY, _OC)
+    irr = g.color("Irradiant Color", BLACK, "Light emitted by the object itself, Cl_irr")
+    amb_i = g.value("Ambient Intensity", 0.1, "Intensity of the ambient light", min=0.0)
+    amb_c = g.color("Ambient Color", WHITE, "Colour of the ambient light")
+    kd = g.value("Diffuse Strength", 1.0, "i_source,diff / i_source (seed 000 §3.5)", min=0.0)
+    ks = g.value("Specular Strength", 1.0, "i_source,spec / i_source (seed 000 §3.5)", min=0.0)
+    sc = g.color("Specular Color", WHITE, _SC)
+    e = g.value("Exponent", 30.0, _E, min=0.0, max=10000.0)
+    blinn = g.value("Blinn", 0.0, "0 = Phong, 1 = Blinn-Phong, between = blend", min=0.0, max=1.0,
+                    subtype="FACTOR")
+    n = g.normal()
+    v = g.view()
+    ambient = amb_i * amb_c * oc
+    diffuse = kd * i * lambert(l, n) * lc * oc
+    factor = (1.0 - blinn) * phong_factor(l, n, v, e) + blinn * blinn_factor(l, n, v, e)
+    specular = ks * i * factor * lc * sc
+    color = minimum(irr + ambient + diffuse + specular, 1.0)
+    g.output("Irradiant", irr, "Cl_irr")
+    g.output("Ambient", ambient, "Ambient term")
+    g.output("Diffuse", diffuse, "Diffuse term")
+    g.output("Specular", specular, "Specular term")
+    g.output("Color", color, "Clamped sum of the four terms")
+    g.output("Shader", emission(color), "Emission of Color at strength 1: the model's colour in any engine")
+
+
+NAMES = tuple(GROUPS)
+
+__all__ = ["GROUPS", "NAMES", "LIBRARY_VERSION", "GroupDef", "Socket", "lambert", "reflect",
+           "phong_factor", "blinn_factor", "falloff", "clamp_add"]
