@@ -1,0 +1,495 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Independent numpy reference of the Phong node groups (the ground truth for tests).
+
+Pure numpy, no ``bpy``: every function evaluates, in float64 and vectorised, exactly the
+formula that SPEC.md assigns to one node group.  Vectors and colours are arrays of shape
+``(..., 3)`` (an RGBA colour's alpha is dropped), scalars have shape ``(...)`` or are python
+floats; all arguments broadcast against each other.
+
+Sources (section numbers of the two seed documents in ``shared/seeds``):
+
+* seed 000 (French lecture notes)
+    - §1.3 colours: addition ``min(a + b, 1)`` per channel, multiplication term by term;
+      example: magenta light (1, 0, 1) on a yellow object (1, 1, 0) is seen red (1, 0, 0).
+    - §1.4 notations: ℓ unit from P toward the source S, n unit normal, v unit from P
+      toward the observer O.
+    - §2.1 directional light: ℓ = -u/‖u‖, constant over P.
+    - §2.2 point light: ℓ = PS/‖PS‖, Proposition 1 ``i = i0/r²``, generalised
+      ``i = 1/(αr² + βr + γ)`` (α = 1/i0, β = γ = 0 gives back i0/r²).
+    - §2.3 spot: Proposition 2, P is in the cone iff ``cos ω >= cos θ`` with
+      ``cos ω = -ℓ·u``; soft edge ``(cos ω)^e_att`` (e_att = 0: hard edge).
+    - §3.1 Phong model: Cl = Cl_irr ⊕ Cl_amb ⊕ Cl_diff ⊕ Cl_spec.
+    - §3.2 irradiant Cl_irr; §3.3 ambient ``i Cl_source ⊗ Cl_objet``;
+      §3.4 diffuse ``i max(ℓ·n, 0) Cl_source ⊗ Cl_objet``;
+      §3.5 specular, Lemma 1 ``r = 2(ℓ·n)n - ℓ``, ``i (r·v)^e Cl_source ⊗ Cl_objet`` when
+      ℓ·n >= 0 and r·v >= 0, else black; Blinn-Phong variant ``h = (ℓ+v)/‖ℓ+v‖``,
+      ``i (h·n)^e ...`` when ℓ·n >= 0 and h·n >= 0.
+* seed 004 (Italian slides)
+    - slide 43: with no light at all the result is black (0, 0, 0);
+    - slides 44-45: directional / positional lights, ω_i = (p_L - p)/‖p_L - p‖;
+    - slide 46: falloff ``1/d^k``, k = 2 physical, 1 softer, 0 no attenuation;
+    - slides 57-64: R = -ω_i + 2(ω_i·n)n, Phong ``(ω_r·R)^s H ⊗ L``, Blinn-Phong
+      ``(n·ω_h)^s H ⊗ L`` (H = the highlight colour, our "Specular Color").
+
+Project conventions that complete SPEC where it is silent:
+
+* ``normalize(v)`` = v/‖v‖, and a zero vector (‖v‖ <= 1e-30) gives the zero vector.
+* A Normal input equal to zero means the geometry normal (``geometry_normal``, normalized);
+  any other value is normalized.  A View Vector equal to zero means ``incoming``
+  (Geometry ▸ Incoming, normalized); any other value is normalized.
+* Light Vector inputs of the term groups are used as given (not re-normalized).
+* Exponents are clamped at 0 (``max(e, 0)``) and ``pow(0, 0) = 1``.  The masked power
+  bases are ``max(x, 0)``.  Falloff denominators are ``max(denominator, 1e-6)``.
+* The inequalities are non-strict (ℓ·n >= 0, r·v >= 0, h·n >= 0, cos ω >= cos θ) and are
+  applied literally, also for a zero Light Vector.
+
+Each function returns a dict keyed by the SPEC output socket names; ``GROUPS`` maps every
+SPEC group name to a generic ``f(inputs, geometry) -> outputs`` evaluator.
+"""
+
+import math
+
+import numpy as np
+
+__all__ = [
+    "EPS_LENGTH",
+    "EPS_DENOMINATOR",
+    "normalize",
+    "dot",
+    "resolve_normal",
+    "resolve_view",
+    "directional_light",
+    "point_light",
+    "spot_light",
+    "power_falloff",
+    "irradiant",
+    "ambient",
+    "diffuse",
+    "specular",
+    "blinn_specular",
+    "color_add",
+    "color_multiply",
+    "phong_shading",
+    "GROUPS",
+    "DEFAULTS",
+]
+
+#: A vector whose length is at most this is the zero vector.
+EPS_LENGTH = 1e-30
+#: Falloff denominators are taken as max(denominator, EPS_DENOMINATOR).
+EPS_DENOMINATOR = 1e-6
+
+_ZERO3 = (0.0, 0.0, 0.0)
+_ONE3 = (1.0, 1.0, 1.0)
+_UP = (0.0, 0.0, 1.0)
+
+
+# ---------------------------------------------------------------------------
+# helpers
+# ---------------------------------------------------------------------------
+
+def _vec(x):
+    """float64 array of shape (..., 3)."""
+    a = np.asarray(x, dtype=np.float64)
+    if a.ndim == 0 or a.shape[-1] != 3:
+        raise ValueError("expected a 3-vector (shape (..., 3)), got shape %r" % (a.shape,))
+    return a
+
+
+def _col(x):
+    """float64 colour of shape (..., 3); an RGBA colour loses its alpha (SPEC: alpha ignored)."""
+    a = np.asarray(x, dtype=np.float64)
+    if a.ndim >= 1 and a.shape[-1] == 4:
+        a = a[..., :3]
+    if a.ndim == 0 or a.shape[-1] != 3:
+        raise ValueError("expected an RGB colour (shape (..., 3)), got shape %r" % (a.shape,))
+    return a
+
+
+def _sca(x):
+    """float64 scalar array of shape (...)."""
+    return np.asarray(x, dtype=np.float64)
+
+
+def dot(a, b):
+    """a·b over the last axis (shape (...))."""
+    return np.sum(np.asarray(a, dtype=np.float64) * np.asarray(b, dtype=np.float64), axis=-1)
+
+
+def _length(v):
+    return np.sqrt(dot(v, v))
+
+
+def normalize(v):
+    """v/‖v‖; the zero vector (‖v‖ <= 1e-30) gives the zero vector."""
+    v = _vec(v)
+    n = _length(v)
+    ok = n > EPS_LENGTH
+    safe = np.where(ok, n, 1.0)
+    return np.where(ok[..., None], v / safe[..., None], 0.0)
+
+
+def _is_zero(v):
+    return _length(v) <= EPS_LENGTH
+
+
+def resolve_normal(normal, geometry_normal):
+    """Normal socket: zero -> normalize(geometry_normal), otherwise normalize(normal)."""
+    normal = _vec(normal)
+    return np.where(_is_zero(normal)[..., None], normalize(geometry_normal), normalize(normal))
+
+
+def resolve_view(view_vector, incoming):
+    """View Vector socket: zero -> normalize(incoming), otherwise normalize(view_vector)."""
+    view_vector = _vec(view_vector)
+    return np.where(_is_zero(view_vector)[..., None], normalize(incoming), normalize(view_vector))
+
+
+def _masked_pow(base, mask, exponent):
+    """mask · max(base, 0)^max(exponent, 0), with pow(0, 0) = 1 and 0 outside the mask."""
+    e = np.maximum(_sca(exponent), 0.0)
+    with np.errstate(over="ignore", invalid="ignore"):
+        p = np.power(np.maximum(base, 0.0), e)
+    return np.where(mask, p, 0.0)
+
+
+def _falloff(intensity, distance, quadratic, linear, constant):
+    """i0 / max(α r² + β r + γ, 1e-6)."""
+    r = _sca(distance)
+    den = _sca(quadratic) * r * r + _sca(linear) * r + _sca(constant)
+    return _sca(intensity) / np.maximum(den, EPS_DENOMINATOR)
+
+
+# ---------------------------------------------------------------------------
+# light models (seed 000 §2, seed 004 slides 43-46)
+# ---------------------------------------------------------------------------
+
+def directional_light(direction=(0.0, 0.0, -1.0), intensity=1.0, geometry_position=_ZERO3):
+    """Phong Directional Light (seed 000 §2.1): ℓ = -u/‖u‖, Intensity = i, both constant over P.
+
+    ``geometry_position`` (P) only fixes the output shape (outputs broadcast over it).
+    Zero u gives ℓ = 0 (no light).
+    """
+    u = _vec(direction)
+    p = _vec(geometry_position)
+    ell = -normalize(u)
+    batch = np.broadcast_shapes(ell.shape[:-1], p.shape[:-1], _sca(intensity).shape)
+    ell = np.broadcast_to(ell, batch + (3,)).copy()
+    i = np.broadcast_to(_sca(intensity), batch).copy()
+    return {"Light Vector": ell, "Intensity": i}
+
+
+def point_light(position=_ZERO3, intensity=1.0, quadratic=1.0, linear=0.0, constant=0.0,
+                geometry_position=_ZERO3):
+    """Phong Point Light (seed 000 §2.2, seed 004 slides 45-46).
+
+    ℓ = (S-P)/‖S-P‖ (zero when S = P), r = ‖S-P‖, Intensity = i0 / max(αr² + βr + γ, 1e-6).
+    ``position`` is the light's Position socket S, ``geometry_position`` the shaded point P.
+    """
+    d = _vec(position) - _vec(geometry_position)
+    r = _length(d)
+    ell = normalize(d)
+    i = _falloff(intensity, r, quadratic, linear, constant)
+    batch = np.broadcast_shapes(ell.shape[:-1], i.shape)
+    return {
+        "Light Vector": np.broadcast_to(ell, batch + (3,)).copy(),
+        "Intensity": np.broadcast_to(i, batch).copy(),
+        "Distance": np.broadcast_to(r, batch).copy(),
+    }
+
+
+def spot_light(position=_ZERO3, direction=(0.0, 0.0, -1.0), half_angle=math.radians(30.0),
+               edge_exponent=0.0, intensity=1.0, quadratic=1.0, linear=0.0, constant=0.0,
+               geometry_position=_ZERO3):
+    """Phong Spot Light (seed 000 §2.3, Proposition 2).
+
+    ℓ = normalize(S-P), r = ‖S-P‖, cos ω = -ℓ·normalize(u), In Cone = [cos ω >= cos θ],
+    Intensity = i0/max(αr²+βr+γ, 1e-6) · max(cos ω, 0)^max(e_att, 0) · In Cone.
+    """
+    d = _vec(position) - _vec(geometry_position)
+    r = _length(d)
+    ell = normalize(d)
+    u = normalize(direction)
+    cos_w = -dot(ell, u)
+    in_cone = cos_w >= np.cos(_sca(half_angle))
+    i = _falloff(intensity, r, quadratic, linear, constant) * _masked_pow(cos_w, in_cone, edge_exponent)
+    batch = np.broadcast_shapes(ell.shape[:-1], i.shape, cos_w.shape, in_cone.shape)
+    return {
+        "Light Vector": np.broadcast_to(ell, batch + (3,)).copy(),
+        "Intensity": np.broadcast_to(i, batch).copy(),
+        "Distance": np.broadcast_to(r, batch).copy(),
+        "Cos Angle": np.broadcast_to(cos_w, batch).astype(np.float64),
+        "In Cone": np.broadcast_to(in_cone, batch).astype(np.float64),
+    }
+
+
+def power_falloff(distance=1.0, intensity=1.0, exponent=2.0):
+    """Phong Power Falloff (seed 004 slide 46): Intensity = i0 / max(max(d, 0)^max(k, 0), 1e-6).
+
+    k = 2 physical, k = 1 softer, k = 0 no attenuation (pow(0, 0) = 1).
+    """
+    d = np.maximum(_sca(distance), 0.0)
+    k = np.maximum(_sca(exponent), 0.0)
+    with np.errstate(over="ignore"):
+        den = np.power(d, k)
+    return {"Intensity": _sca(intensity) / np.maximum(den, EPS_DENOMINATOR)}
+
+
+# ---------------------------------------------------------------------------
+# Phong terms (seed 000 §3, seed 004 slides 38-66)
+# ---------------------------------------------------------------------------
+
+def irradiant(color=_ZERO3):
+    """Phong Irradiant (seed 000 §3.2): Color = Cl_irr, the input."""
+    return {"Color": _col(color).copy()}
+
+
+def ambient(intensity=1.0, light_color=_ONE3, object_color=(0.8, 0.8, 0.8)):
+    """Phong Ambient (seed 000 §3.3): Color = i · Cl_source ⊗ Cl_objet."""
+    return {"Color": _sca(intensity)[..., None] * _col(light_color) * _col(object_color)}
+
+
+def diffuse(light_vector=_ZERO3, intensity=1.0, light_color=_ONE3, object_color=(0.8, 0.8, 0.8),
+            normal=_ZERO3, geometry_normal=_UP):
+    """Phong Diffuse (seed 000 §3.4): Color = i · max(ℓ·n, 0) · Cl_source ⊗ Cl_objet."""
+    n = resolve_normal(normal, geometry_normal)
+    f = np.maximum(dot(_vec(light_vector), n), 0.0)
+    return {"Color": (_sca(intensity) * f)[..., None] * _col(light_color) * _col(object_color)}
+
+
+def phong_factor(light_vector, normal, view):
+    """[ℓ·n >= 0 and r·v >= 0] · max(r·v, 0) base and mask, r = 2(ℓ·n)n - ℓ (Lemma 1).
+
+    ``normal`` and ``view`` are already resolved; returns (r·v, mask).
+    """
+    ell = _vec(light_vector)
+    ln = dot(ell, normal)
+    r = 2.0 * ln[..., None] * normal - ell
+    rv = dot(r, view)
+    return rv, (ln >= 0.0) & (rv >= 0.0)
+
+
+def blinn_factor(light_vector, normal, view):
+    """h = normalize(ℓ + v); returns (h·n, mask) with mask = [ℓ·n >= 0 and h·n >= 0]."""
+    ell = _vec(light_vector)
+    ln = dot(ell, normal)
+    h = normalize(ell + view)
+    hn = dot(h, normal)
+    return hn, (ln >= 0.0) & (hn >= 0.0)
+
+
+def specular(light_vector=_ZERO3, intensity=1.0, light_color=_ONE3, specular_color=_ONE3,
+             exponent=30.0, normal=_ZERO3, view_vector=_ZERO3, geometry_normal=_UP, incoming=_UP):
+    """Phong Specular (seed 000 §3.5, seed 004 slides 57-58).
+
+    r = 2(ℓ·n)n - ℓ; Color = i · (r·v)^e · Cl_source ⊗ Cl_spec where ℓ·n >= 0 and r·v >= 0,
+    else 0 (e clamped at 0, pow(0, 0) = 1).
+    """
+    n = resolve_normal(normal, geometry_normal)
+    v = resolve_view(view_vector, incoming)
+    rv, mask = phong_factor(light_vector, n, v)
+    f = _masked_pow(rv, mask, exponent)
+    return {"Color": (_sca(intensity) * f)[..., None] * _col(light_color) * _col(specular_color)}
+
+
+def blinn_specular(light_vector=_ZERO3, intensity=1.0, light_color=_ONE3, specular_color=_ONE3,
+                   exponent=30.0, normal=_ZERO3, view_vector=_ZERO3, geometry_normal=_UP,
+                   incoming=_UP):
+    """Phong Blinn Specular (seed 000 §3.5 Blinn-Phong, seed 004 slides 61-64).
+
+    h = (ℓ+v)/‖ℓ+v‖ (zero if ℓ+v = 0); Color = i · (h·n)^e · Cl_source ⊗ Cl_spec where
+    ℓ·n >= 0 and h·n >= 0, else 0.
+    """
+    n = resolve_normal(normal, geometry_normal)
+    v = resolve_view(view_vector, incoming)
+    hn, mask = blinn_factor(light_vector, n, v)
+    f = _masked_pow(hn, mask, exponent)
+    return {"Color": (_sca(intensity) * f)[..., None] * _col(light_color) * _col(specular_color)}
+
+
+# ---------------------------------------------------------------------------
+# colour operations (seed 000 §1.3)
+# ---------------------------------------------------------------------------
+
+def color_add(a=_ZERO3, b=_ZERO3):
+    """Phong Color Add (seed 000 §1.3): Color = min(A + B, 1) per channel (no lower clamp)."""
+    return {"Color": np.minimum(_col(a) + _col(b), 1.0)}
+
+
+def color_multiply(a=_ONE3, b=_ONE3, factor=1.0):
+    """Phong Color Multiply (seed 000 §1.3): Color = Factor · A ⊗ B."""
+    return {"Color": _sca(factor)[..., None] * _col(a) * _col(b)}
+
+
+# ---------------------------------------------------------------------------
+# one light, every term
+# ---------------------------------------------------------------------------
+
+def phong_shading(light_vector=_ZERO3, light_intensity=1.0, light_color=_ONE3,
+                  object_color=(0.8, 0.8, 0.8), irradiant_color=_ZERO3, ambient_intensity=0.1,
+                  ambient_color=_ONE3, diffuse_strength=1.0, specular_strength=1.0,
+                  specular_color=_ONE3, exponent=30.0, blinn=0.0, normal=_ZERO3,
+                  view_vector=_ZERO3, geometry_normal=_UP, incoming=_UP):
+    """Phong Shading (seed 000 §3.1): one light, every term.
+
+    Irradiant = Irradiant Color
+    Ambient   = Ambient Intensity · Ambient Color ⊗ Object Color
+    Diffuse   = Diffuse Strength · Light Intensity · max(ℓ·n, 0) · Light Color ⊗ Object Color
+    Specular  = Specular Strength · Light Intensity · ((1-Blinn)·phong + Blinn·blinn)
+                · Light Color ⊗ Specular Color   (phong, blinn: the masked powers)
+    Color     = min(Irradiant + Ambient + Diffuse + Specular, 1) per channel
+    (The Shader output, Emission(Color), is not represented here.)
+    """
+    ell = _vec(light_vector)
+    n = resolve_normal(normal, geometry_normal)
+    v = resolve_view(view_vector, incoming)
+    lc = _col(light_color)
+    oc = _col(object_color)
+    li = _sca(light_intensity)
+
+    irr = _col(irradiant_color)
+    amb = _sca(ambient_intensity)[..., None] * _col(ambient_color) * oc
+    dif = (_sca(diffuse_strength) * li * np.maximum(dot(ell, n), 0.0))[..., None] * lc * oc
+    rv, pmask = phong_factor(ell, n, v)
+    hn, bmask = blinn_factor(ell, n, v)
+    pf = _masked_pow(rv, pmask, exponent)
+    bf = _masked_pow(hn, bmask, exponent)
+    b = _sca(blinn)
+    spec_f = (1.0 - b) * pf + b * bf
+    spe = (_sca(specular_strength) * li * spec_f)[..., None] * lc * _col(specular_color)
+    color = np.minimum(irr + amb + dif + spe, 1.0)
+    batch = color.shape
+    return {
+        "Irradiant": np.broadcast_to(irr, batch).copy(),
+        "Ambient": np.broadcast_to(amb, batch).copy(),
+        "Diffuse": np.broadcast_to(dif, batch).copy(),
+        "Specular": np.broadcast_to(spe, batch).copy(),
+        "Color": color,
+    }
+
+
+# ---------------------------------------------------------------------------
+# generic table: SPEC group name -> f(inputs, geometry)
+# ---------------------------------------------------------------------------
+
+#: For each SPEC group: (function, {SPEC input socket name: keyword}, {geometry key: keyword}).
+_TABLE = {
+    "Phong Directional Light": (
+        directional_light,
+        {"Direction": "direction", "Intensity": "intensity"},
+        {"Position": "geometry_position"},
+    ),
+    "Phong Point Light": (
+        point_light,
+        {"Position": "position", "Intensity": "intensity", "Quadratic": "quadratic",
+         "Linear": "linear", "Constant": "constant"},
+        {"Position": "geometry_position"},
+    ),
+    "Phong Spot Light": (
+        spot_light,
+        {"Position": "position", "Direction": "direction", "Half Angle": "half_angle",
+         "Edge Exponent": "edge_exponent", "Intensity": "intensity", "Quadratic": "quadratic",
+         "Linear": "linear", "Constant": "constant"},
+        {"Position": "geometry_position"},
+    ),
+    "Phong Power Falloff": (
+        power_falloff,
+        {"Distance": "distance", "Intensity": "intensity", "Exponent": "exponent"},
+        {},
+    ),
+    "Phong Irradiant": (irradiant, {"Color": "color"}, {}),
+    "Phong Ambient": (
+        ambient,
+        {"Intensity": "intensity", "Light Color": "light_color", "Object Color": "object_color"},
+        {},
+    ),
+    "Phong Diffuse": (
+        diffuse,
+        {"Light Vector": "light_vector", "Intensity": "intensity", "Light Color": "light_color",
+         "Object Color": "object_color", "Normal": "normal"},
+        {"Normal": "geometry_normal"},
+    ),
+    "Phong Specular": (
+        specular,
+        {"Light Vector": "light_vector", "Intensity": "intensity", "Light Color": "light_color",
+         "Specular Color": "specular_color", "Exponent": "exponent", "Normal": "normal",
+         "View Vector": "view_vector"},
+        {"Normal": "geometry_normal", "Incoming": "incoming"},
+    ),
+    "Phong Blinn Specular": (
+        blinn_specular,
+        {"Light Vector": "light_vector", "Intensity": "intensity", "Light Color": "light_color",
+         "Specular Color": "specular_color", "Exponent": "exponent", "Normal": "normal",
+         "View Vector": "view_vector"},
+        {"Normal": "geometry_normal", "Incoming": "incoming"},
+    ),
+    "Phong Color Add": (color_add, {"A": "a", "B": "b"}, {}),
+    "Phong Color Multiply": (color_multiply, {"A": "a", "B": "b", "Factor": "factor"}, {}),
+    "Phong Shading": (
+        phong_shading,
+        {"Light Vector": "light_vector", "Light Intensity": "light_intensity",
+         "Light Color": "light_color", "Object Color": "object_color",
+         "Irradiant Color": "irradiant_color", "Ambient Intensity": "ambient_intensity",
+         "Ambient Color": "ambient_color", "Diffuse Strength": "diffuse_strength",
+         "Specular Strength": "specular_strength", "Specular Color": "specular_color",
+         "Exponent": "exponent", "Blinn": "blinn", "Normal": "normal",
+         "View Vector": "view_vector"},
+        {"Normal": "geometry_normal", "Incoming": "incoming"},
+    ),
+}
+
+#: SPEC input socket names accepted by each group, in SPEC order.
+INPUTS = {name: tuple(spec[1]) for name, spec in _TABLE.items()}
+
+
+def _defaults(func):
+    import inspect
+
+    return {p.name: p.default for p in inspect.signature(func).parameters.values()}
+
+
+#: Default value of every SPEC input socket, per group: {group: {socket: default}}.
+DEFAULTS = {
+    name: {sock: _defaults(func)[kw] for sock, kw in sockets.items()}
+    for name, (func, sockets, _geo) in _TABLE.items()
+}
+
+_VECTOR_GEOMETRY = ("Position", "Normal", "Incoming")
+
+
+def _make_group(name):
+    func, sockets, geo_map = _TABLE[name]
+
+    def evaluate(inputs=None, geometry=None):
+        inputs = dict(inputs or {})
+        geometry = dict(geometry or {})
+        unknown = set(inputs) - set(sockets)
+        if unknown:
+            raise KeyError("%s has no input(s) %s" % (name, sorted(unknown)))
+        kwargs = {sockets[k]: v for k, v in inputs.items()}
+        for key, kw in geo_map.items():
+            if key in geometry:
+                kwargs[kw] = geometry[key]
+        out = func(**kwargs)
+        # Broadcast every output over the geometry's batch shape (one value per shaded point).
+        shapes = [np.shape(geometry[k])[:-1] for k in _VECTOR_GEOMETRY if k in geometry]
+        if shapes:
+            batch = np.broadcast_shapes(*shapes)
+            res = {}
+            for key, val in out.items():
+                is_vec = key in ("Light Vector", "Color", "Irradiant", "Ambient", "Diffuse",
+                                 "Specular")
+                vb = np.broadcast_shapes(val.shape[:-1] if is_vec else val.shape, batch)
+                res[key] = np.broadcast_to(val, vb + ((3,) if is_vec else ())).astype(np.float64)
+            out = res
+        return out
+
+    evaluate.__name__ = func.__name__ + "_group"
+    evaluate.__doc__ = "GROUPS[%r]: inputs keyed by SPEC socket names %s.\n\n%s" % (
+        name, list(sockets), func.__doc__)
+    return evaluate
+
+
+#: SPEC group name -> f(inputs: {SPEC input socket: value}, geometry: {"Position", "Normal",
+#: "Incoming"}) -> {SPEC output socket: float64 array}.  Missing inputs take the defaults.
+GROUPS = {name: _make_group(name) for name in _TABLE}
