@@ -57,7 +57,8 @@ SPEC_GROUPS = [
 
 
 def test_no_bpy_and_groups_table():
-    src = open(ref.__file__, encoding="utf-8").read()
+    with open(ref.__file__, encoding="utf-8") as fh:
+        src = fh.read()
     assert "import bpy" not in src
     assert sorted(ref.GROUPS) == sorted(SPEC_GROUPS)
     assert ref.__doc__ and "§" in ref.__doc__
