@@ -1,0 +1,364 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Helpers for the Blender-side tests: install the extension like a user, set up
+pixel-exact scenes, render to multilayer EXR and read the passes back.
+
+Everything that differs between Blender versions lives here (engine ids, EXR settings).
+``bpy`` is imported lazily: :func:`import_bpy` must run after ``BLENDER_USER_RESOURCES``
+has been pointed at a throw-away folder (conftest.py does that).
+"""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+import zipfile
+
+import numpy as np
+
+REPO_ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+EXT_ID = "phong_nodes"
+EXT_REPO = "user_default"
+EXT_MODULE = f"bl_ext.{EXT_REPO}.{EXT_ID}"
+
+
+def import_bpy():
+    import bpy  # noqa: PLC0415  (lazy on purpose)
+
+    return bpy
+
+
+# ---------------------------------------------------------------- install like a user
+
+def ext_tool() -> str:
+    bpy = import_bpy()
+    return os.path.join(bpy.utils.resource_path("LOCAL"),
+                        "scripts/addons_core/bl_pkg/cli/blender_ext.py")
+
+
+def run_ext_tool(*args: str) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, ext_tool(), *args],
+                          capture_output=True, text=True, check=False)
+
+
+def build_zip(source_dir: str, output_dir: str) -> str:
+    """Build the extension zip with Blender's own tool; returns the zip path."""
+    res = run_ext_tool("build", "--source-dir", source_dir, "--output-dir", output_dir)
+    if res.returncode != 0:
+        raise RuntimeError(f"blender_ext build failed ({res.returncode}):\n{res.stdout}\n{res.stderr}")
+    zips = [f for f in os.listdir(output_dir) if f.endswith(".zip")]
+    if len(zips) != 1:
+        raise RuntimeError(f"expected one zip in {output_dir}, found {zips}\n{res.stdout}")
+    return os.path.join(output_dir, zips[0])
+
+
+def validate_zip(zip_path: str) -> subprocess.CompletedProcess:
+    return run_ext_tool("validate", zip_path)
+
+
+def zip_names(zip_path: str) -> list[str]:
+    with zipfile.ZipFile(zip_path) as zf:
+        return zf.namelist()
+
+
+def install_zip(zip_path: str) -> None:
+    bpy = import_bpy()
+    res = bpy.ops.extensions.package_install_files(
+        filepath=zip_path, repo=EXT_REPO, enable_on_install=True)
+    if res != {"FINISHED"}:
+        raise RuntimeError(f"package_install_files returned {res}")
+
+
+def addon_enabled() -> bool:
+    bpy = import_bpy()
+    return EXT_MODULE in bpy.context.preferences.addons
+
+
+def ensure_enabled() -> None:
+    if not addon_enabled():
+        import addon_utils  # noqa: PLC0415
+
+        addon_utils.enable(EXT_MODULE, default_set=True)
+
+
+def reset_empty_file() -> None:
+    """Empty file, preferences kept (read_factory_settings would disable the add-on)."""
+    bpy = import_bpy()
+    bpy.ops.wm.read_homefile(use_empty=True)
+    ensure_enabled()
+
+
+def load_groups() -> None:
+    bpy = import_bpy()
+    res = bpy.ops.phong.load_node_groups()
+    if res != {"FINISHED"}:
+        raise RuntimeError(f"phong.load_node_groups returned {res}")
+
+
+# ---------------------------------------------------------------- version differences
+
+def engine_id(kind: str) -> str:
+    """'cycles' or 'eevee' -> the engine enum of this Blender."""
+    bpy = import_bpy()
+    if kind == "cycles":
+        return "CYCLES"
+    if kind == "eevee":
+        return "BLENDER_EEVEE_NEXT" if (4, 2, 0) <= bpy.app.version < (5, 0, 0) else "BLENDER_EEVEE"
+    raise ValueError(kind)
+
+
+def set_output_multilayer_exr(scene) -> None:
+    """32-bit float multilayer EXR output (5.0 added media_type)."""
+    settings = scene.render.image_settings
+    if hasattr(settings, "media_type"):  # Blender >= 5.0
+        settings.media_type = "MULTI_LAYER_IMAGE"
+    settings.file_format = "OPEN_EXR_MULTILAYER"
+    settings.color_depth = "32"
+    settings.exr_codec = "ZIP"
+
+
+def configure_engine(scene, kind: str) -> None:
+    scene.render.engine = engine_id(kind)
+    if kind == "cycles":
+        cy = scene.cycles
+        cy.device = "CPU"
+        cy.samples = 1
+        cy.use_denoising = False
+        cy.use_adaptive_sampling = False
+        cy.pixel_filter_type = "BOX"
+        cy.filter_width = 0.01
+        cy.max_bounces = 0
+        cy.use_light_tree = False
+        cy.seed = 0
+    else:
+        ee = scene.eevee
+        ee.taa_render_samples = 1
+        scene.render.filter_size = 0.0
+        for attr, val in (("use_shadows", False), ("use_raytracing", False),
+                          ("use_gtao", False), ("use_bloom", False),
+                          ("use_volumetric_shadows", False)):
+            if hasattr(ee, attr):
+                try:
+                    setattr(ee, attr, val)
+                except (AttributeError, TypeError):
+                    pass
+
+
+# ---------------------------------------------------------------- scene set-up
+
+def new_scene(name: str, width: int, height: int, kind: str = "cycles"):
+    bpy = import_bpy()
+    scene = bpy.data.scenes.new(name)
+    r = scene.render
+    r.resolution_x, r.resolution_y, r.resolution_percentage = width, height, 100
+    r.pixel_aspect_x = r.pixel_aspect_y = 1.0
+    r.film_transparent = False
+    r.use_compositing = False
+    r.use_sequencer = False
+    r.dither_intensity = 0.0
+    scene.view_settings.view_transform = "Standard"
+    scene.view_settings.look = "None"
+    scene.view_settings.exposure = 0.0
+    scene.view_settings.gamma = 1.0
+    world = bpy.data.worlds.new(name + " world")
+    world.color = (0.0, 0.0, 0.0)
+    world.use_nodes = False if hasattr(world, "use_nodes") else None
+    scene.world = world
+    set_output_multilayer_exr(scene)
+    configure_engine(scene, kind)
+    return scene
+
+
+def add_ortho_camera(scene, center_xy, width, height):
+    """Orthographic camera looking down -Z that sees exactly the rectangle width x height."""
+    bpy = import_bpy()
+    cam = bpy.data.cameras.new(scene.name + " cam")
+    cam.type = "ORTHO"
+    cam.ortho_scale = max(width, height)
+    cam.sensor_fit = "AUTO"
+    cam.clip_start, cam.clip_end = 0.1, 100.0
+    obj = bpy.data.objects.new(scene.name + " cam", cam)
+    obj.location = (center_xy[0], center_xy[1], 10.0)
+    obj.rotation_euler = (0.0, 0.0, 0.0)
+    scene.collection.objects.link(obj)
+    scene.camera = obj
+    return obj
+
+
+def add_persp_camera(scene, location, look_at, lens=50.0):
+    bpy = import_bpy()
+    from mathutils import Vector  # noqa: PLC0415
+
+    cam = bpy.data.cameras.new(scene.name + " pcam")
+    cam.type = "PERSP"
+    cam.lens = lens
+    cam.clip_start, cam.clip_end = 0.1, 100.0
+    obj = bpy.data.objects.new(scene.name + " pcam", cam)
+    obj.location = location
+    direction = Vector(look_at) - Vector(location)
+    obj.rotation_euler = direction.to_track_quat("-Z", "Y").to_euler()
+    scene.collection.objects.link(obj)
+    scene.camera = obj
+    return obj
+
+
+def add_uv_plane(scene, name, x0, y0, size, material):
+    """Unit-UV square plane [x0, x0+size] x [y0, y0+size] at z = 0, normal +Z."""
+    bpy = import_bpy()
+    mesh = bpy.data.meshes.new(name)
+    verts = [(x0, y0, 0.0), (x0 + size, y0, 0.0), (x0 + size, y0 + size, 0.0), (x0, y0 + size, 0.0)]
+    mesh.from_pydata(verts, [], [(0, 1, 2, 3)])
+    uv = mesh.uv_layers.new(name="UVMap")
+    for loop in mesh.loops:
+        vx, vy, _ = verts[loop.vertex_index]
+        uv.data[loop.index].uv = ((vx - x0) / size, (vy - y0) / size)
+    mesh.materials.append(material)
+    mesh.update()
+    obj = bpy.data.objects.new(name, mesh)
+    scene.collection.objects.link(obj)
+    return obj
+
+
+def add_uv_sphere(scene, name, location, radius, material, segments=48, rings=24):
+    """Smooth-shaded UV sphere (built with bmesh, no operator context needed)."""
+    bpy = import_bpy()
+    import bmesh  # noqa: PLC0415
+
+    mesh = bpy.data.meshes.new(name)
+    bm = bmesh.new()
+    bmesh.ops.create_uvsphere(bm, u_segments=segments, v_segments=rings, radius=radius,
+                              calc_uvs=True)
+    bm.to_mesh(mesh)
+    bm.free()
+    for poly in mesh.polygons:
+        poly.use_smooth = True
+    mesh.materials.append(material)
+    mesh.update()
+    obj = bpy.data.objects.new(name, mesh)
+    obj.location = location
+    scene.collection.objects.link(obj)
+    return obj
+
+
+def float_image(name: str, data: np.ndarray):
+    """Float32 Non-Color image from an (H, W, 3|4) array (row 0 = bottom, Blender order)."""
+    bpy = import_bpy()
+    h, w, c = data.shape
+    rgba = np.ones((h, w, 4), dtype=np.float32)
+    rgba[..., :c] = data
+    img = bpy.data.images.new(name, width=w, height=h, alpha=True, float_buffer=True)
+    img.colorspace_settings.name = "Non-Color"
+    img.alpha_mode = "NONE" if hasattr(img, "alpha_mode") else img.alpha_mode
+    img.pixels.foreach_set(rgba.ravel())
+    img.update()
+    img.pack()
+    return img
+
+
+def add_aov(scene, name: str, kind: str = "COLOR"):
+    layer = scene.view_layers[0]
+    aov = layer.aovs.add()
+    aov.name = name
+    aov.type = kind
+    return aov
+
+
+def render_exr(scene, path: str) -> None:
+    bpy = import_bpy()
+    scene.render.filepath = path
+    scene.render.use_file_extension = False
+    window_scene = bpy.context.window.scene if bpy.context.window else None
+    if bpy.context.window is not None:
+        bpy.context.window.scene = scene
+        bpy.ops.render.render(write_still=True)
+        bpy.context.window.scene = window_scene
+    else:
+        bpy.ops.render.render(write_still=True, scene=scene.name)
+    if not os.path.exists(path):
+        raise RuntimeError(f"render did not write {path}")
+
+
+def read_multilayer_exr(path: str) -> dict[str, np.ndarray]:
+    """{pass name: float32 array (H, W, C)} with row 0 = top of the image.
+
+    Blender writes one part (subimage) per pass; channels are named
+    ``<layer>.<pass>.<chan>``. Passes are keyed by the text between layer and channel.
+    """
+    import OpenImageIO as oiio  # noqa: PLC0415
+
+    inp = oiio.ImageInput.open(path)
+    if inp is None:
+        raise RuntimeError(oiio.geterror())
+    out: dict[str, np.ndarray] = {}
+    try:
+        sub = 0
+        while inp.seek_subimage(sub, 0):
+            spec = inp.spec()
+            data = inp.read_image(sub, 0, 0, spec.nchannels, oiio.FLOAT)
+            data = np.asarray(data, dtype=np.float32).reshape(spec.height, spec.width, spec.nchannels)
+            groups: dict[str, list[tuple[str, int]]] = {}
+            for ci, cname in enumerate(spec.channelnames):
+                parts = cname.split(".")
+                key = ".".join(parts[1:-1]) if len(parts) >= 3 else ".".join(parts[:-1]) or cname
+                groups.setdefault(key, []).append((parts[-1], ci))
+            for key, chans in groups.items():
+                order = {"R": 0, "G": 1, "B": 2, "A": 3, "X": 0, "Y": 1, "Z": 2, "V": 0}
+                chans.sort(key=lambda t: order.get(t[0], 9))
+                out[key] = data[..., [ci for _, ci in chans]]
+            sub += 1
+    finally:
+        inp.close()
+    return out
+
+
+# ---------------------------------------------------------------- the SPEC contract
+# (group -> [(input socket, kind)], [(output socket, kind)]); kind V = 3 components, S = scalar,
+# SH = shader.  Copied from shared/SPEC.md, independently of node_groups/.
+
+V, S, SH = "V", "S", "SH"
+
+SPEC_GROUPS = {
+    "Phong Directional Light": (
+        [("Direction", V), ("Intensity", S)],
+        [("Light Vector", V), ("Intensity", S)]),
+    "Phong Point Light": (
+        [("Position", V), ("Intensity", S), ("Quadratic", S), ("Linear", S), ("Constant", S)],
+        [("Light Vector", V), ("Intensity", S), ("Distance", S)]),
+    "Phong Spot Light": (
+        [("Position", V), ("Direction", V), ("Half Angle", S), ("Edge Exponent", S),
+         ("Intensity", S), ("Quadratic", S), ("Linear", S), ("Constant", S)],
+        [("Light Vector", V), ("Intensity", S), ("Distance", S), ("Cos Angle", S), ("In Cone", S)]),
+    "Phong Power Falloff": (
+        [("Distance", S), ("Intensity", S), ("Exponent", S)],
+        [("Intensity", S)]),
+    "Phong Irradiant": ([("Color", V)], [("Color", V)]),
+    "Phong Ambient": (
+        [("Intensity", S), ("Light Color", V), ("Object Color", V)],
+        [("Color", V)]),
+    "Phong Diffuse": (
+        [("Light Vector", V), ("Intensity", S), ("Light Color", V), ("Object Color", V), ("Normal", V)],
+        [("Color", V)]),
+    "Phong Specular": (
+        [("Light Vector", V), ("Intensity", S), ("Light Color", V), ("Specular Color", V),
+         ("Exponent", S), ("Normal", V), ("View Vector", V)],
+        [("Color", V)]),
+    "Phong Blinn Specular": (
+        [("Light Vector", V), ("Intensity", S), ("Light Color", V), ("Specular Color", V),
+         ("Exponent", S), ("Normal", V), ("View Vector", V)],
+        [("Color", V)]),
+    "Phong Color Add": ([("A", V), ("B", V)], [("Color", V)]),
+    "Phong Color Multiply": ([("A", V), ("B", V), ("Factor", S)], [("Color", V)]),
+    "Phong Shading": (
+        [("Light Vector", V), ("Light Intensity", S), ("Light Color", V), ("Object Color", V),
+         ("Irradiant Color", V), ("Ambient Intensity", S), ("Ambient Color", V),
+         ("Diffuse Strength", S), ("Specular Strength", S), ("Specular Color", V),
+         ("Exponent", S), ("Blinn", S), ("Normal", V), ("View Vector", V)],
+        [("Irradiant", V), ("Ambient", V), ("Diffuse", V), ("Specular", V), ("Color", V),
+         ("Shader", SH)]),
+}
+
+
+def interface_sockets(tree, in_out: str):
+    """Interface socket items of a node group, in order ('INPUT' or 'OUTPUT')."""
+    return [item for item in tree.interface.items_tree
+            if getattr(item, "item_type", "SOCKET") == "SOCKET" and item.in_out == in_out]
