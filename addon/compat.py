@@ -1,0 +1,36 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Differences between the supported Blender versions (4.2 LTS to 5.0), in one place."""
+
+import bpy
+
+VERSION = bpy.app.version
+
+
+def eevee_engine() -> str:
+    """Eevee's engine id: 'BLENDER_EEVEE_NEXT' in 4.2-4.5, 'BLENDER_EEVEE' again from 5.0."""
+    items = bpy.types.RenderSettings.bl_rna.properties["engine"].enum_items.keys()
+    return "BLENDER_EEVEE_NEXT" if "BLENDER_EEVEE_NEXT" in items else "BLENDER_EEVEE"
+
+
+def set_multilayer_exr(image_settings) -> None:
+    """32-bit float multilayer EXR: every pass (AOVs included) in its own part."""
+    if hasattr(image_settings, "media_type"):  # 5.0+
+        image_settings.media_type = "MULTI_LAYER_IMAGE"
+    image_settings.file_format = "OPEN_EXR_MULTILAYER"
+    image_settings.color_depth = "32"
+    image_settings.exr_codec = "ZIP"
+
+
+def set_png(image_settings) -> None:
+    if hasattr(image_settings, "media_type"):
+        image_settings.media_type = "IMAGE"
+    image_settings.file_format = "PNG"
+    image_settings.color_mode = "RGB"
+    image_settings.color_depth = "8"
+
+
+def new_material_tree(material):
+    """The node tree of a new material (``use_nodes`` is implicit and deprecated in 5.0)."""
+    if VERSION < (5, 0, 0):
+        material.use_nodes = True
+    return material.node_tree

@@ -1,0 +1,48 @@
+"""Check that bpy can load, and name the Debian/Ubuntu package that is missing if not.
+
+bpy links against X11 and OpenGL/EGL libraries that a minimal machine lacks;
+Eevee renders headless through Mesa's EGL.  Exit 0 when all is there, 1 with
+an ``apt-get install`` line otherwise.
+"""
+
+import ctypes.util
+import subprocess
+import sys
+
+# Shared library -> Debian/Ubuntu package providing it.
+PACKAGES = {
+    "libX11.so.6": "libx11-6", "libXrender.so.1": "libxrender1", "libXfixes.so.3": "libxfixes3",
+    "libXi.so.6": "libxi6", "libxkbcommon.so.0": "libxkbcommon0", "libXext.so.6": "libxext6",
+    "libxcb.so.1": "libxcb1", "libSM.so.6": "libsm6", "libICE.so.6": "libice6",
+    "libXxf86vm.so.1": "libxxf86vm1", "libGL.so.1": "libgl1", "libEGL.so.1": "libegl1",
+    "libEGL_mesa.so.0": "libegl-mesa0", "libgbm.so.1": "libgbm1",
+}
+# Not linked, but loaded at run time for Eevee's software OpenGL.
+RUNTIME = ("libEGL.so.1", "libEGL_mesa.so.0", "libGL.so.1")
+
+
+def missing_from_message(message: str) -> list:
+    return [lib for lib in PACKAGES if lib in message]
+
+
+def main() -> int:
+    probe = subprocess.run([sys.executable, "-c", "import bpy"], capture_output=True, text=True)
+    missing = missing_from_message(probe.stderr) if probe.returncode else []
+    if probe.returncode and not missing:
+        print("bpy failed to import:\n" + probe.stderr.strip()[-2000:], file=sys.stderr)
+        return 1
+    for lib in RUNTIME:
+        name = lib.split(".so")[0].removeprefix("lib")
+        if ctypes.util.find_library(name) is None and lib not in missing:
+            missing.append(lib)
+    if missing:
+        packages = " ".join(sorted({PACKAGES[lib] for lib in missing}))
+        print(f"Missing system libraries: {', '.join(missing)}.\n"
+              f"Install them with: sudo apt-get install -y {packages}"
+              + (" libgl1-mesa-dri" if "libEGL_mesa.so.0" in missing else ""), file=sys.stderr)
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
