@@ -42,36 +42,36 @@ class PHONG_OT_add_node_group(bpy.types.Operator):
         group = GROUPS.get(properties.group_name)
         return group.description if group else cls.__doc__
 
-    def _check(self):
-        if self.group_name not in GROUPS:
-            self.report({"ERROR"}, f"Unknown Phong group {self.group_name!r}; "
-                                   f"expected one of: {', '.join(GROUPS)}")
-            return False
-        return True
-
     def execute(self, context):
-        if not self._check():
+        space = context.space_data
+        try:
+            add_group_node(space.edit_tree, self.group_name, space.cursor_location)
+        except ValueError as error:
+            self.report({"ERROR"}, str(error))
             return {"CANCELLED"}
-        tree, _status = loader.ensure_group(self.group_name)
-        edit_tree = context.space_data.edit_tree
-        for node in edit_tree.nodes:
-            node.select = False
-        node = edit_tree.nodes.new("ShaderNodeGroup")
-        node.node_tree = tree
-        node.location = context.space_data.cursor_location
-        node.select = True
-        edit_tree.nodes.active = node
         return {"FINISHED"}
 
     def invoke(self, context, event):
-        if not self._check():
-            return {"CANCELLED"}
-        tree, _status = loader.ensure_group(self.group_name)
-        bpy.ops.node.add_node("INVOKE_DEFAULT", type="ShaderNodeGroup", use_transform=True)
-        node = context.space_data.edit_tree.nodes.active
-        if node is not None and node.bl_idname == "ShaderNodeGroup":
-            node.node_tree = tree
-        return {"FINISHED"}
+        result = self.execute(context)
+        if result == {"FINISHED"}:  # follow the mouse, like Blender's own Add menu
+            bpy.ops.node.translate_attach_remove_on_cancel("INVOKE_DEFAULT")
+        return result
+
+
+def add_group_node(tree, group_name: str, location):
+    """Add a node of the Phong group *group_name* (loaded or upgraded as needed) to *tree*."""
+    if group_name not in GROUPS:
+        raise ValueError(f"Unknown Phong group {group_name!r}; expected one of: {', '.join(GROUPS)}")
+    group, _status = loader.ensure_group(group_name)
+    for node in tree.nodes:
+        node.select = False
+    node = tree.nodes.new("ShaderNodeGroup")
+    node.node_tree = group
+    node.location = location
+    node.width = 200
+    node.select = True
+    tree.nodes.active = node
+    return node
 
 
 classes = (PHONG_OT_load_node_groups, PHONG_OT_add_node_group)

@@ -1,0 +1,124 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Loading the library into a file: reuse, upgrade in place, no duplicates, no downgrade."""
+
+import importlib
+
+import pytest
+
+import blender_env as be
+
+STAMP_VERSION = "phong_nodes_version"
+STAMP_FINGERPRINT = "phong_nodes_fingerprint"
+
+
+def library():
+    return importlib.import_module(be.EXT_MODULE + ".node_groups.library")
+
+
+def material_with_diffuse(bpy):
+    """A user's material: an RGB node linked into Object Color, Intensity typed in."""
+    material = bpy.data.materials.new("User")
+    tree = material.node_tree
+    group = tree.nodes.new("ShaderNodeGroup")
+    group.node_tree = bpy.data.node_groups["Phong Diffuse"]
+    rgb = tree.nodes.new("ShaderNodeRGB")
+    rgb.outputs[0].default_value = (0.2, 0.4, 0.6, 1.0)
+    tree.links.new(rgb.outputs[0], group.inputs["Object Color"])
+    group.inputs["Intensity"].default_value = 0.5
+    tree.links.new(group.outputs["Color"], tree.nodes["Material Output"].inputs["Surface"])
+    return material, group
+
+
+def test_older_group_is_upgraded_in_place_keeping_user_links(bpy_clean):
+    bpy = bpy_clean
+    be.load_groups()
+    material, node = material_with_diffuse(bpy)
+    old = bpy.data.node_groups["Phong Diffuse"]
+    # Make it look like an older library: lower stamp, broken insides, an extra socket.
+    old[STAMP_VERSION] = 0
+    old.nodes.clear()
+    old.interface.new_socket("Obsolete", in_out="INPUT", socket_type="NodeSocketFloat")
+    count = len(bpy.data.node_groups)
+
+    be.load_groups()
+
+    assert len(bpy.data.node_groups) == count, "no new group"
+    tree = bpy.data.node_groups["Phong Diffuse"]
+    assert tree == old, "the same datablock, upgraded in place"
+    assert tree[STAMP_VERSION] == library().LIBRARY_VERSION
+    assert tree[STAMP_FINGERPRINT] == library().GROUPS["Phong Diffuse"].fingerprint
+    assert [s.name for s in be.interface_sockets(tree, "INPUT")] == [
+        "Light Vector", "Intensity", "Light Color", "Object Color", "Normal"]
+    assert len(tree.nodes) > 2, "nodes rebuilt"
+    links = material.node_tree.links
+    assert any(l.to_node == node and l.to_socket.name == "Object Color" for l in links)
+    assert any(l.from_node == node and l.from_socket.name == "Color" for l in links)
+    assert node.inputs["Intensity"].default_value == pytest.approx(0.5)
+
+
+def test_changed_definition_with_same_version_is_rebuilt(bpy_clean):
+    bpy = bpy_clean
+    be.load_groups()
+    tree = bpy.data.node_groups["Phong Ambient"]
+    tree[STAMP_FINGERPRINT] = "something older"
+    tree.nodes.clear()
+    be.load_groups()
+    assert tree[STAMP_FINGERPRINT] == library().GROUPS["Phong Ambient"].fingerprint
+    assert len(tree.nodes) > 2
+
+
+def test_newer_group_is_never_downgraded(bpy_clean):
+    bpy = bpy_clean
+    be.load_groups()
+    tree = bpy.data.node_groups["Phong Specular"]
+    tree[STAMP_VERSION] = library().LIBRARY_VERSION + 1
+    marker = tree.nodes.new("NodeFrame")
+    marker.name = "made by a newer Phong Nodes"
+    be.load_groups()
+    assert tree.nodes.get("made by a newer Phong Nodes") is not None
+    assert tree[STAMP_VERSION] == library().LIBRARY_VERSION + 1
+
+
+def test_accidental_copies_are_merged_into_the_original(bpy_clean):
+    bpy = bpy_clean
+    be.load_groups()
+    original = bpy.data.node_groups["Phong Diffuse"]
+    copy = original.copy()  # what appending a material from another file produces
+    assert copy.name == "Phong Diffuse.001"
+    material = bpy.data.materials.new("Appended")
+    node = material.node_tree.nodes.new("ShaderNodeGroup")
+    node.node_tree = copy
+    be.load_groups()
+    assert "Phong Diffuse.001" not in bpy.data.node_groups
+    assert node.node_tree == bpy.data.node_groups["Phong Diffuse"]
+
+
+def test_a_users_own_group_with_our_name_is_kept(bpy_clean):
+    bpy = bpy_clean
+    mine = bpy.data.node_groups.new("Phong Irradiant", "ShaderNodeTree")
+    mine.nodes.new("NodeFrame").name = "mine"
+    be.load_groups()
+    assert mine.name == "Phong Irradiant (user)"
+    assert mine.nodes.get("mine") is not None
+    assert bpy.data.node_groups["Phong Irradiant"] != mine
+
+
+def test_shift_a_menu_lists_every_group_once(installed):
+    menus = importlib.import_module(be.EXT_MODULE + ".addon.menus")
+    listed = [name for _title, names in menus._SECTIONS for name in names]
+    assert sorted(listed) == sorted(library().GROUPS)
+    bpy = be.import_bpy()
+    assert hasattr(bpy.types, "NODE_MT_phong_add")
+
+
+def test_adding_a_group_node_reuses_the_group(bpy_clean):
+    bpy = bpy_clean
+    operators = importlib.import_module(be.EXT_MODULE + ".addon.operators")
+    tree = bpy.data.materials.new("M").node_tree
+    first = operators.add_group_node(tree, "Phong Blinn Specular", (10, 20))
+    second = operators.add_group_node(tree, "Phong Blinn Specular", (30, 40))
+    assert first.node_tree == second.node_tree == bpy.data.node_groups["Phong Blinn Specular"]
+    assert [g.name for g in bpy.data.node_groups] == ["Phong Blinn Specular"]
+    assert tree.nodes.active == second and second.select and not first.select
+    with pytest.raises(ValueError, match="Unknown Phong group 'Phong Bogus'; expected one of"):
+        operators.add_group_node(tree, "Phong Bogus", (0, 0))
