@@ -1,9 +1,9 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """The Blender layer: operators and menus.  Register and unregister are symmetric."""
 
-from . import menus, operators
+from . import materials, menus, operators, panels, properties
 
-_modules = (operators, menus)
+_modules = (operators, menus, properties, materials, panels)
 
 
 def register():

@@ -1,0 +1,111 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Drivers from lights and the world to node inputs, without any Python expression.
+
+Every driver is either an AVERAGE driver with one variable (a TRANSFORMS channel or a
+SINGLE_PROP custom property / colour channel) or a SCRIPTED driver whose expression
+Blender evaluates itself (``driver.is_simple_expression`` is True), so Phong materials
+follow their lights with "Auto Run Python Scripts" off and without the extension.
+"""
+
+import bpy
+
+#: A light's world -Z axis from its world-space XYZ Euler angles (rx, ry, rz):
+#: the Z column of R = Rz·Ry·Rx, negated.
+MINUS_Z = (
+    "-(cos(rz)*sin(ry)*cos(rx) + sin(rz)*sin(rx))",
+    "-(sin(rz)*sin(ry)*cos(rx) - cos(rz)*sin(rx))",
+    "-(cos(ry)*cos(rx))",
+)
+
+
+def _fresh(socket, index):
+    """A new driver F-curve on socket.default_value[index] (or the scalar), emptied."""
+    args = ("default_value",) if index is None else ("default_value", index)
+    try:
+        socket.driver_remove(*args)
+    except TypeError:
+        pass
+    fcurve = socket.driver_add(*args)
+    for modifier in list(fcurve.modifiers):
+        fcurve.modifiers.remove(modifier)
+    driver = fcurve.driver
+    for var in list(driver.variables):
+        driver.variables.remove(var)
+    return fcurve, driver
+
+
+def prop(socket, index, id_type, id_block, data_path, scale=None):
+    """default_value[index] = id_block.<data_path> (times *scale*)."""
+    _fcurve, driver = _fresh(socket, index)
+    var = driver.variables.new()
+    var.name = "v"
+    var.type = "SINGLE_PROP"
+    var.targets[0].id_type = id_type
+    var.targets[0].id = id_block
+    var.targets[0].data_path = data_path
+    if scale is None:
+        driver.type = "AVERAGE"
+    else:
+        driver.type = "SCRIPTED"
+        driver.expression = f"v * {float(scale)!r}"
+    return driver
+
+
+def world_location(socket, obj):
+    """Vector socket = the object's world-space location (parents and constraints included)."""
+    drivers = []
+    for index, channel in enumerate(("LOC_X", "LOC_Y", "LOC_Z")):
+        _fcurve, driver = _fresh(socket, index)
+        driver.type = "AVERAGE"
+        var = driver.variables.new()
+        var.name = "loc"
+        var.type = "TRANSFORMS"
+        target = var.targets[0]
+        target.id = obj
+        target.transform_type = channel
+        target.transform_space = "WORLD_SPACE"
+        drivers.append(driver)
+    return drivers
+
+
+def world_minus_z(socket, obj):
+    """Vector socket = the object's world -Z axis (simple expressions of world Euler angles)."""
+    drivers = []
+    for index, expression in enumerate(MINUS_Z):
+        _fcurve, driver = _fresh(socket, index)
+        driver.type = "SCRIPTED"
+        for name, channel in (("rx", "ROT_X"), ("ry", "ROT_Y"), ("rz", "ROT_Z")):
+            var = driver.variables.new()
+            var.name = name
+            var.type = "TRANSFORMS"
+            target = var.targets[0]
+            target.id = obj
+            target.transform_type = channel
+            target.transform_space = "WORLD_SPACE"
+            target.rotation_mode = "XYZ"
+        driver.expression = expression
+        drivers.append(driver)
+    return drivers
+
+
+def color(socket, id_type, id_block, data_path):
+    """Colour socket (RGB; alpha left at 1) = id_block.<data_path>[0..2]."""
+    socket.default_value[3] = 1.0
+    return [prop(socket, i, id_type, id_block, f"{data_path}[{i}]") for i in range(3)]
+
+
+def remove_node_drivers(tree, node_names) -> int:
+    """Remove the drivers of *tree* that drive inputs of the named nodes; returns how many."""
+    anim = tree.animation_data
+    if anim is None:
+        return 0
+    prefixes = tuple(f'nodes["{bpy.utils.escape_identifier(n)}"]' for n in node_names)
+    doomed = [fc for fc in anim.drivers if fc.data_path.startswith(prefixes)]
+    for fcurve in doomed:
+        anim.drivers.remove(fcurve)
+    return len(doomed)
+
+
+def all_drivers(tree):
+    anim = tree.animation_data
+    return list(anim.drivers) if anim is not None else []

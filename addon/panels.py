@@ -1,0 +1,86 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Properties editor panels: Phong settings of a light (Light tab) and of the World."""
+
+import bpy
+
+from .materials import PHONG_OT_apply_material, PHONG_OT_relink_lights, SUPPORTED
+
+
+class DATA_PT_phong_light(bpy.types.Panel):
+    """Phong settings of the light"""
+
+    bl_idname = "DATA_PT_phong_light"
+    bl_label = "Phong"
+    bl_space_type = "PROPERTIES"
+    bl_region_type = "WINDOW"
+    bl_context = "data"
+    bl_options = {"DEFAULT_CLOSED"}
+
+    @classmethod
+    def poll(cls, context):
+        light = getattr(context, "light", None)
+        return light is not None and light.type in SUPPORTED
+
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        light = context.light
+        settings = light.phong
+        layout.prop(settings, "intensity")
+        if light.type in ("POINT", "SPOT"):
+            col = layout.column(align=True)
+            col.prop(settings, "quadratic")
+            col.prop(settings, "linear")
+            col.prop(settings, "constant")
+        if light.type == "SPOT":
+            layout.prop(settings, "edge_exponent")
+        col = layout.column(align=True)
+        col.prop(settings, "diffuse")
+        col.prop(settings, "specular")
+        layout.label(text="Colour, position, direction and spot size come from the light",
+                     icon="INFO")
+        layout.operator(PHONG_OT_relink_lights.bl_idname, icon="FILE_REFRESH")
+
+
+class WORLD_PT_phong(bpy.types.Panel):
+    """Phong ambient light of the world"""
+
+    bl_idname = "WORLD_PT_phong"
+    bl_label = "Phong Ambient"
+    bl_space_type = "PROPERTIES"
+    bl_region_type = "WINDOW"
+    bl_context = "world"
+    bl_options = {"DEFAULT_CLOSED"}
+
+    @classmethod
+    def poll(cls, context):
+        return getattr(context, "world", None) is not None
+
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        settings = context.world.phong
+        layout.prop(settings, "ambient_intensity")
+        layout.prop(settings, "ambient_color")
+        layout.operator(PHONG_OT_relink_lights.bl_idname, icon="FILE_REFRESH")
+
+
+def _draw_material_menu(self, context):
+    self.layout.separator()
+    self.layout.operator(PHONG_OT_apply_material.bl_idname, icon="MATERIAL")
+    self.layout.operator(PHONG_OT_relink_lights.bl_idname, icon="FILE_REFRESH")
+
+
+classes = (DATA_PT_phong_light, WORLD_PT_phong)
+
+
+def register():
+    for cls in classes:
+        bpy.utils.register_class(cls)
+    bpy.types.VIEW3D_MT_object.append(_draw_material_menu)
+
+
+def unregister():
+    bpy.types.VIEW3D_MT_object.remove(_draw_material_menu)
+    for cls in reversed(classes):
+        bpy.utils.unregister_class(cls)

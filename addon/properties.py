@@ -1,0 +1,148 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Per-light and per-world Phong settings.
+
+The values are stored as plain ID custom properties (``light["phong_intensity"]``,
+``world["phong_ambient_color"]`` ...), not inside an add-on PropertyGroup: the drivers of
+Phong materials read those custom properties, and custom properties survive in a .blend
+opened without the extension.  ``light.phong`` and ``world.phong`` are thin PropertyGroups
+whose getters/setters forward to the custom properties, so the panels and scripts get
+named, typed, range-checked properties with the documented defaults.
+"""
+
+import bpy
+from bpy.props import FloatProperty, FloatVectorProperty, PointerProperty
+
+#: (attribute, custom property key, label, default, min, soft max, description)
+LIGHT_SETTINGS = (
+    ("intensity", "phong_intensity", "Phong Intensity", 1.0, 0.0, 100.0,
+     "Phong intensity i0 of the light (dimensionless, independent of the light's watts)"),
+    ("quadratic", "phong_quadratic", "Quadratic", 1.0, 0.0, 10.0,
+     "α in i0/(αr²+βr+γ): 1 gives the physical i0/r² (Point and Spot)"),
+    ("linear", "phong_linear", "Linear", 0.0, 0.0, 10.0,
+     "β in i0/(αr²+βr+γ) (Point and Spot)"),
+    ("constant", "phong_constant", "Constant", 0.0, 0.0, 10.0,
+     "γ in i0/(αr²+βr+γ) (Point and Spot)"),
+    ("edge_exponent", "phong_edge_exponent", "Edge Exponent", 0.0, 0.0, 100.0,
+     "Spot edge exponent e_att: 0 gives a hard cone edge, higher values a softer one"),
+    ("diffuse", "phong_diffuse", "Diffuse", 1.0, 0.0, 10.0,
+     "Diffuse factor i_source,diff / i_source (seed 000 §3.5)"),
+    ("specular", "phong_specular", "Specular", 1.0, 0.0, 10.0,
+     "Specular factor i_source,spec / i_source (seed 000 §3.5)"),
+)
+
+AMBIENT_INTENSITY = ("phong_ambient_intensity", 0.1)
+AMBIENT_COLOR = ("phong_ambient_color", (1.0, 1.0, 1.0))
+
+LIGHT_KEYS = {attr: (key, default) for attr, key, _l, default, *_ in LIGHT_SETTINGS}
+
+
+def _float_getter(key, default):
+    def get(self):
+        value = self.id_data.get(key, default)
+        try:
+            return float(value)
+        except (TypeError, ValueError):
+            return default
+    return get
+
+
+def _float_setter(key):
+    def set_(self, value):
+        self.id_data[key] = float(value)
+        self.id_data.update_tag()  # drivers read the evaluated copy: tag it
+    return set_
+
+
+def _light_annotations():
+    ann = {}
+    for attr, key, label, default, vmin, soft_max, desc in LIGHT_SETTINGS:
+        ann[attr] = FloatProperty(
+            name=label, description=desc, default=default, min=vmin, soft_max=soft_max,
+            get=_float_getter(key, default), set=_float_setter(key))
+    return ann
+
+
+PhongLightSettings = type("PhongLightSettings", (bpy.types.PropertyGroup,), {
+    "__doc__": "Phong settings of a light (stored as custom properties of the light data)",
+    "__annotations__": _light_annotations(),
+})
+
+
+def _get_ambient_color(self):
+    key, default = AMBIENT_COLOR
+    value = self.id_data.get(key, default)
+    try:
+        return tuple(float(c) for c in value[:3])
+    except (TypeError, ValueError):
+        return default
+
+
+def _set_ambient_color(self, value):
+    self.id_data[AMBIENT_COLOR[0]] = [float(c) for c in value[:3]]
+    self.id_data.update_tag()
+
+
+class PhongWorldSettings(bpy.types.PropertyGroup):
+    """Phong ambient light of a world (stored as custom properties of the world)"""
+
+    ambient_intensity: FloatProperty(
+        name="Ambient Intensity", description="Intensity of the Phong ambient light (seed 000 §3.3)",
+        default=AMBIENT_INTENSITY[1], min=0.0, soft_max=1.0,
+        get=_float_getter(*AMBIENT_INTENSITY), set=_float_setter(AMBIENT_INTENSITY[0]))
+    ambient_color: FloatVectorProperty(
+        name="Ambient Color", description="Colour of the Phong ambient light", subtype="COLOR",
+        size=3, default=AMBIENT_COLOR[1], min=0.0, soft_max=1.0,
+        get=_get_ambient_color, set=_set_ambient_color)
+
+
+def ensure_light_props(light) -> None:
+    """Write every missing Phong custom property of *light* (drivers need them to exist)."""
+    missing = [key for _a, key, *_r in LIGHT_SETTINGS if key not in light.keys()]
+    for attr, key, label, default, vmin, soft_max, desc in LIGHT_SETTINGS:
+        if key not in light.keys():
+            light[key] = float(default)
+        try:
+            light.id_properties_ui(key).update(min=vmin, soft_min=vmin, soft_max=soft_max,
+                                                 default=default, description=desc)
+        except TypeError:
+            pass
+    if missing:
+        light.update_tag()  # the evaluated copy that drivers read must get them too
+
+
+def ensure_world_props(world) -> None:
+    """Write the world's missing Phong ambient custom properties."""
+    key, default = AMBIENT_INTENSITY
+    missing = key not in world.keys() or AMBIENT_COLOR[0] not in world.keys()
+    if key not in world.keys():
+        world[key] = float(default)
+    key_c, default_c = AMBIENT_COLOR
+    if key_c not in world.keys():
+        world[key_c] = list(default_c)
+    try:
+        world.id_properties_ui(key).update(min=0.0, soft_min=0.0, soft_max=1.0, default=default,
+                                           description="Phong ambient intensity")
+        world.id_properties_ui(key_c).update(min=0.0, soft_min=0.0, soft_max=1.0,
+                                             subtype="COLOR", default=list(default_c),
+                                             description="Phong ambient colour")
+    except TypeError:
+        pass
+    if missing:
+        world.update_tag()
+
+
+classes = (PhongLightSettings, PhongWorldSettings)
+
+
+def register():
+    for cls in classes:
+        bpy.utils.register_class(cls)
+    bpy.types.Light.phong = PointerProperty(type=PhongLightSettings)
+    bpy.types.World.phong = PointerProperty(type=PhongWorldSettings)
+
+
+def unregister():
+    del bpy.types.World.phong
+    del bpy.types.Light.phong
+    for cls in reversed(classes):
+        bpy.utils.unregister_class(cls)
