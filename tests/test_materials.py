@@ -275,7 +275,7 @@ def test_lights_drive_phong_materials_cycles(bpy_clean, blender_tmp):
     out = str(blender_tmp / "materials")
     os.makedirs(out, exist_ok=True)
     passes, seconds = render(bpy, scene, os.path.join(out, "first.exr"))
-    e1 = compare(bpy, scene, passes, lights, f"first render {seconds:.1f} s, {n_drivers} drivers")
+    e1 = compare(bpy, scene, passes, lights, f"first render {seconds:.2f} s, {n_drivers} drivers")
 
     # Move, rotate and recolour: drivers follow without running any operator.
     point.location = (0.4, -1.3, 1.2)
@@ -298,7 +298,7 @@ def test_lights_drive_phong_materials_cycles(bpy_clean, blender_tmp):
         np.testing.assert_allclose(node.inputs["Direction"].default_value,
                                    -np.array(obj.matrix_world)[:3, 2], atol=1e-6)
     passes, seconds = render(bpy, scene, os.path.join(out, "moved.exr"))
-    e2 = compare(bpy, scene, passes, lights, f"moved/rotated/recoloured {seconds:.1f} s")
+    e2 = compare(bpy, scene, passes, lights, f"moved/rotated/recoloured {seconds:.2f} s")
 
     # Save; reopen with the extension disabled and auto-run off: same pixels.
     blend = os.path.join(out, "phong_lights.blend")
@@ -323,7 +323,7 @@ def test_lights_drive_phong_materials_cycles(bpy_clean, blender_tmp):
         seconds = time.perf_counter() - t0
         again = {k: v[::-1] for k, v in be.read_multilayer_exr(os.path.join(out, "reopened.exr")).items()}
         diff = max(float(np.abs(again[k] - passes[k]).max()) for k in ("Combined", "Phong Color"))
-        report(f"[materials reopened without add-on, auto-run off] {seconds:.1f} s, "
+        report(f"[materials reopened without add-on, auto-run off] {seconds:.2f} s, "
                f"max|reopened-before|={diff:.2e}")
         assert diff <= 1e-6
     finally:
@@ -331,3 +331,138 @@ def test_lights_drive_phong_materials_cycles(bpy_clean, blender_tmp):
         bpy.ops.wm.read_homefile(use_empty=True)
         be.ensure_enabled()
     assert e1 <= CY_TOL and e2 <= CY_TOL
+
+
+def _counts(material):
+    tree = material.node_tree
+    kinds = {}
+    for node in tree.nodes:
+        key = node.node_tree.name if node.bl_idname == "ShaderNodeGroup" else node.bl_idname
+        kinds[key] = kinds.get(key, 0) + 1
+    return kinds, len(be_drivers(material))
+
+
+def test_light_and_world_defaults(bpy_clean):
+    bpy = bpy_clean
+    light = bpy.data.lights.new("L", "SPOT")
+    s = light.phong
+    assert (s.intensity, s.quadratic, s.linear, s.constant, s.edge_exponent, s.diffuse,
+            s.specular) == (1.0, 1.0, 0.0, 0.0, 0.0, 1.0, 1.0)
+    s.intensity = 2.0
+    assert light["phong_intensity"] == 2.0, "stored as a custom property that survives the add-on"
+    world = bpy.data.worlds.new("W")
+    assert world.phong.ambient_intensity == pytest.approx(0.1)
+    assert tuple(world.phong.ambient_color) == (1.0, 1.0, 1.0)
+    world.phong.ambient_color = (0.5, 0.25, 1.0)
+    assert list(world["phong_ambient_color"]) == [0.5, 0.25, 1.0]
+    assert bpy.types.DATA_PT_phong_light.bl_context == "data"
+    assert bpy.types.WORLD_PT_phong.bl_context == "world"
+    assert "UNDO" in bpy.types.PHONG_OT_apply_material.bl_options
+    assert "UNDO" in bpy.types.PHONG_OT_relink_lights.bl_options
+
+
+def test_apply_is_idempotent_and_relink_follows_lights(bpy_clean):
+    bpy = bpy_clean
+    scene, plane, sphere, lights = build_scene(bpy)
+    assert bpy.ops.phong.apply_material() == {"FINISHED"}
+    n_materials = len(bpy.data.materials)
+    first = {m.name: _counts(m) for m in (plane.active_material, sphere.active_material)}
+    assert first["Phong Plane"][0]["Phong Shading"] == 3
+    assert first["Phong Plane"][0]["Phong Color Add"] == 2
+    for _ in range(2):
+        assert bpy.ops.phong.apply_material() == {"FINISHED"}
+        assert bpy.ops.phong.relink_lights() == {"FINISHED"}
+    assert len(bpy.data.materials) == n_materials
+    assert {m.name: _counts(m) for m in (plane.active_material, sphere.active_material)} == first
+    assert not any(g.name.endswith(".001") for g in bpy.data.node_groups)
+
+    extra = _light(bpy, scene, "Extra", "POINT", (0.0, 0.0, 2.0))
+    assert bpy.ops.phong.relink_lights() == {"FINISHED"}
+    kinds, n = _counts(plane.active_material)
+    assert kinds["Phong Shading"] == 4 and kinds["Phong Point Light"] == 2
+    assert n > first["Phong Plane"][1]
+    _assert_drivers_ok(bpy, plane.active_material)
+
+    extra.hide_set(True)              # hidden in the viewport / view layer
+    lights[1].hide_render = True      # disabled in renders
+    assert bpy.ops.phong.relink_lights() == {"FINISHED"}
+    assert list(plane.active_material["phong_lights"]) == ["Point", "Spot"]
+    assert _counts(plane.active_material)[0]["Phong Shading"] == 2
+
+    bpy.data.objects.remove(extra)
+    for obj in lights:
+        bpy.data.objects.remove(obj)
+    assert bpy.ops.phong.relink_lights() == {"FINISHED"}
+    kinds, n = _counts(plane.active_material)
+    assert kinds["Phong Shading"] == 1 and "Phong Color Add" not in kinds
+    shading = plane.active_material.node_tree.nodes["phong_gen:shading:ambient"]
+    assert shading.inputs["Light Intensity"].default_value == 0.0
+    assert n == 4, "only the world's ambient intensity and colour remain driven"
+    _assert_drivers_ok(bpy, plane.active_material)
+
+
+def test_apply_errors_and_slots(bpy_clean):
+    bpy = bpy_clean
+    scene, plane, sphere, lights = build_scene(bpy)
+    before = len(bpy.data.materials)
+    for obj in scene.objects:
+        obj.select_set(False)
+    with pytest.raises(RuntimeError, match="nothing is selected"):
+        bpy.ops.phong.apply_material()
+    lights[0].select_set(True)
+    with pytest.raises(RuntimeError, match="no mesh"):
+        bpy.ops.phong.apply_material()
+    assert len(bpy.data.materials) == before, "nothing changed"
+
+    # Two slots, the second active: only the active slot is replaced.
+    keep = bpy.data.materials.new("Keep")
+    plane.data.materials.append(keep)
+    plane.data.materials.append(bpy.data.materials["Old Principled"])
+    plane.active_material_index = 1
+    plane.select_set(True)            # plus the light: a warning, the mesh is done
+    assert bpy.ops.phong.apply_material() == {"FINISHED"}
+    assert [s.material.name for s in plane.material_slots] == ["Keep", "Phong Plane"]
+    got = plane.active_material.node_tree.nodes["phong_object_color"].outputs[0].default_value
+    assert tuple(got) == pytest.approx(SPHERE_COLOR)
+    # Again with another slot active: the existing Phong material is updated, no new one.
+    plane.active_material_index = 0
+    assert bpy.ops.phong.apply_material() == {"FINISHED"}
+    assert [s.material.name for s in plane.material_slots] == ["Keep", "Phong Plane"]
+    assert "Phong Plane.001" not in bpy.data.materials
+
+    # No slot at all: one is added.
+    mesh = bpy.data.meshes.new("Bare")
+    bare = bpy.data.objects.new("Bare", mesh)
+    scene.collection.objects.link(bare)
+    for obj in scene.objects:
+        obj.select_set(obj is bare)
+    assert bpy.ops.phong.apply_material() == {"FINISHED"}
+    assert [s.material.name for s in bare.material_slots] == ["Phong Bare"]
+
+
+@pytest.mark.eevee
+@pytest.mark.slow
+def test_lights_drive_phong_materials_eevee(bpy_clean, blender_tmp):
+    bpy = bpy_clean
+    scene, plane, sphere, lights = build_scene(bpy, "eevee")
+    assert bpy.ops.phong.apply_material() == {"FINISHED"}
+    _finish_materials(bpy, plane, sphere)
+    bpy.context.view_layer.update()
+    out = str(blender_tmp / "materials")
+    os.makedirs(out, exist_ok=True)
+    passes, seconds = render(bpy, scene, os.path.join(out, "eevee.exr"))
+    world = scene.world
+    ident = np.rint(passes["id"][..., 0]).astype(int)
+    got = passes["Phong Color"][..., :3].astype(np.float64)
+    expected = np.zeros_like(got)
+    edge = np.zeros(ident.shape, dtype=bool)
+    P, N, I = (passes[k][..., :3].astype(np.float64) for k in ("P", "N", "I"))
+    for key, obj in ((1, plane), (2, sphere)):
+        m = ident == key
+        expected[m], edge[m] = reference_color(world, lights, _controls(obj.active_material),
+                                               P[m], N[m], I[m])
+    err = np.abs(got - expected).max(axis=-1)[~edge]
+    frac = float((err <= EE_TOL).mean())
+    report(f"[materials eevee] {seconds:.1f} s, max|AOV-ref|={err.max():.2e} "
+           f"p99.5={np.percentile(err, 99.5):.2e} within {EE_TOL}: {frac:.2%}")
+    assert frac >= EE_FRACTION and err.max() <= EE_MAX
