@@ -273,10 +273,7 @@ def rebuild(material, lights, world):
     aov = tree.nodes.new("ShaderNodeOutputAOV")
     aov.name = f"{GEN}aov"
     aov.label = AOV_NAME
-    try:
-        aov.aov_name = AOV_NAME
-    except AttributeError:
-        aov.name_ = AOV_NAME  # pragma: no cover  (very old Blender)
+    aov.aov_name = AOV_NAME
     aov.location = (output.location.x, output.location.y - 200.0)
     tree.links.new(color_out, aov.inputs["Color"])
     material["phong_lights"] = [obj.name for obj in lights]
