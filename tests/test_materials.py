@@ -326,6 +326,27 @@ def test_lights_drive_phong_materials_cycles(bpy_clean, blender_tmp):
         report(f"[materials reopened without add-on, auto-run off] {seconds:.2f} s, "
                f"max|reopened-before|={diff:.2e}")
         assert diff <= 1e-6
+        # The drivers still run (not just the values saved in the file): move things.
+        spot2, point2 = bpy.data.objects["Spot"], bpy.data.objects["Point"]
+        spot2.constraints.clear()
+        spot2.rotation_euler = (0.9, -0.4, 2.0)
+        point2.location = (-0.7, 0.3, 1.1)
+        spot2.data.color = (0.1, 0.2, 0.3)
+        spot2.data["phong_edge_exponent"] = 5.0
+        spot2.data.update_tag()
+        scene2.world["phong_ambient_intensity"] = 0.3
+        scene2.world.update_tag()
+        bpy.context.view_layer.update()
+        nodes = bpy.data.materials["Phong Sphere"].node_tree.nodes
+        np.testing.assert_allclose(nodes["phong_gen:light:Spot"].inputs["Direction"].default_value,
+                                   -np.array(spot2.matrix_world)[:3, 2], atol=1e-6)
+        np.testing.assert_allclose(nodes["phong_gen:light:Point"].inputs["Position"].default_value,
+                                   np.array(point2.matrix_world)[:3, 3], atol=1e-6)
+        assert nodes["phong_gen:light:Spot"].inputs["Edge Exponent"].default_value == 5.0
+        np.testing.assert_allclose(nodes["phong_gen:shading:Spot"].inputs["Light Color"].default_value[:3],
+                                   (0.1, 0.2, 0.3), atol=1e-7)
+        first_shading = nodes["phong_gen:shading:" + bpy.data.materials["Phong Sphere"]["phong_lights"][0]]
+        assert first_shading.inputs["Ambient Intensity"].default_value == pytest.approx(0.3)
     finally:
         prefs.use_scripts_auto_execute = auto_exec
         bpy.ops.wm.read_homefile(use_empty=True)
