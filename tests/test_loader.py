@@ -15,9 +15,16 @@ def library():
     return importlib.import_module(be.EXT_MODULE + ".node_groups.library")
 
 
+def new_material(name):
+    compat = importlib.import_module(be.EXT_MODULE + ".addon.compat")
+    material = be.import_bpy().data.materials.new(name)
+    compat.new_material_tree(material)
+    return material
+
+
 def material_with_diffuse(bpy):
     """A user's material: an RGB node linked into Object Color, Intensity typed in."""
-    material = bpy.data.materials.new("User")
+    material = new_material("User")
     tree = material.node_tree
     group = tree.nodes.new("ShaderNodeGroup")
     group.node_tree = bpy.data.node_groups["Phong Diffuse"]
@@ -85,7 +92,7 @@ def test_accidental_copies_are_merged_into_the_original(bpy_clean):
     original = bpy.data.node_groups["Phong Diffuse"]
     copy = original.copy()  # what appending a material from another file produces
     assert copy.name == "Phong Diffuse.001"
-    material = bpy.data.materials.new("Appended")
+    material = new_material("Appended")
     node = material.node_tree.nodes.new("ShaderNodeGroup")
     node.node_tree = copy
     be.load_groups()
@@ -114,7 +121,7 @@ def test_shift_a_menu_lists_every_group_once(installed):
 def test_adding_a_group_node_reuses_the_group(bpy_clean):
     bpy = bpy_clean
     operators = importlib.import_module(be.EXT_MODULE + ".addon.operators")
-    tree = bpy.data.materials.new("M").node_tree
+    tree = new_material("M").node_tree
     first = operators.add_group_node(tree, "Phong Blinn Specular", (10, 20))
     second = operators.add_group_node(tree, "Phong Blinn Specular", (30, 40))
     assert first.node_tree == second.node_tree == bpy.data.node_groups["Phong Blinn Specular"]
