@@ -1,0 +1,411 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Demo scenes as data: read ``scenes/*.toml`` and validate them.
+
+Pure python (``tomllib``, no ``bpy``), so the validation unit-tests in milliseconds and
+the CLI can refuse a bad file before it imports Blender or creates any output.
+
+``load(path)`` returns a plain dict with every default filled in (JSON-serialisable: the
+report prints it as the scene's parameters).  Every error is a :class:`SceneError` whose
+message names the file, the key (``lights[1].type``) and what was expected.
+
+Schema (units: Blender world space, Z up; angles in degrees; colours are either
+``"#RRGGBB"`` (sRGB, converted to scene-linear) or ``[r, g, b]`` (scene-linear, >= 0)):
+
+    title = "..."                 # required
+    source = "seed 000 §3.1"      # where the figure comes from (optional)
+    description = "..."           # optional
+    aspect = 2.0                  # width / height of the picture (default 1)
+    [camera]                      # required
+    type = "perspective"          # or "orthographic"
+    location = [x, y, z]          # required
+    look_at = [0, 0, 0]
+    lens = 50.0                   # mm, perspective
+    ortho_scale = 10.0            # orthographic: width of the view
+    [ambient]                     # optional: intensity 0 (none), colour white
+    intensity = 0.1
+    color = "#FFFFFF"
+    [[lights]]                    # any number, also none (black without ambient)
+    name = "key"                  # unique; default "light<i>"
+    type = "point"                # "point", "directional" or "spot"
+    color = "#FFFFFF"; intensity = 1.0; diffuse = 1.0; specular = 1.0
+    position = [x, y, z]          # point, spot (required)
+    direction = [x, y, z]         # directional, spot: the way the rays travel (required)
+    quadratic = 1.0; linear = 0.0; constant = 0.0     # point, spot: i0/(αr²+βr+γ)
+    falloff_exponent = 2.0        # point only, optional: i0/d^k (Phong Power Falloff) instead
+    half_angle = 30.0             # spot, degrees, in (0, 90]
+    edge_exponent = 0.0           # spot, >= 0
+    [[objects]]                   # at least one
+    name = "ball"                 # unique, required
+    shape = "sphere"              # or "plane" (square, normal +Z before rotation)
+    location = [0, 0, 0]; rotation = [0, 0, 0] (degrees); size = 1.0 (radius / half side)
+    label = "..."                 # caption in the report (default: the name)
+    lights = ["key"]              # lights that shine on this object (default: all)
+    terms = ["irradiant", "ambient", "diffuse", "specular"]   # terms shown (default: all)
+    [objects.material]
+    color = "#CCCCCC"; specular_color = "#FFFFFF"; exponent = 30.0; blinn = 0.0
+    irradiant = [0, 0, 0]
+    texture = { type = "checker", color2 = "#333333", scale = 4.0 }   # optional
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import re
+import tomllib
+
+#: The scenes shipped with the extension.
+SCENES_DIR = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "scenes")
+
+LIGHT_TYPES = ("point", "directional", "spot")
+SHAPES = ("sphere", "plane")
+CAMERA_TYPES = ("perspective", "orthographic")
+TERMS = ("irradiant", "ambient", "diffuse", "specular")
+TEXTURES = ("checker",)
+NAME_RE = re.compile(r"^[a-z0-9_]+$")
+
+
+class SceneError(ValueError):
+    """A scene file that cannot be used; the message names file, key and expectation."""
+
+
+# -- colours ---------------------------------------------------------------------
+
+def srgb_to_linear(c: float) -> float:
+    return c / 12.92 if c <= 0.04045 else ((c + 0.055) / 1.055) ** 2.4
+
+
+def hex_to_linear(text: str) -> tuple:
+    return tuple(srgb_to_linear(int(text[i:i + 2], 16) / 255.0) for i in (1, 3, 5))
+
+
+# -- the checker ----------------------------------------------------------------------
+
+class _Checker:
+    """Typed access to a TOML table; every failure names file and key."""
+
+    def __init__(self, path: str):
+        self.path = path
+
+    def fail(self, key: str, expected: str, got=None, show_got=True):
+        got_text = f", got {_show(got)}" if show_got else ""
+        raise SceneError(f"{self.path}: {key}: expected {expected}{got_text}")
+
+    def table(self, parent: dict, key: str, where: str, required=True) -> dict:
+        if key not in parent:
+            if required:
+                self.fail(_join(where, key), "a table (missing)", show_got=False)
+            return {}
+        value = parent[key]
+        if not isinstance(value, dict):
+            self.fail(_join(where, key), "a table", value)
+        return value
+
+    def unknown(self, table: dict, allowed, where: str):
+        extra = sorted(set(table) - set(allowed))
+        if extra:
+            raise SceneError(f"{self.path}: {_join(where, extra[0])}: unknown key; expected one of "
+                             f"{', '.join(sorted(allowed))}")
+
+    def string(self, table, key, where, default=None, choices=None, pattern=None):
+        if key not in table:
+            if default is None:
+                self.fail(_join(where, key), "a string (missing)", show_got=False)
+            return default
+        value = table[key]
+        if not isinstance(value, str):
+            self.fail(_join(where, key), "a string", value)
+        if choices is not None and value not in choices:
+            self.fail(_join(where, key), "one of " + ", ".join(repr(c) for c in choices), value)
+        if pattern is not None and not pattern.match(value):
+            self.fail(_join(where, key), f"a name matching {pattern.pattern}", value)
+        return value
+
+    def number(self, table, key, where, default=None, minimum=None, maximum=None,
+               exclusive_min=False):
+        if key not in table:
+            if default is None:
+                self.fail(_join(where, key), "a number (missing)", show_got=False)
+            return float(default)
+        value = table[key]
+        if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+            self.fail(_join(where, key), "a finite number", value)
+        value = float(value)
+        if minimum is not None and (value <= minimum if exclusive_min else value < minimum):
+            op = ">" if exclusive_min else ">="
+            bound = f"a number {op} {_fmt(minimum)}"
+            if maximum is not None:
+                bound += f" and <= {_fmt(maximum)}"
+            self.fail(_join(where, key), bound, value)
+        if maximum is not None and value > maximum:
+            self.fail(_join(where, key), f"a number <= {_fmt(maximum)}", value)
+        return value
+
+    def vector(self, table, key, where, default=None, nonzero=False):
+        if key not in table:
+            if default is None:
+                self.fail(_join(where, key), "a list of 3 numbers [x, y, z] (missing)",
+                          show_got=False)
+            return list(default)
+        value = table[key]
+        if (not isinstance(value, list) or len(value) != 3
+                or any(isinstance(v, bool) or not isinstance(v, (int, float))
+                       or not math.isfinite(v) for v in value)):
+            self.fail(_join(where, key), "a list of 3 numbers [x, y, z]", value)
+        if nonzero and all(v == 0 for v in value):
+            self.fail(_join(where, key), "a non-zero vector", value)
+        return [float(v) for v in value]
+
+    def color(self, table, key, where, default):
+        if key not in table:
+            return list(hex_to_linear(default)) if isinstance(default, str) else list(default)
+        value = table[key]
+        if isinstance(value, str):
+            if not re.match(r"^#[0-9A-Fa-f]{6}$", value):
+                self.fail(_join(where, key), 'a colour "#RRGGBB" (sRGB) or [r, g, b] (linear)',
+                          value)
+            return list(hex_to_linear(value))
+        if (not isinstance(value, list) or len(value) != 3
+                or any(isinstance(v, bool) or not isinstance(v, (int, float))
+                       or not math.isfinite(v) or v < 0 for v in value)):
+            self.fail(_join(where, key),
+                      'a colour "#RRGGBB" (sRGB) or [r, g, b] (linear, numbers >= 0)', value)
+        return [float(v) for v in value]
+
+    def names(self, table, key, where, choices, default):
+        if key not in table:
+            return list(default)
+        value = table[key]
+        if not isinstance(value, list) or any(not isinstance(v, str) for v in value):
+            self.fail(_join(where, key), "a list of strings", value)
+        for index, item in enumerate(value):
+            if item not in choices:
+                self.fail(f"{_join(where, key)}[{index}]",
+                          "one of " + ", ".join(repr(c) for c in choices), item)
+        return list(value)
+
+    def array_of_tables(self, table, key, where, required=True):
+        if key not in table:
+            if required:
+                self.fail(_join(where, key), f"an array of tables [[{key}]] (missing)",
+                          show_got=False)
+            return []
+        value = table[key]
+        if not isinstance(value, list) or any(not isinstance(v, dict) for v in value):
+            self.fail(_join(where, key), f"an array of tables [[{key}]]", value)
+        return value
+
+
+def _join(where: str, key) -> str:
+    return f"{where}.{key}" if where else str(key)
+
+
+def _fmt(x: float) -> str:
+    return f"{x:g}"
+
+
+def _show(value) -> str:
+    text = repr(value)
+    return text if len(text) <= 60 else text[:57] + "..."
+
+
+# -- the schema -------------------------------------------------------------------
+
+TOP_KEYS = ("title", "source", "description", "aspect", "camera", "ambient", "lights", "objects")
+CAMERA_KEYS = ("type", "location", "look_at", "lens", "ortho_scale")
+AMBIENT_KEYS = ("intensity", "color")
+LIGHT_KEYS = {
+    "point": ("name", "type", "color", "intensity", "diffuse", "specular", "position",
+              "quadratic", "linear", "constant", "falloff_exponent"),
+    "directional": ("name", "type", "color", "intensity", "diffuse", "specular", "direction"),
+    "spot": ("name", "type", "color", "intensity", "diffuse", "specular", "position", "direction",
+             "quadratic", "linear", "constant", "half_angle", "edge_exponent"),
+}
+OBJECT_KEYS = ("name", "shape", "location", "rotation", "size", "label", "lights", "terms",
+               "material")
+MATERIAL_KEYS = ("color", "specular_color", "exponent", "blinn", "irradiant", "texture")
+TEXTURE_KEYS = ("type", "color2", "scale")
+
+
+def parse(data: dict, path: str = "<scene>") -> dict:
+    """Validate a TOML document (already parsed); returns the scene with defaults filled."""
+    c = _Checker(path)
+    c.unknown(data, TOP_KEYS, "")
+    scene = {
+        "title": c.string(data, "title", ""),
+        "source": c.string(data, "source", "", default=""),
+        "description": c.string(data, "description", "", default=""),
+        "aspect": c.number(data, "aspect", "", default=1.0, minimum=0.1, maximum=10.0),
+    }
+
+    cam = c.table(data, "camera", "")
+    c.unknown(cam, CAMERA_KEYS, "camera")
+    scene["camera"] = {
+        "type": c.string(cam, "type", "camera", default="perspective", choices=CAMERA_TYPES),
+        "location": c.vector(cam, "location", "camera"),
+        "look_at": c.vector(cam, "look_at", "camera", default=(0.0, 0.0, 0.0)),
+        "lens": c.number(cam, "lens", "camera", default=50.0, minimum=1.0, maximum=5000.0),
+        "ortho_scale": c.number(cam, "ortho_scale", "camera", default=10.0, minimum=0.0,
+                                exclusive_min=True),
+    }
+    if scene["camera"]["location"] == scene["camera"]["look_at"]:
+        c.fail("camera.look_at", "a point other than camera.location",
+               scene["camera"]["look_at"])
+
+    amb = c.table(data, "ambient", "", required=False)
+    c.unknown(amb, AMBIENT_KEYS, "ambient")
+    scene["ambient"] = {
+        "intensity": c.number(amb, "intensity", "ambient", default=0.0, minimum=0.0),
+        "color": c.color(amb, "color", "ambient", "#FFFFFF"),
+    }
+
+    lights = []
+    for index, raw in enumerate(c.array_of_tables(data, "lights", "", required=False)):
+        where = f"lights[{index}]"
+        kind = c.string(raw, "type", where, choices=LIGHT_TYPES)
+        c.unknown(raw, LIGHT_KEYS[kind], where)
+        light = {
+            "name": c.string(raw, "name", where, default=f"light{index}", pattern=NAME_RE),
+            "type": kind,
+            "color": c.color(raw, "color", where, "#FFFFFF"),
+            "intensity": c.number(raw, "intensity", where, default=1.0, minimum=0.0),
+            "diffuse": c.number(raw, "diffuse", where, default=1.0, minimum=0.0),
+            "specular": c.number(raw, "specular", where, default=1.0, minimum=0.0),
+        }
+        if kind in ("point", "spot"):
+            light["position"] = c.vector(raw, "position", where)
+            light["quadratic"] = c.number(raw, "quadratic", where, default=1.0, minimum=0.0)
+            light["linear"] = c.number(raw, "linear", where, default=0.0, minimum=0.0)
+            light["constant"] = c.number(raw, "constant", where, default=0.0, minimum=0.0)
+            if light["quadratic"] == light["linear"] == light["constant"] == 0.0:
+                c.fail(f"{where}.quadratic", "quadratic, linear and constant not all 0", 0)
+        if kind == "point" and "falloff_exponent" in raw:
+            light["falloff_exponent"] = c.number(raw, "falloff_exponent", where, minimum=0.0)
+        if kind in ("directional", "spot"):
+            light["direction"] = c.vector(raw, "direction", where, nonzero=True)
+        if kind == "spot":
+            light["half_angle"] = c.number(raw, "half_angle", where, default=30.0, minimum=0.0,
+                                           maximum=90.0, exclusive_min=True)
+            light["edge_exponent"] = c.number(raw, "edge_exponent", where, default=0.0,
+                                              minimum=0.0)
+        if any(other["name"] == light["name"] for other in lights):
+            c.fail(f"{where}.name", "a name not used by another light", light["name"])
+        lights.append(light)
+    scene["lights"] = lights
+    light_names = [light["name"] for light in lights]
+
+    objects = []
+    raw_objects = c.array_of_tables(data, "objects", "")
+    if not raw_objects:
+        c.fail("objects", "at least one [[objects]] table", [])
+    for index, raw in enumerate(raw_objects):
+        where = f"objects[{index}]"
+        c.unknown(raw, OBJECT_KEYS, where)
+        obj = {
+            "name": c.string(raw, "name", where, pattern=NAME_RE),
+            "shape": c.string(raw, "shape", where, default="sphere", choices=SHAPES),
+            "location": c.vector(raw, "location", where, default=(0.0, 0.0, 0.0)),
+            "rotation": c.vector(raw, "rotation", where, default=(0.0, 0.0, 0.0)),
+            "size": c.number(raw, "size", where, default=1.0, minimum=0.0, exclusive_min=True),
+        }
+        obj["label"] = c.string(raw, "label", where, default=obj["name"])
+        obj["lights"] = c.names(raw, "lights", where, light_names, light_names)
+        obj["terms"] = c.names(raw, "terms", where, TERMS, TERMS)
+        mat = c.table(raw, "material", where, required=False)
+        mwhere = f"{where}.material"
+        c.unknown(mat, MATERIAL_KEYS, mwhere)
+        material = {
+            "color": c.color(mat, "color", mwhere, "#CCCCCC"),
+            "specular_color": c.color(mat, "specular_color", mwhere, "#FFFFFF"),
+            "exponent": c.number(mat, "exponent", mwhere, default=30.0, minimum=0.0),
+            "blinn": c.number(mat, "blinn", mwhere, default=0.0, minimum=0.0, maximum=1.0),
+            "irradiant": c.color(mat, "irradiant", mwhere, (0.0, 0.0, 0.0)),
+            "texture": None,
+        }
+        if "texture" in mat:
+            tex = c.table(mat, "texture", mwhere)
+            twhere = f"{mwhere}.texture"
+            c.unknown(tex, TEXTURE_KEYS, twhere)
+            material["texture"] = {
+                "type": c.string(tex, "type", twhere, choices=TEXTURES),
+                "color2": c.color(tex, "color2", twhere, "#333333"),
+                "scale": c.number(tex, "scale", twhere, default=4.0, minimum=0.0,
+                                  exclusive_min=True),
+            }
+        obj["material"] = material
+        if any(other["name"] == obj["name"] for other in objects):
+            c.fail(f"{where}.name", "a name not used by another object", obj["name"])
+        objects.append(obj)
+    scene["objects"] = objects
+    return scene
+
+
+def load(path: str) -> dict:
+    """Read and validate one scene file; the scene's ``name`` is the file's stem."""
+    name = os.path.splitext(os.path.basename(path))[0]
+    try:
+        with open(path, "rb") as handle:
+            data = tomllib.load(handle)
+    except FileNotFoundError:
+        raise SceneError(f"{path}: no such scene file") from None
+    except OSError as error:
+        raise SceneError(f"{path}: cannot read: {error.strerror}") from None
+    except tomllib.TOMLDecodeError as error:
+        raise SceneError(f"{path}: not valid TOML: {error}") from None
+    scene = parse(data, path)
+    if not NAME_RE.match(name):
+        raise SceneError(f"{path}: file name: expected lower-case letters, digits and _ "
+                         f"(the scene's name), got {name!r}")
+    scene["name"] = name
+    scene["path"] = os.path.abspath(path)
+    return scene
+
+
+def available(folder: str = SCENES_DIR) -> list:
+    """Names of the scene files in *folder*, sorted."""
+    return sorted(f[:-5] for f in os.listdir(folder) if f.endswith(".toml"))
+
+
+def resolve(spec: str | None, folder: str = SCENES_DIR) -> list:
+    """Scene file paths for a ``--scenes`` value: comma-separated names of shipped scenes
+    and/or paths to .toml files; None or "all" = every shipped scene."""
+    if spec is None or spec.strip() in ("", "all"):
+        return [os.path.join(folder, f"{n}.toml") for n in available(folder)]
+    paths = []
+    names = available(folder)
+    for item in (s.strip() for s in spec.split(",")):
+        if not item:
+            continue
+        if item.endswith(".toml") or os.sep in item:
+            paths.append(item)
+        elif item in names:
+            paths.append(os.path.join(folder, f"{item}.toml"))
+        else:
+            raise SceneError(f"--scenes: unknown scene {item!r}; expected one of "
+                             f"{', '.join(names)} or a path to a .toml file")
+    if not paths:
+        raise SceneError("--scenes: no scene given")
+    return paths
+
+
+def load_all(paths) -> list:
+    """Validate every file first (all or nothing); duplicate names are refused."""
+    scenes = [load(p) for p in paths]
+    seen = {}
+    for scene in scenes:
+        if scene["name"] in seen:
+            raise SceneError(f"{scene['path']}: scene name {scene['name']!r} also used by "
+                             f"{seen[scene['name']]}")
+        seen[scene["name"]] = scene["path"]
+    return scenes
+
+
+def shard(items: list, spec: str | None) -> list:
+    """The part *i/n* (1-based) of *items*: every n-th item starting at i."""
+    if not spec:
+        return list(items)
+    match = re.match(r"^(\d+)/(\d+)$", spec.strip())
+    if not match or not 1 <= int(match.group(1)) <= int(match.group(2)):
+        raise SceneError(f"--shard: expected i/n with 1 <= i <= n (e.g. 2/4), got {spec!r}")
+    i, n = int(match.group(1)), int(match.group(2))
+    return items[i - 1::n]
