@@ -91,5 +91,17 @@ def _read_png(path):
     return buf.get_pixels(oiio.UINT8)
 
 
+def exit_process(code: int) -> None:
+    """Exit with *code*.  The bpy 4.x module can crash in its own clean-up at interpreter
+    exit after an Eevee render (seen with 4.2.23), turning success into signal 11: once our
+    files are written and closed, leave without running it."""
+    sys.stdout.flush()
+    sys.stderr.flush()
+    bpy = sys.modules.get("bpy")
+    if bpy is not None and bpy.app.version < (5, 0, 0):
+        os._exit(code)
+    sys.exit(code)
+
+
 if __name__ == "__main__":
-    sys.exit(main())
+    exit_process(main())

@@ -4,11 +4,19 @@
 #   bash tools/phong.sh test [pytest options]
 #   bash tools/phong.sh setup            only create/refresh the virtual environment
 # The virtual environment lives in .venv (or $PHONG_VENV) and is rebuilt when
-# requirements.txt changes.
+# requirements.txt changes.  PHONG_BPY=4.2.23 (or 4.5.15, ...) uses that bpy release
+# instead, in its own .venv-bpy<version>: how CI checks the older LTS releases.
 set -euo pipefail
 
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+requirements=$root/requirements.txt
 venv=${PHONG_VENV:-$root/.venv}
+if [ -n "${PHONG_BPY:-}" ]; then
+  venv=${PHONG_VENV:-$root/.venv-bpy$PHONG_BPY}
+  mkdir -p "$venv"
+  requirements=$venv/requirements.txt
+  sed "s/^bpy==.*/bpy==$PHONG_BPY/" "$root/requirements.txt" > "$requirements"
+fi
 command=${1:-demo}
 [ $# -gt 0 ] && shift
 
@@ -27,7 +35,7 @@ find_python() {
 setup() {
   local stamp="$venv/.requirements.sha256"
   local want
-  want=$(sha256sum "$root/requirements.txt" | cut -d' ' -f1)
+  want=$(sha256sum "$requirements" | cut -d' ' -f1)
   if [ -x "$venv/bin/python" ] && [ "$(cat "$stamp" 2>/dev/null)" = "$want" ]; then
     return 0
   fi
@@ -39,7 +47,7 @@ setup() {
     exit 1
   fi
   "$venv/bin/python" -m pip install --quiet --upgrade pip >&2
-  "$venv/bin/python" -m pip install --quiet -r "$root/requirements.txt" >&2
+  "$venv/bin/python" -m pip install --quiet -r "$requirements" >&2
   echo "$want" > "$stamp"
 }
 
