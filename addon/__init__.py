@@ -1,9 +1,9 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """The Blender layer: operators and menus.  Register and unregister are symmetric."""
 
-from . import materials, menus, operators, panels, properties
+from . import demo_ops, materials, menus, operators, panels, properties
 
-_modules = (operators, menus, properties, materials, panels)
+_modules = (operators, menus, properties, materials, panels, demo_ops)
 
 
 def register():

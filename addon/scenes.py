@@ -62,6 +62,8 @@ SHAPES = ("sphere", "plane")
 CAMERA_TYPES = ("perspective", "orthographic")
 TERMS = ("irradiant", "ambient", "diffuse", "specular")
 TEXTURES = ("checker",)
+#: Eevee reads at most 8 object attributes per material: 4 for the material, 2 per 4 lights.
+MAX_LIGHTS = 8
 NAME_RE = re.compile(r"^[a-z0-9_]+$")
 
 
@@ -291,6 +293,9 @@ def parse(data: dict, path: str = "<scene>") -> dict:
         if any(other["name"] == light["name"] for other in lights):
             c.fail(f"{where}.name", "a name not used by another light", light["name"])
         lights.append(light)
+    if len(lights) > MAX_LIGHTS:
+        c.fail("lights", f"at most {MAX_LIGHTS} lights (Eevee reads at most 8 object "
+               "attributes per material)", f"{len(lights)} lights", )
     scene["lights"] = lights
     light_names = [light["name"] for light in lights]
 

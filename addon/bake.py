@@ -1,0 +1,356 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""The comparison bake: Eevee, Cycles and the numpy reference of one demo scene.
+
+* Cycles renders the AOV view layer (1 sample at the pixel centres, box filter 0.01): the
+  picture, plus per pixel the position P, shading normal N, incoming I, object colour and
+  object index.
+* Eevee renders the picture view layer (no AOVs: every AOV costs shader compile time in
+  Eevee), 1 TAA sample, filter size 0: its first sample sits at the pixel centre too.
+* The reference evaluates ``node_groups/reference.py`` on Cycles' AOVs with the scene's
+  parameters (one Phong Shading per light, summed with Phong Color Add).
+
+Pixels the reference cannot predict are left out of the metrics, the same for every
+engine: the background (no object) and pixels within 1e-5 of a discontinuity of the model
+(the spot's cone edge cos ω = cos θ; the terminator ℓ·n = 0 where a specular term may
+jump).  Their count is in metrics.json.
+
+Everything is written into a hidden temporary folder beside the destination and renamed
+into place at the end, so an interrupted bake leaves no folder that looks finished.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import shutil
+import tempfile
+import time
+
+import numpy as np
+
+from ..node_groups import reference as ref
+
+#: Cycles must match the reference within this (max abs error, linear colour).
+CYCLES_TOLERANCE = 1e-4
+#: Eevee: this share of pixels within 1/255 of the reference (its film is half float).
+EEVEE_STEP = 1.0 / 255.0
+EEVEE_SHARE = 0.995
+#: Pixels this close to a discontinuity of the model are not compared.
+AMBIGUOUS = 1e-5
+
+ENGINES = ("eevee", "cycles")
+PAIRS = (("eevee", "reference"), ("cycles", "reference"), ("eevee", "cycles"))
+
+
+# -- rendering ---------------------------------------------------------------------
+
+def configure(scene, engine: str) -> None:
+    import bpy  # noqa: F401
+
+    from . import builder, compat
+
+    layers = scene.view_layers
+    if engine == "cycles":
+        scene.render.engine = "CYCLES"
+        cy = scene.cycles
+        cy.device = "CPU"
+        cy.samples = 1
+        cy.use_denoising = False
+        cy.use_adaptive_sampling = False
+        cy.pixel_filter_type = "BOX"
+        cy.filter_width = 0.01
+        cy.max_bounces = 0
+        cy.seed = 0
+        if hasattr(cy, "use_light_tree"):
+            cy.use_light_tree = False
+        layers[builder.AOV_LAYER].use = True
+        layers[builder.PICTURE_LAYER].use = False
+        builder.set_aov_outputs(scene, True)
+    else:
+        scene.render.engine = compat.eevee_engine()
+        ee = scene.eevee
+        ee.taa_render_samples = 1
+        scene.render.filter_size = 0.0
+        for attr in ("use_shadows", "use_raytracing", "use_gtao", "use_bloom",
+                     "use_volumetric_shadows"):
+            if hasattr(ee, attr):
+                try:
+                    setattr(ee, attr, False)
+                except (AttributeError, TypeError):
+                    pass
+        layers[builder.AOV_LAYER].use = False
+        layers[builder.PICTURE_LAYER].use = True
+        builder.set_aov_outputs(scene, False)
+    compat.set_multilayer_exr(scene.render.image_settings)
+
+
+def render_exr(scene, path: str) -> None:
+    import bpy
+
+    scene.render.filepath = path
+    scene.render.use_file_extension = False
+    with bpy.context.temp_override(scene=scene):
+        bpy.ops.render.render(write_still=True, scene=scene.name)
+    if not os.path.exists(path):
+        raise RuntimeError(f"the render did not write {path}")
+
+
+def read_exr(path: str) -> dict:
+    """{pass name: float32 array (H, W, C)}, row 0 = top; names without the layer."""
+    import OpenImageIO as oiio
+
+    inp = oiio.ImageInput.open(path)
+    if inp is None:
+        raise RuntimeError(f"cannot read {path}: {oiio.geterror()}")
+    out = {}
+    order = {"R": 0, "G": 1, "B": 2, "A": 3, "X": 0, "Y": 1, "Z": 2, "V": 0}
+    try:
+        sub = 0
+        while inp.seek_subimage(sub, 0):
+            spec = inp.spec()
+            pixels = inp.read_image(sub, 0, 0, spec.nchannels, oiio.FLOAT)
+            pixels = np.asarray(pixels, dtype=np.float32).reshape(
+                spec.height, spec.width, spec.nchannels)
+            groups = {}
+            for index, name in enumerate(spec.channelnames):
+                parts = name.split(".")
+                key = parts[-2] if len(parts) >= 2 else name
+                groups.setdefault(key, []).append((parts[-1], index))
+            for key, chans in groups.items():
+                chans.sort(key=lambda c: order.get(c[0], 9))
+                out[key] = pixels[..., [i for _c, i in chans]]
+            sub += 1
+    finally:
+        inp.close()
+    return out
+
+
+# -- the reference -------------------------------------------------------------------
+
+def _light_at(light, P):
+    """(ℓ, intensity, ambiguous) of one light at the points P (N, 3)."""
+    kind = light["type"]
+    if kind == "directional":
+        out = ref.directional_light(light["direction"], light["intensity"], geometry_position=P)
+        return out["Light Vector"], out["Intensity"], np.zeros(len(P), bool)
+    if kind == "point":
+        out = ref.point_light(light["position"], light["intensity"], light["quadratic"],
+                              light["linear"], light["constant"], geometry_position=P)
+        intensity = out["Intensity"]
+        if "falloff_exponent" in light:
+            intensity = ref.power_falloff(out["Distance"], light["intensity"],
+                                          light["falloff_exponent"])["Intensity"]
+        return out["Light Vector"], intensity, np.zeros(len(P), bool)
+    theta = math.radians(light["half_angle"])
+    out = ref.spot_light(light["position"], light["direction"], theta, light["edge_exponent"],
+                         light["intensity"], light["quadratic"], light["linear"],
+                         light["constant"], geometry_position=P)
+    edge = np.abs(out["Cos Angle"] - math.cos(theta)) < AMBIGUOUS
+    return out["Light Vector"], out["Intensity"], edge
+
+
+def reference_image(scene: dict, aovs: dict) -> dict:
+    """The reference picture and its terms from Cycles' AOVs.
+
+    Returns {"Color", "Irradiant", "Ambient", "Diffuse", "Specular"}: (H, W, 3) float64,
+    "object": (H, W) object index (0 = background), "ambiguous": (H, W) bool.
+    """
+    index = np.rint(aovs["phong_index"][..., 0]).astype(int)
+    h, w = index.shape
+    hit = (index >= 1) & (index <= len(scene["objects"]))
+    P = aovs["phong_P"][..., :3][hit].astype(np.float64)
+    N = aovs["phong_N"][..., :3][hit].astype(np.float64)
+    I = aovs["phong_I"][..., :3][hit].astype(np.float64)
+    color = aovs["phong_color"][..., :3][hit].astype(np.float64)
+    idx = index[hit] - 1
+    objects = scene["objects"]
+
+    def per_object(fn):
+        table = np.array([fn(o) for o in objects], dtype=np.float64)
+        return table[idx]
+
+    terms = [set(o["terms"]) for o in objects]
+    spec_color = per_object(lambda o: o["material"]["specular_color"])
+    exponent = per_object(lambda o: o["material"]["exponent"])
+    blinn = per_object(lambda o: o["material"]["blinn"])
+    irradiant = per_object(lambda o: o["material"]["irradiant"] if "irradiant" in o["terms"]
+                           else [0.0, 0.0, 0.0])
+    ambient = per_object(lambda o: scene["ambient"]["intensity"] if "ambient" in o["terms"]
+                         else 0.0)
+    ambiguous = np.zeros(len(P), bool)
+    sums = {k: np.zeros((len(P), 3)) for k in ("Irradiant", "Ambient", "Diffuse", "Specular")}
+    lights = scene["lights"] or [None]
+    final = None
+    for k, light in enumerate(lights):
+        if light is None:
+            ell, intensity, edge = np.zeros_like(P), np.zeros(len(P)), np.zeros(len(P), bool)
+            light_color, dif, spe = (1.0, 1.0, 1.0), 0.0, 0.0
+        else:
+            ell, intensity, edge = _light_at(light, P)
+            light_color = light["color"]
+            dif = per_object(lambda o, l=light: l["diffuse"] if l["name"] in o["lights"]
+                             and "diffuse" in o["terms"] else 0.0)
+            spe = per_object(lambda o, l=light: l["specular"] if l["name"] in o["lights"]
+                             and "specular" in o["terms"] else 0.0)
+            ambiguous |= edge & (np.asarray(dif) + np.asarray(spe) > 0)
+            ln = ref.dot(ell, ref.normalize(N))
+            ambiguous |= (np.abs(ln) < AMBIGUOUS) & (np.asarray(spe) > 0)
+        out = ref.phong_shading(
+            light_vector=ell, light_intensity=intensity, light_color=light_color,
+            object_color=color, irradiant_color=irradiant if k == 0 else (0.0, 0.0, 0.0),
+            ambient_intensity=ambient if k == 0 else 0.0,
+            ambient_color=scene["ambient"]["color"], diffuse_strength=dif,
+            specular_strength=spe, specular_color=spec_color, exponent=exponent, blinn=blinn,
+            geometry_normal=N, incoming=I)
+        for key in sums:
+            sums[key] += out[key]
+        final = out["Color"] if final is None else ref.color_add(final, out["Color"])["Color"]
+    del terms
+
+    def image(values, channels=3):
+        img = np.zeros((h, w, channels))
+        img[hit] = values
+        return img
+
+    result = {key: image(val) for key, val in sums.items()}
+    result["Color"] = image(final)
+    result["object"] = np.where(hit, index, 0)
+    amb = np.zeros((h, w), bool)
+    amb[hit] = ambiguous
+    result["ambiguous"] = amb
+    return result
+
+
+# -- metrics ---------------------------------------------------------------------------
+
+def compare(a: np.ndarray, b: np.ndarray, mask: np.ndarray) -> dict:
+    """Metrics of |a - b| (max over RGB) on the pixels of *mask*."""
+    diff = np.abs(a[..., :3].astype(np.float64) - b[..., :3].astype(np.float64)).max(axis=-1)
+    d = diff[mask]
+    if d.size == 0:
+        return {"pixels": 0, "max_abs": 0.0, "mean_abs": 0.0, "psnr_db": None,
+                "share_over_1_255": 0.0}
+    mse = float(np.mean((a[..., :3][mask].astype(np.float64)
+                         - b[..., :3][mask].astype(np.float64)) ** 2))
+    return {
+        "pixels": int(d.size),
+        "max_abs": float(d.max()),
+        "mean_abs": float(d.mean()),
+        "psnr_db": None if mse == 0 else float(10 * math.log10(1.0 / mse)),
+        "share_over_1_255": float(np.mean(d > EEVEE_STEP)),
+    }
+
+
+def verdict(pair_metrics: dict) -> dict:
+    """{engine: (ok, text)} against the tolerances."""
+    out = {}
+    m = pair_metrics.get("cycles-reference")
+    if m is not None:
+        ok = m["max_abs"] <= CYCLES_TOLERANCE
+        out["cycles"] = {"ok": ok, "rule": f"max |Δ| ≤ {CYCLES_TOLERANCE:g}",
+                         "value": f"{m['max_abs']:.2e}"}
+    m = pair_metrics.get("eevee-reference")
+    if m is not None:
+        within = 1.0 - m["share_over_1_255"]
+        ok = within >= EEVEE_SHARE
+        out["eevee"] = {"ok": ok, "rule": f"≥ {EEVEE_SHARE:.1%} of pixels within 1/255",
+                        "value": f"{within:.3%}"}
+    return out
+
+
+# -- the bake ---------------------------------------------------------------------------
+
+def bake(scene, out_dir: str, engines=ENGINES, progress=None) -> dict:
+    """Render and compare *scene* (built by builder.build) into *out_dir* (replaced whole).
+
+    *progress(fraction, text)* is called between steps.  Returns the metrics dict (also
+    written as metrics.json).
+    """
+    from . import builder, report
+
+    data = builder.scene_dict(scene)
+    if data is None:
+        raise ValueError(f"scene {scene.name!r} is not a Phong demo scene "
+                         "(build one with phong.build_demo_scene)")
+    engines = [e for e in ENGINES if e in engines]
+    progress = progress or (lambda f, t: None)
+    parent = os.path.dirname(os.path.abspath(out_dir)) or "."
+    os.makedirs(parent, exist_ok=True)
+    tmp = tempfile.mkdtemp(prefix=f".partial-{os.path.basename(out_dir)}-", dir=parent)
+    timings = {}
+    try:
+        images = {}
+        t0 = time.perf_counter()
+        progress(0.05, "Cycles (picture + AOVs)")
+        configure(scene, "cycles")
+        cycles_exr = os.path.join(tmp, "cycles.exr")
+        render_exr(scene, cycles_exr)
+        aovs = read_exr(cycles_exr)
+        os.remove(cycles_exr)
+        images["cycles"] = aovs["Combined"][..., :3]
+        timings["cycles_s"] = time.perf_counter() - t0
+
+        if "eevee" in engines:
+            t0 = time.perf_counter()
+            progress(0.35, "Eevee (picture)")
+            configure(scene, "eevee")
+            eevee_exr = os.path.join(tmp, "eevee.exr")
+            render_exr(scene, eevee_exr)
+            images["eevee"] = read_exr(eevee_exr)["Combined"][..., :3]
+            os.remove(eevee_exr)
+            timings["eevee_s"] = time.perf_counter() - t0
+            configure(scene, "cycles")  # leave the AOV outputs on for the user
+
+        t0 = time.perf_counter()
+        progress(0.7, "reference and report")
+        refimg = reference_image(data, aovs)
+        images["reference"] = refimg["Color"]
+        mask = (refimg["object"] > 0) & ~refimg["ambiguous"]
+        pairs = {}
+        for a, b in PAIRS:
+            if a in images and b in images and (a in engines or a == "reference") and (
+                    b in engines or b == "reference"):
+                pairs[f"{a}-{b}"] = compare(images[a], images[b], mask)
+        timings["reference_s"] = time.perf_counter() - t0
+        metrics = {
+            "scene": data["name"],
+            "title": data["title"],
+            "resolution": [scene.render.resolution_x, scene.render.resolution_y],
+            "engines": engines,
+            "pixels": {"total": int(mask.size), "object": int((refimg["object"] > 0).sum()),
+                       "compared": int(mask.sum()),
+                       "ambiguous": int(refimg["ambiguous"].sum())},
+            "pairs": pairs,
+            "tolerances": {"cycles_max_abs": CYCLES_TOLERANCE,
+                           "eevee_step": EEVEE_STEP, "eevee_share_within": EEVEE_SHARE},
+        }
+        metrics["verdict"] = verdict(pairs)
+        metrics["ok"] = all(v["ok"] for v in metrics["verdict"].values())
+        metrics["parameters"] = {k: v for k, v in data.items() if k != "path"}
+        t0 = time.perf_counter()
+        report.write_scene(tmp, data, images, refimg, mask, metrics)
+        timings["report_s"] = time.perf_counter() - t0
+        metrics["timings"] = timings
+        with open(os.path.join(tmp, "metrics.json"), "w", encoding="utf-8") as handle:
+            json.dump(metrics, handle, indent=2, ensure_ascii=False)
+        progress(0.95, "finishing")
+        _replace_dir(tmp, out_dir)
+    except BaseException:
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise
+    progress(1.0, "done")
+    return metrics
+
+
+def _replace_dir(tmp: str, final: str) -> None:
+    """Move the finished *tmp* folder to *final* (an older *final* is removed)."""
+    os.chmod(tmp, 0o755)
+    if os.path.exists(final):
+        trash = tempfile.mkdtemp(prefix=f".old-{os.path.basename(final)}-",
+                                 dir=os.path.dirname(os.path.abspath(final)))
+        os.rename(final, os.path.join(trash, "old"))
+        os.rename(tmp, final)
+        shutil.rmtree(trash, ignore_errors=True)
+    else:
+        os.rename(tmp, final)

@@ -1,0 +1,325 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Images, sheet, heatmaps, plots and index.html of the comparison bake.
+
+numpy + OpenImageIO only (no bpy): PNGs are 8-bit sRGB (the 'Standard' view transform of
+the linear pictures); plots are SVG written by hand.
+"""
+
+from __future__ import annotations
+
+import html
+import json
+import math
+import os
+import tempfile
+
+import numpy as np
+
+TERMS = ("Irradiant", "Ambient", "Diffuse", "Specular")
+#: Heatmap scale: log10 |Δ| from HEAT_LO (black) to HEAT_HI (white).
+HEAT_LO, HEAT_HI = 1e-6, 1e-1
+MASKED = np.array([0.18, 0.18, 0.22])
+
+
+# -- images ---------------------------------------------------------------------------
+
+def to_srgb(linear: np.ndarray) -> np.ndarray:
+    x = np.clip(linear[..., :3], 0.0, 1.0)
+    return np.where(x <= 0.0031308, 12.92 * x, 1.055 * np.power(x, 1 / 2.4) - 0.055)
+
+
+def write_png(path: str, display: np.ndarray) -> None:
+    """Write an (H, W, 3) display-referred [0, 1] image as 8-bit PNG."""
+    import OpenImageIO as oiio
+
+    data = np.ascontiguousarray(np.clip(np.rint(display * 255.0), 0, 255).astype(np.uint8))
+    h, w, c = data.shape
+    out = oiio.ImageOutput.create(path)
+    if out is None:
+        raise RuntimeError(f"cannot write {path}: {oiio.geterror()}")
+    out.open(path, oiio.ImageSpec(w, h, c, oiio.UINT8))
+    out.write_image(data)
+    out.close()
+
+
+_RAMP = np.array([[0, 0, 0], [0.1, 0.1, 0.6], [0.0, 0.6, 0.7], [0.2, 0.8, 0.2],
+                  [0.95, 0.85, 0.1], [0.9, 0.2, 0.1], [1, 1, 1]], dtype=np.float64)
+
+
+def heat_colors(t: np.ndarray) -> np.ndarray:
+    """t in [0, 1] -> RGB along the ramp black-blue-teal-green-yellow-red-white."""
+    t = np.clip(t, 0.0, 1.0) * (len(_RAMP) - 1)
+    i = np.minimum(np.floor(t).astype(int), len(_RAMP) - 2)
+    f = (t - i)[..., None]
+    return _RAMP[i] * (1 - f) + _RAMP[i + 1] * f
+
+
+def heatmap(a: np.ndarray, b: np.ndarray, mask: np.ndarray) -> np.ndarray:
+    d = np.abs(a[..., :3].astype(np.float64) - b[..., :3].astype(np.float64)).max(axis=-1)
+    t = (np.log10(np.maximum(d, HEAT_LO * 1e-3)) - math.log10(HEAT_LO)) / (
+        math.log10(HEAT_HI) - math.log10(HEAT_LO))
+    img = heat_colors(t)
+    img[~mask] = MASKED
+    return img
+
+
+def heat_legend(width: int, height: int = 14) -> np.ndarray:
+    t = np.linspace(0, 1, width)[None, :].repeat(height, 0)
+    return heat_colors(t)
+
+
+# -- text on images (OpenImageIO's built-in font) -----------------------------------------
+
+def _canvas(h, w, value=0.1):
+    return np.full((h, w, 3), value, dtype=np.float32)
+
+
+#: Glyphs the built-in font lacks.
+_ASCII = {"≤": "<=", "≥": ">=", "Δ": "d", "…": "...", "⊕": "+", "⊗": "x", "–": "-", "—": "-"}
+
+
+def _text(img: np.ndarray, x: int, y: int, text: str, size: int = 14, color=(1, 1, 1)):
+    """Draw *text* (baseline at y) onto the float image; no-op if text rendering fails."""
+    import OpenImageIO as oiio
+
+    if img.shape[0] < 4 or img.shape[1] < 4:
+        return img
+    for a, b in _ASCII.items():
+        text = text.replace(a, b)
+    buf = oiio.ImageBuf(np.ascontiguousarray(img, dtype=np.float32))
+    if oiio.ImageBufAlgo.render_text(buf, x, y, text, size, "", tuple(color)):
+        img[...] = buf.get_pixels(oiio.FLOAT).reshape(img.shape)
+    return img
+
+
+def sheet(tiles: list, title: str, subtitle: str, columns: int) -> np.ndarray:
+    """Labelled grid of (label, display image) tiles under a title bar."""
+    h, w = tiles[0][1].shape[:2]
+    label_h, pad, head = 22, 6, 56
+    rows = math.ceil(len(tiles) / columns)
+    W = max(columns * (w + pad) + pad, 720)
+    H = head + rows * (h + label_h + pad) + pad + 30
+    img = _canvas(H, W)
+    for i, (label, tile) in enumerate(tiles):
+        r, c = divmod(i, columns)
+        x = pad + c * (w + pad)
+        y = head + r * (h + label_h + pad)
+        _text(img[y:y + label_h, x:x + w], 2, 16, label, 14)
+        img[y + label_h:y + label_h + h, x:x + w] = tile[..., :3]
+    _text(img[:head], pad, 22, title, 18)
+    _text(img[:head], pad, 46, subtitle, 13, (0.85, 0.85, 0.85))
+    legend_w = min(W - 2 * pad, 300)
+    y0 = H - 24
+    img[y0:y0 + 14, pad:pad + legend_w] = heat_legend(legend_w)
+    _text(img[y0 - 4:H, pad + legend_w + 8:W], 0, 16,
+          f"|Δ| heatmaps: log scale {HEAT_LO:g} (black) … {HEAT_HI:g} (white); "
+          "1/255 = yellow-red; grey = not compared", 12, (0.85, 0.85, 0.85))
+    return img
+
+
+# -- plots (SVG) ---------------------------------------------------------------------
+
+_PALETTE = ("#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b")
+
+
+def svg_plot(title: str, xlabel: str, ylabel: str, curves: list, x_range, y_range,
+             width=440, height=280) -> str:
+    """A line plot: curves = [(label, xs, ys)]."""
+    left, right, top, bottom = 52, 150, 30, 40
+    pw, ph = width - left - right, height - top - bottom
+    (x0, x1), (y0, y1) = x_range, y_range
+
+    def sx(x):
+        return left + (x - x0) / (x1 - x0) * pw
+
+    def sy(y):
+        return top + ph - (min(max(y, y0), y1) - y0) / (y1 - y0) * ph
+
+    parts = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{height}" '
+             f'viewBox="0 0 {width} {height}" font-family="sans-serif" font-size="11">',
+             f'<rect width="{width}" height="{height}" fill="white"/>',
+             f'<text x="{left}" y="18" font-size="13" font-weight="bold">{html.escape(title)}</text>']
+    for i in range(6):
+        gx = x0 + (x1 - x0) * i / 5
+        gy = y0 + (y1 - y0) * i / 5
+        parts.append(f'<line x1="{sx(gx):.1f}" y1="{top}" x2="{sx(gx):.1f}" y2="{top + ph}" '
+                     'stroke="#ddd"/>')
+        parts.append(f'<line x1="{left}" y1="{sy(gy):.1f}" x2="{left + pw}" y2="{sy(gy):.1f}" '
+                     'stroke="#ddd"/>')
+        parts.append(f'<text x="{sx(gx):.1f}" y="{top + ph + 14}" text-anchor="middle">'
+                     f'{gx:g}</text>')
+        parts.append(f'<text x="{left - 4}" y="{sy(gy) + 4:.1f}" text-anchor="end">'
+                     f'{gy:.2g}</text>')
+    parts.append(f'<rect x="{left}" y="{top}" width="{pw}" height="{ph}" fill="none" '
+                 'stroke="#333"/>')
+    parts.append(f'<text x="{left + pw / 2}" y="{height - 6}" text-anchor="middle">'
+                 f'{html.escape(xlabel)}</text>')
+    parts.append(f'<text x="12" y="{top + ph / 2}" text-anchor="middle" '
+                 f'transform="rotate(-90 12 {top + ph / 2})">{html.escape(ylabel)}</text>')
+    for i, (label, xs, ys) in enumerate(curves):
+        color = _PALETTE[i % len(_PALETTE)]
+        pts = " ".join(f"{sx(x):.1f},{sy(y):.1f}" for x, y in zip(xs, ys) if np.isfinite(y))
+        parts.append(f'<polyline points="{pts}" fill="none" stroke="{color}" '
+                     'stroke-width="2"/>')
+        ly = top + 12 + 16 * i
+        parts.append(f'<line x1="{left + pw + 10}" y1="{ly - 4}" x2="{left + pw + 28}" '
+                     f'y2="{ly - 4}" stroke="{color}" stroke-width="2"/>')
+        parts.append(f'<text x="{left + pw + 32}" y="{ly}">{html.escape(label)}</text>')
+    parts.append("</svg>")
+    return "\n".join(parts)
+
+
+def plots(scene: dict) -> dict:
+    """{file name: SVG text} for the scene's lights: falloff curves, cos^e edge curves."""
+    from ..node_groups import reference as ref
+
+    out = {}
+    points = [l for l in scene["lights"] if l["type"] in ("point", "spot")]
+    if points:
+        d = np.linspace(0.05, 4.0, 200)
+        curves = []
+        for light in points:
+            if "falloff_exponent" in light:
+                y = ref.power_falloff(d, 1.0, light["falloff_exponent"])["Intensity"]
+                label = f"1/d^{light['falloff_exponent']:g}"
+            else:
+                y = 1.0 / np.maximum(light["quadratic"] * d * d + light["linear"] * d
+                                     + light["constant"], 1e-6)
+                label = (f"1/({light['quadratic']:g}r²+{light['linear']:g}r"
+                         f"+{light['constant']:g})")
+            if label not in [c[0] for c in curves]:
+                curves.append((label, d, y))
+        out["plot_falloff.svg"] = svg_plot("Point-light falloff (i0 = 1)", "distance d",
+                                           "intensity", curves, (0, 4), (0, 2))
+    spots = [l for l in scene["lights"] if l["type"] == "spot"]
+    if spots:
+        curves = []
+        theta_max = max(l["half_angle"] for l in spots)
+        w = np.linspace(0, min(90.0, theta_max * 1.25), 300)
+        for light in spots:
+            inside = w <= light["half_angle"]
+            y = np.where(inside, np.power(np.cos(np.radians(w)), light["edge_exponent"]), 0.0)
+            curves.append((f"e_att = {light['edge_exponent']:g}", w, y))
+        out["plot_spot_edge.svg"] = svg_plot(
+            f"Spot edge: (cos ω)^e_att for ω ≤ θ = {theta_max:g}°", "angle ω from the axis (°)",
+            "factor", curves, (0, float(w[-1])), (0, 1.05))
+    return out
+
+
+# -- one scene ------------------------------------------------------------------------
+
+def write_scene(folder: str, scene: dict, images: dict, refimg: dict, mask, metrics) -> None:
+    """Every image of one scene, and its sheet, into *folder*."""
+    shown = {}
+    for name in ("eevee", "cycles", "reference"):
+        if name in images:
+            shown[name] = to_srgb(images[name])
+            write_png(os.path.join(folder, f"{name}.png"), shown[name])
+    heat = {}
+    for pair in metrics["pairs"]:
+        a, b = pair.split("-")
+        heat[pair] = heatmap(images[a], images[b], mask)
+        write_png(os.path.join(folder, f"diff_{a}_{b}.png"), heat[pair])
+    term_imgs = {}
+    for term in TERMS:
+        term_imgs[term] = to_srgb(refimg[term])
+        write_png(os.path.join(folder, f"term_{term.lower()}.png"), term_imgs[term])
+    for name, svg in plots(scene).items():
+        with open(os.path.join(folder, name), "w", encoding="utf-8") as handle:
+            handle.write(svg)
+
+    def caption(pair):
+        m = metrics["pairs"][pair]
+        return f"|{pair.replace('-', ' - ')}|  max {m['max_abs']:.1e}"
+
+    tiles = [(n.capitalize() if n != "reference" else "Reference (numpy)", shown[n])
+             for n in ("eevee", "cycles", "reference") if n in shown]
+    tiles += [(caption(p), heat[p]) for p in heat]
+    tiles += [(f"{t} term (reference)", term_imgs[t]) for t in TERMS]
+    aspect = scene["aspect"]
+    columns = 5 if aspect <= 1.2 else 4 if aspect <= 1.6 else 3 if aspect <= 2.2 else 2
+    parts = []
+    for engine, v in metrics["verdict"].items():
+        parts.append(f"{engine}: {v['value']} ({'OK' if v['ok'] else 'FAIL'}, {v['rule']})")
+    title = f"{scene['name']}: {scene['title']}"
+    subtitle = (scene["source"] + "   " if scene["source"] else "") + "   ".join(parts)
+    write_png(os.path.join(folder, "sheet.png"), sheet(tiles, title, subtitle, columns))
+
+
+# -- the whole report -------------------------------------------------------------------
+
+def _fmt(x, spec):
+    return "–" if x is None else format(x, spec)
+
+
+def write_index(out_dir: str) -> str:
+    """index.html over every finished scene folder of *out_dir* (shards merge)."""
+    results = []
+    for name in sorted(os.listdir(out_dir)):
+        path = os.path.join(out_dir, name, "metrics.json")
+        if not name.startswith(".") and os.path.isfile(path):
+            with open(path, encoding="utf-8") as handle:
+                results.append(json.load(handle))
+    rows = []
+    for m in results:
+        for pair, p in m["pairs"].items():
+            rows.append(
+                f"<tr class='{'ok' if m['ok'] else 'bad'}'><td><a href='#{m['scene']}'>"
+                f"{html.escape(m['scene'])}</a></td><td>{pair}</td>"
+                f"<td>{p['max_abs']:.2e}</td><td>{p['mean_abs']:.2e}</td>"
+                f"<td>{_fmt(p['psnr_db'], '.1f')}</td><td>{p['share_over_1_255']:.3%}</td>"
+                f"<td>{p['pixels']}</td></tr>")
+    sections = []
+    for m in results:
+        s = m["parameters"]
+        verdicts = "; ".join(f"{e}: {v['value']} — {'OK' if v['ok'] else 'FAIL'} ({v['rule']})"
+                             for e, v in m["verdict"].items())
+        scene_dir = m["scene"]
+        files = sorted(os.listdir(os.path.join(out_dir, scene_dir)))
+        plots_html = "".join(f"<img src='{scene_dir}/{f}' alt='{f}'>" for f in files
+                             if f.startswith("plot_") and f.endswith(".svg"))
+        objects = "".join(
+            f"<li><b>{html.escape(o['label'])}</b>: terms {', '.join(o['terms'])}; lights "
+            f"{', '.join(o['lights']) or 'none'}; exponent {o['material']['exponent']:g}, "
+            f"Blinn {o['material']['blinn']:g}</li>" for o in s["objects"])
+        timing = ", ".join(f"{k[:-2]} {v:.1f} s" for k, v in m.get("timings", {}).items())
+        sections.append(f"""
+<section id="{scene_dir}">
+<h2>{html.escape(s['title'])} <small>({scene_dir})</small></h2>
+<p><i>{html.escape(s['source'])}</i> — {html.escape(s['description'])}</p>
+<p class="{'ok' if m['ok'] else 'bad'}">{html.escape(verdicts)}</p>
+<a href="{scene_dir}/sheet.png"><img class="sheet" src="{scene_dir}/sheet.png" alt="sheet"></a>
+<div class="plots">{plots_html}</div>
+<ul>{objects}</ul>
+<p>{m['resolution'][0]}×{m['resolution'][1]} px; {m['pixels']['compared']} pixels compared,
+{m['pixels']['ambiguous']} at a discontinuity of the model left out; {timing}.</p>
+<details><summary>Parameters</summary><pre>{html.escape(json.dumps(s, indent=1, ensure_ascii=False))}</pre></details>
+</section>""")
+    ok = all(m["ok"] for m in results)
+    page = f"""<!DOCTYPE html>
+<html lang="en"><head><meta charset="utf-8"><title>Phong Nodes: Eevee, Cycles and the formulas</title>
+<style>
+body {{ font-family: sans-serif; max-width: 1400px; margin: 1em auto; padding: 0 1em; }}
+table {{ border-collapse: collapse; }} td, th {{ border: 1px solid #ccc; padding: 2px 8px; text-align: right; }}
+td:first-child, td:nth-child(2) {{ text-align: left; }}
+.ok {{ color: #176117; }} .bad {{ color: #b00; font-weight: bold; }}
+img.sheet {{ max-width: 100%; }} .plots img {{ margin: 4px; border: 1px solid #ddd; }}
+</style></head><body>
+<h1>Phong Nodes: Eevee, Cycles and the numpy reference</h1>
+<p class="{'ok' if ok else 'bad'}">{len(results)} scene(s): {'every engine matches the reference' if ok else 'some engine does NOT match the reference'}
+(Cycles: max |Δ| ≤ 1e-4; Eevee: ≥ 99.5% of pixels within 1/255).</p>
+<p>Each picture is rendered with one sample at the pixel centres; the reference evaluates the seed formulas
+(node_groups/reference.py) on the position, normal, incoming direction and object colour that Cycles writes as AOVs.
+Background pixels and pixels within 1e-5 of a discontinuity of the model (spot cone edge, terminator) are not compared.</p>
+<table><tr><th>scene</th><th>pair</th><th>max |Δ|</th><th>mean |Δ|</th><th>PSNR dB</th><th>&gt; 1/255</th><th>pixels</th></tr>
+{''.join(rows)}</table>
+{''.join(sections)}
+</body></html>
+"""
+    fd, tmp = tempfile.mkstemp(prefix=".index-", suffix=".html", dir=out_dir)
+    with os.fdopen(fd, "w", encoding="utf-8") as handle:
+        handle.write(page)
+    os.chmod(tmp, 0o644)
+    final = os.path.join(out_dir, "index.html")
+    os.replace(tmp, final)
+    return final
