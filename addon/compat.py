@@ -29,8 +29,24 @@ def set_png(image_settings) -> None:
     image_settings.color_depth = "8"
 
 
+def uses_nodes(id_block) -> bool:
+    """Whether a material or world draws from its node tree (always from 5.0 on, where
+    ``use_nodes`` is deprecated)."""
+    return VERSION >= (5, 0, 0) or id_block.use_nodes
+
+
 def new_material_tree(material):
-    """The node tree of a new material (``use_nodes`` is implicit and deprecated in 5.0)."""
-    if VERSION < (5, 0, 0):
+    """The node tree of a material, switched on where Blender still needs ``use_nodes``."""
+    if not uses_nodes(material):
         material.use_nodes = True
     return material.node_tree
+
+
+def black_world(world) -> None:
+    """A world that adds no light and shows black (5.0 gives new worlds a grey Background)."""
+    world.color = (0.0, 0.0, 0.0)
+    if not uses_nodes(world):
+        return
+    background = world.node_tree.nodes.get("Background") if world.node_tree else None
+    if background is not None:
+        background.inputs["Color"].default_value = (0.0, 0.0, 0.0, 1.0)

@@ -28,10 +28,7 @@ def build_scene(resolution: int = 256) -> bpy.types.Scene:
     scene.view_settings.view_transform = "Standard"
     scene.render.film_transparent = False
     world = bpy.data.worlds.new(SCENE_NAME)
-    world.color = (0.0, 0.0, 0.0)
-    background = world.node_tree.nodes.get("Background") if world.node_tree else None
-    if background is not None:  # 5.0 gives new worlds a grey Background node
-        background.inputs["Color"].default_value = (0.0, 0.0, 0.0, 1.0)
+    compat.black_world(world)
     scene.world = world
 
     mesh = bpy.data.meshes.new("Phong Sphere")

@@ -29,7 +29,7 @@ from __future__ import annotations
 import bpy
 
 from ..node_groups import loader
-from . import drivers, properties
+from . import compat, drivers, properties
 
 #: Custom property that marks a material made by apply_material.
 MATERIAL_TAG = "phong_nodes_material"
@@ -83,16 +83,11 @@ def is_phong_material(material) -> bool:
     return material is not None and bool(material.get(MATERIAL_TAG)) and material.node_tree is not None
 
 
-def _uses_nodes(material) -> bool:
-    """Material.use_nodes is deprecated in Blender 5.0, where materials always use nodes."""
-    return bpy.app.version >= (5, 0, 0) or material.use_nodes
-
-
 def principled_color(material):
     """The base colour a material had (Principled BSDF, else its viewport colour), or None."""
     if material is None:
         return None
-    tree = material.node_tree if _uses_nodes(material) else None
+    tree = material.node_tree if compat.uses_nodes(material) else None
     if tree is not None:
         for node in tree.nodes:
             if node.bl_idname == "ShaderNodeBsdfPrincipled":
@@ -104,10 +99,8 @@ def principled_color(material):
 
 def new_material(name, base_color=None):
     material = bpy.data.materials.new(name)
-    if not _uses_nodes(material):
-        material.use_nodes = True
     material[MATERIAL_TAG] = 1
-    tree = material.node_tree
+    tree = compat.new_material_tree(material)
     tree.nodes.clear()
     _ensure_controls(tree, base_color)
     return material

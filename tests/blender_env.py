@@ -97,24 +97,25 @@ def load_groups() -> None:
 
 # ---------------------------------------------------------------- version differences
 
+def compat():
+    """The installed extension's compatibility module: the one place for version differences."""
+    import importlib  # noqa: PLC0415
+
+    return importlib.import_module(EXT_MODULE + ".addon.compat")
+
+
 def engine_id(kind: str) -> str:
     """'cycles' or 'eevee' -> the engine enum of this Blender."""
-    bpy = import_bpy()
     if kind == "cycles":
         return "CYCLES"
     if kind == "eevee":
-        return "BLENDER_EEVEE_NEXT" if (4, 2, 0) <= bpy.app.version < (5, 0, 0) else "BLENDER_EEVEE"
+        return compat().eevee_engine()
     raise ValueError(kind)
 
 
 def set_output_multilayer_exr(scene) -> None:
-    """32-bit float multilayer EXR output (5.0 added media_type)."""
-    settings = scene.render.image_settings
-    if hasattr(settings, "media_type"):  # Blender >= 5.0
-        settings.media_type = "MULTI_LAYER_IMAGE"
-    settings.file_format = "OPEN_EXR_MULTILAYER"
-    settings.color_depth = "32"
-    settings.exr_codec = "ZIP"
+    """32-bit float multilayer EXR output."""
+    compat().set_multilayer_exr(scene.render.image_settings)
 
 
 def configure_engine(scene, kind: str) -> None:
@@ -161,8 +162,7 @@ def new_scene(name: str, width: int, height: int, kind: str = "cycles"):
     scene.view_settings.exposure = 0.0
     scene.view_settings.gamma = 1.0
     world = bpy.data.worlds.new(name + " world")
-    world.color = (0.0, 0.0, 0.0)
-    world.use_nodes = False if hasattr(world, "use_nodes") else None
+    compat().black_world(world)
     scene.world = world
     set_output_multilayer_exr(scene)
     configure_engine(scene, kind)

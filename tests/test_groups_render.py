@@ -217,9 +217,7 @@ class MatBuilder:
     def __init__(self, name):
         bpy = be.import_bpy()
         self.mat = bpy.data.materials.new(name)
-        if hasattr(self.mat, "use_nodes"):
-            self.mat.use_nodes = True
-        self.nt = self.mat.node_tree
+        self.nt = be.compat().new_material_tree(self.mat)
         self.nt.nodes.clear()
         self.out = self.new("ShaderNodeOutputMaterial")
         self.geo = self.new("ShaderNodeNewGeometry")

@@ -16,9 +16,8 @@ def library():
 
 
 def new_material(name):
-    compat = importlib.import_module(be.EXT_MODULE + ".addon.compat")
     material = be.import_bpy().data.materials.new(name)
-    compat.new_material_tree(material)
+    be.compat().new_material_tree(material)
     return material
 
 

@@ -80,8 +80,7 @@ def build_scene(bpy, kind="cycles"):
     scene.collection.objects.link(plane)
     # The sphere had a Principled material: its base colour becomes the Object Color.
     old = bpy.data.materials.new("Old Principled")
-    if bpy.app.version < (5, 0, 0):
-        old.use_nodes = True
+    be.compat().new_material_tree(old)
     old.node_tree.nodes["Principled BSDF"].inputs["Base Color"].default_value = SPHERE_COLOR
     sphere = be.add_uv_sphere(scene, "Sphere", (0.3, 0.2, 0.6), 1.1, old, segments=32, rings=16)
 

@@ -57,6 +57,6 @@ setup
 case "$command" in
   setup) ;;
   demo) exec "$venv/bin/python" "$root/tools/phong.py" "$@" ;;
-  test) exec "$venv/bin/python" -m pytest "$root/tests" "$@" ;;
+  test) cd "$root" && exec "$venv/bin/python" -m pytest "$@" ;;
   *) echo "unknown command '$command' (expected demo, test or setup)" >&2; exit 2 ;;
 esac
