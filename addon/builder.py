@@ -33,6 +33,8 @@ AOVS = {
     "phong_color": ("COLOR", "object colour"),
     "phong_index": ("VALUE", "object index"),
 }
+#: UV sphere resolution (segments, rings).
+SPHERE_SEGMENTS = (64, 32)
 AOV_LAYER = "Phong AOVs"
 PICTURE_LAYER = "Phong Picture"
 
@@ -109,7 +111,8 @@ def _object(scene, obj_data, data):
         import bmesh
 
         bm = bmesh.new()
-        bmesh.ops.create_uvsphere(bm, u_segments=64, v_segments=32, radius=size, calc_uvs=True)
+        bmesh.ops.create_uvsphere(bm, u_segments=SPHERE_SEGMENTS[0], v_segments=SPHERE_SEGMENTS[1],
+                                  radius=size, calc_uvs=True)
         bm.to_mesh(mesh)
         bm.free()
         mesh.shade_smooth()

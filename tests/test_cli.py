@@ -1,15 +1,27 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""The headless command (tools/phong.py): renders the demo in both engines, refuses bad input."""
+"""The headless command (tools/phong.py): scene CLI, report, exit codes, bad input."""
 
+import json
 import os
 import subprocess
 import sys
 
-import numpy as np
 import pytest
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 CLI = os.path.join(ROOT, "tools", "phong.py")
+
+GOOD = """
+title = "t"
+[camera]
+location = [0, -5, 0]
+[[lights]]
+type = "point"
+position = [1, -2, 3]
+[[objects]]
+name = "ball"
+material = { exponent = 10 }
+"""
 
 
 def run_cli(tmp_path, *args):
@@ -18,40 +30,56 @@ def run_cli(tmp_path, *args):
                           env=env, timeout=300)
 
 
-def read_png(path):
-    import OpenImageIO as oiio
-    return oiio.ImageBuf(str(path)).get_pixels(oiio.UINT8).astype(float)
-
-
 @pytest.mark.slow
 @pytest.mark.eevee
 @pytest.mark.cycles
-def test_demo_renders_the_sphere_in_both_engines(tmp_path):
-    out = tmp_path / "demo"
-    result = run_cli(tmp_path, "--out", str(out), "--resolution", "48", "--samples", "1")
-    assert result.returncode == 0, result.stderr[-2000:]
-    images = {e: read_png(out / f"sphere_{e}.png") for e in ("cycles", "eevee")}
-    for engine, img in images.items():
-        assert img.shape == (48, 48, 3)
-        assert np.all(img[0, 0] == 0), f"{engine}: no light, no ambient outside the sphere"
-        centre = img[24, 24]
-        assert centre[0] > centre[1] > centre[2] > 0, f"{engine}: orange object colour, lit"
-    assert not [n for n in os.listdir(out) if n.startswith(".partial")], "no half-written file"
-    diff = np.abs(images["cycles"] - images["eevee"])
-    assert np.median(diff) <= 1.0
-    assert "Eevee vs Cycles" in result.stdout
+def test_one_scene_end_to_end(tmp_path):
+    out = tmp_path / "report"
+    result = run_cli(tmp_path, "--out", str(out), "--scenes", "point_falloff",
+                     "--resolution", "24")
+    assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
+    assert "[1/1] point_falloff" in result.stdout
+    assert "every engine matches the reference" in result.stdout
+    assert "point_falloff     cycles-reference" in result.stdout  # the summary table
+    metrics = json.loads((out / "point_falloff" / "metrics.json").read_text())
+    assert metrics["ok"] and metrics["resolution"] == [96, 24]
+    assert metrics["pairs"]["cycles-reference"]["max_abs"] <= 1e-4
+    page = (out / "index.html").read_text()
+    assert "point_falloff/sheet.png" in page and "plot_falloff.svg" in page
+    assert "α" in page, "the scene's parameters are in the report"
+    assert not [n for n in os.listdir(out) if n.startswith(".")], "no half-written file"
+
+
+@pytest.mark.parametrize("old, new, message", [
+    ('title = "t"\n', "", "title: expected a string (missing)"),
+    ("position = [1, -2, 3]", 'position = "up"', "lights[0].position: expected a list of 3"),
+    ("exponent = 10", "exponent = -1", "objects[0].material.exponent: expected a number >= 0"),
+    ('type = "point"', 'type = "area"', "lights[0].type: expected one of 'point'"),
+], ids=["missing-key", "wrong-type", "negative-exponent", "unknown-light-type"])
+def test_broken_scene_file_exits_2_and_writes_nothing(tmp_path, old, new, message):
+    bad = tmp_path / "bad.toml"
+    bad.write_text(GOOD.replace(old, new, 1))
+    out = tmp_path / "out"
+    result = run_cli(tmp_path, "--out", str(out), "--scenes", f"lambert_vs_phong,{bad}")
+    assert result.returncode == 2, result.stderr
+    assert f"{bad}: {message}" in result.stderr
+    assert "Traceback" not in result.stderr
+    assert not out.exists(), "no partial output"
 
 
 @pytest.mark.parametrize("args, message", [
     (["--engines", "luxcore"], "unknown engine(s) luxcore"),
     (["--resolution", "3"], "--resolution must be between 8 and 4096"),
-    (["--samples", "0"], "--samples must be at least 1"),
+    (["--shard", "3/2"], "--shard: expected i/n"),
+    (["--scenes", "nope"], "unknown scene 'nope'"),
 ])
 def test_bad_arguments_exit_2_with_a_clear_line(tmp_path, args, message):
-    result = run_cli(tmp_path, "--out", str(tmp_path / "x"), *args)
+    out = tmp_path / "x"
+    result = run_cli(tmp_path, "--out", str(out), *args)
     assert result.returncode == 2
     assert message in result.stderr
     assert "Traceback" not in result.stderr
+    assert not out.exists()
 
 
 def test_unwritable_output_folder_exits_2(tmp_path):

@@ -1,11 +1,18 @@
 #!/usr/bin/env python3
-"""Headless command of Phong Nodes (runs on the ``bpy`` module).
+"""Headless command of Phong Nodes (runs on the ``bpy`` module): the seed figures as scenes,
+rendered by Eevee and Cycles and checked against the numpy reference of the formulas.
 
-    python tools/phong.py [--out DIR] [--resolution N] [--engines cycles,eevee]
+    python tools/phong.py [--scenes a,b|all] [--engines cycles,eevee] [--resolution N]
+                          [--out DIR] [--shard i/n]
 
-Renders the demo sphere with each engine to ``DIR/sphere_<engine>.png`` and
-prints how far the two pictures are apart.  Exit code 0 on success, 2 on bad
-arguments, 1 when a render fails.
+Builds every demo scene of ``scenes/*.toml`` (or those named; a path to a .toml file also
+works), bakes each comparison into ``DIR/<scene>/`` (pictures, heatmaps, term images,
+sheet.png, metrics.json), writes ``DIR/index.html`` over every scene folder in DIR (so
+shards writing into one DIR merge) and prints a summary table.
+
+Exit codes: 0 every engine matches the reference (Cycles max |error| <= 1e-4, Eevee within
+1/255 on >= 99.5% of pixels); 1 some engine does not match, or a render failed; 2 bad
+arguments or a bad scene file (nothing is written then).
 """
 
 from __future__ import annotations
@@ -17,6 +24,7 @@ import sys
 import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+DEFAULT_RESOLUTION = 160
 
 
 def import_extension():
@@ -29,12 +37,26 @@ def import_extension():
     return module
 
 
+def _scenes_module():
+    """addon/scenes.py alone (pure python): validation before bpy is imported."""
+    spec = importlib.util.spec_from_file_location(
+        "phong_scenes_cli", os.path.join(ROOT, "addon", "scenes.py"))
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
 def parse_args(argv):
     parser = argparse.ArgumentParser(prog="phong", description=__doc__.split("\n\n")[0])
+    parser.add_argument("--scenes", default="all",
+                        help="comma-separated scene names or .toml paths (default: all)")
+    parser.add_argument("--engines", default="cycles,eevee",
+                        help="comma-separated: cycles, eevee (default: both)")
+    parser.add_argument("--resolution", type=int, default=DEFAULT_RESOLUTION,
+                        help=f"picture height in pixels (default: {DEFAULT_RESOLUTION})")
     parser.add_argument("--out", default="out/demo", help="output folder (default: out/demo)")
-    parser.add_argument("--resolution", type=int, default=256, help="square image size in pixels")
-    parser.add_argument("--engines", default="cycles,eevee", help="comma-separated: cycles, eevee")
-    parser.add_argument("--samples", type=int, default=16, help="samples per pixel (anti-aliasing)")
+    parser.add_argument("--shard", default=None,
+                        help="i/n: bake only every n-th scene starting at the i-th (1-based)")
     args = parser.parse_args(argv)
     engines = [e.strip().lower() for e in args.engines.split(",") if e.strip()]
     unknown = sorted(set(engines) - {"cycles", "eevee"})
@@ -43,14 +65,19 @@ def parse_args(argv):
                      "expected cycles and/or eevee")
     if not 8 <= args.resolution <= 4096:
         parser.error(f"--resolution must be between 8 and 4096, got {args.resolution}")
-    if args.samples < 1:
-        parser.error(f"--samples must be at least 1, got {args.samples}")
     args.engines = engines
     return args
 
 
 def main(argv=None) -> int:
     args = parse_args(sys.argv[1:] if argv is None else argv)
+    scenes = _scenes_module()
+    try:
+        selected = scenes.load_all(scenes.resolve(args.scenes))
+        mine = scenes.shard(selected, args.shard)
+    except scenes.SceneError as error:
+        print(f"phong: {error}", file=sys.stderr)
+        return 2
     out = os.path.abspath(args.out)
     try:
         os.makedirs(out, exist_ok=True)
@@ -61,34 +88,71 @@ def main(argv=None) -> int:
         print(f"phong: cannot write to output folder {out}: {error.strerror}", file=sys.stderr)
         return 2
 
-    import bpy  # noqa: F401  (after argument checks: importing bpy takes a second)
+    # Blender's render log goes to fd 1; keep the terminal for our own lines.
+    say_fd = os.dup(1)
+    say = os.fdopen(say_fd, "w", buffering=1)
+    quiet = os.environ.get("PHONG_VERBOSE") != "1"
+    if quiet:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        sys.stdout.flush()
+        os.dup2(devnull, 1)
+        os.close(devnull)
+
+    start = time.perf_counter()
+    print(f"phong: {len(mine)} scene(s) of {len(selected)}"
+          f"{f' (shard {args.shard})' if args.shard else ''}, engines {', '.join(args.engines)}, "
+          f"{args.resolution} px high -> {out}", file=say)
+    import bpy  # noqa: F401  (after the checks: importing bpy takes a second)
 
     phong = import_extension()
     phong.register()
-    from phong_nodes.addon import demo
+    from phong_nodes.addon import bake, builder, report
 
-    scene = demo.build_scene(args.resolution)
-    paths = {}
-    for engine in args.engines:
-        path = os.path.join(out, f"sphere_{engine}.png")
-        start = time.perf_counter()
-        demo.render(scene, engine.upper(), path, samples=args.samples)
-        paths[engine] = path
-        print(f"{engine:>6}: {path}  ({time.perf_counter() - start:.1f} s)")
-    if len(paths) == 2:
-        import numpy as np
-        a, b = (np.asarray(_read_png(p), dtype=np.float64) for p in paths.values())
-        diff = np.abs(a - b)
-        print(f"Eevee vs Cycles: mean |difference| {diff.mean():.2f}/255, max {diff.max():.0f}/255")
+    results, failed = [], []
+    for number, data in enumerate(mine, start=1):
+        t0 = time.perf_counter()
+        name = data["name"]
+        print(f"[{number}/{len(mine)}] {name}: build", end="", file=say)
+
+        def progress(_fraction, text, t0=t0):
+            print(f" | {text} {time.perf_counter() - t0:.1f} s", end="", file=say)
+
+        try:
+            scene = builder.build(data, args.resolution)
+            metrics = bake.bake(scene, os.path.join(out, name), engines=args.engines,
+                                progress=progress)
+            bpy.data.scenes.remove(scene)
+        except Exception as error:  # noqa: BLE001  (one bad scene must not hide the others)
+            print(f"\nphong: {name}: bake failed: {error}", file=sys.stderr)
+            failed.append(name)
+            continue
+        verdicts = ", ".join(f"{e} {v['value']} {'OK' if v['ok'] else 'FAIL'}"
+                             for e, v in metrics["verdict"].items())
+        print(f"\n      {verdicts}", file=say)
+        results.append(metrics)
+    index = report.write_index(out)
+    elapsed = time.perf_counter() - start
+
+    print("", file=say)
+    header = f"{'scene':<18}{'pair':<19}{'max |d|':>10}{'mean |d|':>10}{'PSNR':>8}" \
+             f"{'>1/255':>9}  verdict"
+    print(header, file=say)
+    print("-" * len(header), file=say)
+    for m in results:
+        for pair, p in m["pairs"].items():
+            engine = pair.split("-")[0]
+            v = m["verdict"].get(engine) if pair.endswith("reference") else None
+            mark = "" if v is None else ("OK" if v["ok"] else "FAIL")
+            psnr = "inf" if p["psnr_db"] is None else f"{p['psnr_db']:.1f}"
+            print(f"{m['scene']:<18}{pair:<19}{p['max_abs']:>10.2e}{p['mean_abs']:>10.2e}"
+                  f"{psnr:>8}{p['share_over_1_255']:>9.3%}  {mark}", file=say)
+    ok = not failed and all(m["ok"] for m in results)
+    status = "every engine matches the reference" if ok else (
+        f"MISMATCH or failure ({', '.join(failed + [m['scene'] for m in results if not m['ok']])})")
+    print(f"\n{status}; {len(results)} scene(s) in {elapsed:.1f} s; report: {index}", file=say)
+    say.flush()
     phong.unregister()
-    return 0
-
-
-def _read_png(path):
-    import OpenImageIO as oiio
-
-    buf = oiio.ImageBuf(path)
-    return buf.get_pixels(oiio.UINT8)
+    return 0 if ok else 1
 
 
 def exit_process(code: int) -> None:
