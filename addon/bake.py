@@ -72,6 +72,11 @@ def configure(scene, engine: str) -> None:
         ee = scene.eevee
         ee.taa_render_samples = 1
         scene.render.filter_size = 0.0
+        if hasattr(scene.render, "use_high_quality_normals"):
+            # Finer vertex normals on the GPU: with the default ones the narrow highlights
+            # differ from Cycles by up to 0.01 (two_lights at 160 px: 108 pixels over
+            # 1/255 without, 0 with).
+            scene.render.use_high_quality_normals = True
         for attr in ("use_shadows", "use_raytracing", "use_gtao", "use_bloom",
                      "use_volumetric_shadows"):
             if hasattr(ee, attr):

@@ -32,7 +32,7 @@ class PHONG_OT_build_demo_scene(bpy.types.Operator):
     name: EnumProperty(name="Scene", description="Demo scene (scenes/<name>.toml)",
                        items=_scene_items)
     resolution: IntProperty(name="Resolution", description="Picture height in pixels",
-                            default=128, min=8, max=4096)
+                            default=256, min=8, max=4096)
 
     def execute(self, context):
         try:

@@ -24,7 +24,7 @@ import sys
 import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-DEFAULT_RESOLUTION = 160
+DEFAULT_RESOLUTION = 256
 
 
 def import_extension():
