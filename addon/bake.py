@@ -175,7 +175,6 @@ def reference_image(scene: dict, aovs: dict) -> dict:
         table = np.array([fn(o) for o in objects], dtype=np.float64)
         return table[idx]
 
-    terms = [set(o["terms"]) for o in objects]
     spec_color = per_object(lambda o: o["material"]["specular_color"])
     exponent = per_object(lambda o: o["material"]["exponent"])
     blinn = per_object(lambda o: o["material"]["blinn"])
@@ -211,7 +210,6 @@ def reference_image(scene: dict, aovs: dict) -> dict:
         for key in sums:
             sums[key] += out[key]
         final = out["Color"] if final is None else ref.color_add(final, out["Color"])["Color"]
-    del terms
 
     def image(values, channels=3):
         img = np.zeros((h, w, channels))

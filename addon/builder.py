@@ -59,6 +59,9 @@ def build(scene_dict: dict, resolution: int = 128) -> bpy.types.Scene:
     scene.view_settings.exposure = 0.0
     scene.view_settings.gamma = 1.0
     _black_world(scene, data["name"])
+    # The scene's ambient light as the Phong world settings (issue 3's custom properties).
+    scene.world["phong_ambient_intensity"] = data["ambient"]["intensity"]
+    scene.world["phong_ambient_color"] = list(data["ambient"]["color"])
     _view_layers(scene)
 
     material = _material(data)

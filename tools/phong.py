@@ -115,7 +115,7 @@ def main(argv=None) -> int:
         print(f"[{number}/{len(mine)}] {name}: build", end="", file=say)
 
         def progress(_fraction, text, t0=t0):
-            print(f" | {text} {time.perf_counter() - t0:.1f} s", end="", file=say)
+            print(f" | {time.perf_counter() - t0:.1f} s: {text}", end="", file=say)
 
         try:
             scene = builder.build(data, args.resolution)
