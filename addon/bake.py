@@ -48,42 +48,15 @@ PAIRS = (("eevee", "reference"), ("cycles", "reference"), ("eevee", "cycles"))
 def configure(scene, engine: str) -> None:
     import bpy  # noqa: F401
 
-    from . import builder, compat
+    from . import builder, compat, render
 
     layers = scene.view_layers
+    render.exact(scene, engine)
     if engine == "cycles":
-        scene.render.engine = "CYCLES"
-        cy = scene.cycles
-        cy.device = "CPU"
-        cy.samples = 1
-        cy.use_denoising = False
-        cy.use_adaptive_sampling = False
-        cy.pixel_filter_type = "BOX"
-        cy.filter_width = 0.01
-        cy.max_bounces = 0
-        cy.seed = 0
-        if hasattr(cy, "use_light_tree"):
-            cy.use_light_tree = False
         layers[builder.AOV_LAYER].use = True
         layers[builder.PICTURE_LAYER].use = False
         builder.set_aov_outputs(scene, True)
     else:
-        scene.render.engine = compat.eevee_engine()
-        ee = scene.eevee
-        ee.taa_render_samples = 1
-        scene.render.filter_size = 0.0
-        if hasattr(scene.render, "use_high_quality_normals"):
-            # Finer vertex normals on the GPU: with the default ones the narrow highlights
-            # differ from Cycles by up to 0.01 (two_lights at 160 px: 108 pixels over
-            # 1/255 without, 0 with).
-            scene.render.use_high_quality_normals = True
-        for attr in ("use_shadows", "use_raytracing", "use_gtao", "use_bloom",
-                     "use_volumetric_shadows"):
-            if hasattr(ee, attr):
-                try:
-                    setattr(ee, attr, False)
-                except (AttributeError, TypeError):
-                    pass
         layers[builder.AOV_LAYER].use = False
         layers[builder.PICTURE_LAYER].use = True
         builder.set_aov_outputs(scene, False)

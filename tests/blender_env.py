@@ -119,30 +119,10 @@ def set_output_multilayer_exr(scene) -> None:
 
 
 def configure_engine(scene, kind: str) -> None:
-    scene.render.engine = engine_id(kind)
-    if kind == "cycles":
-        cy = scene.cycles
-        cy.device = "CPU"
-        cy.samples = 1
-        cy.use_denoising = False
-        cy.use_adaptive_sampling = False
-        cy.pixel_filter_type = "BOX"
-        cy.filter_width = 0.01
-        cy.max_bounces = 0
-        cy.use_light_tree = False
-        cy.seed = 0
-    else:
-        ee = scene.eevee
-        ee.taa_render_samples = 1
-        scene.render.filter_size = 0.0
-        for attr, val in (("use_shadows", False), ("use_raytracing", False),
-                          ("use_gtao", False), ("use_bloom", False),
-                          ("use_volumetric_shadows", False)):
-            if hasattr(ee, attr):
-                try:
-                    setattr(ee, attr, val)
-                except (AttributeError, TypeError):
-                    pass
+    """The add-on's exact-check settings (one sample at pixel centres)."""
+    import importlib  # noqa: PLC0415
+
+    importlib.import_module(EXT_MODULE + ".addon.render").exact(scene, kind)
 
 
 # ---------------------------------------------------------------- scene set-up

@@ -322,9 +322,6 @@ def build_material(name, group, images, flag_img, layout, mode, pack=None, unlin
                 b.link(node.outputs[s], comb.inputs[c])
             vec = comb.outputs[0]
         b.aov("eout", b.vmath("SCALE", vec, scale=EE_SCALE))
-        if unlinked_zero:  # curved scene: Eevee's own geometry (its normals differ ~5e-4)
-            for nm, sock in (("gP", "Position"), ("gN", "Normal"), ("gI", "Incoming")):
-                b.aov(nm, b.geo.outputs[sock])
     return b.mat
 
 
@@ -337,14 +334,11 @@ def cycles_aovs(scene, max_inputs):
         be.add_aov(scene, g)
 
 
-def switch_to_eevee(scene, eevee_mats, geometry=False):
+def switch_to_eevee(scene, eevee_mats):
     layer = scene.view_layers[0]
     while len(layer.aovs):
         layer.aovs.remove(layer.aovs[0])
     be.add_aov(scene, "eout")
-    if geometry:
-        for nm in ("gP", "gN", "gI"):
-            be.add_aov(scene, nm)
     for obj, mat in eevee_mats:
         obj.data.materials[0] = mat
     be.configure_engine(scene, "eevee")
@@ -506,7 +500,7 @@ def renders(installed, blender_tmp):
     be.render_exr(scene, os.path.join(out, "flat_eevee.exr"))
     R.timings["eevee flat (compile + render)"] = time.perf_counter() - t0
     R.flat_e = {k: v[::-1] for k, v in be.read_multilayer_exr(os.path.join(out, "flat_eevee.exr")).items()}
-    switch_to_eevee(sc2, eevee_mats2, geometry=True)
+    switch_to_eevee(sc2, eevee_mats2)
     t0 = time.perf_counter()
     be.render_exr(sc2, os.path.join(out, "curved_eevee.exr"))
     R.timings["eevee curved (compile + render)"] = time.perf_counter() - t0
@@ -675,10 +669,7 @@ def test_eevee_curved_unlinked_normal_view(renders, group):
     quad[qy * half:(qy + 1) * half, qx * half:(qx + 1) * half] = True
     ys, xs = np.nonzero(hit & quad)
     linked = [s for s, _ in GROUPS[group][0] if s not in ("Normal", "View Vector")]
-    vals, _geo_cycles = read_inputs(R.curved_c, group, ys, xs, linked)
-    # geometry as Eevee saw it (half-float AOVs): GPU vertex normals are less precise
-    geo = {key: R.curved_e[p][ys, xs, :3].astype(np.float64)
-           for key, p in (("Position", "gP"), ("Normal", "gN"), ("Incoming", "gI"))}
+    vals, geo = read_inputs(R.curved_c, group, ys, xs, linked)
     zeros = np.zeros((ys.size, 3))
     vals["Normal"] = zeros
     if group != "Phong Diffuse":
