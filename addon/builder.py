@@ -21,7 +21,7 @@ import math
 import bpy
 
 from ..node_groups import loader
-from . import compat
+from . import compat, meshes
 
 #: Custom property on a built scene: the scene dict (JSON) it was built from.
 SCENE_KEY = "phong_demo"
@@ -84,13 +84,7 @@ def scene_dict(scene) -> dict | None:
 
 def _black_world(scene, name):
     world = bpy.data.worlds.new(f"Phong {name}")
-    world.color = (0.0, 0.0, 0.0)
-    tree = world.node_tree
-    if tree is not None:
-        for node in tree.nodes:
-            if node.bl_idname == "ShaderNodeBackground":
-                node.inputs["Color"].default_value = (0.0, 0.0, 0.0, 1.0)
-                node.inputs["Strength"].default_value = 0.0
+    compat.black_world(world)
     scene.world = world
 
 
@@ -108,18 +102,11 @@ def _view_layers(scene):
 
 def _object(scene, obj_data, data):
     name = obj_data["name"]
-    mesh = bpy.data.meshes.new(f"{data['name']}.{name}")
     size = obj_data["size"]
     if obj_data["shape"] == "sphere":
-        import bmesh
-
-        bm = bmesh.new()
-        bmesh.ops.create_uvsphere(bm, u_segments=SPHERE_SEGMENTS[0], v_segments=SPHERE_SEGMENTS[1],
-                                  radius=size, calc_uvs=True)
-        bm.to_mesh(mesh)
-        bm.free()
-        mesh.shade_smooth()
+        mesh = meshes.uv_sphere(f"{data['name']}.{name}", size, *SPHERE_SEGMENTS)
     else:
+        mesh = bpy.data.meshes.new(f"{data['name']}.{name}")
         verts = [(-size, -size, 0.0), (size, -size, 0.0), (size, size, 0.0), (-size, size, 0.0)]
         mesh.from_pydata(verts, [], [(0, 1, 2, 3)])
         uv = mesh.uv_layers.new(name="UVMap")

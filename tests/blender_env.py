@@ -200,18 +200,12 @@ def add_uv_plane(scene, name, x0, y0, size, material):
 
 
 def add_uv_sphere(scene, name, location, radius, material, segments=48, rings=24):
-    """Smooth-shaded UV sphere (built with bmesh, no operator context needed)."""
-    bpy = import_bpy()
-    import bmesh  # noqa: PLC0415
+    """Smooth-shaded UV sphere (the add-on's mesh helper, no operator context needed)."""
+    import importlib  # noqa: PLC0415
 
-    mesh = bpy.data.meshes.new(name)
-    bm = bmesh.new()
-    bmesh.ops.create_uvsphere(bm, u_segments=segments, v_segments=rings, radius=radius,
-                              calc_uvs=True)
-    bm.to_mesh(mesh)
-    bm.free()
-    for poly in mesh.polygons:
-        poly.use_smooth = True
+    bpy = import_bpy()
+    mesh = importlib.import_module(EXT_MODULE + ".addon.meshes").uv_sphere(
+        name, radius, segments, rings)
     mesh.materials.append(material)
     mesh.update()
     obj = bpy.data.objects.new(name, mesh)
