@@ -119,11 +119,4 @@ def _show_image(context, path):
 classes = (PHONG_OT_build_demo_scene, PHONG_OT_bake_comparison)
 
 
-def register():
-    for cls in classes:
-        bpy.utils.register_class(cls)
-
-
-def unregister():
-    for cls in reversed(classes):
-        bpy.utils.unregister_class(cls)
+register, unregister = bpy.utils.register_classes_factory(classes)

@@ -358,11 +358,4 @@ class PHONG_OT_relink_lights(bpy.types.Operator):
 classes = (PHONG_OT_apply_material, PHONG_OT_relink_lights)
 
 
-def register():
-    for cls in classes:
-        bpy.utils.register_class(cls)
-
-
-def unregister():
-    for cls in reversed(classes):
-        bpy.utils.unregister_class(cls)
+register, unregister = bpy.utils.register_classes_factory(classes)

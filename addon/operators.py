@@ -77,11 +77,4 @@ def add_group_node(tree, group_name: str, location):
 classes = (PHONG_OT_load_node_groups, PHONG_OT_add_node_group)
 
 
-def register():
-    for cls in classes:
-        bpy.utils.register_class(cls)
-
-
-def unregister():
-    for cls in reversed(classes):
-        bpy.utils.unregister_class(cls)
+register, unregister = bpy.utils.register_classes_factory(classes)

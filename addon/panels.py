@@ -74,13 +74,14 @@ def _draw_material_menu(self, context):
 classes = (DATA_PT_phong_light, WORLD_PT_phong)
 
 
+_register_classes, _unregister_classes = bpy.utils.register_classes_factory(classes)
+
+
 def register():
-    for cls in classes:
-        bpy.utils.register_class(cls)
+    _register_classes()
     bpy.types.VIEW3D_MT_object.append(_draw_material_menu)
 
 
 def unregister():
     bpy.types.VIEW3D_MT_object.remove(_draw_material_menu)
-    for cls in reversed(classes):
-        bpy.utils.unregister_class(cls)
+    _unregister_classes()

@@ -134,9 +134,11 @@ def ensure_world_props(world) -> None:
 classes = (PhongLightSettings, PhongWorldSettings)
 
 
+_register_classes, _unregister_classes = bpy.utils.register_classes_factory(classes)
+
+
 def register():
-    for cls in classes:
-        bpy.utils.register_class(cls)
+    _register_classes()
     bpy.types.Light.phong = PointerProperty(type=PhongLightSettings)
     bpy.types.World.phong = PointerProperty(type=PhongWorldSettings)
 
@@ -144,5 +146,4 @@ def register():
 def unregister():
     del bpy.types.World.phong
     del bpy.types.Light.phong
-    for cls in reversed(classes):
-        bpy.utils.unregister_class(cls)
+    _unregister_classes()
