@@ -1,9 +1,11 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""The Blender layer: operators and menus.  Register and unregister are symmetric."""
+"""The Blender layer: operators, menus, panels, properties and handlers.
 
-from . import demo_ops, materials, menus, operators, panels, properties
+Register and unregister are symmetric."""
 
-_modules = (operators, menus, properties, materials, panels, demo_ops)
+from . import demo_ops, handlers, materials, menus, operators, panels, properties
+
+_modules = (operators, menus, properties, materials, panels, demo_ops, handlers)
 
 
 def register():

@@ -54,6 +54,20 @@ def ensure_group(name: str):
     return tree, status
 
 
+def merge_copies() -> int:
+    """Merge stamped copies (``Phong Shading.001`` after an append) into their group.
+
+    Returns how many copies were merged."""
+    copies = {}
+    for tree in bpy.data.node_groups:
+        name = _stamped(tree)
+        if name in GROUPS and tree.name != name and tree.library is None:
+            copies[name] = copies.get(name, 0) + 1
+    for name in copies:
+        _canonical(name)
+    return sum(copies.values())
+
+
 def _stamped(tree) -> str | None:
     return tree.get(STAMP_GROUP) if tree.bl_idname == TREE_TYPE else None
 

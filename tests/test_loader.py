@@ -128,3 +128,26 @@ def test_adding_a_group_node_reuses_the_group(bpy_clean):
     assert tree.nodes.active == second and second.select and not first.select
     with pytest.raises(ValueError, match="Unknown Phong group 'Phong Bogus'; expected one of"):
         operators.add_group_node(tree, "Phong Bogus", (0, 0))
+
+
+def test_appending_a_phong_material_reuses_the_groups_present(bpy_clean, tmp_path):
+    bpy = bpy_clean
+    be.load_groups()
+    material = new_material("Appended Phong")
+    node = material.node_tree.nodes.new("ShaderNodeGroup")
+    node.node_tree = bpy.data.node_groups["Phong Shading"]
+    material.use_fake_user = True
+    path = str(tmp_path / "other.blend")
+    bpy.ops.wm.save_as_mainfile(filepath=path)
+
+    be.reset_empty_file()
+    be.load_groups()
+    before = sorted(g.name for g in bpy.data.node_groups)
+    result = bpy.ops.wm.append(filepath=f"{path}/Material/Appended Phong",
+                               directory=f"{path}/Material/", filename="Appended Phong")
+    assert result == {"FINISHED"}
+    bpy.context.view_layer.update()  # what the UI does after any change
+    assert sorted(g.name for g in bpy.data.node_groups) == before, "no Phong Shading.001"
+    appended = bpy.data.materials["Appended Phong"]
+    groups = [n.node_tree for n in appended.node_tree.nodes if n.bl_idname == "ShaderNodeGroup"]
+    assert groups == [bpy.data.node_groups["Phong Shading"]]
