@@ -273,22 +273,33 @@ def rebuild(material, lights, world):
     return material
 
 
-def apply_to_object(obj, lights, world):
+def apply_to_object(obj, lights, world, rebuilt=None):
     """Give *obj* its Phong material (created, or updated when it has one); returns it.
 
     An object that already has a Phong material in a slot keeps it (updated).  Otherwise a
     new material "Phong <object>" replaces the material of the active slot (a slot is added
     when the object has none); the other slots are left as they were.
+
+    *rebuilt* (a set, shared by the calls of one operator run) holds the materials already
+    built for these lights: objects that share a material (linked duplicates, a shared
+    mesh) rebuild it once, not once per object.
     """
     for slot in obj.material_slots:
         if is_phong_material(slot.material):
-            return rebuild(slot.material, lights, world)
+            material = slot.material
+            if rebuilt is not None:
+                if material.as_pointer() in rebuilt:
+                    return material
+                rebuilt.add(material.as_pointer())
+            return rebuild(material, lights, world)
     active = obj.active_material if obj.material_slots else None
     material = new_material(f"Phong {obj.name}", principled_color(active))
     if not obj.material_slots:
         obj.data.materials.append(material)
     else:
         obj.material_slots[obj.active_material_index].material = material
+    if rebuilt is not None:
+        rebuilt.add(material.as_pointer())
     return rebuild(material, lights, world)
 
 
@@ -328,7 +339,9 @@ class PHONG_OT_apply_material(bpy.types.Operator):
         lights, unsupported = scene_lights(context.scene, context.view_layer)
         _warn_unsupported(self, unsupported)
         world = context.scene.world
-        done = [apply_to_object(obj, lights, world).name for obj in meshes]
+        rebuilt = set()
+        done = list(dict.fromkeys(apply_to_object(obj, lights, world, rebuilt).name
+                                  for obj in meshes))
         if not lights:
             self.report({"WARNING"}, "Phong: the scene has no Point, Sun or Spot light; "
                                      "the materials show ambient and irradiant only")
