@@ -22,7 +22,7 @@ from .expr import (
 )
 
 #: Bump when any group changes: files with older groups are upgraded in place.
-LIBRARY_VERSION = 1
+LIBRARY_VERSION = 2
 
 #: Smallest falloff denominator (SPEC: max(denominator, 1e-6)).
 MIN_DENOMINATOR = 1e-6
@@ -48,9 +48,14 @@ def reflect(l, n):
 
 
 def phong_factor(l, n, v, e):
-    """(r·v)^e where ℓ·n ≥ 0 and r·v ≥ 0, else 0 (seed 000 §3.5)."""
+    """(r·v)^e where ℓ·n ≥ 0 and r·v ≥ 0, else 0 (seed 000 §3.5).
+
+    r·v is taken as at most 1: exact for a unit ℓ (then |r| = 1 and r·v ≤ 1), and it keeps
+    (r·v)^e finite for a Light Vector input that is not unit (‖ℓ‖ = 10⁶, e = 30 overflowed).
+    """
     rv = dot(reflect(l, n), v)
-    return at_least(dot(l, n), 0.0) * at_least(rv, 0.0) * power(maximum(rv, 0.0), maximum(e, 0.0))
+    base = minimum(maximum(rv, 0.0), 1.0)
+    return at_least(dot(l, n), 0.0) * at_least(rv, 0.0) * power(base, maximum(e, 0.0))
 
 
 def blinn_factor(l, n, v, e):

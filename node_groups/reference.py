@@ -260,13 +260,14 @@ def diffuse(light_vector=_ZERO3, intensity=1.0, light_color=_ONE3, object_color=
 def phong_factor(light_vector, normal, view):
     """[ℓ·n >= 0 and r·v >= 0] · max(r·v, 0) base and mask, r = 2(ℓ·n)n - ℓ (Lemma 1).
 
-    ``normal`` and ``view`` are already resolved; returns (r·v, mask).
+    ``normal`` and ``view`` are already resolved; returns (min(r·v, 1), mask).  For a unit ℓ,
+    r·v ≤ 1 anyway; the bound keeps (r·v)^e finite when the Light Vector is not unit.
     """
     ell = _vec(light_vector)
     ln = dot(ell, normal)
     r = 2.0 * ln[..., None] * normal - ell
     rv = dot(r, view)
-    return rv, (ln >= 0.0) & (rv >= 0.0)
+    return np.minimum(rv, 1.0), (ln >= 0.0) & (rv >= 0.0)
 
 
 def blinn_factor(light_vector, normal, view):
