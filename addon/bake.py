@@ -30,6 +30,7 @@ import time
 import numpy as np
 
 from ..node_groups import reference as ref
+from . import outputs
 
 #: Cycles must match the reference within this (max abs error, linear colour).
 CYCLES_TOLERANCE = 1e-4
@@ -253,7 +254,8 @@ def bake(scene, out_dir: str, engines=ENGINES, progress=None) -> dict:
     progress = progress or (lambda f, t: None)
     parent = os.path.dirname(os.path.abspath(out_dir)) or "."
     os.makedirs(parent, exist_ok=True)
-    tmp = tempfile.mkdtemp(prefix=f".partial-{os.path.basename(out_dir)}-", dir=parent)
+    tmp = tempfile.mkdtemp(prefix=outputs.temp_prefix("partial", os.path.basename(out_dir)),
+                           dir=parent)
     timings = {}
     try:
         images = {}
@@ -311,22 +313,9 @@ def bake(scene, out_dir: str, engines=ENGINES, progress=None) -> dict:
         with open(os.path.join(tmp, "metrics.json"), "w", encoding="utf-8") as handle:
             json.dump(metrics, handle, indent=2, ensure_ascii=False)
         progress(0.95, "finishing")
-        _replace_dir(tmp, out_dir)
+        outputs.replace_dir(tmp, out_dir)
     except BaseException:
         shutil.rmtree(tmp, ignore_errors=True)
         raise
     progress(1.0, "done")
     return metrics
-
-
-def _replace_dir(tmp: str, final: str) -> None:
-    """Move the finished *tmp* folder to *final* (an older *final* is removed)."""
-    os.chmod(tmp, 0o755)
-    if os.path.exists(final):
-        trash = tempfile.mkdtemp(prefix=f".old-{os.path.basename(final)}-",
-                                 dir=os.path.dirname(os.path.abspath(final)))
-        os.rename(final, os.path.join(trash, "old"))
-        os.rename(tmp, final)
-        shutil.rmtree(trash, ignore_errors=True)
-    else:
-        os.rename(tmp, final)

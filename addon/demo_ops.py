@@ -8,7 +8,7 @@ import os
 import bpy
 from bpy.props import EnumProperty, IntProperty, StringProperty
 
-from . import bake, builder, scenes
+from . import bake, builder, outputs, scenes
 
 
 def _scene_items(_self, _context):
@@ -33,12 +33,17 @@ class PHONG_OT_build_demo_scene(bpy.types.Operator):
                        items=_scene_items)
     resolution: IntProperty(name="Resolution", description="Picture height in pixels",
                             default=256, min=8, max=4096)
+    filepath: StringProperty(name="Scene File", subtype="FILE_PATH", default="",
+                             description="A scene .toml file of your own (instead of Scene)",
+                             options={"SKIP_SAVE"})
 
     def execute(self, context):
+        path = (bpy.path.abspath(self.filepath) if self.filepath
+                else os.path.join(scenes.SCENES_DIR, f"{self.name}.toml"))
         try:
-            data = scenes.load(os.path.join(scenes.SCENES_DIR, f"{self.name}.toml"))
+            data = scenes.load(path)
         except scenes.SceneError as error:
-            self.report({"ERROR"}, str(error))
+            self.report({"ERROR"}, f"Build Phong Demo Scene: {error}")
             return {"CANCELLED"}
         scene = builder.build(data, self.resolution)
         if context.window is not None:
@@ -75,6 +80,10 @@ reference of the formulas and write images, heatmaps, a sheet and metrics.json""
         if self.directory.startswith("//") and not bpy.data.filepath:
             import tempfile
             folder = os.path.join(tempfile.gettempdir(), "phong_bake")
+        problem = outputs.output_problem(folder)
+        if problem is not None:
+            self.report({"ERROR"}, f"Bake Phong Comparison: {problem}")
+            return {"CANCELLED"}
         data = builder.scene_dict(scene)
         wm = context.window_manager
         wm.progress_begin(0, 100)
@@ -83,7 +92,7 @@ reference of the formulas and write images, heatmaps, a sheet and metrics.json""
                                 engines=[e.lower() for e in self.engines],
                                 progress=lambda f, _t: wm.progress_update(int(100 * f)))
         except (RuntimeError, OSError) as error:
-            self.report({"ERROR"}, f"Phong bake failed: {error}")
+            self.report({"ERROR"}, f"Bake Phong Comparison: bake failed: {error}")
             return {"CANCELLED"}
         finally:
             wm.progress_end()

@@ -34,8 +34,12 @@ class PHONG_OT_add_node_group(bpy.types.Operator):
     @classmethod
     def poll(cls, context):
         space = context.space_data
-        return (space is not None and space.type == "NODE_EDITOR"
-                and space.tree_type == "ShaderNodeTree" and space.edit_tree is not None)
+        if (space is not None and space.type == "NODE_EDITOR"
+                and space.tree_type == "ShaderNodeTree" and space.edit_tree is not None):
+            return True
+        cls.poll_message_set("Add Phong Node Group: open a material's node tree in the "
+                             "Shader Editor first")
+        return False
 
     @classmethod
     def description(cls, context, properties):
@@ -47,7 +51,7 @@ class PHONG_OT_add_node_group(bpy.types.Operator):
         try:
             add_group_node(space.edit_tree, self.group_name, space.cursor_location)
         except ValueError as error:
-            self.report({"ERROR"}, str(error))
+            self.report({"ERROR"}, f"Add Phong Node Group: {error}")
             return {"CANCELLED"}
         return {"FINISHED"}
 

@@ -316,7 +316,9 @@ Background pixels and pixels within 1e-5 of a discontinuity of the model (spot c
 {''.join(sections)}
 </body></html>
 """
-    fd, tmp = tempfile.mkstemp(prefix=".index-", suffix=".html", dir=out_dir)
+    from .outputs import temp_prefix
+
+    fd, tmp = tempfile.mkstemp(prefix=temp_prefix("index", "html"), suffix=".html", dir=out_dir)
     with os.fdopen(fd, "w", encoding="utf-8") as handle:
         handle.write(page)
     os.chmod(tmp, 0o644)

@@ -20,11 +20,36 @@ from __future__ import annotations
 import argparse
 import importlib.util
 import os
+import signal
 import sys
 import time
 
+sys.dont_write_bytecode = True  # write nothing outside --out (no __pycache__ in the source tree)
+
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 DEFAULT_RESOLUTION = 256
+
+
+class Interrupted(KeyboardInterrupt):
+    """Ctrl+C (SIGINT) or SIGTERM: stop at the next step, keep only finished scene folders."""
+
+    def __init__(self, signum: int):
+        super().__init__(signum)
+        self.signum = signum
+
+
+_PENDING = []
+
+
+def _on_signal(signum, _frame):
+    # Only note it: raising here could land inside a Blender callback, which would print a
+    # traceback and swallow it.  check_interrupt() raises at the next step.
+    _PENDING.append(signum)
+
+
+def check_interrupt() -> None:
+    if _PENDING:
+        raise Interrupted(_PENDING[0])
 
 
 def import_extension():
@@ -37,10 +62,10 @@ def import_extension():
     return module
 
 
-def _scenes_module():
-    """addon/scenes.py alone (pure python): validation before bpy is imported."""
+def _pure_module(name):
+    """addon/<name>.py alone (pure python): checks before bpy is imported."""
     spec = importlib.util.spec_from_file_location(
-        "phong_scenes_cli", os.path.join(ROOT, "addon", "scenes.py"))
+        f"phong_{name}_cli", os.path.join(ROOT, "addon", f"{name}.py"))
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     return module
@@ -70,23 +95,40 @@ def parse_args(argv):
 
 
 def main(argv=None) -> int:
+    """Run the command; Ctrl+C / SIGTERM end it with 130 / 143 and one line on stderr."""
+    state = {"done": 0, "total": 0}
+    previous = {sig: signal.signal(sig, _on_signal) for sig in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        return _main(argv, state)
+    except KeyboardInterrupt as stop:
+        signum = getattr(stop, "signum", signal.SIGINT)
+        print(f"phong: interrupted by {signal.Signals(signum).name} after {state['done']} of "
+              f"{state['total']} scene(s); finished scene folders are complete, nothing "
+              "half-written was kept", file=sys.stderr)
+        return 128 + signum
+    finally:
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
+
+
+def _main(argv, state) -> int:
     args = parse_args(sys.argv[1:] if argv is None else argv)
-    scenes = _scenes_module()
+    scenes = _pure_module("scenes")
+    outputs = _pure_module("outputs")
     try:
         selected = scenes.load_all(scenes.resolve(args.scenes))
         mine = scenes.shard(selected, args.shard)
     except scenes.SceneError as error:
         print(f"phong: {error}", file=sys.stderr)
         return 2
+    state["total"] = len(mine)
     out = os.path.abspath(args.out)
-    try:
-        os.makedirs(out, exist_ok=True)
-        probe = os.path.join(out, ".write-test")
-        open(probe, "w").close()
-        os.remove(probe)
-    except OSError as error:
-        print(f"phong: cannot write to output folder {out}: {error.strerror}", file=sys.stderr)
+    problem = outputs.output_problem(out, refuse_package=False)
+    if problem is not None:
+        print(f"phong: {problem}", file=sys.stderr)
         return 2
+    outputs.clean_stale(out)  # what a killed run left behind
+    check_interrupt()
 
     # Blender's render log goes to fd 1; keep the terminal for our own lines.
     say_fd = os.dup(1)
@@ -108,13 +150,16 @@ def main(argv=None) -> int:
     phong.register()
     from phong_nodes.addon import bake, builder, report
 
+    check_interrupt()
     results, failed = [], []
     for number, data in enumerate(mine, start=1):
         t0 = time.perf_counter()
         name = data["name"]
         print(f"[{number}/{len(mine)}] {name}: build", end="", file=say)
 
-        def progress(_fraction, text, t0=t0):
+        def progress(fraction, text, t0=t0):
+            if fraction < 1.0:  # at 1.0 the scene folder is already in place
+                check_interrupt()
             print(f" | {time.perf_counter() - t0:.1f} s: {text}", end="", file=say)
 
         try:
@@ -130,6 +175,8 @@ def main(argv=None) -> int:
                              for e, v in metrics["verdict"].items())
         print(f"\n      {verdicts}", file=say)
         results.append(metrics)
+        state["done"] += 1
+        check_interrupt()
     index = report.write_index(out)
     elapsed = time.perf_counter() - start
 
