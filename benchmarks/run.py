@@ -31,7 +31,6 @@ import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 HERE = os.path.join(ROOT, "benchmarks")
-RESULT_TAG = "BENCH-RESULT:"
 SCHEMA = 1
 
 #: Sizes of the full run (documented in results.md) and of --quick (smoke test).
@@ -39,7 +38,7 @@ FULL = {
     "repeats": 3,
     "cycles_res": 512, "cycles_spp": 8, "grid": 5, "segments": 32,
     "lights": [1, 2, 4, 8, 16],
-    "quality_res": 64, "quality_ref_spp": 4096, "quality_max_spp": 8192,
+    "quality_res": 48, "quality_ref_spp": 4096, "quality_max_spp": 8192,
     "quality_probe_spp": [1, 16, 64],
     "scale_objects": 1000, "scale_res": 512, "scale_spp": 4, "scale_segments": 16,
     "scale_distinct": True, "scale_before_after_objects": 400,
@@ -291,6 +290,7 @@ def worker_cycles(cfg):
     remove_scene(scene)
 
     # 1 + 2: node cost and light scaling, same sphere grid
+    section = time.perf_counter()
     cases = [("emission", 1)] + [("phong", n) for n in cfg["lights"]]
     scenes = {}
     builds = {}
@@ -307,14 +307,19 @@ def worker_cycles(cfg):
             times[case].append(render(scenes[case]))
     for scene in scenes.values():
         remove_scene(scene)
+    out["section_seconds"] = {"lights": time.perf_counter() - section}
     out["cycles_times"] = {f"{m}:{n}": t for (m, n), t in times.items()}
     out["apply_material_seconds"] = {f"{m}:{n}": b for (m, n), b in builds.items() if b}
 
     # 4: quality per second at a small resolution
+    section = time.perf_counter()
     out["quality"] = quality(cfg)
+    out["section_seconds"]["quality"] = time.perf_counter() - section
 
     # 5: scale, one material shared by linked duplicates
+    section = time.perf_counter()
     out["scale"] = scale(cfg)
+    out["section_seconds"]["scale"] = time.perf_counter() - section
     return out
 
 
@@ -361,7 +366,8 @@ def quality(cfg):
                 # anti-aliasing of a noise-free shader (stratified samples)
                 (n1, e1), (n2, e2) = [(p["spp"], p["rmse_noise"]) for p in probes[-2:]]
                 slope = min(max(math.log(e1 / e2) / math.log(n2 / n1), 0.5), 1.5)
-                target = max(1, math.ceil(n2 * (e2 / THRESHOLD) ** (1 / slope)))
+                # aim 5% above the prediction, so that one render usually settles it
+                target = max(1, math.ceil(n2 * (e2 / THRESHOLD) ** (1 / slope) * 1.05))
                 checks = []
                 for _attempt in range(4):
                     target = min(target, cfg["quality_max_spp"])
@@ -500,7 +506,8 @@ def worker_main(name, params):
         result = worker_eevee(cfg, [tuple(c) for c in params["cases"]])
     else:
         raise SystemExit(f"unknown worker {name}")
-    print(RESULT_TAG + json.dumps(result), flush=True)
+    with open(params["result_path"], "w") as fh:
+        json.dump(result, fh)
     sys.stdout.flush()
     os._exit(0)  # skip bpy's clean-up at exit (slow, and it can crash after Eevee)
 
@@ -514,17 +521,19 @@ def run_worker(name, params, cold_cache=False, log=print):
     if cold_cache:
         env["MESA_SHADER_CACHE_DIR"] = os.path.join(tmp, "mesa")
         env["XDG_CACHE_HOME"] = os.path.join(tmp, "cache")  # Blender's gl-shader-cache too
+    params = {**params, "result_path": os.path.join(tmp, "result.json")}
     start = time.perf_counter()
     try:
         proc = subprocess.run([sys.executable, os.path.abspath(__file__), "--worker", name,
                                "--params", json.dumps(params)], env=env, cwd=ROOT,
                               capture_output=True, text=True)
+        if proc.returncode == 0 and os.path.exists(params["result_path"]):
+            with open(params["result_path"]) as fh:
+                result = json.load(fh)
+            log(f"  worker {name}: {time.perf_counter() - start:.1f} s")
+            return result
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
-    for line in proc.stdout.splitlines():
-        if line.startswith(RESULT_TAG):
-            log(f"  worker {name}: {time.perf_counter() - start:.1f} s")
-            return json.loads(line[len(RESULT_TAG):])
     raise RuntimeError(f"worker {name} failed (exit {proc.returncode}):\n"
                        f"{proc.stdout[-3000:]}\n{proc.stderr[-3000:]}")
 
