@@ -579,14 +579,11 @@ def test_cycles_flat(renders, group):
     assert not failures, "\n".join(failures)
 
 
-@pytest.mark.cycles
-@pytest.mark.slow
-@pytest.mark.parametrize("group", CURVED_GROUPS)
-def test_cycles_curved_unlinked_normal_view(renders, group):
-    R = renders
+def _curved_case(R, group):
+    """Pixels of *group*'s sphere (its image quadrant) and the reference inputs there, with
+    Normal / View Vector unlinked at zero, so the reference uses Geometry Normal / Incoming."""
     k = CURVED_GROUPS.index(group)
     hit = R.curved_c["hit"][..., 0] > 0.5
-    # the sphere of group k: the quadrant of the image
     half = CURVED_RES // 2
     quad = np.zeros_like(hit)
     qy, qx = k // 2, k % 2
@@ -594,15 +591,23 @@ def test_cycles_curved_unlinked_normal_view(renders, group):
     ys, xs = np.nonzero(hit & quad)
     linked = [s for s, _ in GROUPS[group][0] if s not in ("Normal", "View Vector")]
     vals, geo = read_inputs(R.curved_c, group, ys, xs, linked)
-    got = read_outputs(R.curved_c, group, ys, xs)
-    # Normal / View Vector are unlinked and zero: the reference uses Geometry Normal / Incoming
     zeros = np.zeros((ys.size, 3))
     vals["Normal"] = zeros
     if group != "Phong Diffuse":
         vals["View Vector"] = zeros
+    where = lambda i: f"curved pixel (row {ys[i]}, col {xs[i]})"  # noqa: E731
+    return ys, xs, vals, geo, where
+
+
+@pytest.mark.cycles
+@pytest.mark.slow
+@pytest.mark.parametrize("group", CURVED_GROUPS)
+def test_cycles_curved_unlinked_normal_view(renders, group):
+    R = renders
+    ys, xs, vals, geo, where = _curved_case(R, group)
+    got = read_outputs(R.curved_c, group, ys, xs)
     incoming_spread = float(np.ptp(geo["Incoming"], axis=0).max())
     assert incoming_spread > 0.1, "perspective Incoming should vary over the sphere"
-    where = lambda i: f"curved pixel (row {ys[i]}, col {xs[i]})"  # noqa: E731
     failures, ref, bad = _compare_cycles(group, vals, geo, got, "curved", where)
     assert not failures, "\n".join(failures)
 
@@ -661,23 +666,10 @@ def test_eevee_flat(renders, group):
 @pytest.mark.parametrize("group", CURVED_GROUPS)
 def test_eevee_curved_unlinked_normal_view(renders, group):
     R = renders
-    k = CURVED_GROUPS.index(group)
-    hit = R.curved_c["hit"][..., 0] > 0.5
-    half = CURVED_RES // 2
-    quad = np.zeros_like(hit)
-    qy, qx = k // 2, k % 2
-    quad[qy * half:(qy + 1) * half, qx * half:(qx + 1) * half] = True
-    ys, xs = np.nonzero(hit & quad)
-    linked = [s for s, _ in GROUPS[group][0] if s not in ("Normal", "View Vector")]
-    vals, geo = read_inputs(R.curved_c, group, ys, xs, linked)
-    zeros = np.zeros((ys.size, 3))
-    vals["Normal"] = zeros
-    if group != "Phong Diffuse":
-        vals["View Vector"] = zeros
+    ys, xs, vals, geo, where = _curved_case(R, group)
     bad = near_discontinuity(group, vals, geo)
     enc = R.curved_e["eout"][ys, xs, :3].astype(np.float64) / EE_SCALE
     name = EEVEE_PACKS[group][-1][0]
-    where = lambda i: f"curved pixel (row {ys[i]}, col {xs[i]})"  # noqa: E731
     failures = _compare_eevee(group, name, vals, geo, enc, "curved", where, bad)
     assert not failures, "\n".join(failures)
 
