@@ -237,52 +237,21 @@ def add_aov(scene, name: str, kind: str = "COLOR"):
     return aov
 
 
+def _bake():
+    import importlib  # noqa: PLC0415
+
+    return importlib.import_module(EXT_MODULE + ".addon.bake")
+
+
 def render_exr(scene, path: str) -> None:
-    bpy = import_bpy()
-    scene.render.filepath = path
-    scene.render.use_file_extension = False
-    window_scene = bpy.context.window.scene if bpy.context.window else None
-    if bpy.context.window is not None:
-        bpy.context.window.scene = scene
-        bpy.ops.render.render(write_still=True)
-        bpy.context.window.scene = window_scene
-    else:
-        bpy.ops.render.render(write_still=True, scene=scene.name)
-    if not os.path.exists(path):
-        raise RuntimeError(f"render did not write {path}")
+    """Render *scene* into the file *path* (the add-on's bake does the same)."""
+    _bake().render_exr(scene, path)
 
 
 def read_multilayer_exr(path: str) -> dict[str, np.ndarray]:
-    """{pass name: float32 array (H, W, C)} with row 0 = top of the image.
-
-    Blender writes one part (subimage) per pass; channels are named
-    ``<layer>.<pass>.<chan>``. Passes are keyed by the text between layer and channel.
-    """
-    import OpenImageIO as oiio  # noqa: PLC0415
-
-    inp = oiio.ImageInput.open(path)
-    if inp is None:
-        raise RuntimeError(oiio.geterror())
-    out: dict[str, np.ndarray] = {}
-    try:
-        sub = 0
-        while inp.seek_subimage(sub, 0):
-            spec = inp.spec()
-            data = inp.read_image(sub, 0, 0, spec.nchannels, oiio.FLOAT)
-            data = np.asarray(data, dtype=np.float32).reshape(spec.height, spec.width, spec.nchannels)
-            groups: dict[str, list[tuple[str, int]]] = {}
-            for ci, cname in enumerate(spec.channelnames):
-                parts = cname.split(".")
-                key = ".".join(parts[1:-1]) if len(parts) >= 3 else ".".join(parts[:-1]) or cname
-                groups.setdefault(key, []).append((parts[-1], ci))
-            for key, chans in groups.items():
-                order = {"R": 0, "G": 1, "B": 2, "A": 3, "X": 0, "Y": 1, "Z": 2, "V": 0}
-                chans.sort(key=lambda t: order.get(t[0], 9))
-                out[key] = data[..., [ci for _, ci in chans]]
-            sub += 1
-    finally:
-        inp.close()
-    return out
+    """{pass name: float32 array (H, W, C)} with row 0 = top of the image (the add-on's reader:
+    one EXR part per pass, channels ``<layer>.<pass>.<chan>``)."""
+    return _bake().read_exr(path)
 
 
 # ---------------------------------------------------------------- the SPEC contract
