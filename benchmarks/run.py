@@ -259,15 +259,10 @@ def remove_scene(scene):
     lights = {o.data for o in objects if o.type == "LIGHT"}
     materials = {m for me in meshes for m in me.materials if m is not None}
     world = scene.world
-    bpy.data.scenes.remove(scene)
-    for obj in objects:
-        bpy.data.objects.remove(obj)
-    for block, coll in ((meshes, bpy.data.meshes), (lights, bpy.data.lights),
-                        (materials, bpy.data.materials)):
-        for item in block:
-            coll.remove(item)
+    doomed = [scene, *objects, *meshes, *lights, *materials]
     if world is not None:
-        bpy.data.worlds.remove(world)
+        doomed.append(world)
+    bpy.data.batch_remove(doomed)  # one pass: removing 1000 objects one by one is O(N^2)
 
 
 def rotated(items, r):
