@@ -2,7 +2,7 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Phong Nodes benchmarks: what Phong shading costs (issue 5).
 
-    .venv/bin/python benchmarks/run.py            # full run, ~10 min on a 2-core CPU
+    .venv/bin/python benchmarks/run.py            # full run, ~6 min on a 2-core CPU
     .venv/bin/python benchmarks/run.py --quick    # tiny sizes, for the smoke test
 
 Writes ``benchmarks/results.json`` and ``benchmarks/results.md`` (the Markdown table it also
