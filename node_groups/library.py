@@ -47,6 +47,11 @@ def reflect(l, n):
     return 2.0 * dot(l, n) * n - l
 
 
+def both_at_least_zero(a, b):
+    """1 where a ≥ 0 and b ≥ 0, else 0 (as min(a, b) ≥ 0: one comparison instead of two)."""
+    return at_least(minimum(a, b), 0.0)
+
+
 def phong_factor(l, n, v, e):
     """(r·v)^e where ℓ·n ≥ 0 and r·v ≥ 0, else 0 (seed 000 §3.5).
 
@@ -55,13 +60,13 @@ def phong_factor(l, n, v, e):
     """
     rv = dot(reflect(l, n), v)
     base = minimum(maximum(rv, 0.0), 1.0)
-    return at_least(dot(l, n), 0.0) * at_least(rv, 0.0) * power(base, maximum(e, 0.0))
+    return both_at_least_zero(dot(l, n), rv) * power(base, maximum(e, 0.0))
 
 
 def blinn_factor(l, n, v, e):
     """(h·n)^e with h = (ℓ+v)/‖ℓ+v‖, where ℓ·n ≥ 0 and h·n ≥ 0, else 0 (seed 000 §3.5)."""
     hn = dot(normalize(l + v), n)
-    return at_least(dot(l, n), 0.0) * at_least(hn, 0.0) * power(maximum(hn, 0.0), maximum(e, 0.0))
+    return both_at_least_zero(dot(l, n), hn) * power(maximum(hn, 0.0), maximum(e, 0.0))
 
 
 def falloff(i0, r, quadratic, linear, constant):
@@ -267,7 +272,7 @@ def _term_inputs(g, color_name, color_default, color_tip):
 def _diffuse(g):
     l, i, lc, oc = _term_inputs(g, "Object Color", GREY, _OC)
     n = g.normal()
-    g.output("Color", i * lambert(l, n) * lc * oc, "i·max(ℓ·n, 0)·Cl_source ⊗ Cl_objet")
+    g.output("Color", (i * lambert(l, n)) * (lc * oc), "i·max(ℓ·n, 0)·Cl_source ⊗ Cl_objet")
 
 
 def _specular_group(g, factor, formula):
@@ -275,7 +280,7 @@ def _specular_group(g, factor, formula):
     e = g.value("Exponent", 30.0, _E, min=0.0, max=10000.0)
     n = g.normal()
     v = g.view()
-    g.output("Color", i * factor(l, n, v, e) * lc * sc, formula)
+    g.output("Color", (i * factor(l, n, v, e)) * (lc * sc), formula)
 
 
 @group("Phong Specular", "Phong highlight around the mirror direction (seed 000 §3.5)")
@@ -325,9 +330,10 @@ def _shading(g):
     n = g.normal()
     v = g.view()
     ambient = amb_i * amb_c * oc
-    diffuse = kd * i * lambert(l, n) * lc * oc
+    # Colour products in brackets: constant in most materials, so the renderer folds them.
+    diffuse = (kd * i * lambert(l, n)) * (lc * oc)
     factor = (1.0 - blinn) * phong_factor(l, n, v, e) + blinn * blinn_factor(l, n, v, e)
-    specular = ks * i * factor * lc * sc
+    specular = (ks * i * factor) * (lc * sc)
     color = minimum(irr + ambient + diffuse + specular, 1.0)
     g.output("Irradiant", irr, "Cl_irr")
     g.output("Ambient", ambient, "Ambient term")
