@@ -243,6 +243,18 @@ def _bake():
     return importlib.import_module(EXT_MODULE + ".addon.bake")
 
 
+def switch_to_eevee(scene, eevee_mats, aov: str = "eout") -> None:
+    """Swap in the Eevee materials (one output in the single AOV *aov* each: Eevee's compile
+    time grows fast with the number of AOVs) and Eevee's exact-check settings."""
+    layer = scene.view_layers[0]
+    while len(layer.aovs):
+        layer.aovs.remove(layer.aovs[0])
+    add_aov(scene, aov)
+    for obj, mat in eevee_mats:
+        obj.data.materials[0] = mat
+    configure_engine(scene, "eevee")
+
+
 def render_exr(scene, path: str) -> None:
     """Render *scene* into the file *path* (the add-on's bake does the same)."""
     _bake().render_exr(scene, path)

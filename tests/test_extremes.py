@@ -261,13 +261,7 @@ def sweep(installed, blender_tmp):
     result = {"cases": cases, "seconds": {}}
     for engine in ("cycles", "eevee"):
         if engine == "eevee":
-            layer = scene.view_layers[0]
-            while len(layer.aovs):
-                layer.aovs.remove(layer.aovs[0])
-            be.add_aov(scene, "eout")
-            for obj, mat in eevee_mats:
-                obj.data.materials[0] = mat
-            be.configure_engine(scene, "eevee")
+            be.switch_to_eevee(scene, eevee_mats)
         path = os.path.join(str(blender_tmp), f"extremes_{engine}.exr")
         t0 = time.perf_counter()
         be.render_exr(scene, path)

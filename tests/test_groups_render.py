@@ -334,16 +334,6 @@ def cycles_aovs(scene, max_inputs):
         be.add_aov(scene, g)
 
 
-def switch_to_eevee(scene, eevee_mats):
-    layer = scene.view_layers[0]
-    while len(layer.aovs):
-        layer.aovs.remove(layer.aovs[0])
-    be.add_aov(scene, "eout")
-    for obj, mat in eevee_mats:
-        obj.data.materials[0] = mat
-    be.configure_engine(scene, "eevee")
-
-
 # ============================================================== reading + reference
 
 def read_inputs(passes, group, ys, xs, linked=None):
@@ -495,12 +485,12 @@ def renders(installed, blender_tmp):
     R.curved_c = {k: v[::-1] for k, v in be.read_multilayer_exr(os.path.join(out, "curved_cycles.exr")).items()}
 
     # ---------------- Eevee: same scenes, one output pack per tile in one AOV
-    switch_to_eevee(scene, eevee_mats)
+    be.switch_to_eevee(scene, eevee_mats)
     t0 = time.perf_counter()
     be.render_exr(scene, os.path.join(out, "flat_eevee.exr"))
     R.timings["eevee flat (compile + render)"] = time.perf_counter() - t0
     R.flat_e = {k: v[::-1] for k, v in be.read_multilayer_exr(os.path.join(out, "flat_eevee.exr")).items()}
-    switch_to_eevee(sc2, eevee_mats2)
+    be.switch_to_eevee(sc2, eevee_mats2)
     t0 = time.perf_counter()
     be.render_exr(sc2, os.path.join(out, "curved_eevee.exr"))
     R.timings["eevee curved (compile + render)"] = time.perf_counter() - t0
