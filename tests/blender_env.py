@@ -22,6 +22,20 @@ EXT_REPO = "user_default"
 EXT_MODULE = f"bl_ext.{EXT_REPO}.{EXT_ID}"
 
 
+def source_module(relpath: str):
+    """A pure-python module of the source tree (e.g. ``addon/scenes.py``) loaded by path, so
+    it is tested without importing the ``addon`` package (which needs bpy)."""
+    import importlib.util  # noqa: PLC0415
+
+    name = "phong_source_" + relpath.replace("/", "_").removesuffix(".py")
+    if name not in sys.modules:
+        spec = importlib.util.spec_from_file_location(name, os.path.join(REPO_ROOT, relpath))
+        module = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(module)
+        sys.modules[name] = module
+    return sys.modules[name]
+
+
 def import_bpy():
     import bpy  # noqa: PLC0415  (lazy on purpose)
 

@@ -9,7 +9,6 @@ line on stderr, without a traceback.
 from __future__ import annotations
 
 import importlib
-import importlib.util
 import json
 import os
 import re
@@ -173,11 +172,7 @@ def test_cli_interrupted_then_run_again(tmp_path, sig):
 
 
 def _outputs_module():
-    spec = importlib.util.spec_from_file_location(
-        "phong_outputs_test", os.path.join(ROOT, "addon", "outputs.py"))
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return be.source_module("addon/outputs.py")
 
 
 def test_stale_entries_of_live_processes_are_kept(tmp_path):
@@ -208,11 +203,7 @@ label = "{title}"
 
 
 def _scenes_module():
-    spec = importlib.util.spec_from_file_location(
-        "phong_scenes_test", os.path.join(ROOT, "addon", "scenes.py"))
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return be.source_module("addon/scenes.py")
 
 
 def test_scene_strings_are_never_executed(tmp_path):

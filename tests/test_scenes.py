@@ -4,20 +4,16 @@
 Pure python: addon/scenes.py is loaded on its own (no bpy), so these run in milliseconds.
 """
 
-import importlib.util
 import os
 
 import pytest
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+import blender_env as be
+
 
 
 def _load_scenes_module():
-    spec = importlib.util.spec_from_file_location(
-        "phong_scenes_standalone", os.path.join(ROOT, "addon", "scenes.py"))
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return be.source_module("addon/scenes.py")
 
 
 scenes = _load_scenes_module()
