@@ -21,7 +21,7 @@ import math
 import bpy
 
 from ..node_groups import loader
-from . import compat, meshes
+from . import compat, meshes, render
 
 #: Custom property on a built scene: the scene dict (JSON) it was built from.
 SCENE_KEY = "phong_demo"
@@ -45,19 +45,7 @@ def build(scene_dict: dict, resolution: int = 128) -> bpy.types.Scene:
     data = scene_dict
     scene = bpy.data.scenes.new(f"Phong {data['name']}")
     scene[SCENE_KEY] = json.dumps(data)
-    render = scene.render
-    render.resolution_y = resolution
-    render.resolution_x = max(1, round(resolution * data["aspect"]))
-    render.resolution_percentage = 100
-    render.pixel_aspect_x = render.pixel_aspect_y = 1.0
-    render.film_transparent = False
-    render.use_compositing = False
-    render.use_sequencer = False
-    render.dither_intensity = 0.0
-    scene.view_settings.view_transform = "Standard"
-    scene.view_settings.look = "None"
-    scene.view_settings.exposure = 0.0
-    scene.view_settings.gamma = 1.0
+    render.plain_picture(scene, max(1, round(resolution * data["aspect"])), resolution)
     _black_world(scene, data["name"])
     # The scene's ambient light as the Phong world settings (issue 3's custom properties).
     scene.world["phong_ambient_intensity"] = data["ambient"]["intensity"]

@@ -12,6 +12,23 @@ from . import compat
 _EEVEE_OFF = ("use_shadows", "use_raytracing", "use_gtao", "use_bloom", "use_volumetric_shadows")
 
 
+def plain_picture(scene, width: int, height: int) -> None:
+    """Pixels that are the shader's values: square pixels, no compositing, sequencer,
+    dithering or transparency, Standard view transform without look, exposure or gamma."""
+    r = scene.render
+    r.resolution_x, r.resolution_y, r.resolution_percentage = width, height, 100
+    r.pixel_aspect_x = r.pixel_aspect_y = 1.0
+    r.film_transparent = False
+    r.use_compositing = False
+    r.use_sequencer = False
+    r.dither_intensity = 0.0
+    view = scene.view_settings
+    view.view_transform = "Standard"
+    view.look = "None"
+    view.exposure = 0.0
+    view.gamma = 1.0
+
+
 def exact(scene, engine: str) -> None:
     """Configure *scene* for an exact check with *engine* ('cycles' or 'eevee')."""
     if engine == "cycles":

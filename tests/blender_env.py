@@ -9,6 +9,8 @@ has been pointed at a throw-away folder (conftest.py does that).
 
 from __future__ import annotations
 
+import importlib
+import importlib.util
 import os
 import subprocess
 import sys
@@ -25,8 +27,6 @@ EXT_MODULE = f"bl_ext.{EXT_REPO}.{EXT_ID}"
 def source_module(relpath: str):
     """A pure-python module of the source tree (e.g. ``addon/scenes.py``) loaded by path, so
     it is tested without importing the ``addon`` package (which needs bpy)."""
-    import importlib.util  # noqa: PLC0415
-
     name = "phong_source_" + relpath.replace("/", "_").removesuffix(".py")
     if name not in sys.modules:
         spec = importlib.util.spec_from_file_location(name, os.path.join(REPO_ROOT, relpath))
@@ -113,8 +113,6 @@ def load_groups() -> None:
 
 def compat():
     """The installed extension's compatibility module: the one place for version differences."""
-    import importlib  # noqa: PLC0415
-
     return importlib.import_module(EXT_MODULE + ".addon.compat")
 
 
@@ -134,8 +132,6 @@ def set_output_multilayer_exr(scene) -> None:
 
 def configure_engine(scene, kind: str) -> None:
     """The add-on's exact-check settings (one sample at pixel centres)."""
-    import importlib  # noqa: PLC0415
-
     importlib.import_module(EXT_MODULE + ".addon.render").exact(scene, kind)
 
 
@@ -144,17 +140,7 @@ def configure_engine(scene, kind: str) -> None:
 def new_scene(name: str, width: int, height: int, kind: str = "cycles"):
     bpy = import_bpy()
     scene = bpy.data.scenes.new(name)
-    r = scene.render
-    r.resolution_x, r.resolution_y, r.resolution_percentage = width, height, 100
-    r.pixel_aspect_x = r.pixel_aspect_y = 1.0
-    r.film_transparent = False
-    r.use_compositing = False
-    r.use_sequencer = False
-    r.dither_intensity = 0.0
-    scene.view_settings.view_transform = "Standard"
-    scene.view_settings.look = "None"
-    scene.view_settings.exposure = 0.0
-    scene.view_settings.gamma = 1.0
+    importlib.import_module(EXT_MODULE + ".addon.render").plain_picture(scene, width, height)
     world = bpy.data.worlds.new(name + " world")
     compat().black_world(world)
     scene.world = world
@@ -215,8 +201,6 @@ def add_uv_plane(scene, name, x0, y0, size, material):
 
 def add_uv_sphere(scene, name, location, radius, material, segments=48, rings=24):
     """Smooth-shaded UV sphere (the add-on's mesh helper, no operator context needed)."""
-    import importlib  # noqa: PLC0415
-
     bpy = import_bpy()
     mesh = importlib.import_module(EXT_MODULE + ".addon.meshes").uv_sphere(
         name, radius, segments, rings)
@@ -252,8 +236,6 @@ def add_aov(scene, name: str, kind: str = "COLOR"):
 
 
 def _bake():
-    import importlib  # noqa: PLC0415
-
     return importlib.import_module(EXT_MODULE + ".addon.bake")
 
 
