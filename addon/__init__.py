@@ -1,11 +1,22 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""The Blender layer: operators, menus, panels, properties and handlers.
+"""The Blender layer, by feature.
 
-Register and unregister are symmetric."""
+* ``loader``   the library's groups into the file: version stamps, upgrade in place, merge
+  of appended copies;
+* ``lighting`` Phong materials driven by Blender lights: the material recipe, drivers, the
+  lights' and world's Phong settings;
+* ``demos``    demo scenes from ``scenes/*.toml``, exact render settings, the comparison bake;
+* ``ui``       every operator, menu and panel;
+* ``compat``   every difference between Blender versions.
 
-from . import demo_ops, handlers, materials, menus, operators, panels, properties
+Register and unregister are symmetric.
+"""
 
-_modules = (operators, menus, properties, materials, panels, demo_ops, handlers)
+from . import loader
+from .lighting import properties, sync
+from .ui import menus, operators, panels
+
+_modules = (operators, menus, properties, panels, loader, sync)
 
 
 def register():

@@ -1,9 +1,25 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Differences between the supported Blender versions (4.2 LTS to 5.0), in one place."""
 
+import os
+import sys
+
 import bpy
 
 VERSION = bpy.app.version
+
+
+def exit_process(code: int) -> None:
+    """Exit a headless ``bpy`` process with *code*.  The bpy 4.x module can crash in its own
+    clean-up at interpreter exit, turning success into signal 11 (bpy 4.2.23: after an Eevee
+    render, and whenever a property with Python get/set callbacks was registered, as the
+    Light and World Phong settings are): once our files are written and closed, leave
+    without running it."""
+    sys.stdout.flush()
+    sys.stderr.flush()
+    if VERSION < (5, 0, 0):
+        os._exit(code)
+    sys.exit(code)
 
 
 def eevee_engine() -> str:

@@ -1,40 +1,165 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """A small expression builder over shader math nodes.
 
-An :class:`Expr` is a node of an expression DAG with a *kind*: ``"float"`` or
-``"vector"`` (colours are vectors: RGB, alpha ignored).  The same DAG can
-
-* be **evaluated on numpy arrays** (:func:`evaluate`) with the semantics of
-  Blender's Math / Vector Math nodes (safe division and normalisation), and
-* be **written as nodes and links** into a node tree (:func:`build`), one node
-  per distinct sub-expression, constants folded into socket values.
-
-Group definitions (``library.py``) are written with Python operators and the
-helpers below, so each group reads like the seed formula, e.g.::
+An :class:`Expr` is a node of an expression DAG with a *kind*: ``"float"``, ``"vector"``
+(colours are vectors in formulas: RGB, alpha ignored) or ``"shader"``.  Group definitions
+(``library.py``) are written with Python operators and the helpers below, so each group reads
+like the model's formula (docs/model.md), e.g.::
 
     i * maximum(dot(l, n), 0.0) * light_color * object_color
 
-This module never imports ``bpy``: :func:`build` only calls methods on the
-node tree it is given.
+Every operation is declared once, in :data:`OPERATIONS`: its name, its operand and result
+kinds, its numpy function and the Blender node that computes it (node type, Math / Vector Math
+operation, sockets).  Two readers use that one table:
+
+* :func:`evaluate`, on numpy arrays, with the semantics of Blender's nodes (safe division and
+  normalisation, the Math node's power rules);
+* the node writer of the add-on (``addon/loader.py``), one node per distinct sub-expression,
+  constants folded into socket values.
+
+This module never imports ``bpy``.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
+from typing import Callable
 
 import numpy as np
 
+#: Kinds of expressions and of sockets.  COLOR is a socket kind only: in formulas a colour is a
+#: vector, and a colour socket (RGBA) holds it with alpha 1.
 FLOAT = "float"
 VECTOR = "vector"
+COLOR = "color"
 SHADER = "shader"
 
+#: The leaves of the DAG: a constant, a group input (by socket name), a Geometry node output.
+LEAVES = ("const", "input", "geometry")
+
+
+# -- the operation table ---------------------------------------------------------
+
+MATH = "ShaderNodeMath"
+VECTOR_MATH = "ShaderNodeVectorMath"
+EMISSION = "ShaderNodeEmission"
+
+
+@dataclass(frozen=True, eq=False)
+class Op:
+    """One operation: what it computes on numpy arrays and which node computes it in Blender.
+
+    ``operands`` are the kinds of the node inputs it reads (a COLOR operand takes a vector
+    expression), ``inputs`` the keys (index or name) of those inputs on the node, ``output``
+    the key of the node output that carries the result, ``settings`` fixed input values.
+    """
+
+    name: str
+    kind: str
+    operands: tuple
+    numpy: Callable
+    node: str
+    operation: str | None = None
+    inputs: tuple = (0, 1)
+    output: object = 0
+    settings: tuple = ()
+
+    def __post_init__(self):
+        if len(self.inputs) != len(self.operands):
+            raise ValueError(f"{self.name}: {len(self.operands)} operands, {len(self.inputs)} inputs")
+
+    def __repr__(self):  # the name, as formulas (and fingerprints) print it
+        return self.name
+
+
+def _safe_divide(a, b):
+    """Math / Vector Math DIVIDE: x/0 = 0."""
+    return np.where(b != 0, a / np.where(b != 0, b, 1.0), 0.0)
+
+
+def _blender_pow(a, b):
+    """Math node POWER: pow(0, 0) = 1, negative base with fractional exponent gives 0."""
+    a, b = np.broadcast_arrays(np.asarray(a, np.float64), np.asarray(b, np.float64))
+    frac = b != np.round(b)
+    out = np.power(np.abs(a), b)
+    out = np.where((a < 0) & frac, 0.0, np.where(a < 0, out * np.where(np.round(b) % 2, -1.0, 1.0), out))
+    return out
+
+
+def _less_than(a, b):
+    return (a < b).astype(np.float64)
+
+
+def _scale(v, s):
+    return v * np.asarray(s)[..., None]
+
+
+def _dot(a, b):
+    return np.sum(a * b, axis=-1)
+
+
+def _length(v):
+    return np.sqrt(np.sum(v * v, axis=-1))
+
+
+def _normalize(v):
+    """Vector Math NORMALIZE: the zero vector stays zero."""
+    n = _length(v)[..., None]
+    return np.where(n != 0, v / np.where(n != 0, n, 1.0), 0.0)
+
+
+def _identity(x):
+    return x
+
+
+_FF, _VV = (FLOAT, FLOAT), (VECTOR, VECTOR)
+
+#: Every operation of the expressions; a name may have a float and a vector form (the first
+#: whose operands fit is used).
+OPERATIONS = (
+    Op("add", FLOAT, _FF, np.add, MATH, "ADD"),
+    Op("sub", FLOAT, _FF, np.subtract, MATH, "SUBTRACT"),
+    Op("mul", FLOAT, _FF, np.multiply, MATH, "MULTIPLY"),
+    Op("div", FLOAT, _FF, _safe_divide, MATH, "DIVIDE"),
+    Op("max", FLOAT, _FF, np.maximum, MATH, "MAXIMUM"),
+    Op("min", FLOAT, _FF, np.minimum, MATH, "MINIMUM"),
+    Op("pow", FLOAT, _FF, _blender_pow, MATH, "POWER"),
+    Op("lt", FLOAT, _FF, _less_than, MATH, "LESS_THAN"),
+    Op("cos", FLOAT, (FLOAT,), np.cos, MATH, "COSINE", inputs=(0,)),
+    Op("add", VECTOR, _VV, np.add, VECTOR_MATH, "ADD", output="Vector"),
+    Op("sub", VECTOR, _VV, np.subtract, VECTOR_MATH, "SUBTRACT", output="Vector"),
+    Op("mul", VECTOR, _VV, np.multiply, VECTOR_MATH, "MULTIPLY", output="Vector"),
+    Op("div", VECTOR, _VV, _safe_divide, VECTOR_MATH, "DIVIDE", output="Vector"),
+    Op("max", VECTOR, _VV, np.maximum, VECTOR_MATH, "MAXIMUM", output="Vector"),
+    Op("min", VECTOR, _VV, np.minimum, VECTOR_MATH, "MINIMUM", output="Vector"),
+    Op("scale", VECTOR, (VECTOR, FLOAT), _scale, VECTOR_MATH, "SCALE", inputs=(0, "Scale"),
+       output="Vector"),
+    Op("dot", FLOAT, _VV, _dot, VECTOR_MATH, "DOT_PRODUCT", output="Value"),
+    Op("length", FLOAT, (VECTOR,), _length, VECTOR_MATH, "LENGTH", inputs=(0,), output="Value"),
+    Op("normalize", VECTOR, (VECTOR,), _normalize, VECTOR_MATH, "NORMALIZE", inputs=(0,),
+       output="Vector"),
+    Op("emission", SHADER, (COLOR,), _identity, EMISSION, inputs=("Color",), output="Emission",
+       settings=(("Strength", 1.0),)),
+)
+
+_BY_NAME: dict = {}
+for _op in OPERATIONS:
+    _BY_NAME.setdefault(_op.name, []).append(_op)
+del _op
+
+
+# -- expressions -------------------------------------------------------------------
 
 @dataclass(eq=False)
 class Expr:
     kind: str
-    op: str
+    op: object  # an Op, or the name of a leaf (LEAVES)
     args: tuple = ()
     value: object = None  # constant value, or leaf name
+
+    @property
+    def is_leaf(self) -> bool:
+        return not isinstance(self.op, Op)
 
     # -- arithmetic -----------------------------------------------------
     def __add__(self, other):
@@ -73,8 +198,8 @@ class Expr:
             self.__dict__["_key"] = k
         return k
 
-    def __repr__(self):  # compact, for debugging
-        if self.op in ("const", "input", "geometry"):
+    def __repr__(self):  # compact; also the text of the group fingerprints (library.py)
+        if self.is_leaf:
             return f"{self.op}({self.value!r})"
         return f"{self.op}({', '.join(map(repr, self.args))})"
 
@@ -91,8 +216,8 @@ def const(value) -> Expr:
 
 
 def input_(name: str, kind: str) -> Expr:
-    """A group input, looked up by socket name."""
-    return Expr(kind, "input", value=name)
+    """A group input, looked up by socket name (a COLOR input is a vector in formulas)."""
+    return Expr(VECTOR if kind == COLOR else kind, "input", value=name)
 
 
 def geometry(name: str) -> Expr:
@@ -100,32 +225,52 @@ def geometry(name: str) -> Expr:
     return Expr(VECTOR, "geometry", value=name)
 
 
-# -- operations ----------------------------------------------------------
+def operation(name: str, *args) -> Expr:
+    """The operation *name* of :data:`OPERATIONS` on *args*, in the first form they fit.
 
-def _binary(op, a, b) -> Expr:
+    A float constant fits a vector operand (as (c, c, c)); a float expression does not."""
+    args = tuple(const(a) for a in args)
+    for op in _BY_NAME[name]:
+        fitted = _fit(op.operands, args)
+        if fitted is not None:
+            return Expr(op.kind, op, fitted)
+    kinds = ", ".join(a.kind for a in args)
+    raise TypeError(f"{name} has no form for ({kinds}): a float expression cannot be used "
+                    f"where a vector is expected")
+
+
+def _fit(operands, args):
+    if len(operands) != len(args):
+        return None
+    fitted = []
+    for kind, arg in zip(operands, args):
+        want = VECTOR if kind == COLOR else kind
+        if arg.kind == want:
+            fitted.append(arg)
+        elif want == VECTOR and arg.kind == FLOAT and arg.op == "const":
+            fitted.append(const((arg.value,) * 3))
+        else:
+            return None
+    return tuple(fitted)
+
+
+def _binary(name, a, b) -> Expr:
+    """Python's operators: a float times (or a vector divided by) a float is a Vector Math SCALE."""
     a, b = const(a), const(b)
-    if a.kind == FLOAT and b.kind == FLOAT:
-        return Expr(FLOAT, op, (a, b))
-    if op == "mul" and a.kind == FLOAT:  # scalar * vector
-        return Expr(VECTOR, "scale", (b, a))
-    if op == "mul" and b.kind == FLOAT:
-        return Expr(VECTOR, "scale", (a, b))
-    if op == "div" and b.kind == FLOAT:
-        return Expr(VECTOR, "scale", (a, 1.0 / b if b.op != "const" else const(_safe_inv(b.value))))
-    return Expr(VECTOR, op, (_as_vector(a), _as_vector(b)))
+    if name == "mul" and a.kind == FLOAT and b.kind == VECTOR:
+        return operation("scale", b, a)
+    if name == "mul" and a.kind == VECTOR and b.kind == FLOAT:
+        return operation("scale", a, b)
+    if name == "div" and a.kind == VECTOR and b.kind == FLOAT:
+        return operation("scale", a, const(_safe_inv(b.value)) if b.op == "const" else 1.0 / b)
+    return operation(name, a, b)
 
 
 def _safe_inv(x):
     return 0.0 if x == 0 else 1.0 / x
 
 
-def _as_vector(e: Expr) -> Expr:
-    if e.kind == VECTOR:
-        return e
-    if e.op == "const":
-        return const((e.value,) * 3)
-    raise TypeError("a float expression cannot be used where a vector is expected")
-
+# -- the helpers the formulas are written with ---------------------------------------
 
 def maximum(a, b) -> Expr:
     return _binary("max", a, b)
@@ -136,34 +281,34 @@ def minimum(a, b) -> Expr:
 
 
 def power(base, exponent) -> Expr:
-    return Expr(FLOAT, "pow", (_float(base), _float(exponent)))
+    return operation("pow", base, exponent)
 
 
 def less_than(a, b) -> Expr:
     """1.0 where a < b, else 0.0."""
-    return Expr(FLOAT, "lt", (_float(a), _float(b)))
+    return operation("lt", a, b)
 
 
 def at_least(a, b) -> Expr:
-    """1.0 where a >= b, else 0.0 (the seeds' non-strict conditions)."""
+    """1.0 where a >= b, else 0.0 (the non-strict conditions, docs/contract.md "Edge cases")."""
     return 1.0 - less_than(a, b)
 
 
 def cos(a) -> Expr:
-    return Expr(FLOAT, "cos", (_float(a),))
+    return operation("cos", a)
 
 
 def dot(a, b) -> Expr:
-    return Expr(FLOAT, "dot", (_vector(a), _vector(b)))
+    return operation("dot", a, b)
 
 
 def length(a) -> Expr:
-    return Expr(FLOAT, "length", (_vector(a),))
+    return operation("length", a)
 
 
 def normalize(a) -> Expr:
     """a/|a|; the zero vector stays zero (Blender's safe normalize)."""
-    return Expr(VECTOR, "normalize", (_vector(a),))
+    return operation("normalize", a)
 
 
 def select(mask, if_one, if_zero) -> Expr:
@@ -172,21 +317,19 @@ def select(mask, if_one, if_zero) -> Expr:
 
 
 def emission(color) -> Expr:
-    return Expr(SHADER, "emission", (_vector(color),))
+    return operation("emission", color)
 
 
-def _float(a) -> Expr:
-    a = const(a)
-    if a.kind != FLOAT:
-        raise TypeError(f"expected a float expression, got {a.kind}")
-    return a
+# -- numpy evaluation ----------------------------------------------------------------
 
+def _leaf_value(expr: Expr, inputs: dict, geometry_values: dict):
+    if expr.op == "const":
+        return np.asarray(expr.value, dtype=np.float64)
+    if expr.op == "input":
+        out = np.asarray(inputs[expr.value], dtype=np.float64)
+        return out[..., :3] if expr.kind == VECTOR else out
+    return np.asarray(geometry_values[expr.value], dtype=np.float64)[..., :3]
 
-def _vector(a) -> Expr:
-    return _as_vector(const(a))
-
-
-# -- numpy evaluation ----------------------------------------------------
 
 def evaluate(expr: Expr, inputs: dict, geometry_values: dict | None = None, _memo=None):
     """Evaluate *expr* on numpy arrays.
@@ -194,182 +337,24 @@ def evaluate(expr: Expr, inputs: dict, geometry_values: dict | None = None, _mem
     ``inputs`` maps group input names to arrays (vectors ``(..., 3)``, floats
     ``(...)``); ``geometry_values`` maps ``Position``/``Normal``/``Incoming``.
     Computed in float64 with the node semantics (safe divide / normalize,
-    Blender's power rules for negative bases).
+    Blender's power rules for negative bases).  A shader evaluates to its colour.
     """
     memo = {} if _memo is None else _memo
     key = expr.key
     if key in memo:
         return memo[key]
-    args = [evaluate(a, inputs, geometry_values, memo) for a in expr.args]
-    op = expr.op
-    with np.errstate(all="ignore"):
-        if op == "const":
-            out = np.asarray(expr.value, dtype=np.float64)
-        elif op == "input":
-            out = np.asarray(inputs[expr.value], dtype=np.float64)
-            if expr.kind == VECTOR:
-                out = out[..., :3]
-        elif op == "geometry":
-            out = np.asarray(geometry_values[expr.value], dtype=np.float64)[..., :3]
-        elif op == "add":
-            out = args[0] + args[1]
-        elif op == "sub":
-            out = args[0] - args[1]
-        elif op == "mul":
-            out = args[0] * args[1]
-        elif op == "div":
-            b = args[1]
-            out = np.where(b != 0, args[0] / np.where(b != 0, b, 1.0), 0.0)
-        elif op == "scale":
-            out = args[0] * np.asarray(args[1])[..., None]
-        elif op == "max":
-            out = np.maximum(args[0], args[1])
-        elif op == "min":
-            out = np.minimum(args[0], args[1])
-        elif op == "pow":
-            out = _blender_pow(args[0], args[1])
-        elif op == "lt":
-            out = (args[0] < args[1]).astype(np.float64)
-        elif op == "cos":
-            out = np.cos(args[0])
-        elif op == "dot":
-            out = np.sum(args[0] * args[1], axis=-1)
-        elif op == "length":
-            out = np.sqrt(np.sum(args[0] * args[0], axis=-1))
-        elif op == "normalize":
-            n = np.sqrt(np.sum(args[0] * args[0], axis=-1))[..., None]
-            out = np.where(n != 0, args[0] / np.where(n != 0, n, 1.0), 0.0)
-        elif op == "emission":
-            out = args[0]
-        else:  # pragma: no cover - every op above is covered
-            raise ValueError(f"unknown op {op}")
+    if expr.is_leaf:
+        out = _leaf_value(expr, inputs, geometry_values)
+    else:
+        args = [evaluate(a, inputs, geometry_values, memo) for a in expr.args]
+        with np.errstate(all="ignore"):
+            out = expr.op.numpy(*args)
     memo[key] = out
     return out
 
 
-def _blender_pow(a, b):
-    """Math node POWER: pow(0, 0) = 1, negative base with fractional exponent gives 0."""
-    a, b = np.broadcast_arrays(np.asarray(a, np.float64), np.asarray(b, np.float64))
-    frac = b != np.round(b)
-    out = np.power(np.abs(a), b)
-    out = np.where((a < 0) & frac, 0.0, np.where(a < 0, out * np.where(np.round(b) % 2, -1.0, 1.0), out))
-    return out
-
-
-# -- node building ---------------------------------------------------------
-
-_MATH = {"add": "ADD", "sub": "SUBTRACT", "mul": "MULTIPLY", "div": "DIVIDE",
-         "max": "MAXIMUM", "min": "MINIMUM", "pow": "POWER", "lt": "LESS_THAN", "cos": "COSINE"}
-_VMATH = {"add": "ADD", "sub": "SUBTRACT", "mul": "MULTIPLY", "div": "DIVIDE",
-          "max": "MAXIMUM", "min": "MINIMUM", "scale": "SCALE", "dot": "DOT_PRODUCT",
-          "length": "LENGTH", "normalize": "NORMALIZE"}
-# Vector Math outputs "Value" for these operations, "Vector" otherwise.
-_VMATH_FLOAT_OUT = {"dot", "length"}
-
-
-@dataclass
-class _Builder:
-    tree: object
-    group_input: object
-    memo: dict = field(default_factory=dict)
-    depth: dict = field(default_factory=dict)
-    geometry_node: object = None
-
-    def socket(self, expr: Expr):
-        """The output socket computing *expr* (None for constants)."""
-        if expr.op == "const":
-            return None
-        key = expr.key
-        if key in self.memo:
-            return self.memo[key]
-        if expr.op == "input":
-            sock = self.group_input.outputs[expr.value]
-            self.depth[key] = 0
-        elif expr.op == "geometry":
-            if self.geometry_node is None:
-                self.geometry_node = self.tree.nodes.new("ShaderNodeNewGeometry")
-                self.geometry_node.location = (0, 300)
-            sock = self.geometry_node.outputs[expr.value]
-            self.depth[key] = 0
-        else:
-            sock = self._operation(expr)
-        self.memo[key] = sock
-        return sock
-
-    def _operation(self, expr: Expr):
-        nodes, links = self.tree.nodes, self.tree.links
-        if expr.op == "emission":
-            node = nodes.new("ShaderNodeEmission")
-            node.inputs["Strength"].default_value = 1.0
-            targets = [node.inputs["Color"]]
-            out = node.outputs["Emission"]
-        elif expr.kind == FLOAT and expr.op in _MATH:
-            node = nodes.new("ShaderNodeMath")
-            node.operation = _MATH[expr.op]
-            targets = list(node.inputs)[: len(expr.args)]
-            out = node.outputs[0]
-        else:
-            node = nodes.new("ShaderNodeVectorMath")
-            node.operation = _VMATH[expr.op]
-            if expr.op == "scale":
-                targets = [node.inputs[0], node.inputs["Scale"]]
-            else:
-                targets = list(node.inputs)[: len(expr.args)]
-            out = node.outputs["Value" if expr.op in _VMATH_FLOAT_OUT else "Vector"]
-        depth = 0
-        for arg, target in zip(expr.args, targets):
-            src = self.socket(arg)
-            if src is None:
-                value = arg.value
-                if target.type in ("RGBA",):
-                    value = (*value, 1.0)
-                target.default_value = value
-            else:
-                links.new(src, target)
-                depth = max(depth, self.depth.get(arg.key, 0))
-        self.depth[expr.key] = depth + 1
-        node.location = (200 * (depth + 1), 0)
-        return out
-
-
-def build(tree, outputs: dict, group_input, group_output) -> None:
-    """Write the expressions in *outputs* (output socket name -> Expr) into *tree*."""
-    b = _Builder(tree, group_input)
-    max_depth = 0
-    for name, expr in outputs.items():
-        src = b.socket(expr)
-        target = group_output.inputs[name]
-        if src is None:
-            value = expr.value
-            target.default_value = (*value, 1.0) if target.type == "RGBA" else value
-        else:
-            tree.links.new(src, target)
-        max_depth = max(max_depth, b.depth.get(expr.key, 0))
-    _arrange(tree, b, group_input, group_output, max_depth)
-
-
-def _arrange(tree, builder, group_input, group_output, max_depth):
-    """Columns by depth so the graph reads left to right."""
-    columns: dict = {}
-    for key, sock in builder.memo.items():
-        node = sock.node
-        if node in (group_input, builder.geometry_node):
-            continue
-        col = int(round(node.location[0] / 200))
-        columns.setdefault(col, [])
-        if node not in columns[col]:
-            columns[col].append(node)
-    for col, nodes in columns.items():
-        for row, node in enumerate(nodes):
-            node.location = (col * 220, -row * 180)
-    group_input.location = (-300, 0)
-    if builder.geometry_node is not None:
-        builder.geometry_node.location = (-300, 400)
-    group_output.location = ((max_depth + 1) * 220 + 80, 0)
-
-
 __all__ = [
-    "Expr", "FLOAT", "VECTOR", "SHADER", "const", "input_", "geometry", "maximum", "minimum",
-    "power", "less_than", "at_least", "cos", "dot", "length", "normalize", "select", "emission",
-    "evaluate", "build",
+    "Expr", "Op", "OPERATIONS", "FLOAT", "VECTOR", "COLOR", "SHADER", "LEAVES", "const",
+    "input_", "geometry", "operation", "maximum", "minimum", "power", "less_than", "at_least", "cos",
+    "dot", "length", "normalize", "select", "emission", "evaluate",
 ]

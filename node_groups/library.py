@@ -1,11 +1,12 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""The Phong node-group library: every group of SPEC.md, as Python.
+"""The Phong node-group library: every group of docs/contract.md, as Python.
 
-Each group is a function that declares its sockets and returns its outputs as
-expressions (``expr.py``) that read like the seed formulas.  The same
-definitions are written as nodes by ``loader.py`` and evaluated on numpy arrays
-by the tests.  Section numbers refer to seed 000 (French notes) and seed 004
-(Italian slides).
+Each group is a function that declares its sockets (name, kind: float, vector, colour or
+shader, default, range, tooltip) and its outputs as expressions (``expr.py``) that read like
+the formulas of docs/model.md.  The same definitions are written as nodes by
+``addon/loader.py`` and evaluated on numpy arrays by the tests.  Comments cite the sections of
+docs/model.md (where each formula comes from in the seeds) and docs/contract.md (sockets,
+defaults, edge cases).
 
 No ``bpy`` here.
 """
@@ -17,14 +18,14 @@ import math
 from dataclasses import dataclass, field
 
 from .expr import (
-    FLOAT, SHADER, VECTOR, Expr, at_least, cos, dot, emission, evaluate, geometry, input_,
+    COLOR, FLOAT, SHADER, VECTOR, Expr, at_least, cos, dot, emission, evaluate, geometry, input_,
     length, less_than, maximum, minimum, normalize, power, select,
 )
 
 #: Bump when any group changes: files with older groups are upgraded in place.
 LIBRARY_VERSION = 2
 
-#: Smallest falloff denominator (SPEC: max(denominator, 1e-6)).
+#: Smallest falloff denominator (docs/contract.md, "Edge cases": max(denominator, 10⁻⁶)).
 MIN_DENOMINATOR = 1e-6
 
 WHITE = (1.0, 1.0, 1.0)
@@ -35,15 +36,17 @@ DOWN = (0.0, 0.0, -1.0)
 BIG = 1.0e9
 
 
-# -- the seed formulas, shared by the groups ---------------------------------
+# -- the model's formulas, shared by the groups ------------------------------
 
 def lambert(l, n):
-    """max(ℓ·n, 0) (seed 000 §3.4, seed 004 slide 37)."""
+    """max(ℓ·n, 0): Lambert's cosine law, zero for light from behind.
+
+    docs/model.md §Diffuse (seed 000 §3.4; seed 004 slides 30 and 38)."""
     return maximum(dot(l, n), 0.0)
 
 
 def reflect(l, n):
-    """r = 2(ℓ·n)n - ℓ (seed 000 §3.5, Lemma 1)."""
+    """r = 2(ℓ·n)n - ℓ, the mirror direction (docs/model.md §Specular (Phong), Lemma 1)."""
     return 2.0 * dot(l, n) * n - l
 
 
@@ -53,7 +56,7 @@ def both_at_least_zero(a, b):
 
 
 def phong_factor(l, n, v, e):
-    """(r·v)^e where ℓ·n ≥ 0 and r·v ≥ 0, else 0 (seed 000 §3.5).
+    """(r·v)^e where ℓ·n ≥ 0 and r·v ≥ 0, else 0 (docs/model.md §Specular (Phong)).
 
     r·v is taken as at most 1: exact for a unit ℓ (then |r| = 1 and r·v ≤ 1), and it keeps
     (r·v)^e finite for a Light Vector input that is not unit (‖ℓ‖ = 10⁶, e = 30 overflowed).
@@ -64,27 +67,38 @@ def phong_factor(l, n, v, e):
 
 
 def blinn_factor(l, n, v, e):
-    """(h·n)^e with h = (ℓ+v)/‖ℓ+v‖, where ℓ·n ≥ 0 and h·n ≥ 0, else 0 (seed 000 §3.5)."""
+    """(h·n)^e with h = (ℓ+v)/‖ℓ+v‖, where ℓ·n ≥ 0 and h·n ≥ 0, else 0.
+
+    docs/model.md §Blinn-Phong."""
     hn = dot(normalize(l + v), n)
     return both_at_least_zero(dot(l, n), hn) * power(maximum(hn, 0.0), maximum(e, 0.0))
 
 
 def falloff(i0, r, quadratic, linear, constant):
-    """i0/(αr² + βr + γ) (seed 000 §2.2), denominator at least 1e-6."""
+    """i0/(αr² + βr + γ), denominator at least 1e-6 (docs/model.md §Point light)."""
     return i0 / maximum(quadratic * r * r + linear * r + constant, MIN_DENOMINATOR)
 
 
 def clamp_add(a, b):
-    """Cl1 ⊕ Cl2 = min(Cl1 + Cl2, 1) per channel (seed 000 §1.3)."""
+    """Cl1 ⊕ Cl2 = min(Cl1 + Cl2, 1) per channel (docs/model.md §Colours)."""
     return minimum(a + b, 1.0)
 
 
 # -- declaring groups ------------------------------------------------------
 
+#: The Blender socket type of each socket kind.
+SOCKET_TYPES = {FLOAT: "NodeSocketFloat", VECTOR: "NodeSocketVector", COLOR: "NodeSocketColor",
+                SHADER: "NodeSocketShader"}
+_KINDS = {socket_type: kind for kind, socket_type in SOCKET_TYPES.items()}
+
+
 @dataclass
 class Socket:
+    """One socket of a group's interface; its kind (float, vector, colour, shader) is declared
+    by the method that made it (``GroupDef.value`` / ``vector`` / ``color`` / ``output``)."""
+
     name: str
-    socket_type: str  # NodeSocketFloat / NodeSocketVector / NodeSocketColor / NodeSocketShader
+    socket_type: str  # SOCKET_TYPES[kind]
     description: str = ""
     default: object = None
     min: float | None = None
@@ -92,8 +106,9 @@ class Socket:
     subtype: str | None = None
 
     @property
-    def kind(self):
-        return {"NodeSocketFloat": FLOAT, "NodeSocketShader": SHADER}.get(self.socket_type, VECTOR)
+    def kind(self) -> str:
+        """FLOAT, VECTOR, COLOR or SHADER."""
+        return _KINDS[self.socket_type]
 
 
 @dataclass
@@ -105,18 +120,18 @@ class GroupDef:
     expressions: dict = field(default_factory=dict)
 
     # inputs ---------------------------------------------------------------
-    def _input(self, sock: Socket) -> Expr:
-        self.inputs.append(sock)
-        return input_(sock.name, sock.kind)
+    def _input(self, kind, name, description, default, min=None, max=None, subtype=None) -> Expr:
+        self.inputs.append(Socket(name, SOCKET_TYPES[kind], description, default, min, max, subtype))
+        return input_(name, kind)
 
     def value(self, name, default, description, min=-BIG, max=BIG, subtype=None) -> Expr:
-        return self._input(Socket(name, "NodeSocketFloat", description, float(default), min, max, subtype))
+        return self._input(FLOAT, name, description, float(default), min, max, subtype)
 
     def vector(self, name, default, description) -> Expr:
-        return self._input(Socket(name, "NodeSocketVector", description, tuple(default), -BIG, BIG))
+        return self._input(VECTOR, name, description, tuple(default), -BIG, BIG)
 
     def color(self, name, default, description) -> Expr:
-        return self._input(Socket(name, "NodeSocketColor", description, (*default, 1.0)))
+        return self._input(COLOR, name, description, (*default, 1.0))
 
     def normal(self) -> Expr:
         """The Normal input: zero means Geometry ▸ Normal, anything else is normalized."""
@@ -131,11 +146,14 @@ class GroupDef:
         return select(less_than(length(v), 1e-30), geometry("Incoming"), normalize(v))
 
     # outputs --------------------------------------------------------------
-    def output(self, name, expression, description="") -> None:
-        socket_type = {FLOAT: "NodeSocketFloat", SHADER: "NodeSocketShader"}.get(expression.kind)
-        if socket_type is None:
-            socket_type = "NodeSocketColor" if name in _COLOR_OUTPUTS else "NodeSocketVector"
-        self.outputs.append(Socket(name, socket_type, description))
+    def output(self, name, expression, description="", color=False) -> None:
+        """An output computing *expression*; ``color=True`` declares a vector a colour (RGBA)."""
+        kind = expression.kind
+        if color:
+            if kind != VECTOR:
+                raise TypeError(f"output {name!r}: only a vector expression can be a colour")
+            kind = COLOR
+        self.outputs.append(Socket(name, SOCKET_TYPES[kind], description))
         self.expressions[name] = expression
 
     # for the tests and the loader ------------------------------------------
@@ -151,12 +169,12 @@ class GroupDef:
 
     @property
     def fingerprint(self) -> str:
-        """Changes whenever the sockets or the formulas change."""
+        """Changes whenever the sockets or the formulas change (and only then: it is the text of
+        the sockets and of the formulas, so the groups in users' files are rewritten on load when
+        what they compute changes, not when the writer's code does)."""
         text = repr((self.inputs, self.outputs, sorted(self.expressions.items())))
         return hashlib.sha256(text.encode()).hexdigest()[:16]
 
-
-_COLOR_OUTPUTS = {"Color", "Irradiant", "Ambient", "Diffuse", "Specular"}
 
 GROUPS: dict = {}
 
@@ -184,10 +202,11 @@ _BETA = "β in 1/(αr²+βr+γ)"
 _GAMMA = "γ in 1/(αr²+βr+γ)"
 
 
-# -- light models (seed 000 §2, seed 004 slides 43-46) ---------------------
+# -- light models (docs/model.md §Light models: seed 000 §2, seed 004 slides 44-46) --
 
 @group("Phong Directional Light", "Sun-like light: the same direction and intensity everywhere (seed 000 §2.1)")
 def _directional(g):
+    """docs/model.md §Directional light."""
     u = g.vector("Direction", DOWN, "Direction u in which the rays travel")
     i = g.value("Intensity", 1.0, _I, min=0.0)
     g.output("Light Vector", -normalize(u), "ℓ = -u/‖u‖")
@@ -204,6 +223,7 @@ def _falloff_inputs(g):
 
 @group("Phong Point Light", "Bulb-like light radiating from a point, with distance falloff (seed 000 §2.2)")
 def _point(g):
+    """docs/model.md §Point light."""
     s = g.vector("Position", ZERO, _POS)
     i0, a, b, c = _falloff_inputs(g)
     to_light = s - geometry("Position")
@@ -215,6 +235,7 @@ def _point(g):
 
 @group("Phong Spot Light", "Point light limited to a cone, with a cos^e soft edge (seed 000 §2.3)")
 def _spot(g):
+    """docs/model.md §Spot light (Proposition 2, soft edge)."""
     s = g.vector("Position", ZERO, _POS)
     u = g.vector("Direction", DOWN, "Axis u of the cone (normalized inside)")
     theta = g.value("Half Angle", math.radians(30.0), "Half angle θ of the cone",
@@ -238,6 +259,7 @@ def _spot(g):
 
 @group("Phong Power Falloff", "Attenuation i0/d^k (seed 004 slide 46: k = 2 physical, 1 softer, 0 none)")
 def _power_falloff(g):
+    """docs/model.md §Power falloff."""
     d = g.value("Distance", 1.0, "Distance d to the light", min=0.0)
     i0 = g.value("Intensity", 1.0, _I0, min=0.0)
     k = g.value("Exponent", 2.0, "k: 2 physical, 1 softer, 0 no attenuation", min=0.0, max=16.0)
@@ -245,19 +267,21 @@ def _power_falloff(g):
              "i0/d^k")
 
 
-# -- Phong terms (seed 000 §3, seed 004 slides 38-66) ----------------------
+# -- Phong terms (docs/model.md §The Phong model, docs/contract.md §Phong terms) --
 
 @group("Phong Irradiant", "Light emitted by the object itself, Cl_irr (seed 000 §3.2)")
 def _irradiant(g):
-    g.output("Color", g.color("Color", BLACK, "Irradiant colour Cl_irr"), "Cl_irr")
+    """docs/model.md §Irradiant."""
+    g.output("Color", g.color("Color", BLACK, "Irradiant colour Cl_irr"), "Cl_irr", color=True)
 
 
 @group("Phong Ambient", "Sourceless light, the same everywhere (seed 000 §3.3)")
 def _ambient(g):
+    """docs/model.md §Ambient."""
     i = g.value("Intensity", 1.0, "Ambient intensity i_source", min=0.0)
     lc = g.color("Light Color", WHITE, "Colour of the ambient light")
     oc = g.color("Object Color", GREY, _OC)
-    g.output("Color", i * lc * oc, "i·Cl_source ⊗ Cl_objet")
+    g.output("Color", i * lc * oc, "i·Cl_source ⊗ Cl_objet", color=True)
 
 
 def _term_inputs(g, color_name, color_default, color_tip):
@@ -270,9 +294,11 @@ def _term_inputs(g, color_name, color_default, color_tip):
 
 @group("Phong Diffuse", "Lambert diffuse term of matte surfaces (seed 000 §3.4)")
 def _diffuse(g):
+    """docs/model.md §Diffuse."""
     l, i, lc, oc = _term_inputs(g, "Object Color", GREY, _OC)
     n = g.normal()
-    g.output("Color", (i * lambert(l, n)) * (lc * oc), "i·max(ℓ·n, 0)·Cl_source ⊗ Cl_objet")
+    g.output("Color", (i * lambert(l, n)) * (lc * oc), "i·max(ℓ·n, 0)·Cl_source ⊗ Cl_objet",
+             color=True)
 
 
 def _specular_group(g, factor, formula):
@@ -280,26 +306,28 @@ def _specular_group(g, factor, formula):
     e = g.value("Exponent", 30.0, _E, min=0.0, max=10000.0)
     n = g.normal()
     v = g.view()
-    g.output("Color", (i * factor(l, n, v, e)) * (lc * sc), formula)
+    g.output("Color", (i * factor(l, n, v, e)) * (lc * sc), formula, color=True)
 
 
 @group("Phong Specular", "Phong highlight around the mirror direction (seed 000 §3.5)")
 def _specular(g):
+    """docs/model.md §Specular (Phong), §Highlight colour."""
     _specular_group(g, phong_factor, "i·(r·v)^e·Cl_source ⊗ Cl_spec, r = 2(ℓ·n)n - ℓ")
 
 
 @group("Phong Blinn Specular", "Blinn-Phong highlight with the half vector (seed 000 §3.5)")
 def _blinn(g):
+    """docs/model.md §Blinn-Phong."""
     _specular_group(g, blinn_factor, "i·(h·n)^e·Cl_source ⊗ Cl_spec, h = (ℓ+v)/‖ℓ+v‖")
 
 
-# -- colour operations (seed 000 §1.3) -------------------------------------
+# -- colour operations (docs/model.md §Colours) --------------------------------
 
 @group("Phong Color Add", "Colour addition without exceeding 1 (seed 000 §1.3)")
 def _color_add(g):
     a = g.color("A", BLACK, "First colour")
     b = g.color("B", BLACK, "Second colour")
-    g.output("Color", clamp_add(a, b), "min(A + B, 1) per channel")
+    g.output("Color", clamp_add(a, b), "min(A + B, 1) per channel", color=True)
 
 
 @group("Phong Color Multiply", "Colour product: the colour an object shows under a light (seed 000 §1.3)")
@@ -307,13 +335,15 @@ def _color_multiply(g):
     a = g.color("A", WHITE, "First colour, e.g. the light's")
     b = g.color("B", WHITE, "Second colour, e.g. the object's")
     f = g.value("Factor", 1.0, "Multiplier to brighten dark products", min=0.0)
-    g.output("Color", f * a * b, "Factor·A ⊗ B")
+    g.output("Color", f * a * b, "Factor·A ⊗ B", color=True)
 
 
-# -- one light, every term ---------------------------------------------------
+# -- one light, every term (docs/model.md §The Phong model, docs/contract.md §Phong Shading) --
 
 @group("Phong Shading", "The whole Phong model for one light: irradiant + ambient + diffuse + specular")
 def _shading(g):
+    """docs/model.md §The Phong model and its subsections, §Separate diffuse and specular
+    intensities."""
     l = g.vector("Light Vector", ZERO, _L)
     i = g.value("Light Intensity", 1.0, _I, min=0.0)
     lc = g.color("Light Color", WHITE, _LC)
@@ -335,11 +365,11 @@ def _shading(g):
     factor = (1.0 - blinn) * phong_factor(l, n, v, e) + blinn * blinn_factor(l, n, v, e)
     specular = (ks * i * factor) * (lc * sc)
     color = minimum(irr + ambient + diffuse + specular, 1.0)
-    g.output("Irradiant", irr, "Cl_irr")
-    g.output("Ambient", ambient, "Ambient term")
-    g.output("Diffuse", diffuse, "Diffuse term")
-    g.output("Specular", specular, "Specular term")
-    g.output("Color", color, "Clamped sum of the four terms")
+    g.output("Irradiant", irr, "Cl_irr", color=True)
+    g.output("Ambient", ambient, "Ambient term", color=True)
+    g.output("Diffuse", diffuse, "Diffuse term", color=True)
+    g.output("Specular", specular, "Specular term", color=True)
+    g.output("Color", color, "Clamped sum of the four terms", color=True)
     g.output("Shader", emission(color), "Emission of Color at strength 1: the model's colour in any engine")
 
 

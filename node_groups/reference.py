@@ -2,11 +2,11 @@
 """Independent numpy reference of the Phong node groups (the ground truth for tests).
 
 Pure numpy, no ``bpy``: every function evaluates, in float64 and vectorised, exactly the
-formula that SPEC.md assigns to one node group.  Vectors and colours are arrays of shape
+formula that docs/contract.md assigns to one node group.  Vectors and colours are arrays of shape
 ``(..., 3)`` (an RGBA colour's alpha is dropped), scalars have shape ``(...)`` or are python
 floats; all arguments broadcast against each other.
 
-Sources (section numbers of the two seed documents in ``shared/seeds``):
+Sources (section numbers of the two seed documents, restated and cited in docs/model.md):
 
 * seed 000 (French lecture notes)
     - §1.3 colours: addition ``min(a + b, 1)`` per channel, multiplication term by term;
@@ -31,7 +31,8 @@ Sources (section numbers of the two seed documents in ``shared/seeds``):
     - slides 57-64: R = -ω_i + 2(ω_i·n)n, Phong ``(ω_r·R)^s H ⊗ L``, Blinn-Phong
       ``(n·ω_h)^s H ⊗ L`` (H = the highlight colour, our "Specular Color").
 
-Project conventions that complete SPEC where it is silent:
+Project conventions that complete the seeds where they are silent (docs/contract.md,
+"Edge cases"; docs/model.md, "Where the project goes beyond the seeds"):
 
 * ``normalize(v)`` = v/‖v‖, and a zero vector (‖v‖ <= 1e-30) gives the zero vector.
 * A Normal input equal to zero means the geometry normal (``geometry_normal``, normalized);
@@ -43,8 +44,8 @@ Project conventions that complete SPEC where it is silent:
 * The inequalities are non-strict (ℓ·n >= 0, r·v >= 0, h·n >= 0, cos ω >= cos θ) and are
   applied literally, also for a zero Light Vector.
 
-Each function returns a dict keyed by the SPEC output socket names; ``GROUPS`` maps every
-SPEC group name to a generic ``f(inputs, geometry) -> outputs`` evaluator.
+Each function returns a dict keyed by the contract's output socket names; ``GROUPS`` maps every
+group name of the contract to a generic ``f(inputs, geometry) -> outputs`` evaluator.
 """
 
 import math
@@ -97,7 +98,7 @@ def _vec(x):
 
 
 def _col(x):
-    """float64 colour of shape (..., 3); an RGBA colour loses its alpha (SPEC: alpha ignored)."""
+    """float64 colour of shape (..., 3); an RGBA colour loses its alpha (docs/contract.md)."""
     a = np.asarray(x, dtype=np.float64)
     if a.ndim >= 1 and a.shape[-1] == 4:
         a = a[..., :3]
@@ -161,7 +162,7 @@ def _falloff(intensity, distance, quadratic, linear, constant):
 
 
 # ---------------------------------------------------------------------------
-# light models (seed 000 §2, seed 004 slides 43-46)
+# light models (seed 000 §2, seed 004 slides 44-46; docs/model.md §Light models)
 # ---------------------------------------------------------------------------
 
 def directional_light(direction=(0.0, 0.0, -1.0), intensity=1.0, geometry_position=_ZERO3):
@@ -370,10 +371,10 @@ def phong_shading(light_vector=_ZERO3, light_intensity=1.0, light_color=_ONE3,
 
 
 # ---------------------------------------------------------------------------
-# generic table: SPEC group name -> f(inputs, geometry)
+# generic table: group name -> f(inputs, geometry)
 # ---------------------------------------------------------------------------
 
-#: For each SPEC group: (function, {SPEC input socket name: keyword}, {geometry key: keyword}).
+#: Per group: (function, {input socket name: keyword}, {geometry key: keyword}).
 _TABLE = {
     "Phong Directional Light": (
         directional_light,
@@ -439,7 +440,7 @@ _TABLE = {
     ),
 }
 
-#: SPEC input socket names accepted by each group, in SPEC order.
+#: Input socket names accepted by each group, in the contract's order.
 INPUTS = {name: tuple(spec[1]) for name, spec in _TABLE.items()}
 
 
@@ -449,7 +450,7 @@ def _defaults(func):
     return {p.name: p.default for p in inspect.signature(func).parameters.values()}
 
 
-#: Default value of every SPEC input socket, per group: {group: {socket: default}}.
+#: Default value of every input socket, per group: {group: {socket: default}}.
 DEFAULTS = {
     name: {sock: _defaults(func)[kw] for sock, kw in sockets.items()}
     for name, (func, sockets, _geo) in _TABLE.items()
@@ -460,6 +461,9 @@ _VECTOR_GEOMETRY = ("Position", "Normal", "Incoming")
 
 def _make_group(name):
     func, sockets, geo_map = _TABLE[name]
+    # The shape of each output for one shaded point, from the formula itself (the function on
+    # its unbatched defaults), not from the output's name.
+    core_shapes = {key: np.shape(val) for key, val in func().items()}
 
     def evaluate(inputs=None, geometry=None):
         inputs = dict(inputs or {})
@@ -478,19 +482,18 @@ def _make_group(name):
             batch = np.broadcast_shapes(*shapes)
             res = {}
             for key, val in out.items():
-                is_vec = key in ("Light Vector", "Color", "Irradiant", "Ambient", "Diffuse",
-                                 "Specular")
-                vb = np.broadcast_shapes(val.shape[:-1] if is_vec else val.shape, batch)
-                res[key] = np.broadcast_to(val, vb + ((3,) if is_vec else ())).astype(np.float64)
+                core = core_shapes[key]  # () for a scalar, (3,) for a vector or colour
+                vb = np.broadcast_shapes(val.shape[:val.ndim - len(core)], batch)
+                res[key] = np.broadcast_to(val, vb + core).astype(np.float64)
             out = res
         return out
 
     evaluate.__name__ = func.__name__ + "_group"
-    evaluate.__doc__ = "GROUPS[%r]: inputs keyed by SPEC socket names %s.\n\n%s" % (
+    evaluate.__doc__ = "GROUPS[%r]: inputs keyed by socket names %s.\n\n%s" % (
         name, list(sockets), func.__doc__)
     return evaluate
 
 
-#: SPEC group name -> f(inputs: {SPEC input socket: value}, geometry: {"Position", "Normal",
-#: "Incoming"}) -> {SPEC output socket: float64 array}.  Missing inputs take the defaults.
+#: group name -> f(inputs: {input socket: value}, geometry: {"Position", "Normal",
+#: "Incoming"}) -> {output socket: float64 array}.  Missing inputs take the defaults.
 GROUPS = {name: _make_group(name) for name in _TABLE}

@@ -1,39 +1,50 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""Helpers for the Blender-side tests: install the extension like a user, set up
-pixel-exact scenes, render to multilayer EXR and read the passes back.
+"""Helpers shared by the tests (imported as ``blender_env``; conftest.py holds only fixtures):
+the extension enabled in Blender, pixel-exact scenes, renders to multilayer EXR read back,
+and the contract's table of sockets.
 
-Everything that differs between Blender versions lives here (engine ids, EXR settings).
-``bpy`` is imported lazily: :func:`import_bpy` must run after ``BLENDER_USER_RESOURCES``
-has been pointed at a throw-away folder (conftest.py does that).
+``bpy`` is imported lazily: :func:`import_bpy` must run after :func:`user_resources` has
+pointed ``BLENDER_USER_RESOURCES`` at a throw-away folder (conftest.py does that).
 """
 
 from __future__ import annotations
 
-import importlib
-import importlib.util
 import os
 import subprocess
 import sys
+import tempfile
 import zipfile
 
 import numpy as np
 
+import phong_nodes
+
 REPO_ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 EXT_ID = "phong_nodes"
-EXT_REPO = "user_default"
-EXT_MODULE = f"bl_ext.{EXT_REPO}.{EXT_ID}"
+#: The module Blender enables: the source tree, under the package name the tests import.
+EXT_MODULE = "phong_nodes"
+if os.path.realpath(os.path.dirname(phong_nodes.__file__)) != os.path.realpath(REPO_ROOT):
+    raise RuntimeError(f"phong_nodes is imported from {os.path.dirname(phong_nodes.__file__)}, "
+                       f"not from this checkout {REPO_ROOT}: run `bash tools/phong.sh setup`")
+
+SUMMARY: list = []  # lines for the terminal summary (renders, errors per group)
+_USER_RES: list = []
 
 
-def source_module(relpath: str):
-    """A pure-python module of the source tree (e.g. ``addon/scenes.py``) loaded by path, so
-    it is tested without importing the ``addon`` package (which needs bpy)."""
-    name = "phong_source_" + relpath.replace("/", "_").removesuffix(".py")
-    if name not in sys.modules:
-        spec = importlib.util.spec_from_file_location(name, os.path.join(REPO_ROOT, relpath))
-        module = importlib.util.module_from_spec(spec)
-        spec.loader.exec_module(module)
-        sys.modules[name] = module
-    return sys.modules[name]
+def report(line: str) -> None:
+    """Record a line for the end-of-run summary (and print it for -s)."""
+    SUMMARY.append(line)
+    print(line)
+
+
+def user_resources(create: bool = True) -> str | None:
+    """The throw-away BLENDER_USER_RESOURCES folder of this test session."""
+    if not _USER_RES and create:
+        if "bpy" in sys.modules:
+            raise RuntimeError("bpy was imported before BLENDER_USER_RESOURCES was set")
+        _USER_RES.append(tempfile.mkdtemp(prefix="phong_user_res_"))
+        os.environ["BLENDER_USER_RESOURCES"] = _USER_RES[0]
+    return _USER_RES[0] if _USER_RES else None
 
 
 def import_bpy():
@@ -42,7 +53,7 @@ def import_bpy():
     return bpy
 
 
-# ---------------------------------------------------------------- install like a user
+# ---------------------------------------------------------------- the extension
 
 def ext_tool() -> str:
     bpy = import_bpy()
@@ -55,32 +66,31 @@ def run_ext_tool(*args: str) -> subprocess.CompletedProcess:
                           capture_output=True, text=True, check=False)
 
 
-def build_zip(source_dir: str, output_dir: str) -> str:
-    """Build the extension zip with Blender's own tool; returns the zip path."""
-    res = run_ext_tool("build", "--source-dir", source_dir, "--output-dir", output_dir)
-    if res.returncode != 0:
-        raise RuntimeError(f"blender_ext build failed ({res.returncode}):\n{res.stdout}\n{res.stderr}")
-    zips = [f for f in os.listdir(output_dir) if f.endswith(".zip")]
-    if len(zips) != 1:
-        raise RuntimeError(f"expected one zip in {output_dir}, found {zips}\n{res.stdout}")
-    return os.path.join(output_dir, zips[0])
-
-
-def validate_zip(zip_path: str) -> subprocess.CompletedProcess:
-    return run_ext_tool("validate", zip_path)
-
-
 def zip_names(zip_path: str) -> list[str]:
     with zipfile.ZipFile(zip_path) as zf:
         return zf.namelist()
 
 
-def install_zip(zip_path: str) -> None:
-    bpy = import_bpy()
-    res = bpy.ops.extensions.package_install_files(
-        filepath=zip_path, repo=EXT_REPO, enable_on_install=True)
-    if res != {"FINISHED"}:
-        raise RuntimeError(f"package_install_files returned {res}")
+def _raise(error):
+    raise error
+
+
+def enable() -> None:
+    """Enable the extension (the source tree as ``phong_nodes``); errors are raised."""
+    import_bpy()
+    import addon_utils  # noqa: PLC0415  (a module of bpy's scripts)
+
+    if not addon_enabled():
+        addon_utils.enable(EXT_MODULE, default_set=True, handle_error=_raise)
+
+
+def disable() -> None:
+    """Disable the extension if it is enabled (its classes unregistered: bpy 4.2 crashes at
+    interpreter exit while an operator class is still registered)."""
+    if "bpy" in sys.modules and addon_enabled():
+        import addon_utils  # noqa: PLC0415
+
+        addon_utils.disable(EXT_MODULE, default_set=True, handle_error=_raise)
 
 
 def addon_enabled() -> bool:
@@ -88,18 +98,11 @@ def addon_enabled() -> bool:
     return EXT_MODULE in bpy.context.preferences.addons
 
 
-def ensure_enabled() -> None:
-    if not addon_enabled():
-        import addon_utils  # noqa: PLC0415
-
-        addon_utils.enable(EXT_MODULE, default_set=True)
-
-
 def reset_empty_file() -> None:
-    """Empty file, preferences kept (read_factory_settings would disable the add-on)."""
+    """Empty file, preferences kept (read_factory_settings would disable the extension)."""
     bpy = import_bpy()
     bpy.ops.wm.read_homefile(use_empty=True)
-    ensure_enabled()
+    enable()
 
 
 def load_groups() -> None:
@@ -112,17 +115,16 @@ def load_groups() -> None:
 # ---------------------------------------------------------------- version differences
 
 def compat():
-    """The installed extension's compatibility module: the one place for version differences."""
-    return importlib.import_module(EXT_MODULE + ".addon.compat")
+    """The extension's compatibility module: the one place for version differences."""
+    from phong_nodes.addon import compat as module  # noqa: PLC0415  (needs bpy)
+
+    return module
 
 
-def engine_id(kind: str) -> str:
-    """'cycles' or 'eevee' -> the engine enum of this Blender."""
-    if kind == "cycles":
-        return "CYCLES"
-    if kind == "eevee":
-        return compat().eevee_engine()
-    raise ValueError(kind)
+def _render():
+    from phong_nodes.addon.demos import render  # noqa: PLC0415  (needs bpy)
+
+    return render
 
 
 def set_output_multilayer_exr(scene) -> None:
@@ -132,7 +134,7 @@ def set_output_multilayer_exr(scene) -> None:
 
 def configure_engine(scene, kind: str) -> None:
     """The add-on's exact-check settings (one sample at pixel centres)."""
-    importlib.import_module(EXT_MODULE + ".addon.render").exact(scene, kind)
+    _render().exact(scene, kind)
 
 
 # ---------------------------------------------------------------- scene set-up
@@ -140,7 +142,7 @@ def configure_engine(scene, kind: str) -> None:
 def new_scene(name: str, width: int, height: int, kind: str = "cycles"):
     bpy = import_bpy()
     scene = bpy.data.scenes.new(name)
-    importlib.import_module(EXT_MODULE + ".addon.render").plain_picture(scene, width, height)
+    _render().plain_picture(scene, width, height)
     world = bpy.data.worlds.new(name + " world")
     compat().black_world(world)
     scene.world = world
@@ -202,8 +204,9 @@ def add_uv_plane(scene, name, x0, y0, size, material):
 def add_uv_sphere(scene, name, location, radius, material, segments=48, rings=24):
     """Smooth-shaded UV sphere (the add-on's mesh helper, no operator context needed)."""
     bpy = import_bpy()
-    mesh = importlib.import_module(EXT_MODULE + ".addon.meshes").uv_sphere(
-        name, radius, segments, rings)
+    from phong_nodes.addon.demos import meshes  # noqa: PLC0415  (needs bpy)
+
+    mesh = meshes.uv_sphere(name, radius, segments, rings)
     mesh.materials.append(material)
     mesh.update()
     obj = bpy.data.objects.new(name, mesh)
@@ -236,7 +239,9 @@ def add_aov(scene, name: str, kind: str = "COLOR"):
 
 
 def _bake():
-    return importlib.import_module(EXT_MODULE + ".addon.bake")
+    from phong_nodes.addon.demos import bake  # noqa: PLC0415  (needs bpy)
+
+    return bake
 
 
 def switch_to_eevee(scene, eevee_mats, aov: str = "eout") -> None:
@@ -259,7 +264,9 @@ def render_exr(scene, path: str) -> None:
 def read_multilayer_exr(path: str) -> dict[str, np.ndarray]:
     """{pass name: float32 array (H, W, C)} with row 0 = top of the image (the add-on's reader:
     one EXR part per pass, channels ``<layer>.<pass>.<chan>``)."""
-    return _bake().read_exr(path)
+    from phong_nodes.core import compare  # noqa: PLC0415
+
+    return compare.read_exr(path)
 
 
 # ---------------------------------------------------------------- the SPEC contract

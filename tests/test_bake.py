@@ -1,22 +1,16 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""build_demo_scene and bake_comparison, on the installed extension."""
+"""build_demo_scene and bake_comparison, on the enabled extension."""
 
-import importlib
 import json
 import os
 
 import pytest
 
-import blender_env as be
-
-
-def _module(name):
-    return importlib.import_module(f"{be.EXT_MODULE}.addon.{name}")
 
 
 def test_every_scene_builds_into_a_new_scene(bpy_clean):
     bpy = bpy_clean
-    scenes = _module("scenes")
+    from phong_nodes.core import scenes  # noqa: PLC0415
     mine = bpy.data.scenes[0]
     mine_objects = len(mine.objects)
     names = scenes.available()
@@ -70,7 +64,8 @@ def test_bake_comparison_writes_a_complete_folder(bpy_clean, tmp_path):
 @pytest.mark.cycles
 def test_interrupted_bake_leaves_nothing(bpy_clean, tmp_path, monkeypatch):
     bpy = bpy_clean
-    bake, builder, scenes, report = (_module(n) for n in ("bake", "builder", "scenes", "report"))
+    from phong_nodes.addon.demos import bake, builder  # noqa: PLC0415  (needs bpy)
+    from phong_nodes.core import report, scenes  # noqa: PLC0415
     data = scenes.load(os.path.join(scenes.SCENES_DIR, "lambert_vs_phong.toml"))
     scene = builder.build(data, 12)
 

@@ -25,7 +25,7 @@ import numpy as np
 import pytest
 
 import blender_env as be
-from conftest import report
+from blender_env import report
 
 TILE = 32
 COLS = 4
@@ -240,7 +240,7 @@ def _pixel_centres(t):
 
 
 @pytest.fixture(scope="module")
-def sweep(installed, blender_tmp):
+def sweep(extension, blender_tmp):
     bpy = be.import_bpy()
     be.reset_empty_file()
     be.load_groups()

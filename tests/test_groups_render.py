@@ -24,17 +24,14 @@ from __future__ import annotations
 
 import math
 import os
-import sys
 import time
 
 import numpy as np
 import pytest
 
 import blender_env as be
-from conftest import report
-
-sys.path.insert(0, be.REPO_ROOT)
-reference = pytest.importorskip("node_groups.reference")
+from blender_env import report
+from phong_nodes.node_groups import reference
 
 TILE = 48
 EPS_DISC = 1e-5
@@ -417,7 +414,7 @@ def _tile_slices(t):
 
 
 @pytest.fixture(scope="session")
-def renders(installed, blender_tmp):
+def renders(extension, blender_tmp):
     bpy = be.import_bpy()
     be.reset_empty_file()
     be.load_groups()

@@ -1,7 +1,11 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""The extension installs like a user would install it, and loads the SPEC node groups."""
+"""The extension installs like a user would install it, and loads the contract's node groups."""
 
+import json
 import math
+import os
+import subprocess
+import sys
 
 import pytest
 
@@ -9,16 +13,65 @@ import blender_env as be
 
 
 
-def test_zip_builds_validates_and_has_no_tests(installed):
-    assert installed.validate.returncode == 0, installed.validate.stdout + installed.validate.stderr
-    assert "blender_manifest.toml" in installed.names
-    bad = [n for n in installed.names if n.startswith("tests/") or "/tests/" in n]
-    assert not bad, f"the zip ships test files: {bad}"
-    assert not [n for n in installed.names if n.endswith(".pyc") or "__pycache__" in n]
+INSTALL_AS_A_USER = """
+import json, sys
+import bpy
+zip_path = sys.argv[1]
+result = bpy.ops.extensions.package_install_files(filepath=zip_path, repo="user_default",
+                                                  enable_on_install=True)
+module = "bl_ext.user_default.phong_nodes"
+enabled = module in bpy.context.preferences.addons
+bpy.ops.wm.read_homefile(use_empty=True)
+loaded = bpy.ops.phong.load_node_groups() if enabled else None
+print("RESULT " + json.dumps({
+    "install": sorted(result), "enabled": enabled, "load": sorted(loaded or ()),
+    "groups": sorted(g.name for g in bpy.data.node_groups),
+    "file": sys.modules[module].__file__ if module in sys.modules else None}))
+"""
 
 
-def test_installed_and_enabled(installed):
-    bpy = be.import_bpy()
+@pytest.fixture(scope="module")
+def built(tmp_path_factory):
+    """The zip that `bash tools/phong.sh build` makes, built and validated by Blender's tool."""
+    out = tmp_path_factory.mktemp("dist")
+    env = {**os.environ, "PHONG_VENV": sys.prefix}
+    result = subprocess.run(["bash", os.path.join(be.REPO_ROOT, "tools", "phong.sh"), "build",
+                             str(out)], env=env, capture_output=True, text=True, timeout=300)
+    assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
+    zip_path = result.stdout.strip().splitlines()[-1]
+    assert os.path.dirname(zip_path) == str(out), result.stdout
+    return zip_path, be.run_ext_tool("validate", zip_path), be.zip_names(zip_path)
+
+
+def test_zip_builds_validates_and_has_no_tests(built):
+    zip_path, validate, names = built
+    assert validate.returncode == 0, validate.stdout + validate.stderr
+    assert "blender_manifest.toml" in names and "__init__.py" in names
+    for folder in ("tests/", "tools/", "benchmarks/", "docs/", ".ci/"):
+        assert not [n for n in names if n.startswith(folder)], f"the zip ships {folder}"
+    assert not [n for n in names if n.endswith(".pyc") or "__pycache__" in n]
+    for package in ("node_groups", "core", "addon", "addon/lighting", "addon/demos", "addon/ui"):
+        assert f"{package}/__init__.py" in names, f"{package} missing from the zip"
+
+
+def test_zip_installs_and_enables_as_a_user_would(built, tmp_path):
+    """Install the zip with Blender's own operator into a fresh user folder, in a process of
+    its own (in this one the source tree is enabled under the name phong_nodes)."""
+    zip_path, _validate, _names = built
+    env = {**os.environ, "BLENDER_USER_RESOURCES": str(tmp_path / "user")}
+    result = subprocess.run([sys.executable, "-c", INSTALL_AS_A_USER, zip_path], env=env,
+                            capture_output=True, text=True, timeout=300)
+    lines = [line for line in result.stdout.splitlines() if line.startswith("RESULT ")]
+    assert result.returncode == 0 and lines, result.stdout[-2000:] + result.stderr[-2000:]
+    got = json.loads(lines[-1].removeprefix("RESULT "))
+    assert got["install"] == ["FINISHED"] and got["enabled"], got
+    assert got["load"] == ["FINISHED"], got
+    assert got["groups"] == sorted(be.SPEC_GROUPS), got["groups"]
+    assert got["file"].startswith(str(tmp_path / "user")), got["file"]
+
+
+def test_enabled_from_the_source_tree(extension):
+    bpy = extension
     assert be.EXT_MODULE in bpy.context.preferences.addons
     assert hasattr(bpy.ops.phong, "load_node_groups")
 
@@ -109,3 +162,22 @@ def test_spec_defaults(bpy_clean, key):
         assert got == pytest.approx(want, abs=1e-6), f"{group}.{socket} default {got} != {want}"
     if key == ("Phong Spot Light", "Half Angle"):
         assert item.subtype == "ANGLE", f"Half Angle subtype {item.subtype}"
+
+
+def test_ci_package_list_covers_every_library_named():
+    """`.ci/run` installs (as root) what `check_system.py --packages` prints: it must run with a
+    bare Python (no bpy) and name the package of every library that check_system can report."""
+    tool = os.path.join(be.REPO_ROOT, "tools", "check_system.py")
+    result = subprocess.run(["python3", "-I", tool, "--packages"], capture_output=True,
+                            text=True, timeout=60)
+    assert result.returncode == 0, result.stderr
+    listed = set(result.stdout.split())
+    message = " ".join(f"{lib}: cannot open shared object file" for lib in
+                       ("libXi.so.6", "libEGL_mesa.so.0", "libxkbcommon.so.0"))
+    named = subprocess.run(["python3", "-c", "import sys, check_system as c; print(' '.join("
+                            "c.PACKAGES[lib] for lib in c.missing_from_message(sys.argv[1])))",
+                            message], cwd=os.path.dirname(tool), capture_output=True, text=True)
+    assert set(named.stdout.split()) == {"libxi6", "libegl-mesa0", "libxkbcommon0"}, named.stderr
+    assert set(named.stdout.split()) <= listed and "libgl1-mesa-dri" in listed
+    with open(os.path.join(be.REPO_ROOT, ".ci", "run")) as handle:
+        assert "check_system.py --packages" in handle.read()

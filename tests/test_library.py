@@ -6,15 +6,10 @@ No Blender here: this catches a wrong formula in seconds; the render tests then 
 that Blender's nodes compute what the definitions say.
 """
 
-import os
-import sys
-
 import numpy as np
 import pytest
 
-sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-
-from node_groups import library, reference  # noqa: E402
+from phong_nodes.node_groups import library, reference
 
 N = 4000
 VECTOR_INPUTS = {"Light Vector", "Normal", "View Vector", "Position", "Direction"}
@@ -75,7 +70,7 @@ def test_sockets_follow_spec_names_and_reference_defaults(name):
 
 
 def test_structurally_equal_subexpressions_are_shared():
-    from node_groups import expr
+    from phong_nodes.node_groups import expr
     a = expr.dot(expr.input_("L", expr.VECTOR), expr.geometry("Normal"))
     b = expr.dot(expr.input_("L", expr.VECTOR), expr.geometry("Normal"))
     assert a.key == b.key
@@ -86,3 +81,32 @@ def test_fingerprint_changes_with_the_formula():
     shading = library.GROUPS["Phong Shading"]
     assert shading.fingerprint == library.GROUPS["Phong Shading"].fingerprint
     assert len({g.fingerprint for g in library.GROUPS.values()}) == len(library.GROUPS)
+
+
+def test_colour_is_declared_on_the_socket_not_taken_from_its_name():
+    from phong_nodes.node_groups import expr
+    g = library.GroupDef("Test", "")
+    v = g.vector("V", (0.0, 0.0, 0.0), "a vector")
+    c = g.color("C", (1.0, 1.0, 1.0), "a colour")
+    assert c.kind == expr.VECTOR, "in formulas a colour is a vector"
+    g.output("Color", v, "named like a colour, declared a vector")
+    g.output("Tint", c * v, "declared a colour", color=True)
+    assert [s.kind for s in g.inputs] == [expr.VECTOR, expr.COLOR]
+    assert [s.socket_type for s in g.outputs] == ["NodeSocketVector", "NodeSocketColor"]
+    with pytest.raises(TypeError):
+        g.output("Length", expr.length(v), color=True)
+    colours = {(name, s.name) for name, d in library.GROUPS.items() for s in d.outputs
+               if s.kind == expr.COLOR}
+    assert ("Phong Shading", "Specular") in colours and ("Phong Point Light", "Light Vector") not in colours
+
+
+def test_every_operation_gives_the_shape_of_its_declared_kind():
+    from phong_nodes.node_groups import expr
+    shapes = {expr.FLOAT: (5,), expr.VECTOR: (5, 3), expr.COLOR: (5, 3), expr.SHADER: (5, 3)}
+    rng = np.random.default_rng(1)
+    for op in expr.OPERATIONS:
+        args = [rng.uniform(-2, 2, shapes[kind]) for kind in op.operands]
+        with np.errstate(all="ignore"):
+            out = op.numpy(*args)
+        assert np.shape(out) == shapes[op.kind], f"{op.name} ({', '.join(op.operands)})"
+        assert len(op.inputs) == len(op.operands)

@@ -1,18 +1,13 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Loading the library into a file: reuse, upgrade in place, no duplicates, no downgrade."""
 
-import importlib
-
 import pytest
 
 import blender_env as be
+from phong_nodes.node_groups import library
 
 STAMP_VERSION = "phong_nodes_version"
 STAMP_FINGERPRINT = "phong_nodes_fingerprint"
-
-
-def library():
-    return importlib.import_module(be.EXT_MODULE + ".node_groups.library")
 
 
 def new_material(name):
@@ -51,8 +46,8 @@ def test_older_group_is_upgraded_in_place_keeping_user_links(bpy_clean):
     assert len(bpy.data.node_groups) == count, "no new group"
     tree = bpy.data.node_groups["Phong Diffuse"]
     assert tree == old, "the same datablock, upgraded in place"
-    assert tree[STAMP_VERSION] == library().LIBRARY_VERSION
-    assert tree[STAMP_FINGERPRINT] == library().GROUPS["Phong Diffuse"].fingerprint
+    assert tree[STAMP_VERSION] == library.LIBRARY_VERSION
+    assert tree[STAMP_FINGERPRINT] == library.GROUPS["Phong Diffuse"].fingerprint
     assert [s.name for s in be.interface_sockets(tree, "INPUT")] == [
         "Light Vector", "Intensity", "Light Color", "Object Color", "Normal"]
     assert len(tree.nodes) > 2, "nodes rebuilt"
@@ -69,7 +64,7 @@ def test_changed_definition_with_same_version_is_rebuilt(bpy_clean):
     tree[STAMP_FINGERPRINT] = "something older"
     tree.nodes.clear()
     be.load_groups()
-    assert tree[STAMP_FINGERPRINT] == library().GROUPS["Phong Ambient"].fingerprint
+    assert tree[STAMP_FINGERPRINT] == library.GROUPS["Phong Ambient"].fingerprint
     assert len(tree.nodes) > 2
 
 
@@ -77,12 +72,12 @@ def test_newer_group_is_never_downgraded(bpy_clean):
     bpy = bpy_clean
     be.load_groups()
     tree = bpy.data.node_groups["Phong Specular"]
-    tree[STAMP_VERSION] = library().LIBRARY_VERSION + 1
+    tree[STAMP_VERSION] = library.LIBRARY_VERSION + 1
     marker = tree.nodes.new("NodeFrame")
     marker.name = "made by a newer Phong Nodes"
     be.load_groups()
     assert tree.nodes.get("made by a newer Phong Nodes") is not None
-    assert tree[STAMP_VERSION] == library().LIBRARY_VERSION + 1
+    assert tree[STAMP_VERSION] == library.LIBRARY_VERSION + 1
 
 
 def test_accidental_copies_are_merged_into_the_original(bpy_clean):
@@ -109,17 +104,19 @@ def test_a_users_own_group_with_our_name_is_kept(bpy_clean):
     assert bpy.data.node_groups["Phong Irradiant"] != mine
 
 
-def test_shift_a_menu_lists_every_group_once(installed):
-    menus = importlib.import_module(be.EXT_MODULE + ".addon.menus")
+def test_shift_a_menu_lists_every_group_once(extension):
+    from phong_nodes.addon.ui import menus  # noqa: PLC0415
+
     listed = [name for _title, names in menus._SECTIONS for name in names]
-    assert sorted(listed) == sorted(library().GROUPS)
+    assert sorted(listed) == sorted(library.GROUPS)
     bpy = be.import_bpy()
     assert hasattr(bpy.types, "NODE_MT_phong_add")
 
 
 def test_adding_a_group_node_reuses_the_group(bpy_clean):
     bpy = bpy_clean
-    operators = importlib.import_module(be.EXT_MODULE + ".addon.operators")
+    from phong_nodes.addon.ui import operators  # noqa: PLC0415
+
     tree = new_material("M").node_tree
     first = operators.add_group_node(tree, "Phong Blinn Specular", (10, 20))
     second = operators.add_group_node(tree, "Phong Blinn Specular", (30, 40))
@@ -151,3 +148,23 @@ def test_appending_a_phong_material_reuses_the_groups_present(bpy_clean, tmp_pat
     appended = bpy.data.materials["Appended Phong"]
     groups = [n.node_tree for n in appended.node_tree.nodes if n.bl_idname == "ShaderNodeGroup"]
     assert groups == [bpy.data.node_groups["Phong Shading"]]
+
+
+def test_every_operation_node_has_the_declared_sockets(bpy_clean):
+    """The operation table (node_groups/expr.py) against this Blender's nodes: each operation's
+    node takes the operation, has the declared inputs, and its output carries the result kind."""
+    from phong_nodes.node_groups import expr
+
+    socket_types = {expr.FLOAT: "VALUE", expr.VECTOR: "VECTOR", expr.COLOR: "RGBA",
+                    expr.SHADER: "SHADER"}
+    tree = bpy_clean.data.node_groups.new("Operations", "ShaderNodeTree")
+    for op in expr.OPERATIONS:
+        node = tree.nodes.new(op.node)
+        if op.operation is not None:
+            node.operation = op.operation
+            assert node.operation == op.operation
+        for key, kind in zip(op.inputs, op.operands):
+            assert node.inputs[key].type == socket_types[kind], (op.name, key)
+        for name, _value in op.settings:
+            assert name in node.inputs, (op.name, name)
+        assert node.outputs[op.output].type == socket_types[op.kind], (op.name, op.output)

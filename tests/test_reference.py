@@ -2,38 +2,16 @@
 """Tests of the numpy reference (node_groups/reference.py) against the seeds.
 
 Every expected value below is derived by hand from the seed documents (seed 000 = French
-lecture notes, seed 004 = Italian slides) and SPEC.md, never copied from running the code.
+lecture notes, seed 004 = Italian slides) and docs/contract.md, never copied from running the code.
 """
 
-import importlib.util
 import math
-import os
-import sys
 
 import numpy as np
 import pytest
 
-REPO_ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-if REPO_ROOT not in sys.path:
-    sys.path.insert(0, REPO_ROOT)
+from phong_nodes.node_groups import reference as ref
 
-
-def _load_reference():
-    path = os.path.join(REPO_ROOT, "node_groups", "reference.py")
-    try:
-        from node_groups import reference as mod  # noqa: WPS433
-
-        if os.path.abspath(getattr(mod, "__file__", "")) == os.path.abspath(path):
-            return mod
-    except Exception:  # package __init__ missing or needing bpy: load the file by path
-        pass
-    spec = importlib.util.spec_from_file_location("phong_nodes_reference", path)
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
-
-
-ref = _load_reference()
 
 S2 = math.sqrt(0.5)  # 1/√2
 Z = (0.0, 0.0, 1.0)
@@ -101,7 +79,7 @@ def test_rgba_alpha_ignored():
 
 
 # ---------------------------------------------------------------------------
-# lights (seed 000 §2, seed 004 slides 43-46)
+# lights (seed 000 §2, seed 004 slides 44-46)
 # ---------------------------------------------------------------------------
 
 def test_directional_light_constant_over_p():

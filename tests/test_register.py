@@ -19,7 +19,7 @@ def snapshot(bpy):
     }
 
 
-def test_enable_disable_fifty_times_leaves_nothing_behind(installed):
+def test_enable_disable_fifty_times_leaves_nothing_behind(extension):
     import addon_utils
     bpy = be.import_bpy()
     enabled = snapshot(bpy)

@@ -8,7 +8,6 @@ line on stderr, without a traceback.
 
 from __future__ import annotations
 
-import importlib
 import json
 import os
 import re
@@ -20,6 +19,7 @@ import time
 import pytest
 
 import blender_env as be
+import phong_nodes
 
 ROOT = be.REPO_ROOT
 CLI = os.path.join(ROOT, "tools", "phong.py")
@@ -172,7 +172,9 @@ def test_cli_interrupted_then_run_again(tmp_path, sig):
 
 
 def _outputs_module():
-    return be.source_module("addon/outputs.py")
+    from phong_nodes.core import outputs  # noqa: PLC0415
+
+    return outputs
 
 
 def test_stale_entries_of_live_processes_are_kept(tmp_path):
@@ -203,7 +205,9 @@ label = "{title}"
 
 
 def _scenes_module():
-    return be.source_module("addon/scenes.py")
+    from phong_nodes.core import scenes  # noqa: PLC0415
+
+    return scenes
 
 
 def test_scene_strings_are_never_executed(tmp_path):
@@ -260,7 +264,8 @@ def test_add_node_group_outside_the_shader_editor_and_unknown_group(bpy_clean):
         bpy.ops.phong.add_node_group(group_name="Phong Diffuse")
     assert str(excinfo.value) == ("Operator bpy.ops.phong.add_node_group.poll() Add Phong Node "
                                   "Group: open a material's node tree in the Shader Editor first")
-    operators = importlib.import_module(f"{be.EXT_MODULE}.addon.operators")
+    from phong_nodes.addon.ui import operators  # noqa: PLC0415  (needs bpy)
+
     tree = bpy.data.node_groups.new("t", "ShaderNodeTree")
     with pytest.raises(ValueError) as excinfo:
         operators.add_group_node(tree, "Phong Nope", (0, 0))
@@ -310,7 +315,7 @@ def test_bake_refuses_unwritable_folder_and_the_extension_folder(bpy_clean, tmp_
             bpy.ops.phong.bake_comparison(directory=str(blocker / "sub"))
         assert _error(excinfo) == ("Bake Phong Comparison: cannot write to output folder "
                                    f"{blocker / 'sub'}: Not a directory")
-        package = os.path.dirname(importlib.import_module(be.EXT_MODULE).__file__)
+        package = os.path.dirname(phong_nodes.__file__)
         for target in (package, os.path.join(package, "phong_bake")):
             with pytest.raises(RuntimeError) as excinfo:
                 bpy.ops.phong.bake_comparison(directory=target)

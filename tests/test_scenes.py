@@ -1,22 +1,14 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Scene files (scenes/*.toml): every shipped scene validates; broken files fail clearly.
 
-Pure python: addon/scenes.py is loaded on its own (no bpy), so these run in milliseconds.
+Pure python (core/scenes.py, no bpy), so these run in milliseconds.
 """
 
 import os
 
 import pytest
 
-import blender_env as be
-
-
-
-def _load_scenes_module():
-    return be.source_module("addon/scenes.py")
-
-
-scenes = _load_scenes_module()
+from phong_nodes.core import scenes
 
 GOOD = """
 title = "t"

@@ -2,7 +2,8 @@
 
 bpy links against X11 and OpenGL/EGL libraries that a minimal machine lacks;
 Eevee renders headless through Mesa's EGL.  Exit 0 when all is there, 1 with
-an ``apt-get install`` line otherwise.
+an ``apt-get install`` line otherwise.  ``--packages`` prints every Debian package that bpy
+needs (one per line) without importing it: what CI installs when it runs as root.
 """
 
 import ctypes.util
@@ -25,7 +26,14 @@ def missing_from_message(message: str) -> list:
     return [lib for lib in PACKAGES if lib in message]
 
 
+def all_packages() -> list:
+    return sorted(set(PACKAGES.values()) | {"libgl1-mesa-dri"})
+
+
 def main() -> int:
+    if sys.argv[1:] == ["--packages"]:
+        print("\n".join(all_packages()))
+        return 0
     probe = subprocess.run([sys.executable, "-c", "import bpy"], capture_output=True, text=True)
     missing = missing_from_message(probe.stderr) if probe.returncode else []
     if probe.returncode and not missing:

@@ -18,7 +18,6 @@ arguments or a bad scene file (nothing is written then).
 from __future__ import annotations
 
 import argparse
-import importlib.util
 import os
 import signal
 import sys
@@ -26,7 +25,10 @@ import time
 
 sys.dont_write_bytecode = True  # write nothing outside --out (no __pycache__ in the source tree)
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+# The extension's pure packages (no bpy): `tools/phong.sh setup` makes the source tree
+# importable as `phong_nodes` in the virtual environment.
+from phong_nodes.core import compare, outputs, report, scenes  # noqa: E402
+
 DEFAULT_RESOLUTION = 256
 
 
@@ -50,25 +52,6 @@ def _on_signal(signum, _frame):
 def check_interrupt() -> None:
     if _PENDING:
         raise Interrupted(_PENDING[0])
-
-
-def import_extension():
-    """Import the extension from this source tree as the package ``phong_nodes``."""
-    spec = importlib.util.spec_from_file_location(
-        "phong_nodes", os.path.join(ROOT, "__init__.py"), submodule_search_locations=[ROOT])
-    module = importlib.util.module_from_spec(spec)
-    sys.modules["phong_nodes"] = module
-    spec.loader.exec_module(module)
-    return module
-
-
-def _pure_module(name):
-    """addon/<name>.py alone (pure python): checks before bpy is imported."""
-    spec = importlib.util.spec_from_file_location(
-        f"phong_{name}_cli", os.path.join(ROOT, "addon", f"{name}.py"))
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
 
 
 def parse_args(argv):
@@ -113,8 +96,6 @@ def main(argv=None) -> int:
 
 def _main(argv, state) -> int:
     args = parse_args(sys.argv[1:] if argv is None else argv)
-    scenes = _pure_module("scenes")
-    outputs = _pure_module("outputs")
     try:
         selected = scenes.load_all(scenes.resolve(args.scenes))
         mine = scenes.shard(selected, args.shard)
@@ -130,25 +111,46 @@ def _main(argv, state) -> int:
     outputs.clean_stale(out)  # what a killed run left behind
     check_interrupt()
 
-    # Blender's render log goes to fd 1; keep the terminal for our own lines.
-    say_fd = os.dup(1)
-    say = os.fdopen(say_fd, "w", buffering=1)
-    quiet = os.environ.get("PHONG_VERBOSE") != "1"
-    if quiet:
-        devnull = os.open(os.devnull, os.O_WRONLY)
-        sys.stdout.flush()
-        os.dup2(devnull, 1)
-        os.close(devnull)
-
+    say = _terminal()
     start = time.perf_counter()
     print(f"phong: {len(mine)} scene(s) of {len(selected)}"
           f"{f' (shard {args.shard})' if args.shard else ''}, engines {', '.join(args.engines)}, "
           f"{args.resolution} px high -> {out}", file=say)
-    import bpy  # noqa: F401  (after the checks: importing bpy takes a second)
+    import phong_nodes  # noqa: PLC0415  (after the checks: importing bpy takes a second)
 
-    phong = import_extension()
-    phong.register()
-    from phong_nodes.addon import bake, builder, report
+    phong_nodes.register()
+    try:
+        results, failed = _bake_scenes(mine, args, out, say, state)
+    finally:
+        phong_nodes.unregister()
+    index = report.write_index(out)
+    print("", *summary_table(results), sep="\n", file=say)
+    ok = not failed and all(m["ok"] for m in results)
+    status = "every engine matches the reference" if ok else (
+        f"MISMATCH or failure ({', '.join(failed + [m['scene'] for m in results if not m['ok']])})")
+    print(f"\n{status}; {len(results)} scene(s) in {time.perf_counter() - start:.1f} s; "
+          f"report: {index}", file=say)
+    say.flush()
+    return 0 if ok else 1
+
+
+def _terminal():
+    """A stream to the terminal for our own lines: Blender's render log goes to fd 1, which
+    is sent to /dev/null unless PHONG_VERBOSE=1."""
+    say = os.fdopen(os.dup(1), "w", buffering=1)
+    if os.environ.get("PHONG_VERBOSE") != "1":
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        sys.stdout.flush()
+        os.dup2(devnull, 1)
+        os.close(devnull)
+    return say
+
+
+def _bake_scenes(mine, args, out, say, state):
+    """Build and bake each scene into out/<name>; returns (metrics list, failed names)."""
+    import bpy  # noqa: PLC0415
+
+    from phong_nodes.addon.demos import bake, builder  # noqa: PLC0415
 
     check_interrupt()
     results, failed = [], []
@@ -171,46 +173,35 @@ def _main(argv, state) -> int:
             print(f"\nphong: {name}: bake failed: {error}", file=sys.stderr)
             failed.append(name)
             continue
-        verdicts = ", ".join(f"{e} {v['value']} {'OK' if v['ok'] else 'FAIL'}"
-                             for e, v in metrics["verdict"].items())
-        print(f"\n      {verdicts}", file=say)
+        print(f"\n      {compare.verdict_text(metrics['verdict'])}", file=say)
         results.append(metrics)
         state["done"] += 1
         check_interrupt()
-    index = report.write_index(out)
-    elapsed = time.perf_counter() - start
+    return results, failed
 
-    print("", file=say)
-    header = f"{'scene':<18}{'pair':<19}{'max |d|':>10}{'mean |d|':>10}{'PSNR':>8}" \
-             f"{'>1/255':>9}  verdict"
-    print(header, file=say)
-    print("-" * len(header), file=say)
+
+def summary_table(results) -> list:
+    """The terminal table: one line per scene and pair of pictures."""
+    header = (f"{'scene':<18}{'pair':<19}{'max |d|':>10}{'mean |d|':>10}{'PSNR':>8}"
+              f"{'>1/255':>9}  verdict")
+    lines = [header, "-" * len(header)]
     for m in results:
         for pair, p in m["pairs"].items():
             engine = pair.split("-")[0]
             v = m["verdict"].get(engine) if pair.endswith("reference") else None
             mark = "" if v is None else ("OK" if v["ok"] else "FAIL")
             psnr = "inf" if p["psnr_db"] is None else f"{p['psnr_db']:.1f}"
-            print(f"{m['scene']:<18}{pair:<19}{p['max_abs']:>10.2e}{p['mean_abs']:>10.2e}"
-                  f"{psnr:>8}{p['share_over_1_255']:>9.3%}  {mark}", file=say)
-    ok = not failed and all(m["ok"] for m in results)
-    status = "every engine matches the reference" if ok else (
-        f"MISMATCH or failure ({', '.join(failed + [m['scene'] for m in results if not m['ok']])})")
-    print(f"\n{status}; {len(results)} scene(s) in {elapsed:.1f} s; report: {index}", file=say)
-    say.flush()
-    phong.unregister()
-    return 0 if ok else 1
+            lines.append(f"{m['scene']:<18}{pair:<19}{p['max_abs']:>10.2e}"
+                         f"{p['mean_abs']:>10.2e}{psnr:>8}{p['share_over_1_255']:>9.3%}  {mark}")
+    return lines
 
 
 def exit_process(code: int) -> None:
-    """Exit with *code*.  The bpy 4.x module can crash in its own clean-up at interpreter
-    exit after an Eevee render (seen with 4.2.23), turning success into signal 11: once our
-    files are written and closed, leave without running it."""
-    sys.stdout.flush()
-    sys.stderr.flush()
-    bpy = sys.modules.get("bpy")
-    if bpy is not None and bpy.app.version < (5, 0, 0):
-        os._exit(code)
+    """Exit with *code* (through the Blender layer once bpy is loaded: see compat)."""
+    if "bpy" in sys.modules:
+        from phong_nodes.addon import compat  # noqa: PLC0415
+
+        compat.exit_process(code)
     sys.exit(code)
 
 

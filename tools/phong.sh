@@ -2,6 +2,7 @@
 # Phong Nodes developer entry point.
 #   bash tools/phong.sh demo [options]   render the demo (see: demo --help)
 #   bash tools/phong.sh test [pytest options]
+#   bash tools/phong.sh build [DIR]      DIR/<id>-<version>.zip (DIR: dist), validated by Blender's own tool
 #   bash tools/phong.sh setup            only create/refresh the virtual environment
 # The virtual environment lives in .venv (or $PHONG_VENV) and is rebuilt when
 # requirements.txt changes.  PHONG_BPY=4.2.23 (or 4.5.15, ...) uses that bpy release
@@ -51,12 +52,36 @@ setup() {
   echo "$want" > "$stamp"
 }
 
+# The source tree is the package `phong_nodes` in the environment (a link in site-packages),
+# so the CLI, the tests, the benchmarks and tools import it by name.
+link_package() {
+  local site
+  site=$("$venv/bin/python" -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])')
+  if [ "$(readlink "$site/phong_nodes" 2>/dev/null)" != "$root" ]; then
+    ln -sfn "$root" "$site/phong_nodes"
+  fi
+}
+
+build() {
+  local tool out=${1:-$root/dist}
+  tool=$("$venv/bin/python" -c 'import bpy, os; print(os.path.join(bpy.utils.resource_path("LOCAL"), "scripts/addons_core/bl_pkg/cli/blender_ext.py"))')
+  mkdir -p "$out"
+  "$venv/bin/python" "$tool" validate "$root"
+  "$venv/bin/python" "$tool" build --source-dir "$root" --output-dir "$out"
+  local zip
+  zip=$(ls -t "$out"/*.zip | head -n 1)
+  "$venv/bin/python" "$tool" validate "$zip"
+  echo "$zip"
+}
+
 setup
+link_package
 "$venv/bin/python" "$root/tools/check_system.py"
 
 case "$command" in
   setup) ;;
   demo) exec "$venv/bin/python" "$root/tools/phong.py" "$@" ;;
   test) cd "$root" && exec "$venv/bin/python" -m pytest "$@" ;;
-  *) echo "unknown command '$command' (expected demo, test or setup)" >&2; exit 2 ;;
+  build) build "$@" ;;
+  *) echo "unknown command '$command' (expected demo, test, build or setup)" >&2; exit 2 ;;
 esac

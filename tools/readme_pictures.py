@@ -11,17 +11,18 @@ import os
 import sys
 
 sys.dont_write_bytecode = True
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
-import phong  # noqa: E402  (tools/phong.py: imports the extension from this source tree)
+import phong_nodes  # noqa: E402  (the source tree, linked by tools/phong.sh setup)
+
+ROOT = os.path.dirname(phong_nodes.__file__)
 
 
 def main():
     import bpy
 
-    ext = phong.import_extension()
-    ext.register()
-    from phong_nodes.addon import compat, meshes
+    phong_nodes.register()
+    from phong_nodes.addon import compat
+    from phong_nodes.addon.demos import meshes
 
     scene = bpy.context.scene
     for obj in list(scene.objects):
@@ -71,7 +72,7 @@ def main():
     scene.view_settings.view_transform = "Standard"
     scene.render.resolution_x, scene.render.resolution_y = 640, 320
     compat.set_png(scene.render.image_settings)
-    out = os.path.join(phong.ROOT, "docs", "lights_workflow.png")
+    out = os.path.join(ROOT, "docs", "lights_workflow.png")
     scene.render.filepath = out
     bpy.ops.render.render(write_still=True)
     print(out)
@@ -79,4 +80,6 @@ def main():
 
 if __name__ == "__main__":
     main()
-    phong.exit_process(0)
+    from phong_nodes.addon import compat
+
+    compat.exit_process(0)

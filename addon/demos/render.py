@@ -7,7 +7,7 @@ the pixel centre), no filter, nothing that adds light, and high-quality GPU norm
 (with the default ones narrow highlights differ from Cycles by up to 1e-2).
 """
 
-from . import compat
+from .. import compat
 
 _EEVEE_OFF = ("use_shadows", "use_raytracing", "use_gtao", "use_bloom", "use_volumetric_shadows")
 

@@ -3,7 +3,9 @@
 
 import bpy
 
-from .materials import PHONG_OT_apply_material, PHONG_OT_relink_lights, SUPPORTED
+from ..lighting.lights import SUPPORTED
+from .operators import (PHONG_OT_add_term_passes, PHONG_OT_apply_material,
+                        PHONG_OT_relink_lights, PHONG_OT_restore_materials)
 
 
 class DATA_PT_phong_light(bpy.types.Panel):
@@ -69,6 +71,15 @@ def _draw_material_menu(self, context):
     self.layout.separator()
     self.layout.operator(PHONG_OT_apply_material.bl_idname, icon="MATERIAL")
     self.layout.operator(PHONG_OT_relink_lights.bl_idname, icon="FILE_REFRESH")
+    self.layout.operator(PHONG_OT_restore_materials.bl_idname, icon="LOOP_BACK")
+
+
+def _draw_aov_panel(self, context):
+    self.layout.operator(PHONG_OT_add_term_passes.bl_idname, icon="RENDERLAYERS")
+
+
+#: The View Layer ▸ Shader AOV panel (its name in 4.2-5.0).
+_AOV_PANEL = "VIEWLAYER_PT_layer_passes_aov"
 
 
 classes = (DATA_PT_phong_light, WORLD_PT_phong)
@@ -80,8 +91,14 @@ _register_classes, _unregister_classes = bpy.utils.register_classes_factory(clas
 def register():
     _register_classes()
     bpy.types.VIEW3D_MT_object.append(_draw_material_menu)
+    panel = getattr(bpy.types, _AOV_PANEL, None)
+    if panel is not None:
+        panel.append(_draw_aov_panel)
 
 
 def unregister():
+    panel = getattr(bpy.types, _AOV_PANEL, None)
+    if panel is not None:
+        panel.remove(_draw_aov_panel)
     bpy.types.VIEW3D_MT_object.remove(_draw_material_menu)
     _unregister_classes()

@@ -20,8 +20,9 @@ import math
 
 import bpy
 
-from ..node_groups import loader
-from . import compat, meshes, render
+from .. import compat, loader
+from ..lighting import properties
+from . import meshes, render
 
 #: Custom property on a built scene: the scene dict (JSON) it was built from.
 SCENE_KEY = "phong_demo"
@@ -48,8 +49,7 @@ def build(scene_dict: dict, resolution: int = 128) -> bpy.types.Scene:
     render.plain_picture(scene, max(1, round(resolution * data["aspect"])), resolution)
     _black_world(scene, data["name"])
     # The scene's ambient light as the Phong world settings (issue 3's custom properties).
-    scene.world["phong_ambient_intensity"] = data["ambient"]["intensity"]
-    scene.world["phong_ambient_color"] = list(data["ambient"]["color"])
+    properties.write_world(scene.world, data["ambient"]["intensity"], data["ambient"]["color"])
     _view_layers(scene)
 
     material = _material(data)
@@ -154,11 +154,9 @@ def _light(scene, light_data):
     if kind == "SPOT":
         light.spot_size = math.radians(2 * light_data["half_angle"])
         light.spot_blend = 0.0
-    # Phong settings, readable by the Phong panels (issue 3's custom properties).
-    light["phong_intensity"] = light_data["intensity"]
-    for key in ("quadratic", "linear", "constant", "edge_exponent", "diffuse", "specular"):
-        if key in light_data:
-            light[f"phong_{key}"] = light_data[key]
+    # Phong settings, readable by the Phong panels.
+    properties.write_light(light, {key: light_data[key] for key in properties.LIGHT_KEYS
+                                   if key in light_data})
     obj.visible_camera = False
     scene.collection.objects.link(obj)
     return obj

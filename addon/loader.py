@@ -9,15 +9,23 @@ fingerprint of their definition, and
   so group nodes in materials keep their links and values),
 * never downgraded when newer,
 * de-duplicated: accidental copies (``Phong Diffuse.001`` after an append) are
-  remapped to the canonical group and removed.
+  remapped to the canonical group and removed, by a depsgraph handler after each update
+  in which the number of node groups changed (the newest version wins, so nothing is
+  downgraded).
+
+The inner nodes are written from the group's expressions by :class:`NodeWriter`: one node per
+distinct sub-expression, as the operation table of ``node_groups/expr.py`` says, laid out in
+columns by depth.
 """
 
 from __future__ import annotations
 
 import bpy
 
-from . import expr
-from .library import GROUPS, LIBRARY_VERSION, GroupDef
+from bpy.app.handlers import persistent
+
+from ..node_groups.expr import COLOR, Expr
+from ..node_groups.library import GROUPS, LIBRARY_VERSION, GroupDef
 
 STAMP_GROUP = "phong_nodes_group"
 STAMP_VERSION = "phong_nodes_version"
@@ -100,11 +108,98 @@ def _write(tree, definition: GroupDef) -> None:
     tree.nodes.clear()
     group_input = tree.nodes.new("NodeGroupInput")
     group_output = tree.nodes.new("NodeGroupOutput")
-    expr.build(tree, definition.expressions, group_input, group_output)
+    writer = NodeWriter(tree, group_input)
+    for spec in definition.outputs:
+        writer.output(definition.expressions[spec.name], group_output.inputs[spec.name], spec.kind)
+    writer.place_ends(group_output)
     tree.description = definition.description
     tree[STAMP_GROUP] = definition.name
     tree[STAMP_VERSION] = LIBRARY_VERSION
     tree[STAMP_FINGERPRINT] = definition.fingerprint
+
+
+# -- expressions as nodes ----------------------------------------------------------
+
+COLUMN_WIDTH, ROW_HEIGHT = 220.0, 180.0
+
+
+def _socket_value(kind: str, value):
+    """A constant as the default value of a socket of *kind* (a colour socket is RGBA)."""
+    return (*value, 1.0) if kind == COLOR else value
+
+
+class NodeWriter:
+    """Writes expressions into *tree*: one node per distinct sub-expression (its operation's
+    node, from ``expr.OPERATIONS``), constants folded into socket values.
+
+    Layout: a node's column is its depth, the longest chain of nodes from the group inputs
+    (which, with the Geometry node, stand in column 0 at the left); within a column, nodes stand
+    in the order they are finished (arguments before their users)."""
+
+    def __init__(self, tree, group_input):
+        self.tree = tree
+        self.group_input = group_input
+        self.geometry_node = None
+        self.sockets: dict = {}  # expression key -> output socket
+        self.depth: dict = {}    # expression key -> column
+        self.columns: dict = {}  # column -> how many nodes stand in it
+        self.max_depth = 0
+
+    def output(self, expression: Expr, target, kind: str) -> None:
+        """Connect *expression* to *target* (a Group Output socket of *kind*)."""
+        source = self.socket(expression)
+        if source is None:
+            target.default_value = _socket_value(kind, expression.value)
+        else:
+            self.tree.links.new(source, target)
+        self.max_depth = max(self.max_depth, self.depth.get(expression.key, 0))
+
+    def socket(self, expression: Expr):
+        """The output socket computing *expression* (None for a constant)."""
+        if expression.op == "const":
+            return None
+        key = expression.key
+        if key not in self.sockets:
+            self.sockets[key] = (self._leaf(expression) if expression.is_leaf
+                                 else self._operation(expression))
+        return self.sockets[key]
+
+    def _leaf(self, expression: Expr):
+        self.depth[expression.key] = 0
+        if expression.op == "input":
+            return self.group_input.outputs[expression.value]
+        if self.geometry_node is None:
+            self.geometry_node = self.tree.nodes.new("ShaderNodeNewGeometry")
+        return self.geometry_node.outputs[expression.value]
+
+    def _operation(self, expression: Expr):
+        op = expression.op
+        node = self.tree.nodes.new(op.node)
+        if op.operation is not None:
+            node.operation = op.operation
+        for name, value in op.settings:
+            node.inputs[name].default_value = value
+        depth = 0
+        for arg, kind, target_key in zip(expression.args, op.operands, op.inputs):
+            target = node.inputs[target_key]
+            source = self.socket(arg)
+            if source is None:
+                target.default_value = _socket_value(kind, arg.value)
+            else:
+                self.tree.links.new(source, target)
+                depth = max(depth, self.depth[arg.key])
+        self.depth[expression.key] = depth + 1
+        row = self.columns.get(depth + 1, 0)
+        self.columns[depth + 1] = row + 1
+        node.location = ((depth + 1) * COLUMN_WIDTH, -row * ROW_HEIGHT)
+        return node.outputs[op.output]
+
+    def place_ends(self, group_output) -> None:
+        """The group input and the Geometry node left of column 1, the output right of the last."""
+        self.group_input.location = (-300.0, 0.0)
+        if self.geometry_node is not None:
+            self.geometry_node.location = (-300.0, 400.0)
+        group_output.location = ((self.max_depth + 1) * COLUMN_WIDTH + 80.0, 0.0)
 
 
 def _sync_interface(tree, definition: GroupDef) -> None:
@@ -157,3 +252,25 @@ def _set_socket_values(item, spec) -> None:
     if spec.name in ("Normal", "View Vector"):
         item.hide_value = False
 
+
+
+# -- appended copies ----------------------------------------------------------------
+
+_seen = {"count": -1}
+
+
+@persistent
+def merge_appended_copies(_scene, _depsgraph=None):
+    count = len(bpy.data.node_groups)
+    if count == _seen["count"]:
+        return
+    merge_copies()
+    _seen["count"] = len(bpy.data.node_groups)
+
+
+def register():
+    bpy.app.handlers.depsgraph_update_post.append(merge_appended_copies)
+
+
+def unregister():
+    bpy.app.handlers.depsgraph_update_post.remove(merge_appended_copies)

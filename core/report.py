@@ -15,6 +15,10 @@ import tempfile
 
 import numpy as np
 
+from ..node_groups import reference as ref
+from . import compare
+from .outputs import temp_prefix
+
 TERMS = ("Irradiant", "Ambient", "Diffuse", "Specular")
 #: Heatmap scale: log10 |Δ| from HEAT_LO (black) to HEAT_HI (white).
 HEAT_LO, HEAT_HI = 1e-6, 1e-1
@@ -171,8 +175,6 @@ def svg_plot(title: str, xlabel: str, ylabel: str, curves: list, x_range, y_rang
 
 def plots(scene: dict) -> dict:
     """{file name: SVG text} for the scene's lights: falloff curves, cos^e edge curves."""
-    from ..node_groups import reference as ref
-
     out = {}
     points = [l for l in scene["lights"] if l["type"] in ("point", "spot")]
     if points:
@@ -183,8 +185,9 @@ def plots(scene: dict) -> dict:
                 y = ref.power_falloff(d, 1.0, light["falloff_exponent"])["Intensity"]
                 label = f"1/d^{light['falloff_exponent']:g}"
             else:
-                y = 1.0 / np.maximum(light["quadratic"] * d * d + light["linear"] * d
-                                     + light["constant"], 1e-6)
+                at_d = np.stack([d, np.zeros_like(d), np.zeros_like(d)], axis=-1)
+                y = ref.point_light(at_d, 1.0, light["quadratic"], light["linear"],
+                                    light["constant"])["Intensity"]
                 label = (f"1/({light['quadratic']:g}r²+{light['linear']:g}r"
                          f"+{light['constant']:g})")
             if label not in [c[0] for c in curves]:
@@ -197,8 +200,11 @@ def plots(scene: dict) -> dict:
         theta_max = max(l["half_angle"] for l in spots)
         w = np.linspace(0, min(90.0, theta_max * 1.25), 300)
         for light in spots:
-            inside = w <= light["half_angle"]
-            y = np.where(inside, np.power(np.cos(np.radians(w)), light["edge_exponent"]), 0.0)
+            # Points at distance 1 from a spot at the origin pointing down +X, no falloff.
+            at_w = np.stack([np.cos(np.radians(w)), np.sin(np.radians(w)), np.zeros_like(w)], -1)
+            y = ref.spot_light((0.0, 0.0, 0.0), (1.0, 0.0, 0.0), math.radians(light["half_angle"]),
+                               light["edge_exponent"], 1.0, 0.0, 0.0, 1.0,
+                               geometry_position=at_w)["Intensity"]
             curves.append((f"e_att = {light['edge_exponent']:g}", w, y))
         out["plot_spot_edge.svg"] = svg_plot(
             f"Spot edge: (cos ω)^e_att for ω ≤ θ = {theta_max:g}°", "angle ω from the axis (°)",
@@ -238,11 +244,9 @@ def write_scene(folder: str, scene: dict, images: dict, refimg: dict, mask, metr
     tiles += [(f"{t} term (reference)", term_imgs[t]) for t in TERMS]
     aspect = scene["aspect"]
     columns = 5 if aspect <= 1.2 else 4 if aspect <= 1.6 else 3 if aspect <= 2.2 else 2
-    parts = []
-    for engine, v in metrics["verdict"].items():
-        parts.append(f"{engine}: {v['value']} ({'OK' if v['ok'] else 'FAIL'}, {v['rule']})")
     title = f"{scene['name']}: {scene['title']}"
-    subtitle = (scene["source"] + "   " if scene["source"] else "") + "   ".join(parts)
+    subtitle = ((scene["source"] + "   " if scene["source"] else "")
+                + compare.verdict_text(metrics["verdict"], detail=True))
     write_png(os.path.join(folder, "sheet.png"), sheet(tiles, title, subtitle, columns))
 
 
@@ -252,14 +256,18 @@ def _fmt(x, spec):
     return "–" if x is None else format(x, spec)
 
 
-def write_index(out_dir: str) -> str:
-    """index.html over every finished scene folder of *out_dir* (shards merge)."""
+def _results(out_dir: str) -> list:
+    """The metrics.json of every finished scene folder of *out_dir*, by folder name."""
     results = []
     for name in sorted(os.listdir(out_dir)):
         path = os.path.join(out_dir, name, "metrics.json")
         if not name.startswith(".") and os.path.isfile(path):
             with open(path, encoding="utf-8") as handle:
                 results.append(json.load(handle))
+    return results
+
+
+def _rows(results: list) -> str:
     rows = []
     for m in results:
         for pair, p in m["pairs"].items():
@@ -269,21 +277,22 @@ def write_index(out_dir: str) -> str:
                 f"<td>{p['max_abs']:.2e}</td><td>{p['mean_abs']:.2e}</td>"
                 f"<td>{_fmt(p['psnr_db'], '.1f')}</td><td>{p['share_over_1_255']:.3%}</td>"
                 f"<td>{p['pixels']}</td></tr>")
-    sections = []
-    for m in results:
-        s = m["parameters"]
-        verdicts = "; ".join(f"{e}: {v['value']} — {'OK' if v['ok'] else 'FAIL'} ({v['rule']})"
-                             for e, v in m["verdict"].items())
-        scene_dir = m["scene"]
-        files = sorted(os.listdir(os.path.join(out_dir, scene_dir)))
-        plots_html = "".join(f"<img src='{scene_dir}/{f}' alt='{f}'>" for f in files
-                             if f.startswith("plot_") and f.endswith(".svg"))
-        objects = "".join(
-            f"<li><b>{html.escape(o['label'])}</b>: terms {', '.join(o['terms'])}; lights "
-            f"{', '.join(o['lights']) or 'none'}; exponent {o['material']['exponent']:g}, "
-            f"Blinn {o['material']['blinn']:g}</li>" for o in s["objects"])
-        timing = ", ".join(f"{k[:-2]} {v:.1f} s" for k, v in m.get("timings", {}).items())
-        sections.append(f"""
+    return "".join(rows)
+
+
+def _section(out_dir: str, m: dict) -> str:
+    s = m["parameters"]
+    verdicts = compare.verdict_text(m["verdict"], detail=True)
+    scene_dir = m["scene"]
+    files = sorted(os.listdir(os.path.join(out_dir, scene_dir)))
+    plots_html = "".join(f"<img src='{scene_dir}/{f}' alt='{f}'>" for f in files
+                         if f.startswith("plot_") and f.endswith(".svg"))
+    objects = "".join(
+        f"<li><b>{html.escape(o['label'])}</b>: terms {', '.join(o['terms'])}; lights "
+        f"{', '.join(o['lights']) or 'none'}; exponent {o['material']['exponent']:g}, "
+        f"Blinn {o['material']['blinn']:g}</li>" for o in s["objects"])
+    timing = ", ".join(f"{k[:-2]} {v:.1f} s" for k, v in m.get("timings", {}).items())
+    return f"""
 <section id="{scene_dir}">
 <h2>{html.escape(s['title'])} <small>({scene_dir})</small></h2>
 <p><i>{html.escape(s['source'])}</i> — {html.escape(s['description'])}</p>
@@ -294,7 +303,24 @@ def write_index(out_dir: str) -> str:
 <p>{m['resolution'][0]}×{m['resolution'][1]} px; {m['pixels']['compared']} pixels compared,
 {m['pixels']['ambiguous']} at a discontinuity of the model left out; {timing}.</p>
 <details><summary>Parameters</summary><pre>{html.escape(json.dumps(s, indent=1, ensure_ascii=False))}</pre></details>
-</section>""")
+</section>"""
+
+
+def _write_atomically(out_dir: str, name: str, text: str) -> str:
+    fd, tmp = tempfile.mkstemp(prefix=temp_prefix(*name.rsplit(".", 1)),
+                               suffix="." + name.rsplit(".", 1)[1], dir=out_dir)
+    with os.fdopen(fd, "w", encoding="utf-8") as handle:
+        handle.write(text)
+    os.chmod(tmp, 0o644)
+    final = os.path.join(out_dir, name)
+    os.replace(tmp, final)
+    return final
+
+
+def write_index(out_dir: str) -> str:
+    """index.html over every finished scene folder of *out_dir* (shards merge)."""
+    results = _results(out_dir)
+    sections = "".join(_section(out_dir, m) for m in results)
     ok = all(m["ok"] for m in results)
     page = f"""<!DOCTYPE html>
 <html lang="en"><head><meta charset="utf-8"><title>Phong Nodes: Eevee, Cycles and the formulas</title>
@@ -312,16 +338,8 @@ img.sheet {{ max-width: 100%; }} .plots img {{ margin: 4px; border: 1px solid #d
 (node_groups/reference.py) on the position, normal, incoming direction and object colour that Cycles writes as AOVs.
 Background pixels and pixels within 1e-5 of a discontinuity of the model (spot cone edge, terminator) are not compared.</p>
 <table><tr><th>scene</th><th>pair</th><th>max |Δ|</th><th>mean |Δ|</th><th>PSNR dB</th><th>&gt; 1/255</th><th>pixels</th></tr>
-{''.join(rows)}</table>
-{''.join(sections)}
+{_rows(results)}</table>
+{sections}
 </body></html>
 """
-    from .outputs import temp_prefix
-
-    fd, tmp = tempfile.mkstemp(prefix=temp_prefix("index", "html"), suffix=".html", dir=out_dir)
-    with os.fdopen(fd, "w", encoding="utf-8") as handle:
-        handle.write(page)
-    os.chmod(tmp, 0o644)
-    final = os.path.join(out_dir, "index.html")
-    os.replace(tmp, final)
-    return final
+    return _write_atomically(out_dir, "index.html", page)

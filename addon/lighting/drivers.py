@@ -2,21 +2,12 @@
 """Drivers from lights and the world to node inputs, without any Python expression.
 
 Every driver is either an AVERAGE driver with one variable (a TRANSFORMS channel or a
-SINGLE_PROP custom property / colour channel) or a SCRIPTED driver whose expression
-Blender evaluates itself (``driver.is_simple_expression`` is True), so Phong materials
-follow their lights with "Auto Run Python Scripts" off and without the extension.
+SINGLE_PROP custom property / colour channel / world-matrix entry) or a SCRIPTED driver
+``v * k`` that Blender evaluates itself (``driver.is_simple_expression`` is True), so Phong
+materials follow their lights with "Auto Run Python Scripts" off and without the extension.
 """
 
 import bpy
-
-#: A light's world -Z axis from its world-space XYZ Euler angles (rx, ry, rz):
-#: the Z column of R = Rz·Ry·Rx, negated.
-MINUS_Z = (
-    "-(cos(rz)*sin(ry)*cos(rx) + sin(rz)*sin(rx))",
-    "-(sin(rz)*sin(ry)*cos(rx) - cos(rz)*sin(rx))",
-    "-(cos(ry)*cos(rx))",
-)
-
 
 def _fresh(socket, index):
     """A new driver F-curve on socket.default_value[index] (or the scalar), emptied."""
@@ -69,23 +60,11 @@ def world_location(socket, obj):
 
 
 def world_minus_z(socket, obj):
-    """Vector socket = the object's world -Z axis (simple expressions of world Euler angles)."""
-    drivers = []
-    for index, expression in enumerate(MINUS_Z):
-        _fcurve, driver = _fresh(socket, index)
-        driver.type = "SCRIPTED"
-        for name, channel in (("rx", "ROT_X"), ("ry", "ROT_Y"), ("rz", "ROT_Z")):
-            var = driver.variables.new()
-            var.name = name
-            var.type = "TRANSFORMS"
-            target = var.targets[0]
-            target.id = obj
-            target.transform_type = channel
-            target.transform_space = "WORLD_SPACE"
-            target.rotation_mode = "XYZ"
-        driver.expression = expression
-        drivers.append(driver)
-    return drivers
+    """Vector socket = the object's world -Z axis: minus the third column of its world matrix
+    (parents, constraints, animation and mirrored rigs with negative scale included; the
+    light groups normalise it).  ``matrix_world[2][i]`` is column 2, row i."""
+    return [prop(socket, i, "OBJECT", obj, f"matrix_world[2][{i}]", scale=-1.0)
+            for i in range(3)]
 
 
 def color(socket, id_type, id_block, data_path):
@@ -104,8 +83,3 @@ def remove_node_drivers(tree, node_names) -> int:
     for fcurve in doomed:
         anim.drivers.remove(fcurve)
     return len(doomed)
-
-
-def all_drivers(tree):
-    anim = tree.animation_data
-    return list(anim.drivers) if anim is not None else []

@@ -97,10 +97,11 @@ class PhongWorldSettings(bpy.types.PropertyGroup):
 
 def ensure_light_props(light) -> None:
     """Write every missing Phong custom property of *light* (drivers need them to exist)."""
-    missing = [key for _a, key, *_r in LIGHT_SETTINGS if key not in light.keys()]
-    for attr, key, label, default, vmin, soft_max, desc in LIGHT_SETTINGS:
+    missing = False
+    for _attr, key, _label, default, vmin, soft_max, desc in LIGHT_SETTINGS:
         if key not in light.keys():
             light[key] = float(default)
+            missing = True
         try:
             light.id_properties_ui(key).update(min=vmin, soft_min=vmin, soft_max=soft_max,
                                                  default=default, description=desc)
@@ -108,6 +109,22 @@ def ensure_light_props(light) -> None:
             pass
     if missing:
         light.update_tag()  # the evaluated copy that drivers read must get them too
+
+
+def write_light(light, values: dict) -> None:
+    """Set Phong settings of *light*: {attribute of LIGHT_SETTINGS: value}."""
+    for attr, value in values.items():
+        light[LIGHT_KEYS[attr][0]] = float(value)
+    ensure_light_props(light)
+    light.update_tag()
+
+
+def write_world(world, intensity: float, color) -> None:
+    """Set the Phong ambient light of *world*."""
+    world[AMBIENT_INTENSITY[0]] = float(intensity)
+    world[AMBIENT_COLOR[0]] = [float(c) for c in tuple(color)[:3]]
+    ensure_world_props(world)
+    world.update_tag()
 
 
 def ensure_world_props(world) -> None:

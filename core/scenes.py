@@ -239,10 +239,17 @@ def parse(data: dict, path: str = "<scene>") -> dict:
         "description": c.string(data, "description", "", default=""),
         "aspect": c.number(data, "aspect", "", default=1.0, minimum=0.1, maximum=10.0),
     }
+    scene["camera"] = _camera(c, c.table(data, "camera", ""))
+    scene["ambient"] = _ambient(c, c.table(data, "ambient", "", required=False))
+    scene["lights"] = _lights(c, c.array_of_tables(data, "lights", "", required=False))
+    scene["objects"] = _objects(c, c.array_of_tables(data, "objects", ""),
+                                [light["name"] for light in scene["lights"]])
+    return scene
 
-    cam = c.table(data, "camera", "")
+
+def _camera(c: _Checker, cam: dict) -> dict:
     c.unknown(cam, CAMERA_KEYS, "camera")
-    scene["camera"] = {
+    camera = {
         "type": c.string(cam, "type", "camera", default="perspective", choices=CAMERA_TYPES),
         "location": c.vector(cam, "location", "camera"),
         "look_at": c.vector(cam, "look_at", "camera", default=(0.0, 0.0, 0.0)),
@@ -250,60 +257,68 @@ def parse(data: dict, path: str = "<scene>") -> dict:
         "ortho_scale": c.number(cam, "ortho_scale", "camera", default=10.0, minimum=0.0,
                                 exclusive_min=True),
     }
-    if scene["camera"]["location"] == scene["camera"]["look_at"]:
-        c.fail("camera.look_at", "a point other than camera.location",
-               scene["camera"]["look_at"])
+    if camera["location"] == camera["look_at"]:
+        c.fail("camera.look_at", "a point other than camera.location", camera["look_at"])
+    return camera
 
-    amb = c.table(data, "ambient", "", required=False)
+
+def _ambient(c: _Checker, amb: dict) -> dict:
     c.unknown(amb, AMBIENT_KEYS, "ambient")
-    scene["ambient"] = {
+    return {
         "intensity": c.number(amb, "intensity", "ambient", default=0.0, minimum=0.0),
         "color": c.color(amb, "color", "ambient", "#FFFFFF"),
     }
 
+
+def _lights(c: _Checker, raws: list) -> list:
     lights = []
-    for index, raw in enumerate(c.array_of_tables(data, "lights", "", required=False)):
+    for index, raw in enumerate(raws):
         where = f"lights[{index}]"
-        kind = c.string(raw, "type", where, choices=LIGHT_TYPES)
-        c.unknown(raw, LIGHT_KEYS[kind], where)
-        light = {
-            "name": c.string(raw, "name", where, default=f"light{index}", pattern=NAME_RE),
-            "type": kind,
-            "color": c.color(raw, "color", where, "#FFFFFF"),
-            "intensity": c.number(raw, "intensity", where, default=1.0, minimum=0.0),
-            "diffuse": c.number(raw, "diffuse", where, default=1.0, minimum=0.0),
-            "specular": c.number(raw, "specular", where, default=1.0, minimum=0.0),
-        }
-        if kind in ("point", "spot"):
-            light["position"] = c.vector(raw, "position", where)
-            light["quadratic"] = c.number(raw, "quadratic", where, default=1.0, minimum=0.0)
-            light["linear"] = c.number(raw, "linear", where, default=0.0, minimum=0.0)
-            light["constant"] = c.number(raw, "constant", where, default=0.0, minimum=0.0)
-            if light["quadratic"] == light["linear"] == light["constant"] == 0.0:
-                c.fail(f"{where}.quadratic", "quadratic, linear and constant not all 0", 0)
-        if kind == "point" and "falloff_exponent" in raw:
-            light["falloff_exponent"] = c.number(raw, "falloff_exponent", where, minimum=0.0)
-        if kind in ("directional", "spot"):
-            light["direction"] = c.vector(raw, "direction", where, nonzero=True)
-        if kind == "spot":
-            light["half_angle"] = c.number(raw, "half_angle", where, default=30.0, minimum=0.0,
-                                           maximum=90.0, exclusive_min=True)
-            light["edge_exponent"] = c.number(raw, "edge_exponent", where, default=0.0,
-                                              minimum=0.0)
+        light = _light(c, raw, where, index)
         if any(other["name"] == light["name"] for other in lights):
             c.fail(f"{where}.name", "a name not used by another light", light["name"])
         lights.append(light)
     if len(lights) > MAX_LIGHTS:
         c.fail("lights", f"at most {MAX_LIGHTS} lights (Eevee reads at most 8 object "
                "attributes per material)", f"{len(lights)} lights", )
-    scene["lights"] = lights
-    light_names = [light["name"] for light in lights]
+    return lights
 
-    objects = []
-    raw_objects = c.array_of_tables(data, "objects", "")
-    if not raw_objects:
+
+def _light(c: _Checker, raw: dict, where: str, index: int) -> dict:
+    kind = c.string(raw, "type", where, choices=LIGHT_TYPES)
+    c.unknown(raw, LIGHT_KEYS[kind], where)
+    light = {
+        "name": c.string(raw, "name", where, default=f"light{index}", pattern=NAME_RE),
+        "type": kind,
+        "color": c.color(raw, "color", where, "#FFFFFF"),
+        "intensity": c.number(raw, "intensity", where, default=1.0, minimum=0.0),
+        "diffuse": c.number(raw, "diffuse", where, default=1.0, minimum=0.0),
+        "specular": c.number(raw, "specular", where, default=1.0, minimum=0.0),
+    }
+    if kind in ("point", "spot"):
+        light["position"] = c.vector(raw, "position", where)
+        light["quadratic"] = c.number(raw, "quadratic", where, default=1.0, minimum=0.0)
+        light["linear"] = c.number(raw, "linear", where, default=0.0, minimum=0.0)
+        light["constant"] = c.number(raw, "constant", where, default=0.0, minimum=0.0)
+        if light["quadratic"] == light["linear"] == light["constant"] == 0.0:
+            c.fail(f"{where}.quadratic", "quadratic, linear and constant not all 0", 0)
+    if kind == "point" and "falloff_exponent" in raw:
+        light["falloff_exponent"] = c.number(raw, "falloff_exponent", where, minimum=0.0)
+    if kind in ("directional", "spot"):
+        light["direction"] = c.vector(raw, "direction", where, nonzero=True)
+    if kind == "spot":
+        light["half_angle"] = c.number(raw, "half_angle", where, default=30.0, minimum=0.0,
+                                       maximum=90.0, exclusive_min=True)
+        light["edge_exponent"] = c.number(raw, "edge_exponent", where, default=0.0,
+                                          minimum=0.0)
+    return light
+
+
+def _objects(c: _Checker, raws: list, light_names: list) -> list:
+    if not raws:
         c.fail("objects", "at least one [[objects]] table", [])
-    for index, raw in enumerate(raw_objects):
+    objects = []
+    for index, raw in enumerate(raws):
         where = f"objects[{index}]"
         c.unknown(raw, OBJECT_KEYS, where)
         obj = {
@@ -316,33 +331,35 @@ def parse(data: dict, path: str = "<scene>") -> dict:
         obj["label"] = c.string(raw, "label", where, default=obj["name"])
         obj["lights"] = c.names(raw, "lights", where, light_names, light_names)
         obj["terms"] = c.names(raw, "terms", where, TERMS, TERMS)
-        mat = c.table(raw, "material", where, required=False)
-        mwhere = f"{where}.material"
-        c.unknown(mat, MATERIAL_KEYS, mwhere)
-        material = {
-            "color": c.color(mat, "color", mwhere, "#CCCCCC"),
-            "specular_color": c.color(mat, "specular_color", mwhere, "#FFFFFF"),
-            "exponent": c.number(mat, "exponent", mwhere, default=30.0, minimum=0.0),
-            "blinn": c.number(mat, "blinn", mwhere, default=0.0, minimum=0.0, maximum=1.0),
-            "irradiant": c.color(mat, "irradiant", mwhere, (0.0, 0.0, 0.0)),
-            "texture": None,
-        }
-        if "texture" in mat:
-            tex = c.table(mat, "texture", mwhere)
-            twhere = f"{mwhere}.texture"
-            c.unknown(tex, TEXTURE_KEYS, twhere)
-            material["texture"] = {
-                "type": c.string(tex, "type", twhere, choices=TEXTURES),
-                "color2": c.color(tex, "color2", twhere, "#333333"),
-                "scale": c.number(tex, "scale", twhere, default=4.0, minimum=0.0,
-                                  exclusive_min=True),
-            }
-        obj["material"] = material
+        obj["material"] = _material(c, c.table(raw, "material", where, required=False),
+                                    f"{where}.material")
         if any(other["name"] == obj["name"] for other in objects):
             c.fail(f"{where}.name", "a name not used by another object", obj["name"])
         objects.append(obj)
-    scene["objects"] = objects
-    return scene
+    return objects
+
+
+def _material(c: _Checker, mat: dict, where: str) -> dict:
+    c.unknown(mat, MATERIAL_KEYS, where)
+    material = {
+        "color": c.color(mat, "color", where, "#CCCCCC"),
+        "specular_color": c.color(mat, "specular_color", where, "#FFFFFF"),
+        "exponent": c.number(mat, "exponent", where, default=30.0, minimum=0.0),
+        "blinn": c.number(mat, "blinn", where, default=0.0, minimum=0.0, maximum=1.0),
+        "irradiant": c.color(mat, "irradiant", where, (0.0, 0.0, 0.0)),
+        "texture": None,
+    }
+    if "texture" in mat:
+        tex = c.table(mat, "texture", where)
+        twhere = f"{where}.texture"
+        c.unknown(tex, TEXTURE_KEYS, twhere)
+        material["texture"] = {
+            "type": c.string(tex, "type", twhere, choices=TEXTURES),
+            "color2": c.color(tex, "color2", twhere, "#333333"),
+            "scale": c.number(tex, "scale", twhere, default=4.0, minimum=0.0,
+                              exclusive_min=True),
+        }
+    return material
 
 
 def load(path: str) -> dict:

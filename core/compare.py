@@ -1,36 +1,23 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""The comparison bake: Eevee, Cycles and the numpy reference of one demo scene.
+"""The comparison of renders with the numpy reference: the reference picture from AOV
+arrays, the metrics of each pair of pictures, and the verdicts against the tolerances.
 
-* Cycles renders the AOV view layer (1 sample at the pixel centres, box filter 0.01): the
-  picture, plus per pixel the position P, shading normal N, incoming I, object colour and
-  object index.
-* Eevee renders the picture view layer (no AOVs: every AOV costs shader compile time in
-  Eevee), 1 TAA sample, filter size 0: its first sample sits at the pixel centre too.
-* The reference evaluates ``node_groups/reference.py`` on Cycles' AOVs with the scene's
-  parameters (one Phong Shading per light, summed with Phong Color Add).
+Pure numpy (OpenImageIO to read the renders): no ``bpy``.  The Blender side
+(``addon/demos/bake.py``) renders and hands the arrays over.
 
 Pixels the reference cannot predict are left out of the metrics, the same for every
 engine: the background (no object) and pixels within 1e-5 of a discontinuity of the model
 (the spot's cone edge cos ω = cos θ; the terminator ℓ·n = 0 where a specular term may
 jump).  Their count is in metrics.json.
-
-Everything is written into a hidden temporary folder beside the destination and renamed
-into place at the end, so an interrupted bake leaves no folder that looks finished.
 """
 
 from __future__ import annotations
 
-import json
 import math
-import os
-import shutil
-import tempfile
-import time
 
 import numpy as np
 
 from ..node_groups import reference as ref
-from . import outputs
 
 #: Cycles must match the reference within this (max abs error, linear colour).
 CYCLES_TOLERANCE = 1e-4
@@ -44,36 +31,7 @@ ENGINES = ("eevee", "cycles")
 PAIRS = (("eevee", "reference"), ("cycles", "reference"), ("eevee", "cycles"))
 
 
-# -- rendering ---------------------------------------------------------------------
-
-def configure(scene, engine: str) -> None:
-    import bpy  # noqa: F401
-
-    from . import builder, compat, render
-
-    layers = scene.view_layers
-    render.exact(scene, engine)
-    if engine == "cycles":
-        layers[builder.AOV_LAYER].use = True
-        layers[builder.PICTURE_LAYER].use = False
-        builder.set_aov_outputs(scene, True)
-    else:
-        layers[builder.AOV_LAYER].use = False
-        layers[builder.PICTURE_LAYER].use = True
-        builder.set_aov_outputs(scene, False)
-    compat.set_multilayer_exr(scene.render.image_settings)
-
-
-def render_exr(scene, path: str) -> None:
-    import bpy
-
-    scene.render.filepath = path
-    scene.render.use_file_extension = False
-    with bpy.context.temp_override(scene=scene):
-        bpy.ops.render.render(write_still=True, scene=scene.name)
-    if not os.path.exists(path):
-        raise RuntimeError(f"the render did not write {path}")
-
+# -- renders ---------------------------------------------------------------------------
 
 def read_exr(path: str) -> dict:
     """{pass name: float32 array (H, W, C)}, row 0 = top; names without the layer."""
@@ -107,7 +65,7 @@ def read_exr(path: str) -> dict:
 
 # -- the reference -------------------------------------------------------------------
 
-def _light_at(light, P):
+def light_at(light, P):
     """(ℓ, intensity, ambiguous) of one light at the points P (N, 3)."""
     kind = light["type"]
     if kind == "directional":
@@ -165,7 +123,7 @@ def reference_image(scene: dict, aovs: dict) -> dict:
             ell, intensity, edge = np.zeros_like(P), np.zeros(len(P)), np.zeros(len(P), bool)
             light_color, dif, spe = (1.0, 1.0, 1.0), 0.0, 0.0
         else:
-            ell, intensity, edge = _light_at(light, P)
+            ell, intensity, edge = light_at(light, P)
             light_color = light["color"]
             dif = per_object(lambda o, l=light: l["diffuse"] if l["name"] in o["lights"]
                              and "diffuse" in o["terms"] else 0.0)
@@ -236,86 +194,39 @@ def verdict(pair_metrics: dict) -> dict:
     return out
 
 
-# -- the bake ---------------------------------------------------------------------------
+def verdict_text(verdicts: dict, detail: bool = False) -> str:
+    """One line for {engine: verdict}: "cycles 2.4e-05 OK, eevee 100.000% OK"; with
+    *detail* the rule of each verdict follows its value."""
+    parts = []
+    for engine, v in verdicts.items():
+        mark = "OK" if v["ok"] else "FAIL"
+        parts.append(f"{engine} {v['value']} {mark} ({v['rule']})" if detail
+                     else f"{engine} {v['value']} {mark}")
+    return ", ".join(parts)
 
-def bake(scene, out_dir: str, engines=ENGINES, progress=None) -> dict:
-    """Render and compare *scene* (built by builder.build) into *out_dir* (replaced whole).
 
-    *progress(fraction, text)* is called between steps.  Returns the metrics dict (also
-    written as metrics.json).
-    """
-    from . import builder, report
-
-    data = builder.scene_dict(scene)
-    if data is None:
-        raise ValueError(f"scene {scene.name!r} is not a Phong demo scene "
-                         "(build one with phong.build_demo_scene)")
-    engines = [e for e in ENGINES if e in engines]
-    progress = progress or (lambda f, t: None)
-    parent = os.path.dirname(os.path.abspath(out_dir)) or "."
-    os.makedirs(parent, exist_ok=True)
-    tmp = tempfile.mkdtemp(prefix=outputs.temp_prefix("partial", os.path.basename(out_dir)),
-                           dir=parent)
-    timings = {}
-    try:
-        images = {}
-        t0 = time.perf_counter()
-        progress(0.05, "Cycles (picture + AOVs)")
-        configure(scene, "cycles")
-        cycles_exr = os.path.join(tmp, "cycles.exr")
-        render_exr(scene, cycles_exr)
-        aovs = read_exr(cycles_exr)
-        os.remove(cycles_exr)
-        images["cycles"] = aovs["Combined"][..., :3]
-        timings["cycles_s"] = time.perf_counter() - t0
-
-        if "eevee" in engines:
-            t0 = time.perf_counter()
-            progress(0.35, "Eevee (picture)")
-            configure(scene, "eevee")
-            eevee_exr = os.path.join(tmp, "eevee.exr")
-            render_exr(scene, eevee_exr)
-            images["eevee"] = read_exr(eevee_exr)["Combined"][..., :3]
-            os.remove(eevee_exr)
-            timings["eevee_s"] = time.perf_counter() - t0
-            configure(scene, "cycles")  # leave the AOV outputs on for the user
-
-        t0 = time.perf_counter()
-        progress(0.7, "reference and report")
-        refimg = reference_image(data, aovs)
-        images["reference"] = refimg["Color"]
-        mask = (refimg["object"] > 0) & ~refimg["ambiguous"]
-        pairs = {}
-        for a, b in PAIRS:
-            if a in images and b in images and (a in engines or a == "reference") and (
-                    b in engines or b == "reference"):
-                pairs[f"{a}-{b}"] = compare(images[a], images[b], mask)
-        timings["reference_s"] = time.perf_counter() - t0
-        metrics = {
-            "scene": data["name"],
-            "title": data["title"],
-            "resolution": [scene.render.resolution_x, scene.render.resolution_y],
-            "engines": engines,
-            "pixels": {"total": int(mask.size), "object": int((refimg["object"] > 0).sum()),
-                       "compared": int(mask.sum()),
-                       "ambiguous": int(refimg["ambiguous"].sum())},
-            "pairs": pairs,
-            "tolerances": {"cycles_max_abs": CYCLES_TOLERANCE,
-                           "eevee_step": EEVEE_STEP, "eevee_share_within": EEVEE_SHARE},
-        }
-        metrics["verdict"] = verdict(pairs)
-        metrics["ok"] = all(v["ok"] for v in metrics["verdict"].values())
-        metrics["parameters"] = {k: v for k, v in data.items() if k != "path"}
-        t0 = time.perf_counter()
-        report.write_scene(tmp, data, images, refimg, mask, metrics)
-        timings["report_s"] = time.perf_counter() - t0
-        metrics["timings"] = timings
-        with open(os.path.join(tmp, "metrics.json"), "w", encoding="utf-8") as handle:
-            json.dump(metrics, handle, indent=2, ensure_ascii=False)
-        progress(0.95, "finishing")
-        outputs.replace_dir(tmp, out_dir)
-    except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
-        raise
-    progress(1.0, "done")
-    return metrics
+def evaluate(data: dict, images: dict, aovs: dict, engines) -> tuple:
+    """The reference picture of the scene *data* from Cycles' *aovs*, and the metrics of
+    every pair of *images* ({"cycles": ..., "eevee": ...}); returns (metrics, reference,
+    mask).  *images* gains "reference"."""
+    refimg = reference_image(data, aovs)
+    images["reference"] = refimg["Color"]
+    mask = (refimg["object"] > 0) & ~refimg["ambiguous"]
+    present = set(engines) | {"reference"}
+    pairs = {f"{a}-{b}": compare(images[a], images[b], mask) for a, b in PAIRS
+             if a in present and b in present and a in images and b in images}
+    verdicts = verdict(pairs)
+    metrics = {
+        "scene": data["name"],
+        "title": data["title"],
+        "engines": list(engines),
+        "pixels": {"total": int(mask.size), "object": int((refimg["object"] > 0).sum()),
+                   "compared": int(mask.sum()), "ambiguous": int(refimg["ambiguous"].sum())},
+        "pairs": pairs,
+        "tolerances": {"cycles_max_abs": CYCLES_TOLERANCE, "eevee_step": EEVEE_STEP,
+                       "eevee_share_within": EEVEE_SHARE},
+        "verdict": verdicts,
+        "ok": all(v["ok"] for v in verdicts.values()),
+        "parameters": {k: v for k, v in data.items() if k != "path"},
+    }
+    return metrics, refimg, mask

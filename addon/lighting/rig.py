@@ -1,0 +1,238 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""The lights of a scene as one generated node group: "Phong Lights <scene>".
+
+Every light's nodes and drivers live once per scene and light set, in a shader node group
+that every Phong material of that light set uses (one node).  Its inputs are the material's
+own values, its outputs the model's colour, each term and the shader:
+
+    inputs   Object Color, Specular Color, Exponent, Blinn, Irradiant Color, Normal,
+             View Vector
+    outputs  Color, Irradiant, Ambient, Diffuse, Specular, Shader
+
+Inside (docs/contract.md, "Several lights"): per light, a light-model group (Phong Point /
+Directional / Spot Light) and a Phong Shading, driven by the light without Python
+(``drivers.py``); ambient (from the World) and irradiant on the first Phong Shading only;
+Color is the Phong Color Add chain of the shadings' colours, Diffuse and Specular the sums of
+the shadings' terms.  With no light: one Phong Shading with Light Intensity 0 (ambient +
+irradiant; black when both are zero: docs/model.md §No light at all).
+
+The number of drivers depends on the lights (about 15 per light), not on the objects.
+"""
+
+from __future__ import annotations
+
+import bpy
+
+from .. import loader
+from . import drivers, properties
+from .lights import SUPPORTED
+
+#: Custom properties of a lights group: the scene it belongs to and its light set.
+SCENE_KEY = "phong_lights_scene"
+SET_KEY = "phong_lights_set"
+#: Bump when the layout of the lights group changes.
+RIG_VERSION = 1
+VERSION_KEY = "phong_lights_version"
+ALL = "*"
+
+INPUTS = (  # (name, socket type, default)
+    ("Object Color", "NodeSocketColor", (0.8, 0.8, 0.8, 1.0)),
+    ("Specular Color", "NodeSocketColor", (1.0, 1.0, 1.0, 1.0)),
+    ("Exponent", "NodeSocketFloat", 30.0),
+    ("Blinn", "NodeSocketFloat", 0.0),
+    ("Irradiant Color", "NodeSocketColor", (0.0, 0.0, 0.0, 1.0)),
+    ("Normal", "NodeSocketVector", (0.0, 0.0, 0.0)),
+    ("View Vector", "NodeSocketVector", (0.0, 0.0, 0.0)),
+)
+TERMS = ("Irradiant", "Ambient", "Diffuse", "Specular")
+OUTPUTS = (("Color", "NodeSocketColor"),) + tuple((t, "NodeSocketColor") for t in TERMS) + (
+    ("Shader", "NodeSocketShader"),)
+
+
+def set_key(lights, everything: bool) -> str:
+    """The key of a light set: "*" when it holds every light of the scene, else the names."""
+    return ALL if everything else "\n".join(sorted(o.name for o in lights))
+
+
+def find(scene, key: str):
+    for tree in bpy.data.node_groups:
+        if (tree.get(SCENE_KEY) == scene.name and tree.get(SET_KEY) == key
+                and tree.library is None):
+            return tree
+    return None
+
+
+def groups_of(scene) -> list:
+    return [t for t in bpy.data.node_groups
+            if t.get(SCENE_KEY) == scene.name and t.library is None]
+
+
+def ensure(scene, lights, key: str):
+    """The lights group of *scene* for *lights* (key *key*), created or rebuilt."""
+    tree = find(scene, key)
+    if tree is None:
+        name = f"Phong Lights {scene.name}"
+        if key != ALL:
+            name += f" [{', '.join(o.name for o in lights) or 'no light'}]"
+        tree = bpy.data.node_groups.new(name, "ShaderNodeTree")
+        tree[SCENE_KEY] = scene.name
+        tree[SET_KEY] = key
+        build(tree, lights, scene.world)
+        return tree
+    return rebuild(tree, lights, scene.world)
+
+
+def rebuild(tree, lights, world):
+    """*tree* rewritten for *lights*; returns the group that now stands for it.
+
+    A group used by many materials is not edited in place (Blender propagates every node
+    edit to each material that uses the group: 1,000 materials made a rebuild take 7 s):
+    a new group is built apart, takes over the users of the old one, and its name."""
+    if tree.users <= 1:
+        build(tree, lights, world)
+        return tree
+    fresh = bpy.data.node_groups.new(tree.name + " (new)", "ShaderNodeTree")
+    for key in tree.keys():
+        fresh[key] = tree[key]
+    build(fresh, lights, world)
+    name = tree.name
+    tree.user_remap(fresh)
+    bpy.data.node_groups.remove(tree)
+    fresh.name = name
+    return fresh
+
+
+def build(tree, lights, world) -> None:
+    """(Re)write *tree* for *lights* (supported light objects) and *world*."""
+    _interface(tree)
+    if tree.animation_data is not None:
+        tree.animation_data_clear()
+    tree.nodes.clear()
+    group_in = tree.nodes.new("NodeGroupInput")
+    group_in.location = (-900.0, 0.0)
+    group_out = tree.nodes.new("NodeGroupOutput")
+    out_x = 500.0 + 180.0 * max(len(lights), 1)
+    group_out.location = (out_x + 250.0, 0.0)
+    shadings = []
+    for index, obj in enumerate(lights):
+        y = -520.0 * index
+        light_node = _light_node(tree, obj, (-600.0, y))
+        shading = _shading_node(tree, group_in, f"shading:{obj.name}", (-300.0, y), index == 0)
+        tree.links.new(light_node.outputs["Light Vector"], shading.inputs["Light Vector"])
+        tree.links.new(light_node.outputs["Intensity"], shading.inputs["Light Intensity"])
+        drivers.color(shading.inputs["Light Color"], "LIGHT", obj.data, "color")
+        for attr, socket in (("diffuse", "Diffuse Strength"), ("specular", "Specular Strength")):
+            drivers.prop(shading.inputs[socket], None, "LIGHT", obj.data,
+                         f'["{properties.LIGHT_KEYS[attr][0]}"]')
+        shadings.append(shading)
+    if not lights:
+        shading = _shading_node(tree, group_in, "shading:ambient", (-300.0, 0.0), True)
+        shading.inputs["Light Intensity"].default_value = 0.0
+        shadings.append(shading)
+    _drive_ambient(shadings[0], world)
+    for other in shadings[1:]:
+        other.inputs["Ambient Intensity"].default_value = 0.0
+        other.inputs["Irradiant Color"].default_value = (0.0, 0.0, 0.0, 1.0)
+    _sums(tree, shadings, group_out, out_x)
+    tree[VERSION_KEY] = RIG_VERSION
+    tree["phong_lights"] = [obj.name for obj in lights]
+
+
+def _interface(tree) -> None:
+    """The interface of INPUTS / OUTPUTS, made once (group nodes in materials keep links)."""
+    have = [(i.in_out, i.name, i.socket_type) for i in tree.interface.items_tree
+            if i.item_type == "SOCKET"]
+    want = ([("OUTPUT", n, t) for n, t in OUTPUTS] + [("INPUT", n, t) for n, t, _d in INPUTS])
+    if have == want:
+        return
+    tree.interface.clear()
+    for name, socket_type in OUTPUTS:
+        tree.interface.new_socket(name, in_out="OUTPUT", socket_type=socket_type)
+    for name, socket_type, default in INPUTS:
+        item = tree.interface.new_socket(name, in_out="INPUT", socket_type=socket_type)
+        item.default_value = default
+        if name == "Blinn":
+            item.min_value, item.max_value = 0.0, 1.0
+
+
+def _group_node(tree, group_name, name, location):
+    node = tree.nodes.new("ShaderNodeGroup")
+    node.node_tree, _status = loader.ensure_group(group_name)
+    node.name = node.label = name
+    node.location = location
+    node.width = 200.0
+    return node
+
+
+def _light_node(tree, obj, location):
+    light = obj.data
+    properties.ensure_light_props(light)
+    node = _group_node(tree, SUPPORTED[light.type], f"light:{obj.name}", location)
+    inputs = node.inputs
+    keys = {attr: f'["{key}"]' for attr, (key, _default) in properties.LIGHT_KEYS.items()}
+    if light.type in ("POINT", "SPOT"):
+        drivers.world_location(inputs["Position"], obj)
+        for attr in ("quadratic", "linear", "constant"):
+            drivers.prop(inputs[attr.capitalize()], None, "LIGHT", light, keys[attr])
+    if light.type in ("SUN", "SPOT"):
+        drivers.world_minus_z(inputs["Direction"], obj)
+    if light.type == "SPOT":
+        drivers.prop(inputs["Half Angle"], None, "LIGHT", light, "spot_size", scale=0.5)
+        drivers.prop(inputs["Edge Exponent"], None, "LIGHT", light, keys["edge_exponent"])
+    drivers.prop(inputs["Intensity"], None, "LIGHT", light, keys["intensity"])
+    return node
+
+
+def _shading_node(tree, group_in, name, location, first):
+    node = _group_node(tree, "Phong Shading", name, location)
+    for socket_name, _type, _default in INPUTS:
+        if socket_name == "Irradiant Color" and not first:
+            continue
+        tree.links.new(group_in.outputs[socket_name], node.inputs[socket_name])
+    return node
+
+
+def _drive_ambient(node, world) -> None:
+    if world is None:
+        node.inputs["Ambient Intensity"].default_value = properties.AMBIENT_INTENSITY[1]
+        node.inputs["Ambient Color"].default_value = (*properties.AMBIENT_COLOR[1], 1.0)
+        return
+    properties.ensure_world_props(world)
+    drivers.prop(node.inputs["Ambient Intensity"], None, "WORLD", world,
+                 f'["{properties.AMBIENT_INTENSITY[0]}"]')
+    drivers.color(node.inputs["Ambient Color"], "WORLD", world,
+                  f'["{properties.AMBIENT_COLOR[0]}"]')
+
+
+def _sums(tree, shadings, group_out, out_x) -> None:
+    """Color: Phong Color Add chain; Diffuse, Specular: sums; Irradiant, Ambient: the first."""
+    links = tree.links
+    color = shadings[0].outputs["Color"]
+    terms = {t: shadings[0].outputs[t] for t in TERMS}
+    for index, shading in enumerate(shadings[1:], start=1):
+        x = 0.0 + 180.0 * index
+        add = _group_node(tree, "Phong Color Add", f"add:{index}", (x, 300.0))
+        links.new(color, add.inputs["A"])
+        links.new(shading.outputs["Color"], add.inputs["B"])
+        color = add.outputs["Color"]
+        for row, term in enumerate(("Diffuse", "Specular")):
+            node = tree.nodes.new("ShaderNodeVectorMath")
+            node.name = f"{term.lower()}:{index}"
+            node.operation = "ADD"
+            node.location = (x, -200.0 - 160.0 * row)
+            links.new(terms[term], node.inputs[0])
+            links.new(shading.outputs[term], node.inputs[1])
+            terms[term] = node.outputs["Vector"]
+    links.new(color, group_out.inputs["Color"])
+    for term, socket in terms.items():
+        links.new(socket, group_out.inputs[term])
+    if len(shadings) == 1:
+        shader = shadings[0].outputs["Shader"]
+    else:
+        emission = tree.nodes.new("ShaderNodeEmission")
+        emission.name = "emission"
+        emission.location = (out_x, 300.0)
+        emission.inputs["Strength"].default_value = 1.0
+        links.new(color, emission.inputs["Color"])
+        shader = emission.outputs["Emission"]
+    links.new(shader, group_out.inputs["Shader"])

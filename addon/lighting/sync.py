@@ -1,0 +1,226 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Keep a scene's Phong materials in step with its lights.
+
+:class:`Sync` does the work of Apply Phong Material and Relink Phong Lights: it builds the
+scene's lights groups (one per light set), converts source materials to Phong materials
+(one per source material and light set) and points every Phong material at the group of
+its objects' light set.  :func:`on_depsgraph_update` runs it after a change to which lights
+exist, their types, visibility or Light Linking, so lights follow without a click; when
+nothing of that changed it costs one fingerprint of the lights (microseconds).
+"""
+
+from __future__ import annotations
+
+import bpy
+from bpy.app.handlers import persistent
+
+from . import lights as lights_mod
+from . import materials, rig
+
+
+class Sync:
+    """One run over a scene: its lights read once, each group and material built once."""
+
+    def __init__(self, scene, view_layer=None):
+        self.scene = scene
+        self.lights, self.unsupported = lights_mod.scene_lights(scene, view_layer)
+        self.rules = [lights_mod.receivers(obj) for obj in self.lights]
+        self.linked = any(rule is not None for rule in self.rules)
+        self.groups: dict = {}
+        self.templates: dict = {}
+        self.index = {}
+        for material in materials.phong_materials():
+            self.index.setdefault((self._origin(material), materials.lights_key(material)),
+                                  material)
+        self.changed: set = set()
+
+    # -- light sets and their groups ------------------------------------------------
+    def light_set(self, obj):
+        """(key, lights) of the lights that reach *obj*."""
+        if not self.linked:
+            return rig.ALL, self.lights
+        reach = lights_mod.light_set(obj, self.lights, self.rules)
+        return rig.set_key(reach, len(reach) == len(self.lights)), reach
+
+    def group(self, key, reach):
+        if key not in self.groups:
+            self.groups[key] = rig.ensure(self.scene, reach, key)
+        return self.groups[key]
+
+    # -- materials --------------------------------------------------------------------
+    @staticmethod
+    def _origin(material):
+        source = materials.source_of(material)
+        if source is not None:
+            return source.as_pointer()
+        return "empty" if material.get(materials.EMPTY_SOURCE_KEY) else material.as_pointer()
+
+    def _name(self, base, reach, key):
+        name = f"Phong {base}"
+        return name if key == rig.ALL else f"{name} [{', '.join(o.name for o in reach)}]"
+
+    def convert(self, source, key, reach):
+        """The Phong material of *source* (a non-Phong material or None) for a light set."""
+        origin = source.as_pointer() if source is not None else "empty"
+        material = self.index.get((origin, key))
+        if material is not None:
+            return self.rewire(material, key, reach)
+        group = self.group(key, reach)
+        base = source.name if source is not None else "Material"
+        material = materials.from_source(source, self._name(base, reach, key), group,
+                                         template=self.templates.get(key))
+        if materials.base_color_link(source) is None and key not in self.templates:
+            self.templates[key] = material
+        self.index[(origin, key)] = material
+        self.changed.add(material.name)
+        return material
+
+    def rewire(self, material, key, reach):
+        """*material* (a Phong material) for the light set *key*: itself when it fits (or has
+        no set yet), else its variant for that set."""
+        current = materials.lights_key(material)
+        if current is not None and current != key:
+            origin = self._origin(material)
+            variant = self.index.get((origin, key))
+            if variant is None:
+                variant = material.copy()
+                source = materials.source_of(material)
+                base = source.name if source is not None else material.name.removeprefix("Phong ")
+                variant.name = self._name(base.split(" [")[0], reach, key)
+                self.index[(origin, key)] = variant
+                material = variant
+            else:
+                material = variant
+        group = self.group(key, reach)
+        node = material.node_tree.nodes.get(materials.LIGHTS_NODE)
+        if (materials.upgrade(material) or node is None or node.node_tree is not group
+                or int(material.get(materials.MATERIAL_TAG, 0)) < materials.LAYOUT):
+            materials.wire(material, group)
+            self.changed.add(material.name)
+        return material
+
+    # -- objects --------------------------------------------------------------------------
+    def apply(self, obj) -> list:
+        """Phong materials in every slot of *obj* (a slot is added when it has none)."""
+        key, reach = self.light_set(obj)
+        if not obj.material_slots:
+            obj.data.materials.append(None)
+        done = []
+        for slot in obj.material_slots:
+            material = slot.material
+            if materials.is_phong_material(material):
+                new = self.rewire(material, key, reach)
+            else:
+                new = self.convert(material, key, reach)
+            if slot.material is not new:
+                slot.material = new
+            done.append(new)
+        return done
+
+    def relink(self, objects) -> int:
+        """Every Phong material on *objects* pointed at its light set's group (groups
+        rebuilt first); returns how many objects hold Phong materials."""
+        count = 0
+        for obj in objects:
+            if obj.type != "MESH" and not hasattr(obj.data, "materials"):
+                continue
+            slots = [s for s in obj.material_slots if materials.is_phong_material(s.material)]
+            if not slots:
+                continue
+            count += 1
+            key, reach = self.light_set(obj)
+            for slot in slots:
+                new = self.rewire(slot.material, key, reach)
+                if slot.material is not new:
+                    slot.material = new
+        return count
+
+    def rebuild_groups(self) -> None:
+        """Rebuild the groups of this scene's light sets that exist (lights changed), and
+        remove the scene's groups that no material uses any more."""
+        for tree in rig.groups_of(self.scene):
+            key = tree.get(rig.SET_KEY)
+            if key == rig.ALL:
+                self.groups[key] = rig.rebuild(tree, self.lights, self.scene.world)
+        for tree in rig.groups_of(self.scene):
+            if tree.users == 0 and tree not in self.groups.values():
+                bpy.data.node_groups.remove(tree)
+
+    def finish(self) -> None:
+        for tree in rig.groups_of(self.scene):
+            if tree.users == 0:
+                bpy.data.node_groups.remove(tree)
+
+
+def relink_scene(scene, view_layer=None) -> Sync:
+    """Bring the Phong materials of *scene*'s objects up to date with its lights."""
+    sync = Sync(scene, view_layer)
+    sync.rebuild_groups()
+    sync.relink(scene.objects)
+    sync.finish()
+    remember(scene, view_layer)
+    return sync
+
+
+def remember(scene, view_layer=None) -> None:
+    """Note the lights of *scene* as handled (the handler acts on the next change)."""
+    _LIGHTS[scene.as_pointer()] = lights_mod.light_objects(scene)
+    _SEEN[scene.as_pointer()] = lights_mod.signature(scene, view_layer, _LIGHTS[scene.as_pointer()])
+
+
+# -- the handler -------------------------------------------------------------------------
+
+_SEEN: dict = {}    # scene pointer -> signature of its lights when last relinked
+_LIGHTS: dict = {}  # scene pointer -> its light objects (looked up again on structure changes)
+_BUSY = []
+
+
+@persistent
+def on_depsgraph_update(scene, depsgraph=None):
+    """Relink *scene* when its lights changed (added, deleted, hidden, retyped, relinked)."""
+    if _BUSY or scene is None:
+        return
+    if depsgraph is not None and not any(depsgraph.id_type_updated(kind) for kind in
+                                         ("OBJECT", "LIGHT", "COLLECTION", "SCENE", "WORLD")):
+        return
+    if not rig.groups_of(scene):
+        return
+    view_layer = depsgraph.view_layer if depsgraph is not None else None
+    key = scene.as_pointer()
+    structure = depsgraph is None or any(depsgraph.id_type_updated(kind)
+                                         for kind in ("COLLECTION", "SCENE"))
+    if structure or key not in _LIGHTS:  # objects may have come or gone: look again
+        _LIGHTS[key] = lights_mod.light_objects(scene)
+    try:
+        signature = lights_mod.signature(scene, view_layer, _LIGHTS[key])
+    except ReferenceError:  # a remembered light was deleted
+        _LIGHTS[key] = lights_mod.light_objects(scene)
+        signature = lights_mod.signature(scene, view_layer, _LIGHTS[key])
+    if _SEEN.get(key) == signature:
+        return
+    _BUSY.append(True)
+    try:
+        relink_scene(scene, view_layer)
+    finally:
+        _BUSY.pop()
+
+
+@persistent
+def forget(*_args):
+    """After loading a file or an undo step the remembered fingerprints mean nothing."""
+    _SEEN.clear()
+    _LIGHTS.clear()
+
+
+_HANDLERS = (("depsgraph_update_post", on_depsgraph_update), ("load_post", forget),
+             ("undo_post", forget), ("redo_post", forget))
+
+
+def register():
+    for name, function in _HANDLERS:
+        getattr(bpy.app.handlers, name).append(function)
+
+
+def unregister():
+    for name, function in reversed(_HANDLERS):
+        getattr(bpy.app.handlers, name).remove(function)

@@ -1,0 +1,346 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Every operator of the extension: the node-group library, Phong materials, demo scenes
+and the comparison bake.  The work itself is done by the feature packages; an operator
+checks its input, calls them and reports."""
+
+from __future__ import annotations
+
+import os
+import tempfile
+
+import bpy
+from bpy.props import EnumProperty, IntProperty, StringProperty
+
+from ...core import compare, outputs, scenes
+from ...node_groups.library import GROUPS
+from .. import loader
+from ..demos import bake, builder
+from ..lighting import materials
+from ..lighting import sync as sync_mod
+
+
+class PHONG_OT_load_node_groups(bpy.types.Operator):
+    """Put every Phong node group into this file (creates, or upgrades in place)"""
+
+    bl_idname = "phong.load_node_groups"
+    bl_label = "Load Phong Node Groups"
+    bl_options = {"REGISTER", "UNDO"}
+
+    def execute(self, context):
+        summary = loader.load_all()
+        parts = [f"{len(names)} {status}" for status, names in summary.items()]
+        self.report({"INFO"}, f"Phong node groups: {', '.join(parts)}")
+        return {"FINISHED"}
+
+
+class PHONG_OT_add_node_group(bpy.types.Operator):
+    """Add a Phong node group to the active shader node tree"""
+
+    bl_idname = "phong.add_node_group"
+    bl_label = "Add Phong Node Group"
+    bl_options = {"REGISTER", "UNDO"}
+
+    group_name: StringProperty(name="Group", description="Name of the Phong node group to add")
+
+    @classmethod
+    def poll(cls, context):
+        space = context.space_data
+        if (space is not None and space.type == "NODE_EDITOR"
+                and space.tree_type == "ShaderNodeTree" and space.edit_tree is not None):
+            return True
+        cls.poll_message_set("Add Phong Node Group: open a material's node tree in the "
+                             "Shader Editor first")
+        return False
+
+    @classmethod
+    def description(cls, context, properties):
+        group = GROUPS.get(properties.group_name)
+        return group.description if group else cls.__doc__
+
+    def execute(self, context):
+        space = context.space_data
+        try:
+            add_group_node(space.edit_tree, self.group_name, space.cursor_location)
+        except ValueError as error:
+            self.report({"ERROR"}, f"Add Phong Node Group: {error}")
+            return {"CANCELLED"}
+        return {"FINISHED"}
+
+    def invoke(self, context, event):
+        result = self.execute(context)
+        if result == {"FINISHED"}:  # follow the mouse, like Blender's own Add menu
+            bpy.ops.node.translate_attach_remove_on_cancel("INVOKE_DEFAULT")
+        return result
+
+
+def add_group_node(tree, group_name: str, location):
+    """Add a node of the Phong group *group_name* (loaded or upgraded as needed) to *tree*."""
+    if group_name not in GROUPS:
+        raise ValueError(f"Unknown Phong group {group_name!r}; expected one of: {', '.join(GROUPS)}")
+    group, _status = loader.ensure_group(group_name)
+    for node in tree.nodes:
+        node.select = False
+    node = tree.nodes.new("ShaderNodeGroup")
+    node.node_tree = group
+    node.location = location
+    node.width = 200
+    node.select = True
+    tree.nodes.active = node
+    return node
+
+
+
+# -- Phong materials -----------------------------------------------------------------
+
+def _warn(op, message):
+    if message:
+        op.report({"WARNING"}, message)
+
+
+def _lights_report(op, sync) -> None:
+    """Warnings every light operation gives: unsupported lights, no light, a linking
+    collection whose objects have no Phong material."""
+    if sync.unsupported:
+        names = ", ".join(f"{o.name} ({o.data.type.title()})" for o in sync.unsupported)
+        op.report({"WARNING"}, f"Phong: unsupported light type ignored: {names}; only Point, "
+                               "Sun and Spot lights drive Phong materials")
+    if not sync.lights:
+        op.report({"WARNING"}, "Phong: the scene has no Point, Sun or Spot light; the "
+                               "materials show ambient and irradiant only")
+    for light, rule in zip(sync.lights, sync.rules):
+        if rule is None or not rule[0]:
+            continue
+        collection = light.light_linking.receiver_collection
+        if not any(materials.is_phong_material(slot.material) for obj in collection.all_objects
+                   for slot in obj.material_slots):
+            op.report({"WARNING"}, f"Phong: light {light.name!r} lights only the objects of "
+                                   f"collection {collection.name!r}, and none of them has a "
+                                   "Phong material")
+
+
+def _selected_meshes(op, context, action):
+    """The editable selected meshes, or None after an error report."""
+    selected = list(context.selected_objects or [])
+    meshes = [o for o in selected if o.type == "MESH" and o.library is None
+              and o.data.library is None]
+    others = [o for o in selected if o not in meshes]
+    if not meshes:
+        what = (f"no mesh among the selected objects ({', '.join(o.name for o in others)})"
+                if others else "nothing is selected")
+        op.report({"ERROR"}, f"{action}: {what}; select mesh objects")
+        return None
+    if others:
+        op.report({"WARNING"}, f"{action}: skipped (not editable meshes): "
+                  + ", ".join(o.name for o in others))
+    return meshes
+
+
+class PHONG_OT_apply_material(bpy.types.Operator):
+    """Convert the materials of the selected meshes to Phong materials driven by the scene's \
+Point, Sun and Spot lights (objects that shared a material share its Phong version; the \
+originals are kept)"""
+
+    bl_idname = "phong.apply_material"
+    bl_label = "Apply Phong Material"
+    bl_options = {"REGISTER", "UNDO"}
+
+    def execute(self, context):
+        meshes = _selected_meshes(self, context, "Apply Phong Material")
+        if meshes is None:
+            return {"CANCELLED"}
+        sync = sync_mod.Sync(context.scene, context.view_layer)
+        sync.rebuild_groups()
+        done = {}
+        for obj in meshes:
+            for material in sync.apply(obj):
+                done[material.name] = None
+        sync.relink(context.scene.objects)
+        sync.finish()
+        sync_mod.remember(context.scene, context.view_layer)
+        _lights_report(self, sync)
+        names = list(done)
+        shown = ", ".join(names[:8]) + (f" and {len(names) - 8} more" if len(names) > 8 else "")
+        self.report({"INFO"}, f"Phong materials: {shown} ({len(sync.lights)} light"
+                              f"{'s' if len(sync.lights) != 1 else ''})")
+        return {"FINISHED"}
+
+
+class PHONG_OT_relink_lights(bpy.types.Operator):
+    """Bring the Phong materials of the current scene up to date with its lights (also \
+upgrades Phong materials of older versions)"""
+
+    bl_idname = "phong.relink_lights"
+    bl_label = "Relink Phong Lights"
+    bl_options = {"REGISTER", "UNDO"}
+
+    def execute(self, context):
+        sync = sync_mod.relink_scene(context.scene, context.view_layer)
+        _lights_report(self, sync)
+        groups = len(sync.groups)
+        self.report({"INFO"}, f"Phong: {len(sync.lights)} light(s) in {groups} lights "
+                              f"group(s); {len(sync.changed)} material(s) updated")
+        return {"FINISHED"}
+
+
+class PHONG_OT_restore_materials(bpy.types.Operator):
+    """Put the original materials back on the selected objects (their Phong versions stay \
+in the file until unused)"""
+
+    bl_idname = "phong.restore_materials"
+    bl_label = "Restore Original Materials"
+    bl_options = {"REGISTER", "UNDO"}
+
+    def execute(self, context):
+        meshes = _selected_meshes(self, context, "Restore Original Materials")
+        if meshes is None:
+            return {"CANCELLED"}
+        slots = sum(materials.restore(obj) for obj in meshes)
+        if not slots:
+            self.report({"WARNING"}, "Restore Original Materials: no selected object has a "
+                                     "Phong material made from another material")
+            return {"CANCELLED"}
+        self.report({"INFO"}, f"Restored the original material in {slots} slot(s)")
+        return {"FINISHED"}
+
+
+class PHONG_OT_add_term_passes(bpy.types.Operator):
+    """Add the Phong AOV passes (Color and each term) to the active view layer, for the \
+compositor"""
+
+    bl_idname = "phong.add_term_passes"
+    bl_label = "Add Phong Passes"
+    bl_options = {"REGISTER", "UNDO"}
+
+    def execute(self, context):
+        layer = context.view_layer
+        have = {aov.name for aov in layer.aovs}
+        added = [name for name in materials.AOVS if name not in have]
+        for name in added:
+            aov = layer.aovs.add()
+            aov.name = name
+            aov.type = "COLOR"
+        self.report({"INFO"}, f"Phong passes on view layer {layer.name!r}: "
+                              + (", ".join(added) if added else "all there already"))
+        return {"FINISHED"}
+
+
+# -- demo scenes and the comparison bake ---------------------------------------------
+
+def _scene_items(_self, _context):
+    items = []
+    for name in scenes.available():
+        try:
+            title = scenes.load(os.path.join(scenes.SCENES_DIR, f"{name}.toml"))["title"]
+        except scenes.SceneError as error:
+            title = f"(invalid: {error})"
+        items.append((name, name.replace("_", " ").title(), title))
+    return items or [("NONE", "No scene", "")]
+
+
+class PHONG_OT_build_demo_scene(bpy.types.Operator):
+    """Build a demo scene of the seeds into a new scene (your scenes are not touched)"""
+
+    bl_idname = "phong.build_demo_scene"
+    bl_label = "Build Phong Demo Scene"
+    bl_options = {"REGISTER", "UNDO"}
+
+    name: EnumProperty(name="Scene", description="Demo scene (scenes/<name>.toml)",
+                       items=_scene_items)
+    resolution: IntProperty(name="Resolution", description="Picture height in pixels",
+                            default=256, min=8, max=4096)
+    filepath: StringProperty(name="Scene File", subtype="FILE_PATH", default="",
+                             description="A scene .toml file of your own (instead of Scene)",
+                             options={"SKIP_SAVE"})
+
+    def execute(self, context):
+        path = (bpy.path.abspath(self.filepath) if self.filepath
+                else os.path.join(scenes.SCENES_DIR, f"{self.name}.toml"))
+        try:
+            data = scenes.load(path)
+        except scenes.SceneError as error:
+            self.report({"ERROR"}, f"Build Phong Demo Scene: {error}")
+            return {"CANCELLED"}
+        scene = builder.build(data, self.resolution)
+        if context.window is not None:
+            context.window.scene = scene
+        self.report({"INFO"}, f"Built '{scene.name}': {data['title']}")
+        return {"FINISHED"}
+
+
+class PHONG_OT_bake_comparison(bpy.types.Operator):
+    """Render the active demo scene with Eevee and Cycles, compare both with the numpy \
+reference of the formulas and write images, heatmaps, a sheet and metrics.json"""
+
+    bl_idname = "phong.bake_comparison"
+    bl_label = "Bake Phong Comparison"
+    bl_options = {"REGISTER"}
+
+    directory: StringProperty(name="Folder", subtype="DIR_PATH", default="//phong_bake",
+                              description="Output folder (one sub-folder per scene)")
+    engines: EnumProperty(name="Engines", options={"ENUM_FLAG"}, default={"EEVEE", "CYCLES"},
+                          items=(("EEVEE", "Eevee", ""), ("CYCLES", "Cycles", "")))
+
+    @classmethod
+    def poll(cls, context):
+        if context.scene is None or builder.SCENE_KEY not in context.scene:
+            cls.poll_message_set("The active scene is not a Phong demo scene "
+                                 "(Build Phong Demo Scene first)")
+            return False
+        return True
+
+    def execute(self, context):
+        scene = context.scene
+        folder = bpy.path.abspath(self.directory) if self.directory.startswith("//") \
+            else self.directory
+        if self.directory.startswith("//") and not bpy.data.filepath:
+            folder = os.path.join(tempfile.gettempdir(), "phong_bake")
+        problem = outputs.output_problem(folder)
+        if problem is not None:
+            self.report({"ERROR"}, f"Bake Phong Comparison: {problem}")
+            return {"CANCELLED"}
+        data = builder.scene_dict(scene)
+        wm = context.window_manager
+        wm.progress_begin(0, 100)
+        try:
+            metrics = bake.bake(scene, os.path.join(folder, data["name"]),
+                                engines=[e.lower() for e in self.engines],
+                                progress=lambda f, _t: wm.progress_update(int(100 * f)))
+        except (RuntimeError, OSError) as error:
+            self.report({"ERROR"}, f"Bake Phong Comparison: bake failed: {error}")
+            return {"CANCELLED"}
+        finally:
+            wm.progress_end()
+        sheet = os.path.join(folder, data["name"], "sheet.png")
+        _show_image(context, sheet)
+        verdicts = compare.verdict_text(metrics["verdict"])
+        self.report({"INFO"} if metrics["ok"] else {"WARNING"},
+                    f"Phong comparison of '{data['name']}': {verdicts} ({sheet})")
+        return {"FINISHED"}
+
+    def invoke(self, context, event):
+        return self.execute(context)
+
+
+def _show_image(context, path):
+    """Open *path* in an Image Editor (an existing one, else a new window); no-op headless."""
+    image = bpy.data.images.load(path, check_existing=True)
+    image.reload()
+    if context.window is None or context.screen is None:
+        return
+    area = next((a for a in context.screen.areas if a.type == "IMAGE_EDITOR"), None)
+    if area is None:
+        try:
+            bpy.ops.wm.window_new()
+            area = bpy.context.window_manager.windows[-1].screen.areas[0]
+            area.type = "IMAGE_EDITOR"
+        except RuntimeError:
+            return
+    area.spaces.active.image = image
+
+
+classes = (PHONG_OT_load_node_groups, PHONG_OT_add_node_group, PHONG_OT_apply_material,
+           PHONG_OT_relink_lights, PHONG_OT_restore_materials, PHONG_OT_add_term_passes,
+           PHONG_OT_build_demo_scene, PHONG_OT_bake_comparison)
+
+
+register, unregister = bpy.utils.register_classes_factory(classes)
