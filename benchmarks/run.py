@@ -41,7 +41,8 @@ FULL = {
     "quality_res": 48, "quality_ref_spp": 4096, "quality_max_spp": 8192,
     "quality_probe_spp": [1, 16, 64],
     "scale_objects": 1000, "scale_res": 512, "scale_spp": 4, "scale_segments": 16,
-    "scale_distinct": True, "scale_before_after_objects": 400,
+    "scale_distinct": True,
+    "artist_objects": [1000, 10000], "artist_lights": [4, 16], "scale_moves": 9,
     "eevee_res": 256, "eevee_samples": 4, "eevee_grid": 3, "eevee_cold": True,
 }
 QUICK = {
@@ -51,7 +52,8 @@ QUICK = {
     "quality_res": 16, "quality_ref_spp": 64, "quality_max_spp": 64,
     "quality_probe_spp": [1, 4],
     "scale_objects": 20, "scale_res": 32, "scale_spp": 1, "scale_segments": 8,
-    "scale_distinct": True, "scale_before_after_objects": 10,
+    "scale_distinct": True,
+    "artist_objects": [6, 12], "artist_lights": [2, 4], "scale_moves": 3,
     "eevee_res": 32, "eevee_samples": 1, "eevee_grid": 1, "eevee_cold": False,
 }
 THRESHOLD = 1.0 / 255.0
@@ -82,16 +84,14 @@ def worker_setup():
     """Import bpy (with a throw-away user folder) and register the extension from source."""
     os.environ.setdefault("BLENDER_USER_RESOURCES", tempfile.mkdtemp(prefix="phong_bench_res_"))
     bpy = _bpy()
-    sys.path.insert(0, os.path.join(ROOT, "tools"))
-    import phong  # noqa: PLC0415  (tools/phong.py)
+    import phong_nodes  # noqa: PLC0415  (the source tree, linked by tools/phong.sh setup)
 
-    extension = phong.import_extension()
-    extension.register()
+    phong_nodes.register()
     return bpy
 
 
 def uv_sphere(name, segments):
-    from phong_nodes.addon import meshes  # noqa: PLC0415
+    from phong_nodes.addon.demos import meshes  # noqa: PLC0415
 
     return meshes.uv_sphere(name, 1.0, segments, max(segments // 2, 3))
 
@@ -106,7 +106,7 @@ def build_scene(name, *, res, grid, n_lights, material, segments=32, shared_mesh
     mesh, one material).  Returns (scene, apply_material seconds or None).
     """
     bpy = _bpy()
-    from phong_nodes.addon import properties  # noqa: PLC0415
+    from phong_nodes.addon.lighting import properties  # noqa: PLC0415
 
     scene = bpy.data.scenes.new(name)
     scene.render.resolution_x = scene.render.resolution_y = res
@@ -150,8 +150,7 @@ def build_scene(name, *, res, grid, n_lights, material, segments=32, shared_mesh
         data = bpy.data.lights.new(f"{name} light {k}", "POINT")
         data.energy = 4000.0 * extent * extent / 16 / n_lights  # Principled: similar exposure
         data.shadow_soft_size = 0.25
-        properties.ensure_light_props(data)
-        data["phong_intensity"] = 2.0 * (extent + 4) ** 2 / n_lights
+        properties.write_light(data, {"intensity": 2.0 * (extent + 4) ** 2 / n_lights})
         light = bpy.data.objects.new(f"{name} light {k}", data)
         light.location = (extent * math.cos(angle), -6.0, extent * math.sin(angle) + 2.0)
         scene.collection.objects.link(light)
@@ -385,51 +384,15 @@ def quality(cfg):
     return result
 
 
-def prefix_apply(scene, objects):
-    """apply_material as it was before commits e9a3d81 and 3aa8bf6: one apply_to_object per
-    selected object, without the shared ``rebuilt`` set (linked duplicates rebuilt their one
-    material once per object) and without ``templates`` (every new material built node by
-    node: O(N^2) in the number of materials, see addon/materials.py _copy_material).
-    apply_to_object called without those two arguments still does exactly that."""
-    from phong_nodes.addon import materials  # noqa: PLC0415
-
-    lights, _unsupported = materials.scene_lights(scene, scene.view_layers[0])
-    start = time.perf_counter()
-    for obj in objects:
-        materials.apply_to_object(obj, lights, scene.world)
-    return time.perf_counter() - start
-
-
-def before_after_distinct(cfg, r):
-    """apply_material vs the pre-fix loop on the same number of objects with their own
-    meshes (fresh scenes each)."""
-    n = cfg["scale_before_after_objects"]
-    times = {}
-    for how in rotated(["after", "before"], r):
-        scene, build = build_scene(f"ba{r} {how}", res=16, grid=0, n_lights=1,
-                                   material="phong" if how == "after" else "emission",
-                                   n_objects=n, segments=cfg["scale_segments"])
-        if how == "before":
-            objects = [o for o in scene.collection.objects if o.type == "MESH"]
-            build = prefix_apply(scene, objects)
-        times[how] = build
-        remove_scene(scene)
-    return times
-
-
 def scale(cfg):
-    """N objects, 1 light: linked duplicates sharing one material (build with apply_material,
-    and with the pre-fix one-rebuild-per-object loop; render Phong vs Emission), and the same
-    number of objects with their own meshes, so apply_material makes N materials."""
+    """N objects, 1 light: linked duplicates sharing one material (build with apply_material;
+    render Phong vs Emission), and the same number of objects with their own meshes and
+    materials, so apply_material makes N Phong materials."""
     n = cfg["scale_objects"]
-    out = {"objects": n, "apply_seconds": [], "prefix_loop_seconds": [], "phong_render": [],
+    out = {"objects": n, "apply_seconds": [], "phong_render": [],
            "emission_render": [], "distinct_apply_seconds": [], "distinct_phong_render": [],
-           "distinct_emission_render": [], "before_after_objects":
-           cfg["scale_before_after_objects"], "distinct_before": [], "distinct_after": []}
+           "distinct_emission_render": []}
     for r in range(cfg["repeats"]):
-        times = before_after_distinct(cfg, r)
-        out["distinct_before"].append(times["before"])
-        out["distinct_after"].append(times["after"])
         pairs = {}
         for material in ("phong", "emission"):
             scene, build = build_scene(f"s{r} {material}", res=cfg["scale_res"], grid=0,
@@ -439,7 +402,6 @@ def scale(cfg):
             if build is not None:
                 out["apply_seconds"].append(build)
                 objects = [o for o in scene.collection.objects if o.type == "MESH"]
-                out["prefix_loop_seconds"].append(prefix_apply(scene, objects))
                 out["phong_materials"] = len({s.material for o in objects
                                               for s in o.material_slots})
             pairs[material] = scene
@@ -464,6 +426,117 @@ def scale(cfg):
                 out[f"distinct_{material}_render"].append(seconds)
             for scene in pairs.values():
                 remove_scene(scene)
+    return out
+
+
+# --------------------------------------------------------------------- artist-scale worker
+
+ARTIST_LIGHTS = ("POINT", "SUN", "SPOT", "POINT")  # the light mix of issue 10's table
+CUBE = ([(-1, -1, -1), (1, -1, -1), (1, 1, -1), (-1, 1, -1),
+         (-1, -1, 1), (1, -1, 1), (1, 1, 1), (-1, 1, 1)],
+        [(0, 3, 2, 1), (4, 5, 6, 7), (0, 1, 5, 4), (1, 2, 6, 5), (2, 3, 7, 6), (3, 0, 4, 7)])
+
+
+def artist_scene(name, n_objects, n_lights):
+    """An artist's scene: *n_objects* cubes, each with its own mesh and its own Principled
+    material (one colour each), lit by *n_lights* lights cycling point, sun, spot, point."""
+    bpy = _bpy()
+    from phong_nodes.addon.lighting import properties  # noqa: PLC0415
+
+    scene = bpy.data.scenes.new(name)
+    template = simple_material(f"{name} principled", "principled")
+    cols = max(1, math.ceil(math.sqrt(n_objects)))
+    objects = []
+    for index in range(n_objects):
+        mesh = bpy.data.meshes.new(f"{name} cube {index}")
+        mesh.from_pydata(*CUBE[:1], [], CUBE[1])
+        material = template if index == 0 else template.copy()
+        material.node_tree.nodes["Principled BSDF"].inputs["Base Color"].default_value = (
+            (index % 7) / 7, (index % 11) / 11, (index % 13) / 13, 1.0)
+        mesh.materials.append(material)
+        obj = bpy.data.objects.new(f"{name} {index:05d}", mesh)
+        obj.location = (3.0 * (index % cols), 3.0 * (index // cols), 0.0)
+        scene.collection.objects.link(obj)
+        objects.append(obj)
+    lights = [add_light(scene, f"{name} light {k}", ARTIST_LIGHTS[k % len(ARTIST_LIGHTS)],
+                        (3.0 * cols * (k + 0.5) / n_lights, -10.0, 20.0))
+              for k in range(n_lights)]
+    scene.world = bpy.data.worlds.new(name)
+    properties.write_world(scene.world, 0.1, (1.0, 1.0, 1.0))
+    return scene, objects, lights
+
+
+def add_light(scene, name, kind, location):
+    bpy = _bpy()
+    from phong_nodes.addon.lighting import properties  # noqa: PLC0415
+
+    data = bpy.data.lights.new(name, kind)
+    properties.write_light(data, {"intensity": 400.0} if kind != "SUN" else {})
+    obj = bpy.data.objects.new(name, data)
+    obj.location = location
+    obj.rotation_euler = (0.6, 0.0, 0.3)
+    scene.collection.objects.link(obj)
+    return obj
+
+
+def drivers_in_file():
+    """Every driver of the file (materials' trees, node groups, lights, worlds, objects)."""
+    bpy = _bpy()
+    ids = [*bpy.data.node_groups, *bpy.data.lights, *bpy.data.worlds, *bpy.data.objects,
+           *bpy.data.materials, *(m.node_tree for m in bpy.data.materials if m.node_tree)]
+    return sum(len(i.animation_data.drivers) for i in ids if i.animation_data)
+
+
+def move_updates(view_layer, light, moves):
+    """Seconds of the depsgraph update after each of *moves* small moves of *light*."""
+    times = []
+    for i in range(moves):
+        light.location.x += 0.25 if i % 2 == 0 else -0.25
+        start = time.perf_counter()
+        view_layer.update()
+        times.append(time.perf_counter() - start)
+    return times
+
+
+def timed(function):
+    start = time.perf_counter()
+    result = function()
+    return time.perf_counter() - start, result
+
+
+def worker_artist(cfg, n_objects, n_lights):
+    """Issue 10's table for one scene size, side by side in one process: the scene with its
+    Principled materials, then converted by Apply Phong Material."""
+    bpy = _bpy()
+    out = {"objects": n_objects, "lights": n_lights}
+    scene, objects, lights = artist_scene("artist", n_objects, n_lights)
+    view_layer = scene.view_layers[0]
+    view_layer.update()  # first evaluation, untimed
+    moves = cfg["scale_moves"]
+    out["principled_move"] = move_updates(view_layer, lights[0], moves)
+    out["principled_drivers"] = drivers_in_file()
+
+    for obj in objects:
+        obj.select_set(True, view_layer=view_layer)
+    with bpy.context.temp_override(scene=scene, view_layer=view_layer,
+                                   selected_objects=objects):
+        out["apply_operator"], result = timed(bpy.ops.phong.apply_material)
+    if result != {"FINISHED"}:
+        raise RuntimeError(f"apply_material returned {result}")
+    out["apply_update"], _ = timed(view_layer.update)
+    out["phong_materials"] = len({s.material for o in objects for s in o.material_slots})
+    out["phong_move"] = move_updates(view_layer, lights[0], moves)
+    out["drivers"] = drivers_in_file()
+
+    # a light added without a click: the depsgraph handler relinks on the next update
+    add_light(scene, "added light", "POINT", (0.0, -10.0, 10.0))
+    out["add_light_update"], _ = timed(view_layer.update)
+    out["drivers_after_add"] = drivers_in_file()
+    with bpy.context.temp_override(scene=scene, view_layer=view_layer):
+        out["relink_operator"], result = timed(bpy.ops.phong.relink_lights)
+    if result != {"FINISHED"}:
+        raise RuntimeError(f"relink_lights returned {result}")
+    out["relink_update"], _ = timed(view_layer.update)
     return out
 
 
@@ -497,6 +570,8 @@ def worker_main(name, params):
         result = worker_cycles(cfg)
     elif name == "eevee":
         result = worker_eevee(cfg, [tuple(c) for c in params["cases"]])
+    elif name == "artist":
+        result = worker_artist(cfg, *params["case"])
     else:
         raise SystemExit(f"unknown worker {name}")
     with open(params["result_path"], "w") as fh:
@@ -562,8 +637,16 @@ def collect(cfg, log=print):
         light_runs.append(run_worker("eevee", {"cfg": cfg, "cases": rotated(cases, r)},
                                      cold_cache=cfg["eevee_cold"], log=log))
 
+    log("Lights at scale: artist scenes, Principled then Phong (figure 6)...")
+    cases = [[n, k] for n in cfg["artist_objects"] for k in cfg["artist_lights"]]
+    artist_runs = []
+    for r in range(reps):
+        for case in rotated(cases, r):
+            artist_runs.append(run_worker("artist", {"cfg": cfg, "case": case}, log=log))
+
     load_after = load_average()
     return {"cycles": cyc, "eevee_compile": compile_runs, "eevee_lights": light_runs,
+            "artist": artist_runs,
             "load_before": load_before, "load_after": load_after,
             "total_seconds": time.perf_counter() - started}
 
@@ -669,8 +752,6 @@ def analyse(raw, cfg):
                 "(scene sync included): Phong / Emission",
         "ratio": ratio_summary(s["phong_render"], s["emission_render"]),
         "apply_material_seconds": summary(s["apply_seconds"]),
-        "prefix_apply_seconds": summary(s["prefix_loop_seconds"]),
-        "apply_speedup": ratio_summary(s["prefix_loop_seconds"], s["apply_seconds"]),
         "phong_materials": s["phong_materials"],
         "phong_seconds": summary(s["phong_render"]),
         "emission_seconds": summary(s["emission_render"]),
@@ -687,15 +768,88 @@ def analyse(raw, cfg):
             "emission_seconds": summary(s["distinct_emission_render"]),
             "goal": "report", "goal_kind": "info",
         }
-    figures["apply_before_after"] = {
-        "what": f"apply_material on {s['before_after_objects']} objects with their own meshes: "
-                "pre-fix loop (one material built node by node per object) / now (copies)",
-        "ratio": ratio_summary(s["distinct_before"], s["distinct_after"]),
-        "before_seconds": summary(s["distinct_before"]),
-        "after_seconds": summary(s["distinct_after"]),
-        "goal": "report", "goal_kind": "info",
-    }
+    figures["artist_scale"] = artist_figure(raw["artist"])
     return figures
+
+
+#: Goals of issue 10 (lights at scale); the seconds goals hold at 1,000 objects.
+MOVE_GOAL = 3.0
+SECONDS_GOAL = 2.0
+SECONDS_GOAL_OBJECTS = 1000
+
+
+def artist_figure(runs):
+    """Figure 6 from the artist workers' results (one per scene size and repeat)."""
+    med = statistics.median
+    by_case = {}
+    for run in runs:
+        by_case.setdefault((run["objects"], run["lights"]), []).append(run)
+    cases = {}
+    for (objects, lights), rs in sorted(by_case.items()):
+        cases[f"{objects}x{lights}"] = {
+            "objects": objects, "lights": lights,
+            "phong_materials": rs[0]["phong_materials"],
+            "drivers": sorted({r["drivers"] for r in rs}),
+            "drivers_after_add": sorted({r["drivers_after_add"] for r in rs}),
+            "principled_drivers": sorted({r["principled_drivers"] for r in rs}),
+            "move_ratio": ratio_summary([med(r["phong_move"]) for r in rs],
+                                        [med(r["principled_move"]) for r in rs]),
+            "phong_move_ms": summary([1000 * med(r["phong_move"]) for r in rs]),
+            "principled_move_ms": summary([1000 * med(r["principled_move"]) for r in rs]),
+            "apply_seconds": summary([r["apply_operator"] + r["apply_update"] for r in rs]),
+            "add_light_seconds": summary([r["add_light_update"] for r in rs]),
+            "relink_seconds": summary([r["relink_operator"] + r["relink_update"] for r in rs]),
+        }
+    per_lights = {}
+    for case in cases.values():
+        per_lights.setdefault(case["lights"], set()).update(case["drivers"])
+    return {
+        "what": "Lights at scale (issue 10): N cubes with their own meshes and Principled "
+                "materials, K lights (point, sun, spot, point, ...); in one process the "
+                "Principled scene, then the same scene after Apply Phong Material",
+        "cases": cases,
+        "drivers_by_lights": {str(k): sorted(v) for k, v in sorted(per_lights.items())},
+        "drivers_independent_of_objects": all(len(v) == 1 for v in per_lights.values()),
+        "goal": f"move update <= {MOVE_GOAL}x Principled; Relink after adding a light and "
+                f"Apply < {SECONDS_GOAL} s at {SECONDS_GOAL_OBJECTS} objects",
+        "goal_value": MOVE_GOAL, "goal_kind": "max",
+    }
+
+
+def artist_rows(figure):
+    """Table rows of figure 6."""
+    rows = []
+    for case in figure["cases"].values():
+        n, k = case["objects"], case["lights"]
+        where = f"6. {n:,} objects, {k} lights"
+        timed_goal = n <= SECONDS_GOAL_OBJECTS
+        goal = f"< {SECONDS_GOAL:.0f} s" if timed_goal else "report"
+        rows.append((f"{where}: one update after moving a light, Phong / Principled",
+                     fmt(case["move_ratio"], 1) + "×", f"≤ {MOVE_GOAL:.0f}×",
+                     verdict(case["move_ratio"]["median"], MOVE_GOAL, "max"),
+                     f"{fmt(case['phong_move_ms'], 1)} ms vs "
+                     f"{fmt(case['principled_move_ms'], 1)} ms"))
+        rows.append((f"{where}: Relink Phong Lights after adding a light",
+                     fmt(case["relink_seconds"]) + " s", goal,
+                     verdict(case["relink_seconds"]["median"], SECONDS_GOAL, "max_strict")
+                     if timed_goal else "",
+                     f"without a click (depsgraph handler, next update): "
+                     f"{fmt(case['add_light_seconds'])} s"))
+        rows.append((f"{where}: Apply Phong Material",
+                     fmt(case["apply_seconds"]) + " s", goal,
+                     verdict(case["apply_seconds"]["median"], SECONDS_GOAL, "max_strict")
+                     if timed_goal else "",
+                     f"{case['phong_materials']:,} Phong materials"))
+    drivers = figure["drivers_by_lights"]
+    rows.append(("6. Drivers in the file after Apply (Principled scene: 0)",
+                 "; ".join(f"{k} lights: {', '.join(str(d) for d in v)}"
+                           for k, v in drivers.items()),
+                 "independent of the objects",
+                 "met" if figure["drivers_independent_of_objects"] else "missed",
+                 "the same count at every object count; one light more adds "
+                 + ", ".join(sorted({str(c["drivers_after_add"][0] - c["drivers"][0])
+                                     for c in figure["cases"].values()}))))
+    return rows
 
 
 def fmt(s, digits=2, unit=""):
@@ -759,21 +913,13 @@ def markdown(figures, meta):
     rows.append((f"5. {n_obj} linked duplicates, 1 shared material: Phong / Emission render",
                  fmt(sc["ratio"]) + "×", "report", "",
                  f"{fmt(sc['phong_seconds'])} s vs {fmt(sc['emission_seconds'])} s"))
-    rows.append((f"5. apply_material, {n_obj} linked duplicates: before fix / after",
-                 fmt(sc["apply_speedup"], 1) + "×", "report", "fixed (e9a3d81)",
-                 f"{fmt(sc['prefix_apply_seconds'])} s → {fmt(sc['apply_material_seconds'], 3)} s"))
     if "scale_distinct" in f:
         sd = f["scale_distinct"]
         rows.append((f"5. {n_obj} objects, {n_obj} materials: Phong / Emission render",
                      fmt(sd["ratio"]) + "×", "report", "",
                      f"{fmt(sd['phong_seconds'])} s vs {fmt(sd['emission_seconds'])} s; "
                      f"apply_material {fmt(sd['apply_material_seconds'])} s"))
-    ba = f["apply_before_after"]
-    n_ba = meta["config"]["scale_before_after_objects"]
-    rows.append((f"5. apply_material, {n_ba} objects with own meshes: before fix / after",
-                 fmt(ba["ratio"], 1) + "×", "report", "fixed (3aa8bf6)",
-                 f"{fmt(ba['before_seconds'])} s → {fmt(ba['after_seconds'])} s "
-                 "(before grows as N²)"))
+    rows += artist_rows(f["artist_scale"])
     lines = ["| figure | median (min–max) | goal | verdict | detail |",
              "|---|---|---|---|---|"]
     lines += ["| " + " | ".join(r) + " |" for r in rows]
@@ -787,7 +933,11 @@ def markdown(figures, meta):
                  f"quality at {cfg['quality_res']}², reference {cfg['quality_ref_spp']} spp; "
                  f"Eevee {cfg['eevee_res']}², {cfg['eevee_samples']} samples, "
                  f"{cfg['eevee_grid']}×{cfg['eevee_grid']} spheres; scale "
-                 f"{cfg['scale_objects']} objects at {cfg['scale_res']}², {cfg['scale_spp']} spp.")
+                 f"{cfg['scale_objects']} objects at {cfg['scale_res']}², {cfg['scale_spp']} spp; "
+                 f"lights at scale: {', '.join(f'{n:,}' for n in cfg['artist_objects'])} cubes "
+                 f"(own mesh and Principled material each), "
+                 f"{' and '.join(str(k) for k in cfg['artist_lights'])} lights, "
+                 f"median of {cfg['scale_moves']} light moves.")
     return "\n".join(lines)
 
 
