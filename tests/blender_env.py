@@ -271,7 +271,7 @@ def read_multilayer_exr(path: str) -> dict[str, np.ndarray]:
 
 # ---------------------------------------------------------------- the SPEC contract
 # (group -> [(input socket, kind)], [(output socket, kind)]); kind V = 3 components, S = scalar,
-# SH = shader.  Copied from shared/SPEC.md, independently of node_groups/.
+# SH = shader.  Copied from docs/contract.md, independently of node_groups/.
 
 V, S, SH = "V", "S", "SH"
 

@@ -290,3 +290,31 @@ def test_each_base_colour_reaches_the_render(bpy_clean, blender_tmp):
     passes, _seconds = render(bpy, scene, str(blender_tmp / "colours.exr"))
     got = passes["Phong Color"][4, [4, 12, 20], :3]
     np.testing.assert_allclose(got, np.array(colours)[:, :3], atol=1e-6)
+
+
+def test_a_material_used_in_two_scenes_gets_each_scenes_lights(bpy_clean, blender_tmp):
+    """Lights groups are per scene: converting a material in a second scene must not point
+    the first scene's Phong materials at the second scene's lights."""
+    bpy = bpy_clean
+    shared = _principled(bpy, "Shared", (0.8, 0.4, 0.2, 1.0))
+    scenes, planes = [], []
+    for name, ambient in (("Bright", 1.0), ("Dim", 0.25)):
+        scene = be.new_scene(name, 8, 8)
+        scene.world.phong.ambient_intensity = ambient  # no light: Color = ambient * colour
+        planes.append(be.add_uv_plane(scene, f"{name} plane", -1.0, -1.0, 2.0, shared))
+        be.add_ortho_camera(scene, (0.0, 0.0), 2.0, 2.0)
+        scenes.append(scene)
+    _light(bpy, scenes[1], "Dim key", "POINT", (5.0, 5.0, -5.0))  # behind: lights nothing
+    for scene, plane in zip(scenes, planes):
+        _select(bpy, scene, [plane])
+        assert bpy.ops.phong.apply_material() == {"FINISHED"}
+        assert bpy.ops.phong.add_term_passes() == {"FINISHED"}
+    bright, dim = (p.active_material for p in planes)
+    assert bright is not dim
+    assert lights_tree(bright).name == "Phong Lights Bright"
+    assert lights_tree(dim).name == "Phong Lights Dim"
+    for scene, scale in zip(scenes, (1.0, 0.25)):
+        bpy.context.window.scene = scene
+        passes, _seconds = render(bpy, scene, str(blender_tmp / f"{scene.name}.exr"))
+        np.testing.assert_allclose(passes["Phong Color"][4, 4, :3],
+                                   scale * np.array([0.8, 0.4, 0.2]), atol=1e-6)

@@ -67,9 +67,12 @@ def source_of(material):
 
 
 def lights_key(material):
+    """(scene name, light set key) of the lights group *material* uses, or None."""
     node = material.node_tree.nodes.get(LIGHTS_NODE) if material.node_tree else None
     tree = node.node_tree if node is not None else None
-    return tree.get(rig.SET_KEY) if tree is not None else None
+    if tree is None or tree.get(rig.SET_KEY) is None:
+        return None
+    return (tree.get(rig.SCENE_KEY), tree.get(rig.SET_KEY))
 
 
 # -- what a source material looks like ------------------------------------------------

@@ -62,7 +62,7 @@ class Sync:
     def convert(self, source, key, reach):
         """The Phong material of *source* (a non-Phong material or None) for a light set."""
         origin = source.as_pointer() if source is not None else "empty"
-        material = self.index.get((origin, key))
+        material = self.index.get((origin, (self.scene.name, key)))
         if material is not None:
             return self.rewire(material, key, reach)
         group = self.group(key, reach)
@@ -71,23 +71,25 @@ class Sync:
                                          template=self.templates.get(key))
         if materials.base_color_link(source) is None and key not in self.templates:
             self.templates[key] = material
-        self.index[(origin, key)] = material
+        self.index[(origin, (self.scene.name, key))] = material
         self.changed.add(material.name)
         return material
 
     def rewire(self, material, key, reach):
-        """*material* (a Phong material) for the light set *key*: itself when it fits (or has
-        no set yet), else its variant for that set."""
+        """*material* (a Phong material) for the light set *key* of this scene: itself when it
+        fits (or has no set yet), else its variant for that set (a material used in two scenes
+        gets one per scene: each scene has its own lights groups)."""
         current = materials.lights_key(material)
-        if current is not None and current != key:
+        wanted = (self.scene.name, key)
+        if current is not None and current != wanted:
             origin = self._origin(material)
-            variant = self.index.get((origin, key))
+            variant = self.index.get((origin, wanted))
             if variant is None:
                 variant = material.copy()
                 source = materials.source_of(material)
                 base = source.name if source is not None else material.name.removeprefix("Phong ")
                 variant.name = self._name(base.split(" [")[0], reach, key)
-                self.index[(origin, key)] = variant
+                self.index[(origin, wanted)] = variant
                 material = variant
             else:
                 material = variant
