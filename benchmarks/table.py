@@ -1,0 +1,158 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""The table of the benchmarks, without ``bpy``: figures (``analyse.py``) -> Markdown."""
+
+from __future__ import annotations
+
+from .analyse import MOVE_GOAL, SECONDS_GOAL, SECONDS_GOAL_OBJECTS
+
+
+def fmt(s, digits=2, unit=""):
+    return (f"{s['median']:.{digits}f}{unit} ({s['min']:.{digits}f}–{s['max']:.{digits}f})")
+
+
+def verdict(value, goal_value, kind):
+    if kind == "max":
+        ok = value <= goal_value
+    elif kind == "max_strict":
+        ok = value < goal_value
+    else:
+        return ""
+    if ok:
+        return "met"
+    return f"missed by {value / goal_value:.1f}×" if goal_value else "missed"
+
+
+def markdown(figures, meta):
+    """The table (one row per figure and case) and two lines on the run and its sizes."""
+    rows = [*cycles_rows(figures), *eevee_rows(figures), *quality_rows(figures),
+            *scale_rows(figures, meta["config"]["scale_objects"]),
+            *artist_rows(figures["artist_scale"])]
+    lines = ["| figure | median (min–max) | goal | verdict | detail |",
+             "|---|---|---|---|---|"]
+    lines += ["| " + " | ".join(r) + " |" for r in rows]
+    return "\n".join(lines + [""] + footer(meta))
+
+
+def cycles_rows(f):
+    """Figures 1 and 2 (Cycles)."""
+    rows = []
+    n1 = f["node_cost_cycles"]
+    rows.append(("1. Node cost, Cycles: Phong / Emission floor", fmt(n1["ratio"]) + "×",
+                 "≤ 1.2×", verdict(n1["ratio"]["median"], 1.2, "max"),
+                 f"{fmt(n1['phong_seconds'])} s vs {fmt(n1['floor_seconds'])} s"))
+    ls = f["light_scaling_cycles"]
+    lights = list(ls["ratios"])
+    rows.append(("2. Lights, Cycles: N lights / 1 light",
+                 ", ".join(f"{n}: {ls['ratios'][n]['median']:.2f}×" for n in lights),
+                 "linear", "", "spread: " + ", ".join(
+                     f"{n}: {ls['ratios'][n]['min']:.2f}–{ls['ratios'][n]['max']:.2f}"
+                     for n in lights)))
+    rows.append(("2. Lights, Cycles: cost of one extra light / 1-light render",
+                 fmt(ls["extra_light_fraction"], 3), "< 0.10",
+                 verdict(ls["extra_light_fraction"]["median"], 0.10, "max"),
+                 f"from {lights[-1]} lights; shading part (time − floor) grows "
+                 f"{ls['shading_growth']['median']:.1f}× for {lights[-1]}× the lights"))
+    return rows
+
+
+def eevee_rows(f):
+    """Figures 2 (Eevee) and 3."""
+    rows = []
+    le = f["light_scaling_eevee"]
+    rows.append(("2. Lights, Eevee first render (compile incl.): N / 1",
+                 ", ".join(f"{n}: {le['ratios'][n]['median']:.2f}×" for n in le["ratios"]),
+                 "linear", "", "first render s: " + ", ".join(
+                     f"{n}: {le['first_seconds'][n]['median']:.1f}" for n in le["ratios"])))
+    ec = f["eevee_compile"]
+    rows.append(("3. Eevee cold first render: Phong / Principled", fmt(ec["ratio"]) + "×",
+                 "< 1×", verdict(ec["ratio"]["median"], 1.0, "max_strict"),
+                 f"{fmt(ec['phong_first_seconds'], 1)} s vs "
+                 f"{fmt(ec['principled_first_seconds'], 1)} s; first − second render "
+                 f"(compile): {fmt(ec['phong_compile_seconds'], 1)} s vs "
+                 f"{fmt(ec['principled_compile_seconds'], 1)} s; engine warm-up "
+                 f"{ec['cold_process_first_render_seconds']['median']:.1f} s"))
+    return rows
+
+
+def quality_rows(f):
+    """Figure 4."""
+    qs = f["quality_per_second"]
+    return [("4. Same RMSE < 1/255: Principled time / Phong 1 spp time",
+             fmt(qs["ratio"], 1) + "×", "report", "",
+             f"Principled needs {qs['principled_spp']['median']:.0f} spp "
+             f"({fmt(qs['principled_seconds'])} s); Phong 1 spp RMSE "
+             f"{qs['phong_one_spp_rmse']['median'] * 255:.2f}/255, reaches < 1/255 at "
+             f"{qs['phong_spp_converged']['median']:.0f} spp "
+             f"(ratio then {qs['ratio_vs_phong_converged']['median']:.1f}×)")]
+
+
+def scale_rows(f, n_obj):
+    """Figure 5."""
+    rows = []
+    sc = f["scale"]
+    rows.append((f"5. {n_obj} linked duplicates, 1 shared material: Phong / Emission render",
+                 fmt(sc["ratio"]) + "×", "report", "",
+                 f"{fmt(sc['phong_seconds'])} s vs {fmt(sc['emission_seconds'])} s"))
+    if "scale_distinct" in f:
+        sd = f["scale_distinct"]
+        rows.append((f"5. {n_obj} objects, {n_obj} materials: Phong / Emission render",
+                     fmt(sd["ratio"]) + "×", "report", "",
+                     f"{fmt(sd['phong_seconds'])} s vs {fmt(sd['emission_seconds'])} s; "
+                     f"apply_material {fmt(sd['apply_material_seconds'])} s"))
+    return rows
+
+
+def footer(meta):
+    """The run (repeats, load, machine, duration) and its sizes."""
+    cfg = meta["config"]
+    lines = []
+    lines.append(f"{meta['repeats']} repeats; load average {meta['load_before']} before, "
+                 f"{meta['load_after']} after; {meta['cpu_count']} CPUs; bpy {meta['bpy']}; "
+                 f"run took {meta['total_seconds']:.0f} s.")
+    lines.append(f"Sizes: Cycles {cfg['cycles_res']}² at {cfg['cycles_spp']} spp, "
+                 f"{cfg['grid']}×{cfg['grid']} UV spheres ({cfg['segments']} segments); "
+                 f"quality at {cfg['quality_res']}², reference {cfg['quality_ref_spp']} spp; "
+                 f"Eevee {cfg['eevee_res']}², {cfg['eevee_samples']} samples, "
+                 f"{cfg['eevee_grid']}×{cfg['eevee_grid']} spheres; scale "
+                 f"{cfg['scale_objects']} objects at {cfg['scale_res']}², {cfg['scale_spp']} spp; "
+                 f"lights at scale: {', '.join(f'{n:,}' for n in cfg['artist_objects'])} cubes "
+                 f"(own mesh and Principled material each), "
+                 f"{' and '.join(str(k) for k in cfg['artist_lights'])} lights, "
+                 f"median of {cfg['scale_moves']} light moves.")
+    return lines
+
+
+def artist_rows(figure):
+    """Table rows of figure 6."""
+    rows = []
+    for case in figure["cases"].values():
+        n, k = case["objects"], case["lights"]
+        where = f"6. {n:,} objects, {k} lights"
+        timed_goal = n <= SECONDS_GOAL_OBJECTS
+        goal = f"< {SECONDS_GOAL:.0f} s" if timed_goal else "report"
+        rows.append((f"{where}: one update after moving a light, Phong / Principled",
+                     fmt(case["move_ratio"], 1) + "×", f"≤ {MOVE_GOAL:.0f}×",
+                     verdict(case["move_ratio"]["median"], MOVE_GOAL, "max"),
+                     f"{fmt(case['phong_move_ms'], 1)} ms vs "
+                     f"{fmt(case['principled_move_ms'], 1)} ms"))
+        rows.append((f"{where}: Relink Phong Lights after adding a light",
+                     fmt(case["relink_seconds"]) + " s", goal,
+                     verdict(case["relink_seconds"]["median"], SECONDS_GOAL, "max_strict")
+                     if timed_goal else "",
+                     f"without a click (depsgraph handler, next update): "
+                     f"{fmt(case['add_light_seconds'])} s"))
+        rows.append((f"{where}: Apply Phong Material",
+                     fmt(case["apply_seconds"]) + " s", goal,
+                     verdict(case["apply_seconds"]["median"], SECONDS_GOAL, "max_strict")
+                     if timed_goal else "",
+                     f"{case['phong_materials']:,} Phong materials"))
+    drivers = figure["drivers_by_lights"]
+    rows.append(("6. Drivers in the file after Apply (Principled scene: 0)",
+                 "; ".join(f"{k} lights: {', '.join(str(d) for d in v)}"
+                           for k, v in drivers.items()),
+                 "independent of the objects",
+                 "met" if figure["drivers_independent_of_objects"] else "missed",
+                 "the same count at every object count; one light more adds "
+                 + ", ".join(sorted({str(c["drivers_after_add"][0] - c["drivers"][0])
+                                     for c in figure["cases"].values()}))))
+    return rows

@@ -1,0 +1,90 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""The benchmarks' analysis and table without Blender: synthetic worker results with values
+worked out by hand, so a wrong ratio, goal or verdict fails here and not in a 10-minute run."""
+
+import subprocess
+import sys
+
+import pytest
+
+from phong_nodes.benchmarks import analyse, table
+
+
+def artist_run(objects, lights, *, phong_move, principled_move, drivers, apply=0.5,
+               relink=0.3, add=0.4):
+    return {"objects": objects, "lights": lights, "phong_materials": objects,
+            "principled_drivers": 0, "drivers": drivers, "drivers_after_add": drivers + 12,
+            "principled_move": principled_move, "phong_move": phong_move,
+            "apply_operator": apply, "apply_update": 0.0, "add_light_update": add,
+            "relink_operator": relink, "relink_update": 0.0}
+
+
+def test_move_ratio_is_the_ratio_of_each_repeats_medians():
+    runs = [artist_run(1000, 4, phong_move=[0.008, 0.010, 0.030],
+                       principled_move=[0.001, 0.002, 0.004], drivers=54),
+            artist_run(1000, 4, phong_move=[0.006, 0.006, 0.1],
+                       principled_move=[0.003, 0.003, 0.0001], drivers=54)]
+    case = analyse.artist_figure(runs)["cases"]["1000x4"]
+    # repeat 1: 0.010 / 0.002 = 5; repeat 2: 0.006 / 0.003 = 2
+    assert case["move_ratio"]["values"] == pytest.approx([5.0, 2.0])
+    assert case["move_ratio"]["median"] == pytest.approx(3.5)
+    assert (case["move_ratio"]["min"], case["move_ratio"]["max"]) == pytest.approx((2.0, 5.0))
+    assert case["phong_move_ms"]["values"] == pytest.approx([10.0, 6.0])
+    assert case["drivers"] == [54]
+
+
+def test_drivers_independent_of_objects_only_when_equal_for_each_light_count():
+    same = [artist_run(n, k, phong_move=[0.01], principled_move=[0.005], drivers=d)
+            for n in (1000, 10000) for k, d in ((4, 54), (16, 204))]
+    figure = analyse.artist_figure(same)
+    assert figure["drivers_independent_of_objects"] is True
+    assert figure["drivers_by_lights"] == {"4": [54], "16": [204]}
+    grown = same[:-1] + [artist_run(10000, 16, phong_move=[0.01], principled_move=[0.005],
+                                    drivers=205)]
+    figure = analyse.artist_figure(grown)
+    assert figure["drivers_independent_of_objects"] is False
+    assert table.artist_rows(figure)[-1][3] == "missed"
+
+
+def test_artist_rows_apply_the_seconds_goals_at_1000_objects_only():
+    runs = [artist_run(1000, 4, phong_move=[0.012], principled_move=[0.002], drivers=54,
+                       apply=3.0, relink=0.3),
+            artist_run(10000, 4, phong_move=[0.1], principled_move=[0.05], drivers=54,
+                       apply=12.0, relink=6.0)]
+    rows = {row[0]: row for row in table.artist_rows(analyse.artist_figure(runs))}
+    move = rows["6. 1,000 objects, 4 lights: one update after moving a light, Phong / Principled"]
+    assert move[1].startswith("6.0 ") and move[2] == "≤ 3×" and move[3] == "missed by 2.0×"
+    apply = rows["6. 1,000 objects, 4 lights: Apply Phong Material"]
+    assert apply[2] == "< 2 s" and apply[3] == "missed by 1.5×"
+    relink = rows["6. 1,000 objects, 4 lights: Relink Phong Lights after adding a light"]
+    assert relink[3] == "met"
+    big = rows["6. 10,000 objects, 4 lights: Apply Phong Material"]
+    assert big[2] == "report" and big[3] == ""
+    assert rows["6. 10,000 objects, 4 lights: one update after moving a light, "
+                "Phong / Principled"][3] == "met"
+
+
+@pytest.mark.parametrize("value, goal, kind, expected", [
+    (1.2, 1.2, "max", "met"), (1.2, 1.2, "max_strict", "missed by 1.0×"),
+    (0.9, 1.0, "max_strict", "met"), (3.0, 1.2, "max", "missed by 2.5×"),
+    (5.0, 1.0, "info", "")])
+def test_verdict(value, goal, kind, expected):
+    assert table.verdict(value, goal, kind) == expected
+
+
+def test_summary_and_format():
+    s = analyse.summary([3, 1, 2])
+    assert (s["median"], s["min"], s["max"], s["values"]) == (2.0, 1.0, 3.0, [3.0, 1.0, 2.0])
+    assert table.fmt(s) == "2.00 (1.00–3.00)"
+    assert analyse.ratio_summary([2, 9], [1, 3])["values"] == [2.0, 3.0]
+
+
+def test_analysis_modules_import_where_bpy_cannot():
+    code = ("import sys; sys.modules['bpy'] = None\n"
+            "import phong_nodes.benchmarks.analyse, phong_nodes.benchmarks.table\n"
+            "import phong_nodes.benchmarks.run, phong_nodes.benchmarks.measure\n"
+            "print(sorted(m for m in sys.modules if m.startswith('phong_nodes.addon')))")
+    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                            timeout=120)
+    assert result.returncode == 0, result.stderr[-2000:]
+    assert result.stdout.strip() == "[]"
