@@ -318,3 +318,43 @@ def test_a_material_used_in_two_scenes_gets_each_scenes_lights(bpy_clean, blende
         passes, _seconds = render(bpy, scene, str(blender_tmp / f"{scene.name}.exr"))
         np.testing.assert_allclose(passes["Phong Color"][4, 4, :3],
                                    scale * np.array([0.8, 0.4, 0.2]), atol=1e-6)
+
+
+def test_a_linking_collection_without_phong_objects_is_named_in_a_warning(bpy_clean, capfd):
+    bpy = bpy_clean
+    scene = be.new_scene("Warn", 8, 8)
+    target = _sphere(bpy, scene, "Target", (0, 0, 0), _principled(bpy, "T", (1, 0, 0, 1)))
+    bystander = _sphere(bpy, scene, "Bystander", (3, 0, 0))
+    collection = bpy.data.collections.new("Only bystander")
+    collection.objects.link(bystander)
+    key = _light(bpy, scene, "Key", "POINT", (0, -3, 3))
+    key.light_linking.receiver_collection = collection
+    _select(bpy, scene, [target])
+    capfd.readouterr()
+    assert bpy.ops.phong.apply_material() == {"FINISHED"}
+    out = "".join(capfd.readouterr())
+    assert ("Phong: light 'Key' lights only the objects of collection 'Only bystander', and "
+            "none of them has a Phong material") in out
+    # the target is outside the collection: its light set holds no light
+    assert target.active_material.name == "Phong T [no light]"
+    assert "Key" not in lights_tree(target.active_material).nodes
+
+
+def test_a_material_without_nodes_gives_its_viewport_colour(bpy_clean):
+    bpy = bpy_clean
+    scene = be.new_scene("Flat", 8, 8)
+    flat = bpy.data.materials.new("Flat")
+    flat.diffuse_color = (0.2, 0.6, 0.3, 1.0)
+    if flat.node_tree is not None:          # bpy 5.0 gives new materials a node tree
+        flat.node_tree.nodes.clear()
+    nodes_before = len(flat.node_tree.nodes) if flat.node_tree else None
+    plane = _sphere(bpy, scene, "Plane", (0, 0, 0), flat)
+    _light(bpy, scene, "Key", "POINT", (0, -3, 3))
+    _select(bpy, scene, [plane])
+    assert bpy.ops.phong.apply_material() == {"FINISHED"}
+    phong = plane.active_material
+    assert phong.name == "Phong Flat" and phong["phong_source"] == flat
+    colour = phong.node_tree.nodes["phong_object_color"].outputs[0].default_value
+    assert tuple(colour) == pytest.approx((0.2, 0.6, 0.3, 1.0))
+    assert (len(flat.node_tree.nodes) if flat.node_tree else None) == nodes_before, \
+        "the source material is left as it was"

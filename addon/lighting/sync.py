@@ -57,7 +57,9 @@ class Sync:
 
     def _name(self, base, reach, key):
         name = f"Phong {base}"
-        return name if key == rig.ALL else f"{name} [{', '.join(o.name for o in reach)}]"
+        if key == rig.ALL:
+            return name
+        return f"{name} [{', '.join(o.name for o in reach) or 'no light'}]"
 
     def convert(self, source, key, reach):
         """The Phong material of *source* (a non-Phong material or None) for a light set."""
