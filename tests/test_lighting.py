@@ -358,3 +358,24 @@ def test_a_material_without_nodes_gives_its_viewport_colour(bpy_clean):
     assert tuple(colour) == pytest.approx((0.2, 0.6, 0.3, 1.0))
     assert (len(flat.node_tree.nodes) if flat.node_tree else None) == nodes_before, \
         "the source material is left as it was"
+
+
+def test_renaming_the_scene_keeps_its_materials_and_lights_group(bpy_clean):
+    """Lights groups belong to their scene by an ID pointer, not by its name: after a rename
+    a new light still reaches the same materials (no variant copies) through the same group."""
+    bpy = bpy_clean
+    scene = be.new_scene("Shot", 8, 8)
+    ball = _sphere(bpy, scene, "Ball", (0, 0, 0), _principled(bpy, "Clay", (0.7, 0.3, 0.1, 1)))
+    _light(bpy, scene, "Key", "POINT", (0, -3, 3))
+    _select(bpy, scene, [ball])
+    assert bpy.ops.phong.apply_material() == {"FINISHED"}
+    material = ball.active_material
+    scene.name = "Shot 010"
+    _light(bpy, scene, "Fill", "POINT", (3, -3, 3))
+    bpy.context.view_layer.update()          # the handler relinks: no click
+    assert ball.active_material == material and material.name == "Phong Clay"
+    assert [m.name for m in bpy.data.materials if m.name.startswith("Phong")] == ["Phong Clay"]
+    tree = lights_tree(material)
+    assert tree.name == "Phong Lights Shot 010"
+    assert list(tree["phong_lights"]) == ["Fill", "Key"]
+    assert len([g for g in bpy.data.node_groups if g.name.startswith("Phong Lights")]) == 1

@@ -67,12 +67,13 @@ def source_of(material):
 
 
 def lights_key(material):
-    """(scene name, light set key) of the lights group *material* uses, or None."""
+    """(scene pointer, light set key) of the lights group *material* uses, or None."""
     node = material.node_tree.nodes.get(LIGHTS_NODE) if material.node_tree else None
     tree = node.node_tree if node is not None else None
-    if tree is None or tree.get(rig.SET_KEY) is None:
+    scene = rig.owner(tree) if tree is not None else None
+    if scene is None or tree.get(rig.SET_KEY) is None:
         return None
-    return (tree.get(rig.SCENE_KEY), tree.get(rig.SET_KEY))
+    return (scene.as_pointer(), tree.get(rig.SET_KEY))
 
 
 # -- what a source material looks like ------------------------------------------------

@@ -27,7 +27,8 @@ from .. import loader
 from . import drivers, properties
 from .lights import SUPPORTED
 
-#: Custom properties of a lights group: the scene it belongs to and its light set.
+#: Custom properties of a lights group: the scene it belongs to (an ID pointer) and its
+#: light set.
 SCENE_KEY = "phong_lights_scene"
 SET_KEY = "phong_lights_set"
 #: Bump when the layout of the lights group changes.
@@ -54,32 +55,45 @@ def set_key(lights, everything: bool) -> str:
     return ALL if everything else "\n".join(sorted(o.name for o in lights))
 
 
+def owner(tree):
+    """The scene a lights group belongs to (an ID pointer: it follows a renamed scene), or
+    None (its scene was deleted)."""
+    scene = tree.get(SCENE_KEY)
+    return scene if isinstance(scene, bpy.types.Scene) else None
+
+
 def find(scene, key: str):
-    for tree in bpy.data.node_groups:
-        if (tree.get(SCENE_KEY) == scene.name and tree.get(SET_KEY) == key
-                and tree.library is None):
+    for tree in groups_of(scene):
+        if tree.get(SET_KEY) == key:
             return tree
     return None
 
 
 def groups_of(scene) -> list:
-    return [t for t in bpy.data.node_groups
-            if t.get(SCENE_KEY) == scene.name and t.library is None]
+    return [t for t in bpy.data.node_groups if t.library is None and owner(t) == scene]
+
+
+def group_name(scene, lights, key: str) -> str:
+    name = f"Phong Lights {scene.name}"
+    if key != ALL:
+        name += f" [{', '.join(o.name for o in lights) or 'no light'}]"
+    return name
 
 
 def ensure(scene, lights, key: str):
     """The lights group of *scene* for *lights* (key *key*), created or rebuilt."""
     tree = find(scene, key)
     if tree is None:
-        name = f"Phong Lights {scene.name}"
-        if key != ALL:
-            name += f" [{', '.join(o.name for o in lights) or 'no light'}]"
-        tree = bpy.data.node_groups.new(name, "ShaderNodeTree")
-        tree[SCENE_KEY] = scene.name
+        tree = bpy.data.node_groups.new(group_name(scene, lights, key), "ShaderNodeTree")
+        tree[SCENE_KEY] = scene
         tree[SET_KEY] = key
         build(tree, lights, scene.world)
         return tree
-    return rebuild(tree, lights, scene.world)
+    tree = rebuild(tree, lights, scene.world)
+    name = group_name(scene, lights, key)
+    if not (tree.name == name or tree.name.startswith(name + ".")):  # the scene was renamed
+        tree.name = name
+    return tree
 
 
 def rebuild(tree, lights, world):

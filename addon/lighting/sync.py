@@ -64,7 +64,7 @@ class Sync:
     def convert(self, source, key, reach):
         """The Phong material of *source* (a non-Phong material or None) for a light set."""
         origin = source.as_pointer() if source is not None else "empty"
-        material = self.index.get((origin, (self.scene.name, key)))
+        material = self.index.get((origin, (self.scene.as_pointer(), key)))
         if material is not None:
             return self.rewire(material, key, reach)
         group = self.group(key, reach)
@@ -73,7 +73,7 @@ class Sync:
                                          template=self.templates.get(key))
         if materials.base_color_link(source) is None and key not in self.templates:
             self.templates[key] = material
-        self.index[(origin, (self.scene.name, key))] = material
+        self.index[(origin, (self.scene.as_pointer(), key))] = material
         self.changed.add(material.name)
         return material
 
@@ -82,7 +82,7 @@ class Sync:
         fits (or has no set yet), else its variant for that set (a material used in two scenes
         gets one per scene: each scene has its own lights groups)."""
         current = materials.lights_key(material)
-        wanted = (self.scene.name, key)
+        wanted = (self.scene.as_pointer(), key)
         if current is not None and current != wanted:
             origin = self._origin(material)
             variant = self.index.get((origin, wanted))
@@ -145,7 +145,7 @@ class Sync:
         for tree in rig.groups_of(self.scene):
             key = tree.get(rig.SET_KEY)
             if key == rig.ALL:
-                self.groups[key] = rig.rebuild(tree, self.lights, self.scene.world)
+                self.groups[key] = rig.ensure(self.scene, self.lights, key)
         for tree in rig.groups_of(self.scene):
             if tree.users == 0 and tree not in self.groups.values():
                 bpy.data.node_groups.remove(tree)
