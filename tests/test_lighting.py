@@ -379,3 +379,29 @@ def test_renaming_the_scene_keeps_its_materials_and_lights_group(bpy_clean):
     assert tree.name == "Phong Lights Shot 010"
     assert list(tree["phong_lights"]) == ["Fill", "Key"]
     assert len([g for g in bpy.data.node_groups if g.name.startswith("Phong Lights")]) == 1
+
+
+def test_renaming_a_linked_light_moves_materials_without_copies(bpy_clean):
+    """A light set is keyed by its lights' names: when a light is renamed, a material whose
+    users all want the renamed set moves to it (no copy), and the stale group goes away."""
+    bpy = bpy_clean
+    scene = be.new_scene("Linked", 8, 8)
+    a = _sphere(bpy, scene, "A", (0, 0, 0), _principled(bpy, "Clay", (0.7, 0.3, 0.1, 1)))
+    b = _sphere(bpy, scene, "B", (2, 0, 0), _principled(bpy, "Stone", (0.4, 0.4, 0.4, 1)))
+    only_a = bpy.data.collections.new("Only A")
+    only_a.objects.link(a)
+    key = _light(bpy, scene, "Key", "POINT", (0, -3, 3))
+    key.light_linking.receiver_collection = only_a
+    sun = _light(bpy, scene, "Sun", "SUN", (0, 0, 5))
+    _select(bpy, scene, [a, b])
+    assert bpy.ops.phong.apply_material() == {"FINISHED"}
+    stone = b.active_material
+    assert stone.name == "Phong Stone [Sun]"
+    sun.name = "Sky"
+    bpy.context.view_layer.update()          # the handler relinks: no click
+    assert b.active_material == stone
+    assert sorted(m.name for m in bpy.data.materials if m.name.startswith("Phong")) == [
+        "Phong Clay", "Phong Stone [Sky]"]
+    assert list(lights_tree(stone)["phong_lights"]) == ["Sky"]
+    assert sorted(g.name for g in bpy.data.node_groups if g.name.startswith("Phong Lights")) \
+        == ["Phong Lights Linked", "Phong Lights Linked [Sky]"]

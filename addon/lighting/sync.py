@@ -77,16 +77,25 @@ class Sync:
         self.changed.add(material.name)
         return material
 
-    def rewire(self, material, key, reach):
+    def rewire(self, material, key, reach, only_set=False):
         """*material* (a Phong material) for the light set *key* of this scene: itself when it
         fits (or has no set yet), else its variant for that set (a material used in two scenes
-        gets one per scene: each scene has its own lights groups)."""
+        gets one per scene: each scene has its own lights groups).  *only_set*: every user of
+        *material* in this scene wants this set, so when its set changed (a light renamed,
+        linking edited) the material itself moves to the new set instead of being copied."""
         current = materials.lights_key(material)
         wanted = (self.scene.as_pointer(), key)
         if current is not None and current != wanted:
             origin = self._origin(material)
             variant = self.index.get((origin, wanted))
-            if variant is None:
+            if variant is None and only_set and current[0] == wanted[0]:
+                if self.index.get((origin, current)) is material:
+                    del self.index[(origin, current)]
+                self.index[(origin, wanted)] = material
+                base = material.name.split(" [")[0].removeprefix("Phong ")
+                if material.name.startswith(f"Phong {base} ["):  # a generated name: follow
+                    material.name = self._name(base, reach, key)
+            elif variant is None:
                 variant = material.copy()
                 source = materials.source_of(material)
                 base = source.name if source is not None else material.name.removeprefix("Phong ")
@@ -124,20 +133,25 @@ class Sync:
     def relink(self, objects) -> int:
         """Every Phong material on *objects* pointed at its light set's group (groups
         rebuilt first); returns how many objects hold Phong materials."""
-        count = 0
+        uses = []
+        sets: dict = {}  # material pointer -> the light set keys its users want
         for obj in objects:
             if obj.type != "MESH" and not hasattr(obj.data, "materials"):
                 continue
             slots = [s for s in obj.material_slots if materials.is_phong_material(s.material)]
             if not slots:
                 continue
-            count += 1
             key, reach = self.light_set(obj)
+            uses.append((slots, key, reach))
             for slot in slots:
-                new = self.rewire(slot.material, key, reach)
+                sets.setdefault(slot.material.as_pointer(), set()).add(key)
+        for slots, key, reach in uses:
+            for slot in slots:
+                only_set = sets.get(slot.material.as_pointer(), {key}) == {key}
+                new = self.rewire(slot.material, key, reach, only_set)
                 if slot.material is not new:
                     slot.material = new
-        return count
+        return len(uses)
 
     def rebuild_groups(self) -> None:
         """Rebuild the groups of this scene's light sets that exist (lights changed), and
