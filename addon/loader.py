@@ -249,8 +249,6 @@ def _set_socket_values(item, spec) -> None:
         item.max_value = spec.max
     if spec.default is not None:
         item.default_value = spec.default
-    if spec.name in ("Normal", "View Vector"):
-        item.hide_value = False
 
 
 
