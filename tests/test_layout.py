@@ -41,7 +41,7 @@ def test_pure_packages_import_where_bpy_cannot():
     names = result.stdout.split()
     assert "LOADED" not in names, result.stdout
     for expected in ("node_groups.expr", "node_groups.library", "node_groups.reference",
-                     "core.scenes", "core.compare", "core.report", "core.outputs"):
+                     "core.scenes", "core.compare", "core.report", "core.outputs", "core.mtl"):
         assert expected in names, f"{expected} missing from {names}"
 
 
