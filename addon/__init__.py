@@ -6,7 +6,7 @@
 * ``lighting`` Phong materials driven by Blender lights: the material recipe, drivers, the
   lights' and world's Phong settings;
 * ``demos``    demo scenes from ``scenes/*.toml``, exact render settings, the comparison bake;
-* ``ui``       every operator, menu and panel;
+* ``ui``       every operator, menu and panel, and the asset library of the groups;
 * ``compat``   every difference between Blender versions.
 
 Register and unregister are symmetric.
@@ -14,9 +14,9 @@ Register and unregister are symmetric.
 
 from . import loader
 from .lighting import properties, sync
-from .ui import menus, operators, panels
+from .ui import assets, menus, operators, panels
 
-_modules = (operators, menus, properties, panels, loader, sync)
+_modules = (operators, menus, properties, panels, loader, sync, assets)
 
 
 def register():

@@ -62,6 +62,11 @@ def ensure_group(name: str):
     return tree, status
 
 
+def write_group(tree, name: str) -> None:
+    """Write the library's group *name* into *tree* (any file's data, e.g. temporary data)."""
+    _write(tree, GROUPS[name])
+
+
 def merge_copies() -> int:
     """Merge stamped copies (``Phong Shading.001`` after an append) into their group.
 

@@ -14,7 +14,7 @@ import blender_env as be
 
 
 INSTALL_AS_A_USER = """
-import json, sys
+import json, os, sys
 import bpy
 zip_path = sys.argv[1]
 result = bpy.ops.extensions.package_install_files(filepath=zip_path, repo="user_default",
@@ -23,8 +23,12 @@ module = "bl_ext.user_default.phong_nodes"
 enabled = module in bpy.context.preferences.addons
 bpy.ops.wm.read_homefile(use_empty=True)
 loaded = bpy.ops.phong.load_node_groups() if enabled else None
+libraries = [lib.path for lib in bpy.context.preferences.filepaths.asset_libraries
+             if lib.name == "Phong Nodes"]
 print("RESULT " + json.dumps({
     "install": sorted(result), "enabled": enabled, "load": sorted(loaded or ()),
+    "asset_libraries": libraries,
+    "asset_files": sorted(os.listdir(libraries[0])) if libraries else [],
     "groups": sorted(g.name for g in bpy.data.node_groups),
     "file": sys.modules[module].__file__ if module in sys.modules else None}))
 """
@@ -68,6 +72,12 @@ def test_zip_installs_and_enables_as_a_user_would(built, tmp_path):
     assert got["load"] == ["FINISHED"], got
     assert got["groups"] == sorted(be.SPEC_GROUPS), got["groups"]
     assert got["file"].startswith(str(tmp_path / "user")), got["file"]
+    # the asset library lives in the extension's user folder, not in the extension's own
+    (library,) = got["asset_libraries"]
+    assert library.startswith(str(tmp_path / "user")), library
+    assert not library.startswith(os.path.dirname(got["file"]) + os.sep), library
+    assert "blender_assets.cats.txt" in got["asset_files"]
+    assert [n for n in got["asset_files"] if n.startswith("phong_nodes_") and n.endswith(".blend")]
 
 
 def test_enabled_from_the_source_tree(extension):

@@ -107,7 +107,7 @@ def test_a_users_own_group_with_our_name_is_kept(bpy_clean):
 def test_shift_a_menu_lists_every_group_once(extension):
     from phong_nodes.addon.ui import menus  # noqa: PLC0415
 
-    listed = [name for _title, names in menus._SECTIONS for name in names]
+    listed = [name for _title, names in menus.SECTIONS for name in names]
     assert sorted(listed) == sorted(library.GROUPS)
     bpy = be.import_bpy()
     assert hasattr(bpy.types, "NODE_MT_phong_add")

@@ -5,7 +5,8 @@ import bpy
 
 from .operators import PHONG_OT_add_node_group, PHONG_OT_load_node_groups
 
-_SECTIONS = (
+#: The sections of Shift+A ▸ Phong, also the asset catalogs (``assets.py``).
+SECTIONS = (
     ("Lights", ("Phong Directional Light", "Phong Point Light", "Phong Spot Light",
                 "Phong Power Falloff")),
     ("Terms", ("Phong Irradiant", "Phong Ambient", "Phong Diffuse", "Phong Specular",
@@ -23,7 +24,7 @@ class NODE_MT_phong_add(bpy.types.Menu):
 
     def draw(self, context):
         layout = self.layout
-        for index, (_title, names) in enumerate(_SECTIONS):
+        for index, (_title, names) in enumerate(SECTIONS):
             if index:
                 layout.separator()
             for name in names:
