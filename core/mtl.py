@@ -15,7 +15,8 @@ statements follow Alias|Wavefront's *File Formats*, version 4.2 (1995), chapter 
 * ``#`` starts a comment, a line ending in ``\\`` continues on the next, CRLF line ends work.
 
 :func:`load` reads one library, :func:`libraries` lists the ``mtllib`` files an OBJ names and
-:func:`load_for_obj` reads them all.  Every error is an :class:`MtlError` that names the file
+:func:`load_for_obj` reads them all; :func:`dumps` writes materials back (numbers as the
+shortest text that reads back as the same float).  Every error is an :class:`MtlError` that names the file
 and line; nothing is half-read (an error raises before any result is returned).
 """
 
@@ -71,6 +72,7 @@ class Material:
     illum: int | None = None
     maps: dict = field(default_factory=dict)      # canonical keyword -> TextureMap
     others: list = field(default_factory=list)    # (line, statement) kept, not understood
+    comments: list = field(default_factory=list)  # written before newmtl by dumps()
 
     def unsupported(self) -> list:
         """What the Phong model cannot represent, one short phrase each (for one warning)."""
@@ -261,3 +263,40 @@ def load_for_obj(obj_path: str):
                 continue
             materials[material.name] = material
     return materials, warnings
+
+
+# -- writing --------------------------------------------------------------------------
+
+def _number_text(value: float) -> str:
+    """The shortest text that reads back as the same float (an exact round trip)."""
+    text = repr(float(value))
+    return text[:-2] if text.endswith(".0") else text
+
+
+def _value_text(value) -> str:
+    return _number_text(value) if isinstance(value, float) else str(value)
+
+
+def dumps(materials, header: str = "") -> str:
+    """MTL text for *materials* (:class:`Material`: colours, scalars, illum, maps with their
+    options; each material's ``comments`` come before its ``newmtl``)."""
+    lines = [f"# {line}" if line else "#" for line in header.splitlines()]
+    for material in materials:
+        if lines:
+            lines.append("")
+        lines += [f"# {comment}" for comment in material.comments]
+        lines.append(f"newmtl {material.name}")
+        for key in ("Ka", "Kd", "Ks", "Ke", "Tf"):
+            if key in material.colors:
+                lines.append(f"{key} " + " ".join(_number_text(v) for v in material.colors[key]))
+        for key in ("Ns", "Ni", "d", "Tr", "sharpness"):
+            if key in material.scalars:
+                lines.append(f"{key} {_number_text(material.scalars[key])}")
+        if material.illum is not None:
+            lines.append(f"illum {material.illum}")
+        for key, texture in material.maps.items():
+            options = "".join(
+                f"{option} {' '.join(_value_text(v) for v in values)} "
+                for option, values in texture.options.items())
+            lines.append(f"{key} {options}{texture.path}")
+    return "\n".join(lines) + "\n"

@@ -130,3 +130,29 @@ def test_latin1_names_are_read(tmp_path):
     path = tmp_path / "old.mtl"
     path.write_bytes("newmtl Béton\nKd 0.5 0.5 0.5\n".encode("latin-1"))
     assert [m.name for m in mtl.load(str(path))] == ["Béton"]
+
+
+def test_dumps_reads_back_the_same_values(tmp_path):
+    import numpy as np
+
+    f32 = [float(np.float32(v)) for v in (0.1, 0.7, 1 / 3)]
+    wood = mtl.Material("wood", "", 0, colors={"Ka": (f32[0], f32[1], f32[2]),
+                                               "Kd": (f32[0], f32[1], f32[2]),
+                                               "Ks": (1.0, 1.0, 1.0), "Ke": (0.0, 0.0, 0.0)},
+                        scalars={"Ns": 30.0}, illum=2,
+                        comments=["Phong highlight (r·v)^Ns: MTL illum 2 is Blinn"])
+    wood.maps["map_Kd"] = mtl.TextureMap("textures/my wood.png", "", {"-s": (2.0, 2.0, 1.0)}, 0)
+    text = mtl.dumps([wood, mtl.Material("flat", "", 0, colors={"Kd": (0.5, 0.5, 0.5)},
+                                         illum=1)], header="made by a test")
+    assert text.splitlines()[:4] == ["# made by a test", "",
+                                     "# Phong highlight (r·v)^Ns: MTL illum 2 is Blinn",
+                                     "newmtl wood"]
+    assert "Ks 1 1 1" in text and "Ns 30\n" in text
+    assert "map_Kd -s 2 2 1 textures/my wood.png" in text
+    path = write(tmp_path, "out.mtl", text)
+    back_wood, back_flat = mtl.load(path)
+    assert back_wood.colors == wood.colors, "floats read back bit for bit"
+    assert back_wood.scalars == {"Ns": 30.0} and back_wood.illum == 2
+    assert back_wood.maps["map_Kd"].path == "textures/my wood.png"
+    assert back_wood.maps["map_Kd"].options == {"-s": (2.0, 2.0, 1.0)}
+    assert back_flat.colors == {"Kd": (0.5, 0.5, 0.5)} and back_flat.illum == 1

@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""Every operator of the extension: the node-group library, Phong materials, demo scenes
-and the comparison bake.  The work itself is done by the feature packages; an operator
+"""Every operator of the extension: the node-group library, Phong materials, demo scenes,
+the comparison bake and the MTL export.  The work itself is done by the feature packages; an operator
 checks its input, calls them and reports."""
 
 from __future__ import annotations
@@ -9,12 +9,14 @@ import os
 import tempfile
 
 import bpy
-from bpy.props import EnumProperty, IntProperty, StringProperty
+from bpy.props import BoolProperty, EnumProperty, IntProperty, StringProperty
+from bpy_extras.io_utils import ExportHelper
 
 from ...core import compare, outputs, scenes
 from ...node_groups.library import GROUPS
 from .. import loader
 from ..demos import bake, builder
+from ..interchange import mtl_export
 from ..lighting import materials
 from ..lighting import sync as sync_mod
 
@@ -321,6 +323,51 @@ reference of the formulas and write images, heatmaps, a sheet and metrics.json""
         return self.execute(context)
 
 
+# -- interchange ---------------------------------------------------------------------
+
+class PHONG_OT_export_mtl(bpy.types.Operator, ExportHelper):
+    """Write the Phong materials as a Wavefront MTL library (Ka = Kd = Object Color, Ks, Ns, \
+Ke, illum 2)"""
+
+    bl_idname = "phong.export_mtl"
+    bl_label = "Export Phong Materials (.mtl)"
+    bl_options = {"REGISTER"}
+
+    filename_ext = ".mtl"
+    filter_glob: StringProperty(default="*.mtl", options={"HIDDEN"})
+    selection_only: BoolProperty(name="Selected Objects Only", default=False,
+                                 description="Only the Phong materials of the selected objects")
+
+    def execute(self, context):
+        if self.selection_only:
+            found = {slot.material for obj in (context.selected_objects or [])
+                     for slot in obj.material_slots if materials.is_phong_material(slot.material)}
+            chosen = [m for m in materials.phong_materials() if m in found]
+            where = "the selected objects have"
+        else:
+            chosen = materials.phong_materials()
+            where = "the file has"
+        if not chosen:
+            self.report({"ERROR"}, f"Export Phong MTL: {where} no Phong material; "
+                                   "run Apply Phong Material first")
+            return {"CANCELLED"}
+        path = bpy.path.abspath(self.filepath)
+        if not path or os.path.isdir(path) or not os.path.isdir(os.path.dirname(path) or "."):
+            self.report({"ERROR"}, f"Export Phong MTL: {path!r} is not a file in an existing "
+                                   "folder")
+            return {"CANCELLED"}
+        try:
+            warnings = mtl_export.export(chosen, path)
+        except OSError as error:
+            self.report({"ERROR"}, f"Export Phong MTL: cannot write {path}: "
+                                   f"{error.strerror or error}")
+            return {"CANCELLED"}
+        if warnings:
+            self.report({"WARNING"}, "Export Phong MTL: " + "; ".join(warnings))
+        self.report({"INFO"}, f"Wrote {len(chosen)} Phong material(s) to {path}")
+        return {"FINISHED"}
+
+
 def _show_image(context, path):
     """Open *path* in an Image Editor (an existing one, else a new window); no-op headless."""
     image = bpy.data.images.load(path, check_existing=True)
@@ -340,7 +387,7 @@ def _show_image(context, path):
 
 classes = (PHONG_OT_load_node_groups, PHONG_OT_add_node_group, PHONG_OT_apply_material,
            PHONG_OT_relink_lights, PHONG_OT_restore_materials, PHONG_OT_add_term_passes,
-           PHONG_OT_build_demo_scene, PHONG_OT_bake_comparison)
+           PHONG_OT_build_demo_scene, PHONG_OT_bake_comparison, PHONG_OT_export_mtl)
 
 
 register, unregister = bpy.utils.register_classes_factory(classes)

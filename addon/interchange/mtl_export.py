@@ -1,0 +1,118 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Phong materials written as Wavefront MTL (File ▸ Export ▸ Phong Materials (.mtl)).
+
+The seeds' model is MTL's illumination model 2 with Ka = Kd: its ambient term is
+i_a·Cl_a ⊗ Object Color (docs/model.md §Ambient), so a Phong material is written as
+
+    Ka, Kd = Object Color    Ks = Specular Color    Ns = Exponent
+    Ke = Irradiant Color     illum 2 (1 when Specular Color is black)
+
+MTL's highlight is Blinn's (h·n)^Ns: a material whose Blinn control is below 1 (the seeds'
+(r·v)^e, or a mix) gets a comment in the file and the export one warning naming it.  An
+image texture feeding Object Color is written as ``map_Kd`` and ``map_Ka`` (with Kd, Ka
+= 1, since MTL multiplies a map by its colour), its path relative to the MTL file; other
+node chains cannot be written and are named in a warning.  Material names have their spaces
+replaced by underscores, as Blender's OBJ exporter writes them in ``usemtl``.
+"""
+
+from __future__ import annotations
+
+import os
+
+import bpy
+
+from ...core import mtl
+from ..lighting import materials as recipe
+
+HEADER = "Phong materials written by Phong Nodes (docs/model.md: MTL illum 2 with Ka = Kd)"
+
+
+def _input(material, name):
+    node = material.node_tree.nodes.get(recipe.LIGHTS_NODE)
+    return node.inputs[name] if node is not None else None
+
+
+def _plain(value):
+    return tuple(value) if hasattr(value, "__len__") else float(value)
+
+
+def _source(material, input_name, control):
+    """(value, node feeding the input when it is not the control) of a recipe input."""
+    node = material.node_tree.nodes.get(control)
+    value = _plain(node.outputs[0].default_value) if node is not None else None
+    socket = _input(material, input_name)
+    if socket is None:
+        return value, None
+    if not socket.is_linked:
+        return _plain(socket.default_value), None
+    upstream = socket.links[0].from_node
+    return value, (None if upstream.name == control else upstream)
+
+
+def _rgb(value):
+    return tuple(float(v) for v in value[:3])
+
+
+def _image_path(image, mtl_folder) -> str:
+    path = bpy.path.abspath(image.filepath, library=image.library)
+    try:
+        return os.path.relpath(path, mtl_folder)
+    except ValueError:  # another drive (Windows)
+        return path
+
+
+def to_mtl(material, mtl_folder):
+    """(mtl.Material, warnings) for the Phong material *material*."""
+    out = mtl.Material(material.name.replace(" ", "_"), "", 0)
+    warnings = []
+    color, feeder = _source(material, "Object Color", "phong_object_color")
+    if feeder is not None and feeder.bl_idname == "ShaderNodeTexImage" and feeder.image \
+            and not feeder.image.packed_file:
+        path = _image_path(feeder.image, mtl_folder)
+        out.maps["map_Ka"] = mtl.TextureMap(path, "", {}, 0)
+        out.maps["map_Kd"] = mtl.TextureMap(path, "", {}, 0)
+        color = (1.0, 1.0, 1.0)
+    elif feeder is not None:
+        what = (f"packed image {feeder.image.name!r} (unpack it to write map_Kd)"
+                if getattr(feeder, "image", None) is not None else f"node {feeder.name!r}")
+        warnings.append(f"{material.name}: Object Color comes from {what}; Kd is the "
+                        "Object Color control's value")
+    out.colors["Ka"] = out.colors["Kd"] = _rgb(color)
+    specular, feeder_s = _source(material, "Specular Color", "phong_specular_color")
+    exponent, feeder_e = _source(material, "Exponent", "phong_exponent")
+    blinn, feeder_b = _source(material, "Blinn", "phong_blinn")
+    irradiant, feeder_i = _source(material, "Irradiant Color", "phong_irradiant_color")
+    for name, feeder in (("Specular Color", feeder_s), ("Exponent", feeder_e),
+                         ("Blinn", feeder_b), ("Irradiant Color", feeder_i)):
+        if feeder is not None:
+            warnings.append(f"{material.name}: {name} comes from node {feeder.name!r}; "
+                            "the control's value is written")
+    out.colors["Ks"] = _rgb(specular)
+    out.colors["Ke"] = _rgb(irradiant)
+    out.scalars["Ns"] = float(exponent)
+    out.illum = 2 if any(out.colors["Ks"]) else 1
+    if out.illum == 2 and float(blinn) < 1.0:
+        kind = "the Phong highlight (r·v)^Ns" if float(blinn) == 0.0 else \
+            f"a mix of Phong and Blinn highlights (Blinn {float(blinn):g})"
+        out.comments.append(f"this material uses {kind}; MTL illum 2 is Blinn's (h·n)^Ns")
+        warnings.append(f"{material.name}: {kind}, written as MTL illum 2, which is Blinn's")
+    return out, warnings
+
+
+def export(phong_materials, filepath) -> list:
+    """Write *phong_materials* to *filepath* (atomically); returns the warnings."""
+    folder = os.path.dirname(os.path.abspath(filepath))
+    written, warnings = [], []
+    for material in phong_materials:
+        entry, notes = to_mtl(material, folder)
+        written.append(entry)
+        warnings += notes
+    partial = filepath + ".partial"
+    try:
+        with open(partial, "w", encoding="utf-8", newline="\n") as fh:
+            fh.write(mtl.dumps(written, header=HEADER))
+        os.replace(partial, filepath)
+    finally:
+        if os.path.exists(partial):
+            os.remove(partial)
+    return warnings

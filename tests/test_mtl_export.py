@@ -1,0 +1,107 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""File ▸ Export ▸ Phong Materials (.mtl): each Phong material's values, read back by
+core/mtl.py, are the controls' values bit for bit; textures become maps; what MTL cannot
+say is said in a comment and a warning; bad input writes nothing."""
+
+from __future__ import annotations
+
+import os
+
+import numpy as np
+import pytest
+
+import blender_env as be
+from phong_nodes.core import mtl
+from phong_scene import _light
+
+
+def _f32(values):
+    return tuple(float(np.float32(v)) for v in values)
+
+
+def _principled(bpy, name, color, image=None):
+    material = bpy.data.materials.new(name)
+    tree = be.compat().new_material_tree(material)
+    bsdf = tree.nodes["Principled BSDF"]
+    bsdf.inputs["Base Color"].default_value = color
+    if image is not None:
+        tex = tree.nodes.new("ShaderNodeTexImage")
+        tex.image = image
+        tree.links.new(tex.outputs["Color"], bsdf.inputs["Base Color"])
+    return material
+
+
+def _scene(bpy, tmp_path):
+    scene = be.new_scene("Export", 8, 8)
+    bpy.context.window.scene = scene
+    image = bpy.data.images.new("bricks", 4, 4)
+    image.filepath_raw = str(tmp_path / "textures" / "bricks.png")
+    os.makedirs(tmp_path / "textures")
+    image.file_format = "PNG"
+    image.save()
+    clay = be.add_uv_sphere(scene, "Clay ball", (0, 0, 0), 0.5,
+                            _principled(bpy, "Red clay", (0.7, 0.3, 0.1, 1)))
+    wall = be.add_uv_sphere(scene, "Wall", (2, 0, 0), 0.5,
+                            _principled(bpy, "Bricks", (0.2, 0.2, 0.2, 1), image))
+    _light(bpy, scene, "Key", "POINT", (0, -3, 3))
+    for obj in scene.objects:
+        obj.select_set(obj.type == "MESH")
+    assert bpy.ops.phong.apply_material() == {"FINISHED"}
+    red, bricks = clay.active_material, wall.active_material
+    nodes = red.node_tree.nodes
+    nodes["phong_specular_color"].outputs[0].default_value = (0.5, 0.6, 0.7, 1)
+    nodes["phong_exponent"].outputs[0].default_value = 12.5
+    nodes["phong_irradiant_color"].outputs[0].default_value = (0.01, 0.02, 0.03, 1)
+    nodes = bricks.node_tree.nodes
+    nodes["phong_specular_color"].outputs[0].default_value = (0, 0, 0, 1)
+    nodes["phong_blinn"].outputs[0].default_value = 1.0
+    return red, bricks
+
+
+def test_export_writes_the_controls_exactly(bpy_clean, tmp_path, capfd):
+    bpy = bpy_clean
+    red, _bricks = _scene(bpy, tmp_path)
+    out = tmp_path / "out" / "scene.mtl"
+    os.makedirs(out.parent)
+    capfd.readouterr()
+    assert bpy.ops.phong.export_mtl(filepath=str(out)) == {"FINISHED"}
+    logged = "".join(capfd.readouterr())
+    text = out.read_text()
+    by_name = {m.name: m for m in mtl.load(str(out))}
+    assert sorted(by_name) == ["Phong_Bricks", "Phong_Red_clay"]
+    clay = by_name["Phong_Red_clay"]
+    colour = tuple(red.node_tree.nodes["phong_object_color"].outputs[0].default_value)[:3]
+    assert clay.colors["Kd"] == clay.colors["Ka"] == colour == _f32((0.7, 0.3, 0.1))
+    assert clay.colors["Ks"] == _f32((0.5, 0.6, 0.7))
+    assert clay.colors["Ke"] == _f32((0.01, 0.02, 0.03))
+    assert clay.scalars == {"Ns": 12.5} and clay.illum == 2
+    assert "# this material uses the Phong highlight (r·v)^Ns; MTL illum 2 is Blinn's" in text
+    assert ("Phong Red clay: the Phong highlight (r·v)^Ns, written as MTL illum 2, which is "
+            "Blinn's") in logged
+    bricks = by_name["Phong_Bricks"]
+    assert bricks.illum == 1 and bricks.colors["Kd"] == (1.0, 1.0, 1.0)
+    assert bricks.maps["map_Kd"].path == os.path.join("..", "textures", "bricks.png")
+    assert bricks.maps["map_Kd"].exists and bricks.maps["map_Ka"].exists
+    assert "Phong Bricks:" not in logged, "nothing lost for the textured Blinn material"
+
+
+def test_selection_only_and_bad_input_write_nothing(bpy_clean, tmp_path):
+    bpy = bpy_clean
+    scene = be.new_scene("Empty", 8, 8)
+    bpy.context.window.scene = scene
+    out = tmp_path / "none.mtl"
+    with pytest.raises(RuntimeError, match="Export Phong MTL: the file has no Phong material; "
+                                           "run Apply Phong Material first"):
+        bpy.ops.phong.export_mtl(filepath=str(out))
+    red, _bricks = _scene(bpy, tmp_path)
+    with pytest.raises(RuntimeError, match="is not a file in an existing folder"):
+        bpy.ops.phong.export_mtl(filepath=str(tmp_path / "missing" / "x.mtl"))
+    for obj in bpy.context.scene.objects:
+        obj.select_set(False)
+    with pytest.raises(RuntimeError, match="the selected objects have no Phong material"):
+        bpy.ops.phong.export_mtl(filepath=str(out), selection_only=True)
+    assert not out.exists() and not (tmp_path / "missing").exists()
+    bpy.data.objects["Clay ball"].select_set(True)
+    assert bpy.ops.phong.export_mtl(filepath=str(out), selection_only=True) == {"FINISHED"}
+    assert [m.name for m in mtl.load(str(out))] == ["Phong_Red_clay"]
+    assert not [n for n in os.listdir(tmp_path) if n.endswith(".partial")]
