@@ -54,7 +54,8 @@ def test_zip_builds_validates_and_has_no_tests(built):
     for folder in ("tests/", "tools/", "benchmarks/", "docs/", ".ci/"):
         assert not [n for n in names if n.startswith(folder)], f"the zip ships {folder}"
     assert not [n for n in names if n.endswith(".pyc") or "__pycache__" in n]
-    for package in ("node_groups", "core", "addon", "addon/lighting", "addon/demos", "addon/ui"):
+    for package in ("node_groups", "core", "addon", "addon/lighting", "addon/demos", "addon/ui",
+                    "addon/interchange"):
         assert f"{package}/__init__.py" in names, f"{package} missing from the zip"
 
 
