@@ -185,7 +185,7 @@ def test_file_of_the_previous_version_upgrades(bpy_clean):
     assert material["phong_nodes_material"] == 1 and material.node_tree.animation_data
     assert bpy.ops.phong.relink_lights() == {"FINISHED"}
     nodes = material.node_tree.nodes
-    assert material["phong_nodes_material"] == 2
+    assert material["phong_nodes_material"] == 3
     assert not [n for n in nodes if n.name.startswith("phong_gen:")]
     assert not (material.node_tree.animation_data and material.node_tree.animation_data.drivers)
     assert nodes["phong_exponent"].outputs[0].default_value == pytest.approx(12.0)
@@ -405,3 +405,69 @@ def test_renaming_a_linked_light_moves_materials_without_copies(bpy_clean):
     assert list(lights_tree(stone)["phong_lights"]) == ["Sky"]
     assert sorted(g.name for g in bpy.data.node_groups if g.name.startswith("Phong Lights")) \
         == ["Phong Lights Linked", "Phong Lights Linked [Sky]"]
+
+
+def test_ambient_object_color_follows_object_color_or_its_own_link(bpy_clean, blender_tmp):
+    """The ambient light sees the Object Color (the seeds' model) unless the material links
+    its own colour into Ambient Object Color (MTL's Ka): exact in Cycles, kept on Relink."""
+    bpy = bpy_clean
+    scene = be.new_scene("Ka", 16, 8)
+    bpy.context.window.scene = scene
+    scene.world.phong.ambient_intensity = 0.5
+    scene.world.phong.ambient_color = (1.0, 0.5, 0.25)
+    planes = [be.add_uv_plane(scene, f"P{i}", -2.0 + 2.0 * i, -1.0, 2.0,
+                              _principled(bpy, f"M{i}", (0.9, 0.8, 0.7, 1.0)))
+              for i in range(2)]
+    be.add_ortho_camera(scene, (0.0, 0.0), 4.0, 2.0)
+    _select(bpy, scene, planes)
+    assert bpy.ops.phong.apply_material() == {"FINISHED"}
+    assert bpy.ops.phong.add_term_passes() == {"FINISHED"}
+    own = planes[1].active_material
+    tree = own.node_tree
+    ka = tree.nodes.new("ShaderNodeRGB")
+    ka.outputs[0].default_value = (0.2, 0.4, 0.6, 1.0)
+    tree.links.new(ka.outputs[0], tree.nodes["phong_lights"].inputs["Ambient Object Color"])
+    assert bpy.ops.phong.relink_lights() == {"FINISHED"}
+    assert tree.nodes["phong_lights"].inputs["Ambient Object Color"].links[0].from_node == ka
+    passes, _seconds = render(bpy, scene, str(blender_tmp / "ka.exr"))
+    light = 0.5 * np.array([1.0, 0.5, 0.25])
+    np.testing.assert_allclose(passes["Phong Color"][4, 4, :3],
+                               light * np.float32([0.9, 0.8, 0.7]), atol=1e-6)
+    np.testing.assert_allclose(passes["Phong Color"][4, 12, :3],
+                               light * np.float32([0.2, 0.4, 0.6]), atol=1e-6)
+    np.testing.assert_allclose(passes["Phong Ambient"][4, 12, :3],
+                               light * np.float32([0.2, 0.4, 0.6]), atol=1e-6)
+
+
+def test_a_layout_2_textured_material_upgrades_keeping_its_texture(bpy_clean, tmp_path):
+    """Materials made before Ambient Object Color (layout 2, rig 1) gain it on Relink; the
+    links to the group's other sockets, a texture on Object Color included, are kept."""
+    bpy = bpy_clean
+    scene = be.new_scene("Old", 8, 8)
+    image = bpy.data.images.new("checker", 4, 4, alpha=False)
+    source = _principled(bpy, "Tiles", (0.5, 0.5, 0.5, 1.0))
+    texture = source.node_tree.nodes.new("ShaderNodeTexImage")
+    texture.image = image
+    bsdf = source.node_tree.nodes["Principled BSDF"]
+    source.node_tree.links.new(texture.outputs["Color"], bsdf.inputs["Base Color"])
+    ball = _sphere(bpy, scene, "Ball", (0, 0, 0), source)
+    _light(bpy, scene, "Key", "POINT", (0, -3, 3))
+    _select(bpy, scene, [ball])
+    assert bpy.ops.phong.apply_material() == {"FINISHED"}
+    material = ball.active_material
+    group = lights_tree(material)
+    # what layout 2 looked like: no Ambient Object Color, rig version 1
+    item = next(i for i in group.interface.items_tree if i.name == "Ambient Object Color")
+    group.interface.remove(item)
+    group["phong_lights_version"] = 1
+    material["phong_nodes_material"] = 2
+    node = material.node_tree.nodes["phong_lights"]
+    assert "Ambient Object Color" not in node.inputs
+    assert bpy.ops.phong.relink_lights() == {"FINISHED"}
+    node = material.node_tree.nodes["phong_lights"]
+    assert material["phong_nodes_material"] == 3
+    feeds = {name: node.inputs[name].links[0].from_node.name
+             for name in ("Object Color", "Ambient Object Color", "Specular Color", "Exponent")}
+    assert feeds["Object Color"] == feeds["Ambient Object Color"] == texture.name
+    assert (feeds["Specular Color"], feeds["Exponent"]) == ("phong_specular_color",
+                                                             "phong_exponent")

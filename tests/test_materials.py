@@ -119,8 +119,7 @@ def test_lights_drive_phong_materials_cycles(bpy_clean, blender_tmp):
         assert tree2.nodes["light:Spot"].inputs["Edge Exponent"].default_value == 5.0
         np.testing.assert_allclose(tree2.nodes["shading:Spot"].inputs["Light Color"].default_value[:3],
                                    (0.1, 0.2, 0.3), atol=1e-7)
-        assert tree2.nodes["shading:Point"].inputs["Ambient Intensity"].default_value == \
-            pytest.approx(0.3)
+        assert tree2.nodes["ambient"].inputs["Intensity"].default_value == pytest.approx(0.3)
     finally:
         prefs.use_scripts_auto_execute = auto_exec
         bpy.ops.wm.read_homefile(use_empty=True)
@@ -162,7 +161,9 @@ def test_apply_is_idempotent_and_relink_follows_lights(bpy_clean):
     n_materials = len(bpy.data.materials)
     tree = lights_tree(plane.active_material)
     first, name = _counts(tree), tree.name
-    assert first[0]["Phong Shading"] == 3 and first[0]["Phong Color Add"] == 2
+    # one Phong Shading per light, one Phong Ambient, a Color Add for each shading
+    assert first[0]["Phong Shading"] == 3 and first[0]["Phong Color Add"] == 3
+    assert first[0]["Phong Ambient"] == 1
     for _ in range(2):
         assert bpy.ops.phong.apply_material() == {"FINISHED"}
         assert bpy.ops.phong.relink_lights() == {"FINISHED"}
@@ -193,8 +194,8 @@ def test_apply_is_idempotent_and_relink_follows_lights(bpy_clean):
     assert bpy.ops.phong.relink_lights() == {"FINISHED"}
     tree = lights_tree(plane.active_material)
     kinds, n = _counts(tree)
-    assert kinds["Phong Shading"] == 1 and "Phong Color Add" not in kinds
-    assert tree.nodes["shading:ambient"].inputs["Light Intensity"].default_value == 0.0
+    assert kinds["Phong Shading"] == 1 and kinds["Phong Color Add"] == 1
+    assert tree.nodes["shading:irradiant"].inputs["Light Intensity"].default_value == 0.0
     assert n == 4, "only the world's ambient intensity and colour remain driven"
     _assert_drivers_ok(tree)
 

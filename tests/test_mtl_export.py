@@ -105,3 +105,17 @@ def test_selection_only_and_bad_input_write_nothing(bpy_clean, tmp_path):
     assert bpy.ops.phong.export_mtl(filepath=str(out), selection_only=True) == {"FINISHED"}
     assert [m.name for m in mtl.load(str(out))] == ["Phong_Red_clay"]
     assert not [n for n in os.listdir(tmp_path) if n.endswith(".partial")]
+
+
+def test_own_ambient_object_color_is_written_as_ka(bpy_clean, tmp_path):
+    bpy = bpy_clean
+    red, _bricks = _scene(bpy, tmp_path)
+    tree = red.node_tree
+    ka = tree.nodes.new("ShaderNodeRGB")
+    ka.outputs[0].default_value = (0.05, 0.1, 0.15, 1.0)
+    tree.links.new(ka.outputs[0], tree.nodes["phong_lights"].inputs["Ambient Object Color"])
+    out = tmp_path / "ka.mtl"
+    assert bpy.ops.phong.export_mtl(filepath=str(out)) == {"FINISHED"}
+    clay = {m.name: m for m in mtl.load(str(out))}["Phong_Red_clay"]
+    assert clay.colors["Ka"] == _f32((0.05, 0.1, 0.15))
+    assert clay.colors["Kd"] == _f32((0.7, 0.3, 0.1))

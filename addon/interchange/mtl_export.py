@@ -4,14 +4,15 @@
 The seeds' model is MTL's illumination model 2 with Ka = Kd: its ambient term is
 i_a·Cl_a ⊗ Object Color (docs/model.md §Ambient), so a Phong material is written as
 
-    Ka, Kd = Object Color    Ks = Specular Color    Ns = Exponent
-    Ke = Irradiant Color     illum 2 (1 when Specular Color is black)
+    Kd = Object Color        Ka = Ambient Object Color (= Kd unless the material links its own)
+    Ks = Specular Color      Ns = Exponent     Ke = Irradiant Color
+    illum 2 (1 when Specular Color is black)
 
 MTL's highlight is Blinn's (h·n)^Ns: a material whose Blinn control is below 1 (the seeds'
 (r·v)^e, or a mix) gets a comment in the file and the export one warning naming it.  An
-image texture feeding Object Color is written as ``map_Kd`` and ``map_Ka`` (with Kd, Ka
-= 1, since MTL multiplies a map by its colour), its path relative to the MTL file; other
-node chains cannot be written and are named in a warning.  Material names have their spaces
+image texture feeding Object Color (or Ambient Object Color) is written as ``map_Kd`` (or
+``map_Ka``) with colour 1, since MTL multiplies a map by its colour, its path relative to the
+MTL file; other node chains cannot be written and are named in a warning.  Material names have their spaces
 replaced by underscores, as Blender's OBJ exporter writes them in ``usemtl``.
 """
 
@@ -61,23 +62,47 @@ def _image_path(image, mtl_folder) -> str:
         return path
 
 
+def _map_or_value(material, input_name, control, mtl_folder, warnings):
+    """(colour, image path or None) of a colour input: its control's value, or an image
+    texture's file (colour 1: MTL multiplies a map by its colour)."""
+    color, feeder = _source(material, input_name, control)
+    if feeder is None:
+        return color, None
+    if feeder.bl_idname == "ShaderNodeTexImage" and feeder.image and not feeder.image.packed_file:
+        return (1.0, 1.0, 1.0), _image_path(feeder.image, mtl_folder)
+    if feeder.bl_idname == "ShaderNodeRGB":
+        return tuple(feeder.outputs[0].default_value), None
+    what = (f"packed image {feeder.image.name!r} (unpack it to write a map)"
+            if getattr(feeder, "image", None) is not None else f"node {feeder.name!r}")
+    warnings.append(f"{material.name}: {input_name} comes from {what}; the control's value "
+                    "is written")
+    return color, None
+
+
 def to_mtl(material, mtl_folder):
     """(mtl.Material, warnings) for the Phong material *material*."""
     out = mtl.Material(material.name.replace(" ", "_"), "", 0)
     warnings = []
-    color, feeder = _source(material, "Object Color", "phong_object_color")
-    if feeder is not None and feeder.bl_idname == "ShaderNodeTexImage" and feeder.image \
-            and not feeder.image.packed_file:
-        path = _image_path(feeder.image, mtl_folder)
-        out.maps["map_Ka"] = mtl.TextureMap(path, "", {}, 0)
-        out.maps["map_Kd"] = mtl.TextureMap(path, "", {}, 0)
-        color = (1.0, 1.0, 1.0)
-    elif feeder is not None:
-        what = (f"packed image {feeder.image.name!r} (unpack it to write map_Kd)"
-                if getattr(feeder, "image", None) is not None else f"node {feeder.name!r}")
-        warnings.append(f"{material.name}: Object Color comes from {what}; Kd is the "
-                        "Object Color control's value")
-    out.colors["Ka"] = out.colors["Kd"] = _rgb(color)
+    color, image = _map_or_value(material, "Object Color", "phong_object_color", mtl_folder,
+                                 warnings)
+    out.colors["Kd"] = _rgb(color)
+    if image is not None:
+        out.maps["map_Kd"] = mtl.TextureMap(image, "", {}, 0)
+    ambient = _input(material, recipe.AMBIENT_INPUT)
+    object_color = _input(material, "Object Color")
+    if ambient is not None and not ambient.is_linked:
+        out.colors["Ka"] = _rgb(ambient.default_value)
+    elif ambient is None or (object_color.is_linked and
+                             ambient.links[0].from_socket == object_color.links[0].from_socket):
+        out.colors["Ka"] = out.colors["Kd"]          # the seeds' model: Ka = Kd
+        if image is not None:
+            out.maps["map_Ka"] = mtl.TextureMap(image, "", {}, 0)
+    else:
+        ka, ka_image = _map_or_value(material, recipe.AMBIENT_INPUT, "phong_object_color",
+                                     mtl_folder, warnings)
+        out.colors["Ka"] = _rgb(ka)
+        if ka_image is not None:
+            out.maps["map_Ka"] = mtl.TextureMap(ka_image, "", {}, 0)
     specular, feeder_s = _source(material, "Specular Color", "phong_specular_color")
     exponent, feeder_e = _source(material, "Exponent", "phong_exponent")
     blinn, feeder_b = _source(material, "Blinn", "phong_blinn")

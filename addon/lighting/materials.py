@@ -6,7 +6,9 @@ A Phong material holds, and nothing else:
 * the frame **Phong Controls**: Object Color, Specular Color, Exponent, Blinn, Irradiant
   Color (RGB / Value nodes), the material's own values.  A texture that fed the source
   material's Base Color (the whole chain of nodes before it) is kept and feeds Object Color;
-* one node of the scene's lights group (``rig.py``) for the light set of its objects;
+* one node of the scene's lights group (``rig.py``) for the light set of its objects; its
+  Ambient Object Color is linked from whatever feeds Object Color (the seeds' model), unless
+  the material links its own (an MTL ``Ka``);
 * the Material Output (the group's Shader: an emission of the model's colour) and AOV
   outputs "Phong Color", "Phong Irradiant", "Phong Ambient", "Phong Diffuse",
   "Phong Specular" (add them to the view layer with ``phong.add_term_passes``).
@@ -27,7 +29,7 @@ from . import drivers, rig
 #: Custom property that marks a Phong material; its value is the layout version (1: the
 #: layout of version 0.1, every light's nodes and drivers in the material).
 MATERIAL_TAG = "phong_nodes_material"
-LAYOUT = 2
+LAYOUT = 3
 SOURCE_KEY = "phong_source"
 #: Marks a Phong material made for a slot that had no material.
 EMPTY_SOURCE_KEY = "phong_source_empty"
@@ -50,6 +52,9 @@ CONTROLS = {
                               "Irradiant Color"),
 }
 OLD_GENERATED = "phong_gen:"  # prefix of the per-light nodes of layout 1
+#: Input of the lights group for the colour the ambient light sees (MTL's Ka).  Linked from
+#: whatever feeds Object Color unless the material has its own (layout 3).
+AMBIENT_INPUT = "Ambient Object Color"
 
 
 def is_phong_material(material) -> bool:
@@ -183,6 +188,9 @@ def wire(material, lights_group, object_color=None) -> None:
             tree.links.new(controls[control].outputs[0], node.inputs[target])
     if object_color is not None:
         tree.links.new(object_color, node.inputs["Object Color"])
+    ambient = node.inputs[AMBIENT_INPUT]
+    if not ambient.is_linked:  # the seeds' model: the ambient light sees the Object Color
+        tree.links.new(node.inputs["Object Color"].links[0].from_socket, ambient)
     tree.links.new(node.outputs["Shader"], _output(tree).inputs["Surface"])
     for index, (aov_name, socket) in enumerate(AOVS.items()):
         aov = tree.nodes.get(f"phong_aov:{aov_name}")

@@ -6,15 +6,18 @@ that every Phong material of that light set uses (one node).  Its inputs are the
 own values, its outputs the model's colour, each term and the shader:
 
     inputs   Object Color, Specular Color, Exponent, Blinn, Irradiant Color, Normal,
-             View Vector
+             View Vector, Ambient Object Color
     outputs  Color, Irradiant, Ambient, Diffuse, Specular, Shader
 
-Inside (docs/contract.md, "Several lights"): per light, a light-model group (Phong Point /
-Directional / Spot Light) and a Phong Shading, driven by the light without Python
-(``drivers.py``); ambient (from the World) and irradiant on the first Phong Shading only;
-Color is the Phong Color Add chain of the shadings' colours, Diffuse and Specular the sums of
-the shadings' terms.  With no light: one Phong Shading with Light Intensity 0 (ambient +
-irradiant; black when both are zero: docs/model.md §No light at all).
+Inside (docs/contract.md, "Several lights"): one Phong Ambient of the World's ambient light
+and the Ambient Object Color (the colour the ambient light sees: MTL's Ka; a material links
+it from its Object Color unless it has its own), and per light a light-model group (Phong
+Point / Directional / Spot Light) and a Phong Shading with its ambient off, driven by the
+light without Python (``drivers.py``); irradiant on the first Phong Shading only.  Color is
+the Phong Color Add chain of the ambient and the shadings' colours (the clamped sum of all
+terms: min is taken once over non-negative terms), Diffuse and Specular the sums of the
+shadings' terms.  With no light: one Phong Shading with Light Intensity 0 for the irradiant
+(ambient + irradiant; black when both are zero: docs/model.md §No light at all).
 
 The number of drivers depends on the lights (about 15 per light), not on the objects.
 """
@@ -32,7 +35,7 @@ from .lights import SUPPORTED
 SCENE_KEY = "phong_lights_scene"
 SET_KEY = "phong_lights_set"
 #: Bump when the layout of the lights group changes.
-RIG_VERSION = 1
+RIG_VERSION = 2
 VERSION_KEY = "phong_lights_version"
 ALL = "*"
 
@@ -44,6 +47,8 @@ INPUTS = (  # (name, socket type, default)
     ("Irradiant Color", "NodeSocketColor", (0.0, 0.0, 0.0, 1.0)),
     ("Normal", "NodeSocketVector", (0.0, 0.0, 0.0)),
     ("View Vector", "NodeSocketVector", (0.0, 0.0, 0.0)),
+    # last, so that the sockets before it keep their identifiers (and links) on upgrade
+    ("Ambient Object Color", "NodeSocketColor", (0.8, 0.8, 0.8, 1.0)),
 )
 TERMS = ("Irradiant", "Ambient", "Diffuse", "Specular")
 OUTPUTS = (("Color", "NodeSocketColor"),) + tuple((t, "NodeSocketColor") for t in TERMS) + (
@@ -140,14 +145,17 @@ def build(tree, lights, world) -> None:
                          f'["{properties.LIGHT_KEYS[attr][0]}"]')
         shadings.append(shading)
     if not lights:
-        shading = _shading_node(tree, group_in, "shading:ambient", (-300.0, 0.0), True)
+        shading = _shading_node(tree, group_in, "shading:irradiant", (-300.0, 0.0), True)
         shading.inputs["Light Intensity"].default_value = 0.0
         shadings.append(shading)
-    _drive_ambient(shadings[0], world)
-    for other in shadings[1:]:
-        other.inputs["Ambient Intensity"].default_value = 0.0
-        other.inputs["Irradiant Color"].default_value = (0.0, 0.0, 0.0, 1.0)
-    _sums(tree, shadings, group_out, out_x)
+    for index, shading in enumerate(shadings):
+        shading.inputs["Ambient Intensity"].default_value = 0.0
+        if index:
+            shading.inputs["Irradiant Color"].default_value = (0.0, 0.0, 0.0, 1.0)
+    ambient = _group_node(tree, "Phong Ambient", "ambient", (-300.0, 520.0))
+    tree.links.new(group_in.outputs["Ambient Object Color"], ambient.inputs["Object Color"])
+    _drive_ambient(ambient, world)
+    _sums(tree, ambient, shadings, group_out, out_x)
     tree[VERSION_KEY] = RIG_VERSION
     tree["phong_lights"] = [obj.name for obj in lights]
 
@@ -159,6 +167,9 @@ def _interface(tree) -> None:
     want = ([("OUTPUT", n, t) for n, t in OUTPUTS] + [("INPUT", n, t) for n, t, _d in INPUTS])
     if have == want:
         return
+    if set(have) <= set(want) and have == [w for w in want if w in set(have)]:
+        _append_sockets(tree, have, want)  # an older rig: links to its sockets are kept
+        return
     tree.interface.clear()
     for name, socket_type in OUTPUTS:
         tree.interface.new_socket(name, in_out="OUTPUT", socket_type=socket_type)
@@ -167,6 +178,21 @@ def _interface(tree) -> None:
         item.default_value = default
         if name == "Blinn":
             item.min_value, item.max_value = 0.0, 1.0
+
+
+def _append_sockets(tree, have, want) -> None:
+    """Add the sockets of INPUTS / OUTPUTS that *tree* lacks, at their places."""
+    defaults = {name: default for name, _type, default in INPUTS}
+    for in_out, name, socket_type in want:
+        if (in_out, name, socket_type) in have:
+            continue
+        item = tree.interface.new_socket(name, in_out=in_out, socket_type=socket_type)
+        if name in defaults:
+            item.default_value = defaults[name]
+    items = [i for i in tree.interface.items_tree if i.item_type == "SOCKET"]
+    for position, (in_out, name, _type) in enumerate(want):
+        item = next(i for i in items if i.in_out == in_out and i.name == name)
+        tree.interface.move(item, position)
 
 
 def _group_node(tree, group_name, name, location):
@@ -200,35 +226,40 @@ def _light_node(tree, obj, location):
 def _shading_node(tree, group_in, name, location, first):
     node = _group_node(tree, "Phong Shading", name, location)
     for socket_name, _type, _default in INPUTS:
-        if socket_name == "Irradiant Color" and not first:
+        if (socket_name == "Irradiant Color" and not first) or socket_name not in node.inputs:
             continue
         tree.links.new(group_in.outputs[socket_name], node.inputs[socket_name])
     return node
 
 
 def _drive_ambient(node, world) -> None:
+    """The Phong Ambient node's light: the World's Phong ambient intensity and colour."""
     if world is None:
-        node.inputs["Ambient Intensity"].default_value = properties.AMBIENT_INTENSITY[1]
-        node.inputs["Ambient Color"].default_value = (*properties.AMBIENT_COLOR[1], 1.0)
+        node.inputs["Intensity"].default_value = properties.AMBIENT_INTENSITY[1]
+        node.inputs["Light Color"].default_value = (*properties.AMBIENT_COLOR[1], 1.0)
         return
     properties.ensure_world_props(world)
-    drivers.prop(node.inputs["Ambient Intensity"], None, "WORLD", world,
+    drivers.prop(node.inputs["Intensity"], None, "WORLD", world,
                  f'["{properties.AMBIENT_INTENSITY[0]}"]')
-    drivers.color(node.inputs["Ambient Color"], "WORLD", world,
+    drivers.color(node.inputs["Light Color"], "WORLD", world,
                   f'["{properties.AMBIENT_COLOR[0]}"]')
 
 
-def _sums(tree, shadings, group_out, out_x) -> None:
-    """Color: Phong Color Add chain; Diffuse, Specular: sums; Irradiant, Ambient: the first."""
+def _sums(tree, ambient, shadings, group_out, out_x) -> None:
+    """Color: Phong Color Add chain of the ambient and the shadings' colours; Diffuse,
+    Specular: sums; Irradiant: the first shading's; Ambient: the Phong Ambient's."""
     links = tree.links
-    color = shadings[0].outputs["Color"]
+    color = ambient.outputs["Color"]
     terms = {t: shadings[0].outputs[t] for t in TERMS}
-    for index, shading in enumerate(shadings[1:], start=1):
+    terms["Ambient"] = ambient.outputs["Color"]
+    for index, shading in enumerate(shadings):
         x = 0.0 + 180.0 * index
         add = _group_node(tree, "Phong Color Add", f"add:{index}", (x, 300.0))
         links.new(color, add.inputs["A"])
         links.new(shading.outputs["Color"], add.inputs["B"])
         color = add.outputs["Color"]
+        if not index:
+            continue
         for row, term in enumerate(("Diffuse", "Specular")):
             node = tree.nodes.new("ShaderNodeVectorMath")
             node.name = f"{term.lower()}:{index}"
@@ -240,13 +271,9 @@ def _sums(tree, shadings, group_out, out_x) -> None:
     links.new(color, group_out.inputs["Color"])
     for term, socket in terms.items():
         links.new(socket, group_out.inputs[term])
-    if len(shadings) == 1:
-        shader = shadings[0].outputs["Shader"]
-    else:
-        emission = tree.nodes.new("ShaderNodeEmission")
-        emission.name = "emission"
-        emission.location = (out_x, 300.0)
-        emission.inputs["Strength"].default_value = 1.0
-        links.new(color, emission.inputs["Color"])
-        shader = emission.outputs["Emission"]
-    links.new(shader, group_out.inputs["Shader"])
+    emission = tree.nodes.new("ShaderNodeEmission")
+    emission.name = "emission"
+    emission.location = (out_x, 300.0)
+    emission.inputs["Strength"].default_value = 1.0
+    links.new(color, emission.inputs["Color"])
+    links.new(emission.outputs["Emission"], group_out.inputs["Shader"])
