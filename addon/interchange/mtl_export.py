@@ -70,6 +70,9 @@ def _map_or_value(material, input_name, control, mtl_folder, warnings):
         return color, None
     if feeder.bl_idname == "ShaderNodeTexImage" and feeder.image and not feeder.image.packed_file:
         return (1.0, 1.0, 1.0), _image_path(feeder.image, mtl_folder)
+    multiplied = _colour_times_map(feeder)
+    if multiplied is not None and not multiplied[1].packed_file:
+        return multiplied[0], _image_path(multiplied[1], mtl_folder)
     if feeder.bl_idname == "ShaderNodeRGB":
         return tuple(feeder.outputs[0].default_value), None
     what = (f"packed image {feeder.image.name!r} (unpack it to write a map)"
@@ -77,6 +80,21 @@ def _map_or_value(material, input_name, control, mtl_folder, warnings):
     warnings.append(f"{material.name}: {input_name} comes from {what}; the control's value "
                     "is written")
     return color, None
+
+
+def _colour_times_map(node):
+    """(colour, image) when *node* is the OBJ importer's colour x map (a Vector Math Multiply
+    of an RGB node and an Image Texture), else None."""
+    if node.bl_idname != "ShaderNodeVectorMath" or node.operation != "MULTIPLY":
+        return None
+    a, b = node.inputs[0], node.inputs[1]
+    if not (a.is_linked and b.is_linked):
+        return None
+    rgb, texture = a.links[0].from_node, b.links[0].from_node
+    if rgb.bl_idname != "ShaderNodeRGB" or texture.bl_idname != "ShaderNodeTexImage" \
+            or texture.image is None:
+        return None
+    return tuple(rgb.outputs[0].default_value), texture.image
 
 
 def to_mtl(material, mtl_folder):

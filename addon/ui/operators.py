@@ -10,13 +10,14 @@ import tempfile
 
 import bpy
 from bpy.props import BoolProperty, EnumProperty, IntProperty, StringProperty
-from bpy_extras.io_utils import ExportHelper
+from bpy_extras.io_utils import ExportHelper, ImportHelper
 
 from ...core import compare, outputs, scenes
 from ...node_groups.library import GROUPS
 from .. import loader
 from ..demos import bake, builder
-from ..interchange import mtl_export
+from ...core import mtl
+from ..interchange import mtl_export, obj_import
 from ..lighting import materials
 from ..lighting import sync as sync_mod
 
@@ -368,6 +369,34 @@ Ke, illum 2)"""
         return {"FINISHED"}
 
 
+class PHONG_OT_import_obj(bpy.types.Operator, ImportHelper):
+    """Import a Wavefront OBJ with its MTL materials as exact Phong materials driven by the \
+scene's lights (Ka, Kd, Ks, Ns, Ke, illum 0-2, maps); the importer's materials are kept"""
+
+    bl_idname = "phong.import_obj"
+    bl_label = "Import Wavefront (.obj) as Phong"
+    bl_options = {"REGISTER", "UNDO"}
+
+    filename_ext = ".obj"
+    filter_glob: StringProperty(default="*.obj", options={"HIDDEN"})
+
+    def execute(self, context):
+        path = bpy.path.abspath(self.filepath)
+        try:
+            objects, done, warnings = obj_import.import_obj(context, path)
+        except mtl.MtlError as error:
+            self.report({"ERROR"}, f"Import OBJ as Phong: {error}; nothing imported")
+            return {"CANCELLED"}
+        except RuntimeError as error:
+            self.report({"ERROR"}, f"Import OBJ as Phong: {error}")
+            return {"CANCELLED"}
+        for warning in warnings:
+            self.report({"WARNING"}, f"Import OBJ as Phong: {warning}")
+        self.report({"INFO"}, f"Imported {len(objects)} object(s) with {len(done)} Phong "
+                              f"material(s) from {os.path.basename(path)}")
+        return {"FINISHED"}
+
+
 def _show_image(context, path):
     """Open *path* in an Image Editor (an existing one, else a new window); no-op headless."""
     image = bpy.data.images.load(path, check_existing=True)
@@ -387,7 +416,8 @@ def _show_image(context, path):
 
 classes = (PHONG_OT_load_node_groups, PHONG_OT_add_node_group, PHONG_OT_apply_material,
            PHONG_OT_relink_lights, PHONG_OT_restore_materials, PHONG_OT_add_term_passes,
-           PHONG_OT_build_demo_scene, PHONG_OT_bake_comparison, PHONG_OT_export_mtl)
+           PHONG_OT_build_demo_scene, PHONG_OT_bake_comparison, PHONG_OT_export_mtl,
+           PHONG_OT_import_obj)
 
 
 register, unregister = bpy.utils.register_classes_factory(classes)

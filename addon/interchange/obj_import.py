@@ -1,0 +1,200 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Wavefront OBJ imported with its MTL materials as exact Phong materials.
+
+Blender's own OBJ importer reads the geometry (and makes Principled approximations of the
+materials); the MTL libraries are read first by ``core/mtl.py``, so a bad library refuses the
+import before anything is added.  Every imported material is then converted by the same path
+as Apply Phong Material (``lighting/sync.py``: the Principled material is kept as the source,
+Restore Original Materials puts it back) and given the MTL's values, term by term:
+
+    illum 0   colour only: Irradiant Color = Kd (Object Color, Ambient, Specular black)
+    illum 1   Ka ambient + Kd Lambert: Specular Color black
+    illum 2   + Ks (h·n)^Ns highlight: Blinn = 1 (MTL's highlight is Blinn's)
+    Ke        Irradiant Color (illum 1 and 2)
+
+A colour missing from the MTL is black (MTL's formula has no other default); a missing Ns
+keeps the recipe's 30.  ``map_Ka``, ``map_Kd``, ``map_Ks`` and ``map_Ke`` multiply their colour
+(MTL: "the map value is multiplied by the K value"), ``bump``/``map_Bump`` goes through a Bump
+node (strength ``-bm``) into Normal.  What the model cannot represent (``MtlMaterial.unsupported``)
+is reported once per material; a missing texture file is named in a warning and left out.
+"""
+
+from __future__ import annotations
+
+import os
+
+import bpy
+
+from ...core import mtl
+from ..lighting import materials as recipe
+from ..lighting import sync as sync_mod
+
+#: lights-group input -> (MTL colour, MTL map, control node of the recipe or our own)
+COLOR_INPUTS = {
+    "Object Color": ("Kd", "map_Kd", "phong_object_color"),
+    recipe.AMBIENT_INPUT: ("Ka", "map_Ka", "phong_ambient_color"),
+    "Specular Color": ("Ks", "map_Ks", "phong_specular_color"),
+    "Irradiant Color": ("Ke", "map_Ke", "phong_irradiant_color"),
+}
+MAP_NODE = "phong_mtl_map:"        # + input name: the Image Texture of a map
+MULTIPLY_NODE = "phong_mtl_mul:"   # + input name: colour x map
+BUMP_NODE = "phong_mtl_bump"
+BLACK = (0.0, 0.0, 0.0)
+
+
+def _mtl_name(material, by_name):
+    """The MTL material a Blender material was imported from (the importer may add .001)."""
+    if material.name in by_name:
+        return by_name[material.name]
+    base, dot, suffix = material.name.rpartition(".")
+    return by_name.get(base) if dot and suffix.isdigit() else None
+
+
+def values(source: mtl.Material) -> dict:
+    """{lights-group input: colour} and the scalars of *source*, term by term."""
+    colors = {name: tuple(source.colors.get(key, BLACK)) for name, (key, _m, _c) in
+              COLOR_INPUTS.items()}
+    illum = 2 if source.illum is None else source.illum
+    if illum == 0:
+        colors = {name: BLACK for name in colors}
+        colors["Irradiant Color"] = tuple(source.colors.get("Kd", BLACK))
+    elif illum == 1:
+        colors["Specular Color"] = BLACK
+    return {"colors": colors, "exponent": source.scalars.get("Ns"),
+            "blinn": 1.0, "illum": illum}
+
+
+def _image(texture, warnings, where):
+    if not texture.exists:
+        warnings.append(f"{where}: texture {texture.path} not found ({texture.resolved}); "
+                        "left out")
+        return None
+    return bpy.data.images.load(texture.resolved, check_existing=True)
+
+
+def _rgb_node(tree, name, label, color, location):
+    node = tree.nodes.get(name)
+    if node is None or node.bl_idname != "ShaderNodeRGB":
+        node = tree.nodes.new("ShaderNodeRGB")
+        node.name = name
+    node.label = label
+    node.outputs[0].default_value = (*color[:3], 1.0)
+    node.location = location
+    frame = tree.nodes.get(recipe.FRAME)
+    if frame is not None:
+        node.parent = frame
+    return node
+
+
+def _prune(tree, keep) -> None:
+    """Remove nodes left over from the importer's material that feed nothing any more."""
+    while True:
+        doomed = [n for n in tree.nodes if n.name not in keep and n.bl_idname != "NodeFrame"
+                  and not n.bl_idname.startswith("ShaderNodeOutput")
+                  and not any(o.is_linked for o in n.outputs)]
+        if not doomed:
+            return
+        for node in doomed:
+            tree.nodes.remove(node)
+
+
+def apply_mtl(material, source: mtl.Material, warnings: list) -> None:
+    """Give the Phong material *material* the values and maps of *source*."""
+    tree = material.node_tree
+    lights = tree.nodes[recipe.LIGHTS_NODE]
+    wanted = values(source)
+    keep = set(recipe.CONTROLS) | {recipe.LIGHTS_NODE, recipe.OUTPUT}
+    where = f"{source.path}:{source.line} ({source.name})"
+    for index, (name, (_key, map_key, control)) in enumerate(COLOR_INPUTS.items()):
+        color = wanted["colors"][name]
+        if control in recipe.CONTROLS:
+            node = tree.nodes[control]
+            node.outputs[0].default_value = (*color[:3], 1.0)
+        else:
+            node = _rgb_node(tree, control, "Ambient Color (Ka)", color,
+                             (-880.0, 260.0 - 190.0 * len(recipe.CONTROLS)))
+        keep.add(control)
+        socket = node.outputs[0]
+        texture = source.maps.get(map_key) if wanted["illum"] or name == "Irradiant Color" \
+            else None
+        if wanted["illum"] == 0 and name == "Irradiant Color":
+            texture = source.maps.get("map_Kd")
+        image = _image(texture, warnings, where) if texture is not None else None
+        if image is not None:
+            socket = _multiplied(tree, name, socket, image, index)
+            keep |= {MAP_NODE + name, MULTIPLY_NODE + name}
+        tree.links.new(socket, lights.inputs[name])
+    tree.nodes["phong_exponent"].outputs[0].default_value = (
+        30.0 if wanted["exponent"] is None else wanted["exponent"])
+    tree.nodes["phong_blinn"].outputs[0].default_value = wanted["blinn"]
+    bump = source.maps.get("bump")
+    image = _image(bump, warnings, where) if bump is not None else None
+    if image is not None:
+        keep |= _bump(tree, lights, image, bump.options.get("-bm", (1.0,))[0])
+    elif lights.inputs["Normal"].is_linked:
+        tree.links.remove(lights.inputs["Normal"].links[0])
+    _prune(tree, keep)
+    problems = source.unsupported()
+    if source.illum is not None and source.illum > 2:
+        problems = [p for p in problems if not p.startswith("illum")] + [
+            f"illum {source.illum} (imported as illum 2)"]
+    if problems:
+        warnings.append(f"{where}: not representable, left out: " + ", ".join(problems))
+
+
+def _multiplied(tree, name, color_socket, image, index):
+    texture = tree.nodes.get(MAP_NODE + name) or tree.nodes.new("ShaderNodeTexImage")
+    texture.name = MAP_NODE + name
+    texture.label = f"{name} map"
+    texture.image = image
+    texture.location = (-1150.0, 200.0 - 300.0 * index)
+    multiply = tree.nodes.get(MULTIPLY_NODE + name) or tree.nodes.new("ShaderNodeVectorMath")
+    multiply.name = MULTIPLY_NODE + name
+    multiply.operation = "MULTIPLY"
+    multiply.location = (-600.0, 200.0 - 300.0 * index)
+    tree.links.new(color_socket, multiply.inputs[0])
+    tree.links.new(texture.outputs["Color"], multiply.inputs[1])
+    return multiply.outputs["Vector"]
+
+
+def _bump(tree, lights, image, strength) -> set:
+    image.colorspace_settings.name = "Non-Color"
+    texture = tree.nodes.get(MAP_NODE + "bump") or tree.nodes.new("ShaderNodeTexImage")
+    texture.name = MAP_NODE + "bump"
+    texture.image = image
+    texture.location = (-1150.0, -1100.0)
+    bump = tree.nodes.get(BUMP_NODE) or tree.nodes.new("ShaderNodeBump")
+    bump.name = BUMP_NODE
+    bump.location = (-600.0, -1100.0)
+    bump.inputs["Strength"].default_value = min(max(float(strength), 0.0), 1.0)
+    tree.links.new(texture.outputs["Color"], bump.inputs["Height"])
+    tree.links.new(bump.outputs["Normal"], lights.inputs["Normal"])
+    return {MAP_NODE + "bump", BUMP_NODE}
+
+
+def import_obj(context, filepath):
+    """Import *filepath*; returns (new objects, Phong materials, warnings).  Raises
+    ``mtl.MtlError`` (nothing imported) for a missing or unreadable file or a bad library,
+    RuntimeError when Blender's importer fails."""
+    if not os.path.isfile(filepath):
+        raise mtl.MtlError(filepath, 0, "file not found")
+    by_name, warnings = mtl.load_for_obj(filepath)
+    before = set(bpy.data.objects)
+    result = bpy.ops.wm.obj_import(filepath=filepath)
+    if result != {"FINISHED"}:
+        raise RuntimeError(f"Blender's OBJ importer returned {sorted(result)}")
+    new = [o for o in bpy.data.objects if o not in before and o.type == "MESH"]
+    sync = sync_mod.Sync(context.scene, context.view_layer)
+    sync.rebuild_groups()
+    done = {}
+    for obj in new:
+        sources = [_mtl_name(slot.material, by_name) if slot.material else None
+                   for slot in obj.material_slots]
+        for phong, source in zip(sync.apply(obj), sources):
+            if source is not None and phong.name not in done:
+                apply_mtl(phong, source, warnings)
+                done[phong.name] = phong
+    sync.relink(context.scene.objects)
+    sync.finish()
+    sync_mod.remember(context.scene, context.view_layer)
+    return new, list(done.values()), warnings
