@@ -119,3 +119,34 @@ def test_own_ambient_object_color_is_written_as_ka(bpy_clean, tmp_path):
     clay = {m.name: m for m in mtl.load(str(out))}["Phong_Red_clay"]
     assert clay.colors["Ka"] == _f32((0.05, 0.1, 0.15))
     assert clay.colors["Kd"] == _f32((0.7, 0.3, 0.1))
+
+
+def test_obj_export_option_writes_exact_phong_entries_and_keeps_the_others(bpy_clean,
+                                                                          tmp_path):
+    bpy = bpy_clean
+    red, _bricks = _scene(bpy, tmp_path)
+    scene = bpy.context.scene
+    plain = bpy.data.materials.new("Plain paint")
+    be.compat().new_material_tree(plain).nodes["Principled BSDF"].inputs[
+        "Base Color"].default_value = (0.25, 0.5, 0.75, 1.0)
+    be.add_uv_sphere(scene, "Untouched", (4, 0, 0), 0.5, plain)
+    out = tmp_path / "scene.obj"
+    assert bpy.ops.phong.export_obj(filepath=str(out)) == {"FINISHED"}
+    text = out.read_text()
+    assert "mtllib scene.mtl" in text and "usemtl Phong_Red_clay" in text
+    by_name = {m.name: m for m in mtl.load(str(tmp_path / "scene.mtl"))}
+    assert {"Phong_Red_clay", "Phong_Bricks", "Plain_paint"} <= set(by_name)
+    clay = by_name["Phong_Red_clay"]
+    assert clay.colors["Kd"] == _f32((0.7, 0.3, 0.1)) and clay.colors["Ks"] == _f32((0.5, 0.6, 0.7))
+    assert clay.scalars["Ns"] == 12.5 and clay.illum == 2
+    assert by_name["Plain_paint"].colors["Kd"] == pytest.approx((0.25, 0.5, 0.75), abs=1e-6), \
+        "Blender's own entry for a material that is not Phong"
+    # and back in: the Phong controls of the imported copy equal the exported ones
+    be.reset_empty_file()
+    scene = be.new_scene("Back", 8, 8)
+    bpy.context.window.scene = scene
+    assert bpy.ops.phong.import_obj(filepath=str(out)) == {"FINISHED"}
+    back = bpy.data.materials["Phong Phong_Red_clay"].node_tree.nodes
+    assert tuple(back["phong_object_color"].outputs[0].default_value)[:3] == \
+        _f32((0.7, 0.3, 0.1))
+    assert back["phong_exponent"].outputs[0].default_value == 12.5

@@ -1,8 +1,12 @@
 #!/usr/bin/env python3
-"""Make docs/lights_workflow.png: the artist workflow of README.md, done by a script.
+"""Make the README's pictures by script (Eevee, Standard view transform).
 
-Three ordinary Blender lights (a warm point light, a cool sun, a spot with a soft edge),
-three meshes, `bpy.ops.phong.apply_material()`, one Eevee render (Standard view transform).
+* docs/lights_workflow.png: three ordinary Blender lights (a warm point light, a cool sun, a
+  spot with a soft edge), three meshes, `bpy.ops.phong.apply_material()`;
+* docs/obj_import.png: an OBJ/MTL file of four spheres with classic materials of the OpenGL
+  material table (brass, jade, ruby, chrome: Ka, Kd, Ks, Ns), written here and imported by
+  `bpy.ops.phong.import_obj()`, lit by a point light and the ambient light.
+
 Run: .venv/bin/python tools/readme_pictures.py
 """
 
@@ -78,8 +82,88 @@ def main():
     print(out)
 
 
+#: name -> (Ka, Kd, Ks, shininess as a fraction of 128): the classic OpenGL material table.
+CLASSIC = {
+    "brass": ((0.329412, 0.223529, 0.027451), (0.780392, 0.568627, 0.113725),
+              (0.992157, 0.941176, 0.807843), 0.21794872),
+    "jade": ((0.135, 0.2225, 0.1575), (0.54, 0.89, 0.63), (0.316228, 0.316228, 0.316228), 0.1),
+    "ruby": ((0.1745, 0.01175, 0.01175), (0.61424, 0.04136, 0.04136),
+             (0.727811, 0.626959, 0.626959), 0.6),
+    "chrome": ((0.25, 0.25, 0.25), (0.4, 0.4, 0.4), (0.774597, 0.774597, 0.774597), 0.6),
+}
+
+
+def _sphere_obj(lines, offset, centre, radius=0.9, rings=24, segments=48):
+    """OBJ lines (Y up) of a UV sphere; returns the next vertex offset."""
+    first = offset
+    for ring in range(rings + 1):
+        theta = math.pi * ring / rings
+        for seg in range(segments):
+            phi = 2 * math.pi * seg / segments
+            n = (math.sin(theta) * math.cos(phi), math.cos(theta), math.sin(theta) * math.sin(phi))
+            lines.append("v " + " ".join(f"{c + radius * d:.6f}" for c, d in zip(centre, n)))
+            lines.append("vn " + " ".join(f"{d:.6f}" for d in n))
+    for ring in range(rings):
+        for seg in range(segments):
+            a = first + ring * segments + seg
+            b = first + ring * segments + (seg + 1) % segments
+            c, d = b + segments, a + segments
+            lines.append(f"f {a}//{a} {b}//{b} {c}//{c} {d}//{d}")  # outward
+    return first + (rings + 1) * segments
+
+
+def obj_import_picture():
+    import tempfile
+
+    import bpy
+
+    from phong_nodes.addon import compat
+
+    bpy.ops.wm.read_homefile(use_empty=True)
+    scene = bpy.context.scene
+    world = bpy.data.worlds.new("World")
+    compat.black_world(world)
+    scene.world = world
+    world.phong.ambient_intensity = 1.0
+    folder = tempfile.mkdtemp(prefix="phong_classic_")
+    mtl_lines = ["# The classic OpenGL material table: Ka, Kd, Ks, Ns = 128 * shininess"]
+    obj_lines = ["# Four spheres, one per classic material", "mtllib classic.mtl"]
+    offset = 1
+    for index, (name, (ka, kd, ks, shininess)) in enumerate(CLASSIC.items()):
+        mtl_lines += [f"newmtl {name}", "Ka " + " ".join(map(str, ka)),
+                      "Kd " + " ".join(map(str, kd)), "Ks " + " ".join(map(str, ks)),
+                      f"Ns {128 * shininess:.4f}", "illum 2"]
+        obj_lines += [f"o {name}", f"usemtl {name}"]
+        offset = _sphere_obj(obj_lines, offset, ((index - 1.5) * 2.1, 0.0, 0.0))
+    with open(os.path.join(folder, "classic.mtl"), "w") as fh:
+        fh.write("\n".join(mtl_lines) + "\n")
+    with open(os.path.join(folder, "classic.obj"), "w") as fh:
+        fh.write("\n".join(obj_lines) + "\n")
+    light = bpy.data.objects.new("Key", bpy.data.lights.new("Key", "POINT"))
+    light.location = (-3.0, -6.0, 5.0)
+    light.data.phong.intensity = 55.0
+    scene.collection.objects.link(light)
+    assert bpy.ops.phong.import_obj(filepath=os.path.join(folder, "classic.obj")) == {"FINISHED"}
+    camera = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
+    camera.data.type = "ORTHO"
+    camera.data.ortho_scale = 8.8
+    camera.location, camera.rotation_euler = (0, -10, 0), (math.pi / 2, 0, 0)
+    scene.collection.objects.link(camera)
+    scene.camera = camera
+    scene.render.engine = compat.eevee_engine()
+    scene.eevee.taa_render_samples = 16
+    scene.view_settings.view_transform = "Standard"
+    scene.render.resolution_x, scene.render.resolution_y = 640, 180
+    compat.set_png(scene.render.image_settings)
+    out = os.path.join(ROOT, "docs", "obj_import.png")
+    scene.render.filepath = out
+    bpy.ops.render.render(write_still=True)
+    print(out)
+
+
 if __name__ == "__main__":
     main()
+    obj_import_picture()
     from phong_nodes.addon import compat
 
     compat.exit_process(0)

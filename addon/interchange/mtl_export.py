@@ -159,3 +159,36 @@ def export(phong_materials, filepath) -> list:
         if os.path.exists(partial):
             os.remove(partial)
     return warnings
+
+
+def export_obj(phong_by_name, filepath, selection_only=False) -> list:
+    """Blender's own OBJ export of the scene (geometry, ``usemtl`` names, its MTL), whose MTL
+    then gets the exact entry of every Phong material (*phong_by_name*: material name ->
+    material); the other materials keep Blender's entries.  Returns the warnings."""
+    result = bpy.ops.wm.obj_export(filepath=filepath, export_materials=True,
+                                   export_selected_objects=selection_only)
+    if result != {"FINISHED"}:
+        raise RuntimeError(f"Blender's OBJ exporter returned {sorted(result)}")
+    mtl_path = os.path.splitext(filepath)[0] + ".mtl"
+    if not os.path.isfile(mtl_path):   # no material at all: nothing to replace
+        return []
+    folder = os.path.dirname(os.path.abspath(mtl_path))
+    by_mtl_name = {m.name.replace(" ", "_"): m for m in phong_by_name.values()}
+    entries, warnings = [], []
+    for entry in mtl.load(mtl_path):
+        material = by_mtl_name.get(entry.name)
+        if material is None:
+            entries.append(entry)
+            continue
+        exact, notes = to_mtl(material, folder)
+        entries.append(exact)
+        warnings += notes
+    partial = mtl_path + ".partial"
+    try:
+        with open(partial, "w", encoding="utf-8", newline="\n") as fh:
+            fh.write(mtl.dumps(entries, header=HEADER + "; other materials as Blender wrote them"))
+        os.replace(partial, mtl_path)
+    finally:
+        if os.path.exists(partial):
+            os.remove(partial)
+    return warnings

@@ -4,8 +4,8 @@ Export ▸ Phong Materials (.mtl)."""
 
 import bpy
 
-from .operators import (PHONG_OT_add_node_group, PHONG_OT_export_mtl, PHONG_OT_import_obj,
-                        PHONG_OT_load_node_groups)
+from .operators import (PHONG_OT_add_node_group, PHONG_OT_export_mtl, PHONG_OT_export_obj,
+                        PHONG_OT_import_obj, PHONG_OT_load_node_groups)
 
 #: The sections of Shift+A ▸ Phong, also the asset catalogs (``assets.py``).
 SECTIONS = (
@@ -45,6 +45,7 @@ def _draw_add_menu(self, context):
 
 
 def _draw_export_menu(self, _context):
+    self.layout.operator(PHONG_OT_export_obj.bl_idname, text="Wavefront (.obj) with Phong Materials")
     self.layout.operator(PHONG_OT_export_mtl.bl_idname, text="Phong Materials (.mtl)")
 
 

@@ -369,6 +369,37 @@ Ke, illum 2)"""
         return {"FINISHED"}
 
 
+class PHONG_OT_export_obj(bpy.types.Operator, ExportHelper):
+    """Export Wavefront OBJ with Blender's exporter, its MTL holding the exact values of \
+every Phong material (the other materials as Blender writes them)"""
+
+    bl_idname = "phong.export_obj"
+    bl_label = "Export Wavefront (.obj) with Phong Materials"
+    bl_options = {"REGISTER"}
+
+    filename_ext = ".obj"
+    filter_glob: StringProperty(default="*.obj", options={"HIDDEN"})
+    selection_only: BoolProperty(name="Selected Objects Only", default=False,
+                                 description="Only the selected objects")
+
+    def execute(self, context):
+        path = bpy.path.abspath(self.filepath)
+        if not path or os.path.isdir(path) or not os.path.isdir(os.path.dirname(path) or "."):
+            self.report({"ERROR"}, f"Export OBJ with Phong: {path!r} is not a file in an "
+                                   "existing folder")
+            return {"CANCELLED"}
+        phong = {m.name: m for m in materials.phong_materials()}
+        try:
+            warnings = mtl_export.export_obj(phong, path, self.selection_only)
+        except (OSError, RuntimeError, mtl.MtlError) as error:
+            self.report({"ERROR"}, f"Export OBJ with Phong: {error}")
+            return {"CANCELLED"}
+        if warnings:
+            self.report({"WARNING"}, "Export OBJ with Phong: " + "; ".join(warnings))
+        self.report({"INFO"}, f"Wrote {path} and its MTL")
+        return {"FINISHED"}
+
+
 class PHONG_OT_import_obj(bpy.types.Operator, ImportHelper):
     """Import a Wavefront OBJ with its MTL materials as exact Phong materials driven by the \
 scene's lights (Ka, Kd, Ks, Ns, Ke, illum 0-2, maps); the importer's materials are kept"""
@@ -417,7 +448,7 @@ def _show_image(context, path):
 classes = (PHONG_OT_load_node_groups, PHONG_OT_add_node_group, PHONG_OT_apply_material,
            PHONG_OT_relink_lights, PHONG_OT_restore_materials, PHONG_OT_add_term_passes,
            PHONG_OT_build_demo_scene, PHONG_OT_bake_comparison, PHONG_OT_export_mtl,
-           PHONG_OT_import_obj)
+           PHONG_OT_import_obj, PHONG_OT_export_obj)
 
 
 register, unregister = bpy.utils.register_classes_factory(classes)
