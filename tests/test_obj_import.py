@@ -203,3 +203,22 @@ def test_missing_obj_file(bpy_clean, tmp_path):
     bpy = bpy_clean
     with pytest.raises(RuntimeError, match=r"Import OBJ as Phong: .*nowhere.obj: file not found"):
         _import(bpy, str(tmp_path / "nowhere.obj"))
+
+
+@pytest.mark.cycles
+@pytest.mark.parametrize("file_name, values", [
+    ("blender_tile.obj", {"Ka": (1.0, 1.0, 1.0), "Kd": (0.1, 0.3, 0.6), "Ks": (0.5, 0.5, 0.5),
+                          "Ns": 562.5, "Ke": (0.0, 0.0, 0.0), "illum": 2}),
+    ("trimesh_box.obj", {"Ka": (0.2, 0.2, 0.2), "Kd": (0.8, 0.4, 0.2),
+                         "Ks": (0.50196078,) * 3, "Ns": 40.0, "illum": 2}),
+])
+def test_files_of_other_programs_render_the_mtl_formula(bpy_clean, blender_tmp, file_name,
+                                                        values):
+    """The centre of the upward face (the tile, the box's top) against the formula of the
+    values read from the file by hand (see tests/data/obj)."""
+    bpy = bpy_clean
+    scene, _sun = _lit_scene(bpy, file_name)
+    assert _import(bpy, os.path.join(DATA, file_name)) == {"FINISHED"}
+    assert bpy.ops.phong.add_term_passes() == {"FINISHED"}
+    passes, _seconds = render(bpy, scene, str(blender_tmp / f"{file_name}.exr"))
+    np.testing.assert_allclose(passes["Phong Color"][10, 33, :3], expected(values), atol=2e-6)
