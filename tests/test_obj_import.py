@@ -222,3 +222,15 @@ def test_files_of_other_programs_render_the_mtl_formula(bpy_clean, blender_tmp, 
     assert bpy.ops.phong.add_term_passes() == {"FINISHED"}
     passes, _seconds = render(bpy, scene, str(blender_tmp / f"{file_name}.exr"))
     np.testing.assert_allclose(passes["Phong Color"][10, 33, :3], expected(values), atol=2e-6)
+
+
+def test_a_file_without_geometry_says_so(bpy_clean, tmp_path, capfd):
+    bpy = bpy_clean
+    _lit_scene(bpy, "Empty")
+    path = tmp_path / "nothing.obj"
+    path.write_text("# no vertices, no faces\n")
+    objects = len(bpy.data.objects)
+    capfd.readouterr()
+    assert _import(bpy, str(path)) == {"FINISHED"}
+    assert f"Import OBJ as Phong: no mesh in {path}" in "".join(capfd.readouterr())
+    assert len(bpy.data.objects) == objects

@@ -423,6 +423,9 @@ scene's lights (Ka, Kd, Ks, Ns, Ke, illum 0-2, maps); the importer's materials a
             return {"CANCELLED"}
         for warning in warnings:
             self.report({"WARNING"}, f"Import OBJ as Phong: {warning}")
+        if not objects:
+            self.report({"WARNING"}, f"Import OBJ as Phong: no mesh in {path}")
+            return {"FINISHED"}
         self.report({"INFO"}, f"Imported {len(objects)} object(s) with {len(done)} Phong "
                               f"material(s) from {os.path.basename(path)}")
         return {"FINISHED"}
