@@ -234,3 +234,12 @@ def test_a_file_without_geometry_says_so(bpy_clean, tmp_path, capfd):
     assert _import(bpy, str(path)) == {"FINISHED"}
     assert f"Import OBJ as Phong: no mesh in {path}" in "".join(capfd.readouterr())
     assert len(bpy.data.objects) == objects
+
+
+def test_a_scene_without_lights_is_named_in_a_warning(bpy_clean, capfd):
+    bpy = bpy_clean
+    scene = be.new_scene("Dark", 8, 8)
+    bpy.context.window.scene = scene
+    capfd.readouterr()
+    assert _import(bpy, os.path.join(DATA, "illum.obj")) == {"FINISHED"}
+    assert "the scene has no Point, Sun or Spot light" in "".join(capfd.readouterr())

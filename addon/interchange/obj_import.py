@@ -173,7 +173,7 @@ def _bump(tree, lights, image, strength) -> set:
 
 
 def import_obj(context, filepath):
-    """Import *filepath*; returns (new objects, Phong materials, warnings).  Raises
+    """Import *filepath*; returns (new objects, Phong materials, warnings, the Sync run).  Raises
     ``mtl.MtlError`` (nothing imported) for a missing or unreadable file or a bad library,
     RuntimeError when Blender's importer fails."""
     if not os.path.isfile(filepath):
@@ -197,4 +197,4 @@ def import_obj(context, filepath):
     sync.relink(context.scene.objects)
     sync.finish()
     sync_mod.remember(context.scene, context.view_layer)
-    return new, list(done.values()), warnings
+    return new, list(done.values()), warnings, sync

@@ -414,7 +414,7 @@ scene's lights (Ka, Kd, Ks, Ns, Ke, illum 0-2, maps); the importer's materials a
     def execute(self, context):
         path = bpy.path.abspath(self.filepath)
         try:
-            objects, done, warnings = obj_import.import_obj(context, path)
+            objects, done, warnings, sync = obj_import.import_obj(context, path)
         except mtl.MtlError as error:
             self.report({"ERROR"}, f"Import OBJ as Phong: {error}; nothing imported")
             return {"CANCELLED"}
@@ -426,6 +426,7 @@ scene's lights (Ka, Kd, Ks, Ns, Ke, illum 0-2, maps); the importer's materials a
         if not objects:
             self.report({"WARNING"}, f"Import OBJ as Phong: no mesh in {path}")
             return {"FINISHED"}
+        _lights_report(self, sync)
         self.report({"INFO"}, f"Imported {len(objects)} object(s) with {len(done)} Phong "
                               f"material(s) from {os.path.basename(path)}")
         return {"FINISHED"}
