@@ -88,6 +88,25 @@ def clean_stale(folder: str) -> list:
     return removed
 
 
+def write_file(path: str, data) -> str:
+    """Write *data* (text, as UTF-8 with LF line ends, or bytes) to *path* atomically: a
+    hidden temporary file beside it (``clean_stale`` knows its name) is renamed over *path*
+    once complete; on an error it is removed and *path* is left as it was."""
+    folder = os.path.dirname(os.path.abspath(path))
+    name = os.path.basename(path).replace(".", "_")
+    fd, tmp = tempfile.mkstemp(prefix=temp_prefix("partial", name), dir=folder)
+    try:
+        with os.fdopen(fd, "wb") as handle:
+            handle.write(data.encode("utf-8") if isinstance(data, str) else data)
+        os.chmod(tmp, 0o644)
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.remove(tmp)
+        raise
+    return path
+
+
 def replace_dir(tmp: str, final: str) -> None:
     """Move the finished *tmp* folder to *final* (an older *final* is removed), with SIGINT
     and SIGTERM held back meanwhile: *final* is never missing nor half-written."""

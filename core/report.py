@@ -11,13 +11,12 @@ import html
 import json
 import math
 import os
-import tempfile
 
 import numpy as np
 
 from ..node_groups import reference as ref
 from . import compare
-from .outputs import temp_prefix
+from .outputs import write_file
 
 TERMS = ("Irradiant", "Ambient", "Diffuse", "Specular")
 #: Heatmap scale: log10 |Δ| from HEAT_LO (black) to HEAT_HI (white).
@@ -306,17 +305,6 @@ def _section(out_dir: str, m: dict) -> str:
 </section>"""
 
 
-def _write_atomically(out_dir: str, name: str, text: str) -> str:
-    fd, tmp = tempfile.mkstemp(prefix=temp_prefix(*name.rsplit(".", 1)),
-                               suffix="." + name.rsplit(".", 1)[1], dir=out_dir)
-    with os.fdopen(fd, "w", encoding="utf-8") as handle:
-        handle.write(text)
-    os.chmod(tmp, 0o644)
-    final = os.path.join(out_dir, name)
-    os.replace(tmp, final)
-    return final
-
-
 def write_index(out_dir: str) -> str:
     """index.html over every finished scene folder of *out_dir* (shards merge)."""
     results = _results(out_dir)
@@ -342,4 +330,4 @@ Background pixels and pixels within 1e-5 of a discontinuity of the model (spot c
 {sections}
 </body></html>
 """
-    return _write_atomically(out_dir, "index.html", page)
+    return write_file(os.path.join(out_dir, "index.html"), page)

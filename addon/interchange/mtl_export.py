@@ -22,10 +22,15 @@ import os
 
 import bpy
 
-from ...core import mtl
+from ...core import mtl, outputs
 from ..lighting import materials as recipe
 
 HEADER = "Phong materials written by Phong Nodes (docs/model.md: MTL illum 2 with Ka = Kd)"
+
+
+def mtl_name(material) -> str:
+    """The name of *material* in an MTL file, as Blender's OBJ exporter writes it in usemtl."""
+    return material.name.replace(" ", "_")
 
 
 def _input(material, name):
@@ -99,7 +104,7 @@ def _colour_times_map(node):
 
 def to_mtl(material, mtl_folder):
     """(mtl.Material, warnings) for the Phong material *material*."""
-    out = mtl.Material(material.name.replace(" ", "_"), "", 0)
+    out = mtl.Material(mtl_name(material), "", 0)
     warnings = []
     color, image = _map_or_value(material, "Object Color", "phong_object_color", mtl_folder,
                                  warnings)
@@ -150,14 +155,7 @@ def export(phong_materials, filepath) -> list:
         entry, notes = to_mtl(material, folder)
         written.append(entry)
         warnings += notes
-    partial = filepath + ".partial"
-    try:
-        with open(partial, "w", encoding="utf-8", newline="\n") as fh:
-            fh.write(mtl.dumps(written, header=HEADER))
-        os.replace(partial, filepath)
-    finally:
-        if os.path.exists(partial):
-            os.remove(partial)
+    outputs.write_file(filepath, mtl.dumps(written, header=HEADER))
     return warnings
 
 
@@ -173,7 +171,7 @@ def export_obj(phong_by_name, filepath, selection_only=False) -> list:
     if not os.path.isfile(mtl_path):   # no material at all: nothing to replace
         return []
     folder = os.path.dirname(os.path.abspath(mtl_path))
-    by_mtl_name = {m.name.replace(" ", "_"): m for m in phong_by_name.values()}
+    by_mtl_name = {mtl_name(m): m for m in phong_by_name.values()}
     entries, warnings = [], []
     for entry in mtl.load(mtl_path):
         material = by_mtl_name.get(entry.name)
@@ -183,12 +181,6 @@ def export_obj(phong_by_name, filepath, selection_only=False) -> list:
         exact, notes = to_mtl(material, folder)
         entries.append(exact)
         warnings += notes
-    partial = mtl_path + ".partial"
-    try:
-        with open(partial, "w", encoding="utf-8", newline="\n") as fh:
-            fh.write(mtl.dumps(entries, header=HEADER + "; other materials as Blender wrote them"))
-        os.replace(partial, mtl_path)
-    finally:
-        if os.path.exists(partial):
-            os.remove(partial)
+    outputs.write_file(mtl_path, mtl.dumps(
+        entries, header=HEADER + "; other materials as Blender wrote them"))
     return warnings

@@ -24,6 +24,7 @@ import uuid
 import bpy
 
 from .. import loader
+from ...core import outputs
 from ...node_groups.library import GROUPS, LIBRARY_VERSION
 from .menus import SECTIONS
 
@@ -63,14 +64,7 @@ def file_name() -> str:
 def _write_catalogs(path: str) -> None:
     lines = ["# Asset catalogs of Phong Nodes (written by the extension).", "", "VERSION 1", ""]
     lines += [f"{uid}:{cat}:{cat.replace('/', '-')}" for cat, uid in catalogs().items()]
-    _write_atomically(path, ("\n".join(lines) + "\n").encode())
-
-
-def _write_atomically(path: str, data: bytes) -> None:
-    partial = path + ".partial"
-    with open(partial, "wb") as fh:
-        fh.write(data)
-    os.replace(partial, path)
+    outputs.write_file(path, "\n".join(lines) + "\n")
 
 
 def _write_library(path: str) -> None:
