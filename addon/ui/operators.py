@@ -326,9 +326,19 @@ reference of the formulas and write images, heatmaps, a sheet and metrics.json""
 
 # -- interchange ---------------------------------------------------------------------
 
+def _export_path(op, action):
+    """The absolute path of *op*'s filepath, or None after an error report when it does not
+    name a file in an existing folder."""
+    path = bpy.path.abspath(op.filepath)
+    if not path or os.path.isdir(path) or not os.path.isdir(os.path.dirname(path) or "."):
+        op.report({"ERROR"}, f"{action}: {path!r} is not a file in an existing folder")
+        return None
+    return path
+
+
 class PHONG_OT_export_mtl(bpy.types.Operator, ExportHelper):
-    """Write the Phong materials as a Wavefront MTL library (Ka = Kd = Object Color, Ks, Ns, \
-Ke, illum 2)"""
+    """Write the Phong materials as a Wavefront MTL library (Kd = Object Color, Ka = Ambient \
+Object Color, Ks, Ns, Ke, illum 2)"""
 
     bl_idname = "phong.export_mtl"
     bl_label = "Export Phong Materials (.mtl)"
@@ -352,10 +362,8 @@ Ke, illum 2)"""
             self.report({"ERROR"}, f"Export Phong MTL: {where} no Phong material; "
                                    "run Apply Phong Material first")
             return {"CANCELLED"}
-        path = bpy.path.abspath(self.filepath)
-        if not path or os.path.isdir(path) or not os.path.isdir(os.path.dirname(path) or "."):
-            self.report({"ERROR"}, f"Export Phong MTL: {path!r} is not a file in an existing "
-                                   "folder")
+        path = _export_path(self, "Export Phong MTL")
+        if path is None:
             return {"CANCELLED"}
         try:
             warnings = mtl_export.export(chosen, path)
@@ -383,10 +391,8 @@ every Phong material (the other materials as Blender writes them)"""
                                  description="Only the selected objects")
 
     def execute(self, context):
-        path = bpy.path.abspath(self.filepath)
-        if not path or os.path.isdir(path) or not os.path.isdir(os.path.dirname(path) or "."):
-            self.report({"ERROR"}, f"Export OBJ with Phong: {path!r} is not a file in an "
-                                   "existing folder")
+        path = _export_path(self, "Export OBJ with Phong")
+        if path is None:
             return {"CANCELLED"}
         phong = {m.name: m for m in materials.phong_materials()}
         try:
