@@ -51,16 +51,20 @@ def _mtl_name(material, by_name):
 
 
 def values(source: mtl.Material) -> dict:
-    """{lights-group input: colour} and the scalars of *source*, term by term."""
+    """{lights-group input: colour}, {lights-group input: TextureMap or None} and the
+    scalars of *source*, term by term."""
     colors = {name: tuple(source.colors.get(key, BLACK)) for name, (key, _m, _c) in
               COLOR_INPUTS.items()}
+    maps = {name: source.maps.get(map_key) for name, (_k, map_key, _c) in COLOR_INPUTS.items()}
     illum = 2 if source.illum is None else source.illum
-    if illum == 0:
+    if illum == 0:  # colour only: Kd and its map, as light the object gives itself
         colors = {name: BLACK for name in colors}
+        maps = {name: None for name in maps}
         colors["Irradiant Color"] = tuple(source.colors.get("Kd", BLACK))
+        maps["Irradiant Color"] = source.maps.get("map_Kd")
     elif illum == 1:
         colors["Specular Color"] = BLACK
-    return {"colors": colors, "exponent": source.scalars.get("Ns"),
+    return {"colors": colors, "maps": maps, "exponent": source.scalars.get("Ns"),
             "blinn": 1.0, "illum": illum}
 
 
@@ -105,7 +109,7 @@ def apply_mtl(material, source: mtl.Material, warnings: list) -> None:
     wanted = values(source)
     keep = set(recipe.CONTROLS) | {recipe.LIGHTS_NODE, recipe.OUTPUT}
     where = f"{source.path}:{source.line} ({source.name})"
-    for index, (name, (_key, map_key, control)) in enumerate(COLOR_INPUTS.items()):
+    for index, (name, (_key, _map_key, control)) in enumerate(COLOR_INPUTS.items()):
         color = wanted["colors"][name]
         if control in recipe.CONTROLS:
             node = tree.nodes[control]
@@ -115,10 +119,7 @@ def apply_mtl(material, source: mtl.Material, warnings: list) -> None:
                              (-880.0, 260.0 - 190.0 * len(recipe.CONTROLS)))
         keep.add(control)
         socket = node.outputs[0]
-        texture = source.maps.get(map_key) if wanted["illum"] or name == "Irradiant Color" \
-            else None
-        if wanted["illum"] == 0 and name == "Irradiant Color":
-            texture = source.maps.get("map_Kd")
+        texture = wanted["maps"][name]
         image = _image(texture, warnings, where) if texture is not None else None
         if image is not None:
             socket = _multiplied(tree, name, socket, image, index)
