@@ -71,12 +71,21 @@ def main():
 
     camera = add("Camera", bpy.data.cameras.new("Camera"), (0, -9.5, 4.5), (math.radians(68), 0, 0))
     scene.camera = camera
+    render_png(scene, "lights_workflow.png", 640, 320)
+
+
+def render_png(scene, name, width, height):
+    """Eevee, 16 samples, Standard view transform: docs/<name>."""
+    import bpy
+
+    from phong_nodes.addon import compat
+
     scene.render.engine = compat.eevee_engine()
     scene.eevee.taa_render_samples = 16
     scene.view_settings.view_transform = "Standard"
-    scene.render.resolution_x, scene.render.resolution_y = 640, 320
+    scene.render.resolution_x, scene.render.resolution_y = width, height
     compat.set_png(scene.render.image_settings)
-    out = os.path.join(ROOT, "docs", "lights_workflow.png")
+    out = os.path.join(ROOT, "docs", name)
     scene.render.filepath = out
     bpy.ops.render.render(write_still=True)
     print(out)
@@ -150,15 +159,7 @@ def obj_import_picture():
     camera.location, camera.rotation_euler = (0, -10, 0), (math.pi / 2, 0, 0)
     scene.collection.objects.link(camera)
     scene.camera = camera
-    scene.render.engine = compat.eevee_engine()
-    scene.eevee.taa_render_samples = 16
-    scene.view_settings.view_transform = "Standard"
-    scene.render.resolution_x, scene.render.resolution_y = 640, 180
-    compat.set_png(scene.render.image_settings)
-    out = os.path.join(ROOT, "docs", "obj_import.png")
-    scene.render.filepath = out
-    bpy.ops.render.render(write_still=True)
-    print(out)
+    render_png(scene, "obj_import.png", 640, 180)
 
 
 if __name__ == "__main__":
