@@ -336,6 +336,27 @@ def quality(cfg):
     return result
 
 
+def _scale_pair(cfg, tag, r, shared_mesh):
+    """The Phong and the Emission scene of figure 5 side by side: apply_material seconds,
+    Phong materials made, and each scene's first render (scene sync included)."""
+    scenes, out = {}, {}
+    for material in ("phong", "emission"):
+        scene, build = build_scene(f"{tag} {material}", res=cfg["scale_res"], grid=0,
+                                   n_lights=1, material=material, n_objects=cfg["scale_objects"],
+                                   segments=cfg["scale_segments"], shared_mesh=shared_mesh)
+        set_cycles(scene, cfg["scale_spp"])
+        if build is not None:
+            out["apply"] = build
+            objects = [o for o in scene.collection.objects if o.type == "MESH"]
+            out["phong_materials"] = len({s.material for o in objects for s in o.material_slots})
+        scenes[material] = scene
+    for material in rotated(["phong", "emission"], r):
+        out[material] = render(scenes[material])
+    for scene in scenes.values():
+        remove_scene(scene)
+    return out
+
+
 def scale(cfg):
     """N objects, 1 light: linked duplicates sharing one material (build with apply_material;
     render Phong vs Emission), and the same number of objects with their own meshes and
@@ -345,39 +366,16 @@ def scale(cfg):
            "emission_render": [], "distinct_apply_seconds": [], "distinct_phong_render": [],
            "distinct_emission_render": []}
     for r in range(cfg["repeats"]):
-        pairs = {}
-        for material in ("phong", "emission"):
-            scene, build = build_scene(f"s{r} {material}", res=cfg["scale_res"], grid=0,
-                                       n_lights=1, material=material, n_objects=n,
-                                       segments=cfg["scale_segments"], shared_mesh=True)
-            set_cycles(scene, cfg["scale_spp"])
-            if build is not None:
-                out["apply_seconds"].append(build)
-                objects = [o for o in scene.collection.objects if o.type == "MESH"]
-                out["phong_materials"] = len({s.material for o in objects
-                                              for s in o.material_slots})
-            pairs[material] = scene
-        for material in rotated(["phong", "emission"], r):
-            seconds = render(pairs[material])  # first render of the scene: sync included
-            out["phong_render" if material == "phong" else "emission_render"].append(seconds)
-        for scene in pairs.values():
-            remove_scene(scene)
-
+        shared = _scale_pair(cfg, f"s{r}", r, shared_mesh=True)
+        out["apply_seconds"].append(shared["apply"])
+        out["phong_materials"] = shared["phong_materials"]
+        out["phong_render"].append(shared["phong"])
+        out["emission_render"].append(shared["emission"])
         if cfg["scale_distinct"]:
-            pairs = {}
-            for material in ("phong", "emission"):
-                scene, build = build_scene(f"d{r} {material}", res=cfg["scale_res"], grid=0,
-                                           n_lights=1, material=material, n_objects=n,
-                                           segments=cfg["scale_segments"], shared_mesh=False)
-                set_cycles(scene, cfg["scale_spp"])
-                if build is not None:
-                    out["distinct_apply_seconds"].append(build)
-                pairs[material] = scene
-            for material in rotated(["phong", "emission"], r):
-                seconds = render(pairs[material])
-                out[f"distinct_{material}_render"].append(seconds)
-            for scene in pairs.values():
-                remove_scene(scene)
+            distinct = _scale_pair(cfg, f"d{r}", r, shared_mesh=False)
+            out["distinct_apply_seconds"].append(distinct["apply"])
+            out["distinct_phong_render"].append(distinct["phong"])
+            out["distinct_emission_render"].append(distinct["emission"])
     return out
 
 
