@@ -31,7 +31,8 @@ Schema (units: Blender world space, Z up; angles in degrees; colours are either
     position = [x, y, z]          # point, spot (required)
     direction = [x, y, z]         # directional, spot: the way the rays travel (required)
     quadratic = 1.0; linear = 0.0; constant = 0.0     # point, spot: i0/(αr²+βr+γ)
-    falloff_exponent = 2.0        # point only, optional: i0/d^k (Phong Power Falloff) instead
+    falloff_exponent = 2          # point only, optional: i0/d^k with k = 0, 1 or 2 instead
+                                  # (the light's γ, β or α = 1, the others 0)
     half_angle = 30.0             # spot, degrees, in (0, 90]
     edge_exponent = 0.0           # spot, >= 0
     [[objects]]                   # at least one
@@ -62,8 +63,8 @@ SHAPES = ("sphere", "plane")
 CAMERA_TYPES = ("perspective", "orthographic")
 TERMS = ("irradiant", "ambient", "diffuse", "specular")
 TEXTURES = ("checker",)
-#: Eevee reads at most 8 object attributes per material: 4 for the material, 2 per 4 lights.
-MAX_LIGHTS = 8
+#: falloff_exponent k -> (quadratic α, linear β, constant γ): i0/d^k = i0/(αd² + βd + γ).
+FALLOFF_EXPONENTS = {0.0: (0.0, 0.0, 1.0), 1.0: (0.0, 1.0, 0.0), 2.0: (1.0, 0.0, 0.0)}
 NAME_RE = re.compile(r"^[a-z0-9_]+$")
 
 
@@ -278,9 +279,6 @@ def _lights(c: _Checker, raws: list) -> list:
         if any(other["name"] == light["name"] for other in lights):
             c.fail(f"{where}.name", "a name not used by another light", light["name"])
         lights.append(light)
-    if len(lights) > MAX_LIGHTS:
-        c.fail("lights", f"at most {MAX_LIGHTS} lights (Eevee reads at most 8 object "
-               "attributes per material)", f"{len(lights)} lights", )
     return lights
 
 
@@ -303,7 +301,15 @@ def _light(c: _Checker, raw: dict, where: str, index: int) -> dict:
         if light["quadratic"] == light["linear"] == light["constant"] == 0.0:
             c.fail(f"{where}.quadratic", "quadratic, linear and constant not all 0", 0)
     if kind == "point" and "falloff_exponent" in raw:
-        light["falloff_exponent"] = c.number(raw, "falloff_exponent", where, minimum=0.0)
+        k = c.number(raw, "falloff_exponent", where, minimum=0.0)
+        if k not in FALLOFF_EXPONENTS:
+            c.fail(f"{where}.falloff_exponent", "0, 1 or 2 (i0/d^k is the light's γ, β or α "
+                   "= 1; other exponents: quadratic, linear, constant)", raw["falloff_exponent"])
+        if any(key in raw for key in ("quadratic", "linear", "constant")):
+            c.fail(f"{where}.falloff_exponent", "either falloff_exponent or quadratic, linear "
+                   "and constant, not both", raw["falloff_exponent"])
+        light["falloff_exponent"] = k
+        light["quadratic"], light["linear"], light["constant"] = FALLOFF_EXPONENTS[k]
     if kind in ("directional", "spot"):
         light["direction"] = c.vector(raw, "direction", where, nonzero=True)
     if kind == "spot":

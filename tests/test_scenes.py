@@ -44,6 +44,14 @@ BROKEN = {
     "bad_colour": ("exponent = 10", 'exponent = 10, color = "#12345"',
                    'objects[0].material.color: expected a colour "#RRGGBB"'),
     "not_toml": ("[camera]", "[camera", "not valid TOML"),
+    "falloff_exponent_not_0_1_2": ("position = [1, -2, 3]",
+                                   "position = [1, -2, 3]\nfalloff_exponent = 1.5",
+                                   "lights[0].falloff_exponent: expected 0, 1 or 2"),
+    "falloff_exponent_and_quadratic": ("position = [1, -2, 3]",
+                                       "position = [1, -2, 3]\nfalloff_exponent = 1\n"
+                                       "quadratic = 2",
+                                       "lights[0].falloff_exponent: expected either "
+                                       "falloff_exponent or quadratic"),
 }
 
 
@@ -66,6 +74,10 @@ def test_seed_figures_are_in_the_scenes():
     assert sorted(l["edge_exponent"] for l in spots["lights"]) == [0, 1, 5, 20]
     fall = scenes.load(os.path.join(scenes.SCENES_DIR, "point_falloff.toml"))
     assert sorted(l.get("falloff_exponent", -1) for l in fall["lights"]) == [-1, 0, 1, 2]
+    # i0/d^k is the light's γ (k = 0), β (k = 1) or α (k = 2) = 1
+    by_k = {l.get("falloff_exponent"): (l["quadratic"], l["linear"], l["constant"])
+            for l in fall["lights"]}
+    assert by_k[0] == (0, 0, 1) and by_k[1] == (0, 1, 0) and by_k[2] == (1, 0, 0)
     two = scenes.load(os.path.join(scenes.SCENES_DIR, "two_lights.toml"))
     green = next(l for l in two["lights"] if l["type"] == "point")
     assert green["position"] == [2, -5, 1.5]  # three.js (2, 1.5, 5), Y-up -> Z-up

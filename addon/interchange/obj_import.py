@@ -32,7 +32,7 @@ from ..lighting import sync as sync_mod
 #: lights-group input -> (MTL colour, MTL map, control node of the recipe or our own)
 COLOR_INPUTS = {
     "Object Color": ("Kd", "map_Kd", "phong_object_color"),
-    recipe.AMBIENT_INPUT: ("Ka", "map_Ka", "phong_ambient_color"),
+    recipe.AMBIENT_INPUT: ("Ka", "map_Ka", recipe.AMBIENT_CONTROL),
     "Specular Color": ("Ks", "map_Ks", "phong_specular_color"),
     "Irradiant Color": ("Ke", "map_Ke", "phong_irradiant_color"),
 }
@@ -76,20 +76,6 @@ def _image(texture, warnings, where):
     return bpy.data.images.load(texture.resolved, check_existing=True)
 
 
-def _rgb_node(tree, name, label, color, location):
-    node = tree.nodes.get(name)
-    if node is None or node.bl_idname != "ShaderNodeRGB":
-        node = tree.nodes.new("ShaderNodeRGB")
-        node.name = name
-    node.label = label
-    node.outputs[0].default_value = (*color[:3], 1.0)
-    node.location = location
-    frame = tree.nodes.get(recipe.FRAME)
-    if frame is not None:
-        node.parent = frame
-    return node
-
-
 def _prune(tree, keep) -> None:
     """Remove nodes left over from the importer's material that feed nothing any more."""
     while True:
@@ -115,8 +101,7 @@ def apply_mtl(material, source: mtl.Material, warnings: list) -> None:
             node = tree.nodes[control]
             node.outputs[0].default_value = (*color[:3], 1.0)
         else:
-            node = _rgb_node(tree, control, "Ambient Color (Ka)", color,
-                             (-880.0, 260.0 - 190.0 * len(recipe.CONTROLS)))
+            node = recipe.control_node(tree, control, "Ambient Color (Ka)", color)
         keep.add(control)
         socket = node.outputs[0]
         texture = wanted["maps"][name]

@@ -55,6 +55,8 @@ OLD_GENERATED = "phong_gen:"  # prefix of the per-light nodes of layout 1
 #: Input of the lights group for the colour the ambient light sees (MTL's Ka).  Linked from
 #: whatever feeds Object Color unless the material has its own (layout 3).
 AMBIENT_INPUT = "Ambient Object Color"
+#: The control node of a material's own Ambient Object Color (made on demand).
+AMBIENT_CONTROL = "phong_ambient_color"
 
 
 def is_phong_material(material) -> bool:
@@ -153,6 +155,24 @@ def _controls(tree, base=None) -> dict:
             node.location = (-880.0, 260.0 - 190.0 * index)
         nodes[name] = node
     return nodes
+
+
+def control_node(tree, name, label, color):
+    """The RGB control node *name* of *tree* in the Phong Controls frame, created when
+    missing, with the colour *color*."""
+    node = tree.nodes.get(name)
+    if node is None or node.bl_idname != "ShaderNodeRGB":
+        if node is not None:
+            tree.nodes.remove(node)
+        node = tree.nodes.new("ShaderNodeRGB")
+        node.name = name
+        node.location = (-880.0, 260.0 - 190.0 * len(CONTROLS))
+        frame = tree.nodes.get(FRAME)
+        if frame is not None:
+            node.parent = frame
+    node.label = label
+    set_quietly(node.outputs[0], (*tuple(color)[:3], 1.0))
+    return node
 
 
 def _output(tree):

@@ -1,0 +1,109 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""A scene as Blender evaluates it, as plain data for the reference (``core/compare.py``).
+
+The reference does not read the lights groups: it reads what they stand for, so a lights
+group that has fallen out of step with the scene shows as a mismatch.  Per light: the
+world matrix (position, -Z axis) of the evaluated object (parents, constraints, drivers and
+animation at the current frame), the light's colour and Phong settings, the spot's cone;
+per object with a Phong material: the lights that reach it under Light Linking; the
+World's Phong ambient light.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+
+from ..lighting import lights as lights_mod
+from ..lighting import materials, properties
+from . import builder
+
+LIGHT_TYPES = {"POINT": "point", "SUN": "directional", "SPOT": "spot"}
+
+
+def view_layer_of(scene, name: str | None = None):
+    """The view layer *name* of *scene*, else the first one that renders."""
+    if name is not None:
+        return scene.view_layers[name]
+    return next((layer for layer in scene.view_layers if layer.use), scene.view_layers[0])
+
+
+def phong_objects(scene, view_layer) -> list:
+    """The objects of *view_layer* that render with a Phong material in some slot."""
+    found = []
+    for obj in view_layer.objects:
+        if obj.hide_render or not hasattr(obj.data, "materials"):
+            continue
+        try:
+            visible = obj.visible_get(view_layer=view_layer)
+        except (TypeError, RuntimeError):
+            visible = not obj.hide_get()
+        if visible and any(materials.is_phong_material(slot.material)
+                           for slot in obj.material_slots):
+            found.append(obj)
+    return found
+
+
+def folder_name(scene) -> str:
+    """The report folder of *scene*: its scene file's name, else its own name made safe."""
+    data = builder.scene_file(scene)
+    if data and isinstance(data.get("name"), str):
+        return data["name"]
+    return re.sub(r"[^A-Za-z0-9_.-]+", "_", scene.name).strip("._") or "scene"
+
+
+def describe(scene, view_layer, objects) -> dict:
+    """The plain-data scene of the reference: name, title, lights, ambient, and *objects*
+    (in order: object number k is objects[k - 1]) with the lights that reach each."""
+    depsgraph = view_layer.depsgraph
+    depsgraph.update()
+    lights, _unsupported = lights_mod.scene_lights(scene, view_layer)
+    rules = [lights_mod.receivers(obj) for obj in lights]
+    data = builder.scene_file(scene) or {}
+    width, height = scene.render.resolution_x, scene.render.resolution_y
+    return {
+        "name": folder_name(scene),
+        "title": data.get("title") or f"Scene {scene.name!r}",
+        "source": data.get("source", ""),
+        "description": data.get("description", ""),
+        "aspect": width / height,
+        "ambient": _ambient(scene.world),
+        "lights": [_light(obj.evaluated_get(depsgraph)) for obj in lights],
+        "objects": [{
+            "name": obj.name,
+            "lights": [k for k, rule in enumerate(rules) if lights_mod.reaches(rule, obj)],
+            "materials": sorted({slot.material.name for slot in obj.material_slots
+                                 if materials.is_phong_material(slot.material)}),
+        } for obj in objects],
+        "light_names": [obj.name for obj in lights],
+    }
+
+
+def _ambient(world) -> dict:
+    key, default = properties.AMBIENT_INTENSITY
+    color_key, default_color = properties.AMBIENT_COLOR
+    if world is None:
+        return {"intensity": default, "color": list(default_color)}
+    return {"intensity": float(world.get(key, default)),
+            "color": [float(c) for c in world.get(color_key, default_color)][:3]}
+
+
+def _light(obj) -> dict:
+    """One evaluated light object as the reference's light."""
+    light = obj.data
+    values = {attr: float(light.get(key, default))
+              for attr, (key, default) in properties.LIGHT_KEYS.items()}
+    matrix = obj.matrix_world
+    out = {"name": obj.name, "type": LIGHT_TYPES[light.type],
+           "color": [float(c) for c in light.color], "intensity": values["intensity"],
+           "diffuse": values["diffuse"], "specular": values["specular"]}
+    if light.type in ("POINT", "SPOT"):
+        out["position"] = [float(c) for c in matrix.translation]
+        for attr in ("quadratic", "linear", "constant"):
+            out[attr] = values[attr]
+    if light.type in ("SUN", "SPOT"):
+        out["direction"] = [-float(matrix[i][2]) for i in range(3)]  # the world -Z axis
+    if light.type == "SPOT":
+        out["half_angle"] = math.degrees(light.spot_size / 2.0)
+        out["edge_exponent"] = values["edge_exponent"]
+    return out
