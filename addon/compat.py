@@ -28,13 +28,14 @@ def eevee_engine() -> str:
     return "BLENDER_EEVEE_NEXT" if "BLENDER_EEVEE_NEXT" in items else "BLENDER_EEVEE"
 
 
-def set_multilayer_exr(image_settings) -> None:
-    """32-bit float multilayer EXR: every pass (AOVs included) in its own part."""
+def set_multilayer_exr(image_settings, set_=setattr) -> None:
+    """32-bit float multilayer EXR: every pass (AOVs included) in its own part.
+    *set_(owner, attribute, value)* does the setting."""
     if hasattr(image_settings, "media_type"):  # 5.0+
-        image_settings.media_type = "MULTI_LAYER_IMAGE"
-    image_settings.file_format = "OPEN_EXR_MULTILAYER"
-    image_settings.color_depth = "32"
-    image_settings.exr_codec = "ZIP"
+        set_(image_settings, "media_type", "MULTI_LAYER_IMAGE")
+    set_(image_settings, "file_format", "OPEN_EXR_MULTILAYER")
+    set_(image_settings, "color_depth", "32")
+    set_(image_settings, "exr_codec", "ZIP")
 
 
 def set_png(image_settings) -> None:

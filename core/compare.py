@@ -65,6 +65,18 @@ def read_exr(path: str) -> dict:
 
 # -- the reference -------------------------------------------------------------------
 
+#: AOVs the bake adds to every lights group for its Cycles render (the probes): what each
+#: pixel's lights group sees.  "params" packs (Exponent, Blinn, object number).
+PROBE_PREFIX = "phong_probe_"
+PROBES = ("P", "N", "I", "normal", "view", "color", "ambient", "specular", "irradiant",
+          "params")
+TERMS = ("Irradiant", "Ambient", "Diffuse", "Specular")
+
+
+def probe_name(probe: str) -> str:
+    return PROBE_PREFIX + probe
+
+
 def light_at(light, P):
     """(ℓ, intensity, ambiguous) of one light at the points P (N, 3)."""
     kind = light["type"]
@@ -74,11 +86,7 @@ def light_at(light, P):
     if kind == "point":
         out = ref.point_light(light["position"], light["intensity"], light["quadratic"],
                               light["linear"], light["constant"], geometry_position=P)
-        intensity = out["Intensity"]
-        if "falloff_exponent" in light:
-            intensity = ref.power_falloff(out["Distance"], light["intensity"],
-                                          light["falloff_exponent"])["Intensity"]
-        return out["Light Vector"], intensity, np.zeros(len(P), bool)
+        return out["Light Vector"], out["Intensity"], np.zeros(len(P), bool)
     theta = math.radians(light["half_angle"])
     out = ref.spot_light(light["position"], light["direction"], theta, light["edge_exponent"],
                          light["intensity"], light["quadratic"], light["linear"],
@@ -88,72 +96,71 @@ def light_at(light, P):
 
 
 def reference_image(scene: dict, aovs: dict) -> dict:
-    """The reference picture and its terms from Cycles' AOVs.
+    """The reference picture and its terms from the probe AOVs of a render.
+
+    *scene* is the scene as Blender evaluates it (``addon/demos/evaluate.py``): "ambient"
+    {intensity, color}, "lights" [{type, color, intensity, diffuse, specular, position,
+    direction, quadratic, linear, constant, half_angle (degrees), edge_exponent}] and
+    "objects" [{"lights": [indices into lights]}]: object number k (1-based, the probe's
+    third "params" channel) is objects[k - 1].  Per pixel the probes hold what its lights
+    group sees: P, N, I (the geometry), the Normal and View Vector inputs (zero: the
+    geometry's), Object Color, Ambient Object Color, Specular Color, Irradiant Color,
+    Exponent and Blinn.
 
     Returns {"Color", "Irradiant", "Ambient", "Diffuse", "Specular"}: (H, W, 3) float64,
-    "object": (H, W) object index (0 = background), "ambiguous": (H, W) bool.
+    "object": (H, W) object number (0 = no Phong material), "ambiguous": (H, W) bool.
     """
-    index = np.rint(aovs["phong_index"][..., 0]).astype(int)
-    h, w = index.shape
-    hit = (index >= 1) & (index <= len(scene["objects"]))
-    P = aovs["phong_P"][..., :3][hit].astype(np.float64)
-    N = aovs["phong_N"][..., :3][hit].astype(np.float64)
-    I = aovs["phong_I"][..., :3][hit].astype(np.float64)
-    color = aovs["phong_color"][..., :3][hit].astype(np.float64)
-    idx = index[hit] - 1
-    objects = scene["objects"]
+    def probe(name, channels=3):
+        return aovs[probe_name(name)][..., :channels]
 
-    def per_object(fn):
-        table = np.array([fn(o) for o in objects], dtype=np.float64)
-        return table[idx]
+    params = probe("params")
+    number = np.rint(params[..., 2]).astype(int)
+    h, w = number.shape
+    hit = (number >= 1) & (number <= len(scene["objects"]))
+    P, N, I = (probe(k)[hit].astype(np.float64) for k in ("P", "N", "I"))
+    normal, view = (probe(k)[hit].astype(np.float64) for k in ("normal", "view"))
+    color, ambient_color, spec_color, irradiant = (
+        probe(k)[hit].astype(np.float64) for k in ("color", "ambient", "specular", "irradiant"))
+    exponent, blinn = (params[..., c][hit].astype(np.float64) for c in (0, 1))
+    idx = number[hit] - 1
+    reach = np.zeros((len(scene["objects"]), max(len(scene["lights"]), 1)), dtype=bool)
+    for row, obj in enumerate(scene["objects"]):
+        reach[row, obj["lights"]] = True
 
-    spec_color = per_object(lambda o: o["material"]["specular_color"])
-    exponent = per_object(lambda o: o["material"]["exponent"])
-    blinn = per_object(lambda o: o["material"]["blinn"])
-    irradiant = per_object(lambda o: o["material"]["irradiant"] if "irradiant" in o["terms"]
-                           else [0.0, 0.0, 0.0])
-    ambient = per_object(lambda o: scene["ambient"]["intensity"] if "ambient" in o["terms"]
-                         else 0.0)
+    amb = scene["ambient"]
+    sums = {"Irradiant": np.broadcast_to(irradiant, P.shape).copy(),
+            "Ambient": ref.ambient(amb["intensity"], amb["color"], ambient_color)["Color"],
+            "Diffuse": np.zeros_like(P), "Specular": np.zeros_like(P)}
     ambiguous = np.zeros(len(P), bool)
-    sums = {k: np.zeros((len(P), 3)) for k in ("Irradiant", "Ambient", "Diffuse", "Specular")}
-    lights = scene["lights"] or [None]
-    final = None
-    for k, light in enumerate(lights):
-        if light is None:
-            ell, intensity, edge = np.zeros_like(P), np.zeros(len(P)), np.zeros(len(P), bool)
-            light_color, dif, spe = (1.0, 1.0, 1.0), 0.0, 0.0
-        else:
-            ell, intensity, edge = light_at(light, P)
-            light_color = light["color"]
-            dif = per_object(lambda o, l=light: l["diffuse"] if l["name"] in o["lights"]
-                             and "diffuse" in o["terms"] else 0.0)
-            spe = per_object(lambda o, l=light: l["specular"] if l["name"] in o["lights"]
-                             and "specular" in o["terms"] else 0.0)
-            ambiguous |= edge & (np.asarray(dif) + np.asarray(spe) > 0)
-            ln = ref.dot(ell, ref.normalize(N))
-            ambiguous |= (np.abs(ln) < AMBIGUOUS) & (np.asarray(spe) > 0)
+    n = ref.resolve_normal(normal, N)
+    for k, light in enumerate(scene["lights"]):
+        on = reach[idx, k]
+        ell, intensity, edge = light_at(light, P)
+        dif = np.where(on, light["diffuse"], 0.0)
+        spe = np.where(on, light["specular"], 0.0)
+        ambiguous |= edge & (dif + spe > 0)
+        ambiguous |= (np.abs(ref.dot(ell, n)) < AMBIGUOUS) & (spe > 0)
         out = ref.phong_shading(
-            light_vector=ell, light_intensity=intensity, light_color=light_color,
-            object_color=color, irradiant_color=irradiant if k == 0 else (0.0, 0.0, 0.0),
-            ambient_intensity=ambient if k == 0 else 0.0,
-            ambient_color=scene["ambient"]["color"], diffuse_strength=dif,
-            specular_strength=spe, specular_color=spec_color, exponent=exponent, blinn=blinn,
+            light_vector=ell, light_intensity=intensity, light_color=light["color"],
+            object_color=color, irradiant_color=(0.0, 0.0, 0.0), ambient_intensity=0.0,
+            diffuse_strength=dif, specular_strength=spe, specular_color=spec_color,
+            exponent=exponent, blinn=blinn, normal=normal, view_vector=view,
             geometry_normal=N, incoming=I)
-        for key in sums:
-            sums[key] += out[key]
-        final = out["Color"] if final is None else ref.color_add(final, out["Color"])["Color"]
+        sums["Diffuse"] += out["Diffuse"]
+        sums["Specular"] += out["Specular"]
+    final = np.minimum(sum(sums.values()), 1.0)
 
-    def image(values, channels=3):
-        img = np.zeros((h, w, channels))
+    def image(values):
+        img = np.zeros((h, w, 3))
         img[hit] = values
         return img
 
     result = {key: image(val) for key, val in sums.items()}
     result["Color"] = image(final)
-    result["object"] = np.where(hit, index, 0)
-    amb = np.zeros((h, w), bool)
-    amb[hit] = ambiguous
-    result["ambiguous"] = amb
+    result["object"] = np.where(hit, number, 0)
+    amb_img = np.zeros((h, w), bool)
+    amb_img[hit] = ambiguous
+    result["ambiguous"] = amb_img
     return result
 
 
@@ -177,14 +184,16 @@ def compare(a: np.ndarray, b: np.ndarray, mask: np.ndarray) -> dict:
     }
 
 
-def verdict(pair_metrics: dict) -> dict:
-    """{engine: (ok, text)} against the tolerances."""
+def verdict(pair_metrics: dict, term_metrics: dict | None = None) -> dict:
+    """{engine: (ok, text)} against the tolerances.  *term_metrics* ({term: metrics of the
+    Cycles term pass against the reference's term}) count in Cycles' verdict."""
     out = {}
     m = pair_metrics.get("cycles-reference")
     if m is not None:
-        ok = m["max_abs"] <= CYCLES_TOLERANCE
+        worst = max([m["max_abs"]] + [t["max_abs"] for t in (term_metrics or {}).values()])
+        ok = worst <= CYCLES_TOLERANCE
         out["cycles"] = {"ok": ok, "rule": f"max |Δ| ≤ {CYCLES_TOLERANCE:g}",
-                         "value": f"{m['max_abs']:.2e}"}
+                         "value": f"{worst:.2e}"}
     m = pair_metrics.get("eevee-reference")
     if m is not None:
         within = 1.0 - m["share_over_1_255"]
@@ -205,28 +214,32 @@ def verdict_text(verdicts: dict, detail: bool = False) -> str:
     return ", ".join(parts)
 
 
-def evaluate(data: dict, images: dict, aovs: dict, engines) -> tuple:
-    """The reference picture of the scene *data* from Cycles' *aovs*, and the metrics of
-    every pair of *images* ({"cycles": ..., "eevee": ...}); returns (metrics, reference,
-    mask).  *images* gains "reference"."""
-    refimg = reference_image(data, aovs)
+def evaluate(scene: dict, images: dict, aovs: dict, engines, terms=None) -> tuple:
+    """The reference picture of *scene* (as Blender evaluates it) from the probe *aovs*, and
+    the metrics of every pair of *images* ({"cycles": ..., "eevee": ...}) and of each term
+    pass in *terms* ({term: Cycles' pass}) against the reference's term; returns (metrics,
+    reference, mask).  *images* gains "reference"."""
+    refimg = reference_image(scene, aovs)
     images["reference"] = refimg["Color"]
     mask = (refimg["object"] > 0) & ~refimg["ambiguous"]
     present = set(engines) | {"reference"}
     pairs = {f"{a}-{b}": compare(images[a], images[b], mask) for a, b in PAIRS
              if a in present and b in present and a in images and b in images}
-    verdicts = verdict(pairs)
+    term_metrics = {t: compare(terms[t], refimg[t], mask) for t in TERMS
+                    if terms and t in terms}
+    verdicts = verdict(pairs, term_metrics)
     metrics = {
-        "scene": data["name"],
-        "title": data["title"],
+        "scene": scene["name"],
+        "title": scene["title"],
         "engines": list(engines),
         "pixels": {"total": int(mask.size), "object": int((refimg["object"] > 0).sum()),
                    "compared": int(mask.sum()), "ambiguous": int(refimg["ambiguous"].sum())},
         "pairs": pairs,
+        "terms": term_metrics,
         "tolerances": {"cycles_max_abs": CYCLES_TOLERANCE, "eevee_step": EEVEE_STEP,
                        "eevee_share_within": EEVEE_SHARE},
         "verdict": verdicts,
         "ok": all(v["ok"] for v in verdicts.values()),
-        "parameters": {k: v for k, v in data.items() if k != "path"},
+        "parameters": {k: v for k, v in scene.items() if k != "path"},
     }
     return metrics, refimg, mask

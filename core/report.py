@@ -213,8 +213,10 @@ def plots(scene: dict) -> dict:
 
 # -- one scene ------------------------------------------------------------------------
 
-def write_scene(folder: str, scene: dict, images: dict, refimg: dict, mask, metrics) -> None:
-    """Every image of one scene, and its sheet, into *folder*."""
+def write_scene(folder: str, scene: dict, images: dict, refimg: dict, mask, metrics,
+                terms=None) -> None:
+    """Every image of one scene, and its sheet, into *folder*.  *terms*: {term: the
+    render's own term pass}, shown instead of the reference's terms."""
     shown = {}
     for name in ("eevee", "cycles", "reference"):
         if name in images:
@@ -227,7 +229,7 @@ def write_scene(folder: str, scene: dict, images: dict, refimg: dict, mask, metr
         write_png(os.path.join(folder, f"diff_{a}_{b}.png"), heat[pair])
     term_imgs = {}
     for term in TERMS:
-        term_imgs[term] = to_srgb(refimg[term])
+        term_imgs[term] = to_srgb(terms[term] if terms and term in terms else refimg[term])
         write_png(os.path.join(folder, f"term_{term.lower()}.png"), term_imgs[term])
     for name, svg in plots(scene).items():
         with open(os.path.join(folder, name), "w", encoding="utf-8") as handle:
@@ -240,7 +242,13 @@ def write_scene(folder: str, scene: dict, images: dict, refimg: dict, mask, metr
     tiles = [(n.capitalize() if n != "reference" else "Reference (numpy)", shown[n])
              for n in ("eevee", "cycles", "reference") if n in shown]
     tiles += [(caption(p), heat[p]) for p in heat]
-    tiles += [(f"{t} term (reference)", term_imgs[t]) for t in TERMS]
+    def term_caption(term):
+        m = metrics.get("terms", {}).get(term)
+        if m is None:
+            return f"{term} term (reference)"
+        return f"{term} pass (Cycles)  |Δ| max {m['max_abs']:.1e}"
+
+    tiles += [(term_caption(t), term_imgs[t]) for t in TERMS]
     aspect = scene["aspect"]
     columns = 5 if aspect <= 1.2 else 4 if aspect <= 1.6 else 3 if aspect <= 2.2 else 2
     title = f"{scene['name']}: {scene['title']}"
@@ -286,10 +294,13 @@ def _section(out_dir: str, m: dict) -> str:
     files = sorted(os.listdir(os.path.join(out_dir, scene_dir)))
     plots_html = "".join(f"<img src='{scene_dir}/{f}' alt='{f}'>" for f in files
                          if f.startswith("plot_") and f.endswith(".svg"))
+    names = s.get("light_names", [])
     objects = "".join(
-        f"<li><b>{html.escape(o['label'])}</b>: terms {', '.join(o['terms'])}; lights "
-        f"{', '.join(o['lights']) or 'none'}; exponent {o['material']['exponent']:g}, "
-        f"Blinn {o['material']['blinn']:g}</li>" for o in s["objects"])
+        f"<li><b>{html.escape(o['name'])}</b>: lights "
+        f"{html.escape(', '.join(names[k] for k in o['lights']) or 'none')}; materials "
+        f"{html.escape(', '.join(o['materials']))}</li>" for o in s["objects"])
+    terms = "".join(f"<li>{t} pass (Cycles) − reference: max |Δ| {v['max_abs']:.2e}</li>"
+                    for t, v in m.get("terms", {}).items())
     timing = ", ".join(f"{k[:-2]} {v:.1f} s" for k, v in m.get("timings", {}).items())
     return f"""
 <section id="{scene_dir}">
@@ -298,6 +309,7 @@ def _section(out_dir: str, m: dict) -> str:
 <p class="{'ok' if m['ok'] else 'bad'}">{html.escape(verdicts)}</p>
 <a href="{scene_dir}/sheet.png"><img class="sheet" src="{scene_dir}/sheet.png" alt="sheet"></a>
 <div class="plots">{plots_html}</div>
+<ul>{terms}</ul>
 <ul>{objects}</ul>
 <p>{m['resolution'][0]}×{m['resolution'][1]} px; {m['pixels']['compared']} pixels compared,
 {m['pixels']['ambiguous']} at a discontinuity of the model left out; {timing}.</p>
@@ -323,7 +335,9 @@ img.sheet {{ max-width: 100%; }} .plots img {{ margin: 4px; border: 1px solid #d
 <p class="{'ok' if ok else 'bad'}">{len(results)} scene(s): {'every engine matches the reference' if ok else 'some engine does NOT match the reference'}
 (Cycles: max |Δ| ≤ 1e-4; Eevee: ≥ 99.5% of pixels within 1/255).</p>
 <p>Each picture is rendered with one sample at the pixel centres; the reference evaluates the seed formulas
-(node_groups/reference.py) on the position, normal, incoming direction and object colour that Cycles writes as AOVs.
+(node_groups/reference.py) for the scene's lights as Blender evaluates them (world matrices, colours, Phong settings,
+Light Linking, the World's ambient) on what each pixel's lights group sees, written by Cycles as AOVs (position, normal,
+incoming direction, the material's inputs).  The term images are Cycles' own term passes, each compared with the reference's term.
 Background pixels and pixels within 1e-5 of a discontinuity of the model (spot cone edge, terminator) are not compared.</p>
 <table><tr><th>scene</th><th>pair</th><th>max |Δ|</th><th>mean |Δ|</th><th>PSNR dB</th><th>&gt; 1/255</th><th>pixels</th></tr>
 {_rows(results)}</table>

@@ -88,3 +88,22 @@ def test_analysis_modules_import_where_bpy_cannot():
                             timeout=120)
     assert result.returncode == 0, result.stderr[-2000:]
     assert result.stdout.strip() == "[]"
+
+
+def test_demo_figure_sums_each_repeat_and_states_the_verdict():
+    cfg = {"demo_scenes": ["a", "b"]}
+
+    def run(a_shared, a_distinct, b_shared, b_distinct):
+        return {"a:shared": {"first": a_shared, "second": 0.1, "materials": None},
+                "a:distinct": {"first": a_distinct, "second": 0.1, "materials": 3},
+                "b:shared": {"first": b_shared, "second": 0.1, "materials": None},
+                "b:distinct": {"first": b_distinct, "second": 0.1, "materials": 8}}
+
+    figure = analyse.demo_figure([run(1.0, 2.0, 1.0, 6.0), run(2.0, 2.0, 2.0, 4.0)], cfg)
+    assert figure["ratio"]["values"] == [2.0 / 8.0, 4.0 / 6.0]
+    assert figure["scenes"]["b"]["materials"] == 8
+    (row,) = table.demo_rows(figure)
+    assert row[3] == "met"
+    slower = analyse.demo_figure([run(3.0, 1.0, 3.0, 1.0)], cfg)
+    assert table.demo_rows(slower)[0][3].startswith("missed")
+    assert table.demo_rows(None) == []

@@ -20,7 +20,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SCRIPT = os.path.join(ROOT, "benchmarks", "run.py")
 
 FIGURES = ("node_cost_cycles", "light_scaling_cycles", "light_scaling_eevee", "eevee_compile",
-           "quality_per_second", "scale", "scale_distinct", "artist_scale")
+           "quality_per_second", "scale", "scale_distinct", "artist_scale", "demo_eevee")
 
 
 def _is_summary(value):

@@ -89,3 +89,39 @@ def test_unwritable_output_folder_exits_2(tmp_path):
     assert result.returncode == 2
     assert "cannot write to output folder" in result.stderr
     assert "Traceback" not in result.stderr
+
+
+@pytest.fixture(scope="module")
+def plain_blend(tmp_path_factory):
+    """A .blend without Phong materials (Blender's start-up scene), saved by bpy."""
+    path = tmp_path_factory.mktemp("blend") / "plain.blend"
+    code = ("import bpy, sys; bpy.ops.wm.save_as_mainfile(filepath=sys.argv[1]); "
+            "print(len(bpy.data.materials))")
+    env = dict(os.environ, BLENDER_USER_RESOURCES=str(path.parent / "user"))
+    subprocess.run([sys.executable, "-c", code, str(path)], check=True, env=env,
+                   capture_output=True, timeout=120)
+    return path
+
+
+@pytest.mark.parametrize("case", ["missing", "broken", "no-phong", "bad-option",
+                                  "unknown-scene"])
+def test_compare_bad_input_exits_2_with_one_line_and_writes_nothing(tmp_path, plain_blend,
+                                                                     case):
+    broken = tmp_path / "broken.blend"
+    broken.write_bytes(b"BLENDER-v500 but not really a blend file" * 10)
+    args, message = {
+        "missing": ([str(tmp_path / "nope.blend")], "nope.blend: no such file"),
+        "broken": ([str(broken)], "broken.blend: cannot open as a .blend file"),
+        "no-phong": ([str(plain_blend)], "plain.blend: no scene has an object with a Phong "
+                                         "material"),
+        "bad-option": ([str(plain_blend), "--resolution", "3"],
+                       "--resolution must be between 8 and 4096"),
+        "unknown-scene": ([str(plain_blend), "--scenes", "Nope"], "--scenes: no scene 'Nope'"),
+    }[case]
+    out = tmp_path / "out"
+    result = run_cli(tmp_path, "compare", *args, "--out", str(out))
+    assert result.returncode == 2, result.stderr
+    lines = [l for l in result.stderr.splitlines() if l.startswith("phong")]
+    assert len(lines) == 1 and message in lines[0], result.stderr
+    assert "Traceback" not in result.stderr
+    assert not out.exists(), "nothing written"

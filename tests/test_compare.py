@@ -8,46 +8,54 @@ import math
 import numpy as np
 import pytest
 
-from phong_nodes.core import compare, scenes
+from phong_nodes.core import compare
 
-SCENE = scenes.parse({
-    "title": "synthetic",
-    "camera": {"location": [0, 0, 5]},
+# The scene as Blender evaluates it (addon/demos/evaluate.py): a sun and a spot (intensity 0,
+# so only its cone edge matters); object 1 is reached by both, object 2 by none.
+SCENE = {
+    "name": "synthetic", "title": "synthetic",
     "ambient": {"intensity": 0.25, "color": [1.0, 1.0, 1.0]},
     "lights": [
-        {"name": "sun", "type": "directional", "direction": [0, 0, -1], "intensity": 0.4},
-        {"name": "spot", "type": "spot", "position": [0, 0, 2], "direction": [0, 0, -1],
-         "half_angle": 45.0, "intensity": 0.0},
+        {"name": "sun", "type": "directional", "color": [1.0, 1.0, 1.0], "intensity": 0.4,
+         "diffuse": 1.0, "specular": 1.0, "direction": [0, 0, -1]},
+        {"name": "spot", "type": "spot", "color": [1.0, 1.0, 1.0], "intensity": 0.0,
+         "diffuse": 1.0, "specular": 1.0, "position": [0, 0, 2], "direction": [0, 0, -1],
+         "quadratic": 1.0, "linear": 0.0, "constant": 0.0, "half_angle": 45.0,
+         "edge_exponent": 0.0},
     ],
-    "objects": [
-        {"name": "lit", "material": {"exponent": 10, "specular_color": [1.0, 1.0, 1.0]}},
-        {"name": "dark", "lights": [], "material": {"irradiant": [0.1, 0.0, 0.0]}},
-    ],
-})
-C1 = np.array([0.5, 0.4, 0.2])   # the object colours that Cycles writes as an AOV
+    "objects": [{"name": "lit", "lights": [0, 1]}, {"name": "dark", "lights": []}],
+}
+C1 = np.array([0.5, 0.4, 0.2])   # the object colours the lights groups see
 C2 = np.array([0.3, 0.6, 0.9])
+KA = np.array([0.2, 0.2, 0.2])   # object 1's own Ambient Object Color
 
 
 def aovs():
     """A 1 x 4 picture: lit object facing the light, lit object tilted, background, the
-    object that no light reaches."""
+    object that no light reaches (irradiant (0.1, 0, 0))."""
     def row(*pixels):
         return np.array([list(p) for p in pixels], dtype=np.float32)[None, ...]
 
-    up, tilted = (0, 0, 1), (0.6, 0, 0.8)
+    up, tilted, zero = (0, 0, 1), (0.6, 0, 0.8), (0, 0, 0)
     at_edge = (2.0 * math.tan(math.radians(45.0)), 0.0, 0.0)  # on the spot's cone, ω = 45°
-    return {
-        "phong_index": row((1, 1, 1), (1, 1, 1), (0, 0, 0), (2, 2, 2)),
-        "phong_P": row((0, 0, 0), at_edge, (0, 0, 0), (0, 0, 0)),
-        "phong_N": row(up, tilted, up, up),
-        "phong_I": row(up, up, up, up),
-        "phong_color": row(C1, C1, (0, 0, 0), C2),
+    probes = {
+        "params": row((10, 0, 1), (10, 0, 1), zero, (30, 0, 2)),
+        "P": row(zero, at_edge, zero, zero),
+        "N": row(up, tilted, up, up),
+        "I": row(up, up, up, up),
+        "normal": row(zero, zero, zero, zero),
+        "view": row(zero, zero, zero, zero),
+        "color": row(C1, C1, zero, C2),
+        "ambient": row(KA, KA, zero, C2),
+        "specular": row((1, 1, 1), (1, 1, 1), zero, (1, 1, 1)),
+        "irradiant": row(zero, zero, zero, (0.1, 0, 0)),
     }
+    return {compare.probe_name(k): v for k, v in probes.items()}
 
 
-def test_reference_picture_from_aovs_matches_the_formulas_by_hand():
+def test_reference_picture_from_probes_matches_the_formulas_by_hand():
     img = compare.reference_image(SCENE, aovs())
-    ambient = 0.25 * C1
+    ambient = 0.25 * KA
     # facing the sun (ℓ = n = v): diffuse i·1·C, specular i·1^e·C_spec
     np.testing.assert_allclose(img["Ambient"][0, 0], ambient, atol=1e-7)
     np.testing.assert_allclose(img["Diffuse"][0, 0], 0.4 * C1, atol=1e-7)
@@ -65,8 +73,20 @@ def test_reference_picture_from_aovs_matches_the_formulas_by_hand():
     assert img["ambiguous"].tolist() == [[False, True, False, False]]
 
 
+def test_a_linked_normal_and_view_vector_are_used_where_given():
+    """Probes of a material that links Normal (a bump) and View Vector: the reference
+    shades with them, not with the geometry's."""
+    data = aovs()
+    data[compare.probe_name("normal")][0, 0] = (0.0, 0.0, 2.0)  # not normalised: n = up
+    data[compare.probe_name("N")][0, 0] = (0.6, 0.0, 0.8)        # the geometry is tilted
+    data[compare.probe_name("view")][0, 0] = (0.0, 0.0, 5.0)
+    img = compare.reference_image(SCENE, data)
+    np.testing.assert_allclose(img["Diffuse"][0, 0], 0.4 * C1, atol=1e-7)
+    np.testing.assert_allclose(img["Specular"][0, 0], [0.4] * 3, atol=1e-7)
+
+
 def test_metrics_and_verdicts_follow_the_tolerances():
-    data = dict(SCENE, name="synthetic")
+    data = SCENE
     ref = compare.reference_image(SCENE, aovs())["Color"]
     good = {"cycles": ref + 5e-5, "eevee": ref + 0.5 / 255}
     metrics, _ref, mask = compare.evaluate(data, good, aovs(), ("cycles", "eevee"))
@@ -78,3 +98,17 @@ def test_metrics_and_verdicts_follow_the_tolerances():
     metrics, _ref, _mask = compare.evaluate(data, bad, aovs(), ("cycles", "eevee"))
     assert not metrics["verdict"]["cycles"]["ok"] and not metrics["verdict"]["eevee"]["ok"]
     assert compare.verdict_text(metrics["verdict"]) == "cycles 2.00e-04 FAIL, eevee 0.000% FAIL"
+
+
+def test_a_term_pass_off_the_reference_fails_cycles():
+    """The render's own term passes are compared with the reference's terms, and count in
+    Cycles' verdict: a right picture with a wrong Specular pass does not pass."""
+    ref = compare.reference_image(SCENE, aovs())
+    images = {"cycles": ref["Color"].copy()}
+    terms = {t: ref[t].copy() for t in compare.TERMS}
+    metrics, _ref, _mask = compare.evaluate(SCENE, dict(images), aovs(), ("cycles",), terms)
+    assert metrics["ok"] and set(metrics["terms"]) == set(compare.TERMS)
+    terms["Specular"][0, 0] += 3e-4
+    metrics, _ref, _mask = compare.evaluate(SCENE, dict(images), aovs(), ("cycles",), terms)
+    assert metrics["terms"]["Specular"]["max_abs"] == pytest.approx(3e-4, rel=1e-6)
+    assert not metrics["ok"] and metrics["verdict"]["cycles"]["value"] == "3.00e-04"

@@ -302,7 +302,7 @@ def test_build_demo_scene_unknown_name_and_bad_file(bpy_clean, tmp_path):
 
 def _demo_scene(bpy):
     bpy.ops.phong.build_demo_scene(name="point_falloff", resolution=8)
-    return next(s for s in bpy.data.scenes if s.name.startswith("Phong point_falloff"))
+    return bpy.data.scenes["point_falloff"]
 
 
 def test_bake_refuses_unwritable_folder_and_the_extension_folder(bpy_clean, tmp_path):

@@ -1,18 +1,25 @@
 #!/usr/bin/env python3
-"""Headless command of Phong Nodes (runs on the ``bpy`` module): the seed figures as scenes,
+"""Headless command of Phong Nodes (runs on the ``bpy`` module): scenes with Phong materials
 rendered by Eevee and Cycles and checked against the numpy reference of the formulas.
 
     python tools/phong.py [--scenes a,b|all] [--engines cycles,eevee] [--resolution N]
-                          [--out DIR] [--shard i/n]
+                          [--out DIR] [--shard i/n] [--save-blend]
+    python tools/phong.py compare FILE.blend [--scenes a,b] [--engines cycles,eevee]
+                          [--resolution N] [--out DIR] [--shard i/n]
 
-Builds every demo scene of ``scenes/*.toml`` (or those named; a path to a .toml file also
-works), bakes each comparison into ``DIR/<scene>/`` (pictures, heatmaps, term images,
-sheet.png, metrics.json), writes ``DIR/index.html`` over every scene folder in DIR (so
-shards writing into one DIR merge) and prints a summary table.
+The first form builds every demo scene of ``scenes/*.toml`` (or those named; a path to a
+.toml file also works) as an ordinary Blender scene (real lights, Light Linking, materials
+made by Apply Phong Material's code) and compares it; ``--save-blend`` keeps each built scene
+as ``DIR/<scene>/<scene>.blend``.  ``compare`` opens a .blend and compares every scene of it
+that has objects with Phong materials (or those named), at the scene's own resolution unless
+``--resolution`` is given.  Each comparison goes into ``DIR/<scene>/`` (pictures, term
+passes, heatmaps, sheet.png, metrics.json); ``DIR/index.html`` covers every scene folder in
+DIR (so shards writing into one DIR merge); a summary table is printed.
 
 Exit codes: 0 every engine matches the reference (Cycles max |error| <= 1e-4, Eevee within
 1/255 on >= 99.5% of pixels); 1 some engine does not match, or a render failed; 2 bad
-arguments or a bad scene file (nothing is written then).
+arguments, a bad scene file, a missing or unreadable .blend, or no Phong material (nothing
+is written then).
 """
 
 from __future__ import annotations
@@ -55,23 +62,42 @@ def check_interrupt() -> None:
 
 
 def parse_args(argv):
-    parser = argparse.ArgumentParser(prog="phong", description=__doc__.split("\n\n")[0])
-    parser.add_argument("--scenes", default="all",
-                        help="comma-separated scene names or .toml paths (default: all)")
+    compare_mode = bool(argv) and argv[0] == "compare"
+    if compare_mode:
+        parser = argparse.ArgumentParser(
+            prog="phong compare", description="Compare every scene of a .blend that has "
+            "Phong materials with the numpy reference of the formulas.")
+        parser.add_argument("file", help="the .blend file")
+        parser.add_argument("--scenes", default=None,
+                            help="comma-separated scene names of the file (default: every "
+                                 "scene with Phong materials)")
+        resolution_help = "picture height in pixels (default: each scene's own size)"
+        default_out = "out/compare"
+    else:
+        parser = argparse.ArgumentParser(prog="phong", description=__doc__.split("\n\n")[0])
+        parser.add_argument("--scenes", default="all",
+                            help="comma-separated scene names or .toml paths (default: all)")
+        parser.add_argument("--save-blend", action="store_true",
+                            help="keep each built scene as DIR/<scene>/<scene>.blend")
+        resolution_help = f"picture height in pixels (default: {DEFAULT_RESOLUTION})"
+        default_out = "out/demo"
     parser.add_argument("--engines", default="cycles,eevee",
                         help="comma-separated: cycles, eevee (default: both)")
-    parser.add_argument("--resolution", type=int, default=DEFAULT_RESOLUTION,
-                        help=f"picture height in pixels (default: {DEFAULT_RESOLUTION})")
-    parser.add_argument("--out", default="out/demo", help="output folder (default: out/demo)")
+    parser.add_argument("--resolution", type=int,
+                        default=None if compare_mode else DEFAULT_RESOLUTION,
+                        help=resolution_help)
+    parser.add_argument("--out", default=default_out,
+                        help=f"output folder (default: {default_out})")
     parser.add_argument("--shard", default=None,
                         help="i/n: bake only every n-th scene starting at the i-th (1-based)")
-    args = parser.parse_args(argv)
+    args = parser.parse_args(argv[1:] if compare_mode else argv)
+    args.compare = compare_mode
     engines = [e.strip().lower() for e in args.engines.split(",") if e.strip()]
     unknown = sorted(set(engines) - {"cycles", "eevee"})
     if unknown or not engines:
         parser.error(f"--engines: unknown engine(s) {', '.join(unknown) or '(none given)'}; "
                      "expected cycles and/or eevee")
-    if not 8 <= args.resolution <= 4096:
+    if args.resolution is not None and not 8 <= args.resolution <= 4096:
         parser.error(f"--resolution must be between 8 and 4096, got {args.resolution}")
     args.engines = engines
     return args
@@ -94,15 +120,26 @@ def main(argv=None) -> int:
             signal.signal(sig, handler)
 
 
+class BadInput(Exception):
+    """Exit 2 with this one-line reason; nothing has been written."""
+
+
 def _main(argv, state) -> int:
     args = parse_args(sys.argv[1:] if argv is None else argv)
     try:
-        selected = scenes.load_all(scenes.resolve(args.scenes))
-        mine = scenes.shard(selected, args.shard)
-    except scenes.SceneError as error:
+        if args.compare:
+            # bpy must read the .blend before anything is written
+            import phong_nodes  # noqa: PLC0415
+
+            phong_nodes.register()
+            jobs, total = _blend_jobs(args)
+        else:
+            selected = scenes.load_all(scenes.resolve(args.scenes))
+            jobs, total = _demo_jobs(scenes.shard(selected, args.shard), args), len(selected)
+    except (scenes.SceneError, BadInput) as error:
         print(f"phong: {error}", file=sys.stderr)
         return 2
-    state["total"] = len(mine)
+    state["total"] = len(jobs)
     out = os.path.abspath(args.out)
     problem = outputs.output_problem(out, refuse_package=False)
     if problem is not None:
@@ -113,14 +150,17 @@ def _main(argv, state) -> int:
 
     say = _terminal()
     start = time.perf_counter()
-    print(f"phong: {len(mine)} scene(s) of {len(selected)}"
+    what = f"of {args.file}" if args.compare else f"of {total}"
+    print(f"phong: {len(jobs)} scene(s) {what}"
           f"{f' (shard {args.shard})' if args.shard else ''}, engines {', '.join(args.engines)}, "
-          f"{args.resolution} px high -> {out}", file=say)
+          f"{f'{args.resolution} px high' if args.resolution else 'own resolution'} -> {out}",
+          file=say)
     import phong_nodes  # noqa: PLC0415  (after the checks: importing bpy takes a second)
 
-    phong_nodes.register()
+    if not args.compare:
+        phong_nodes.register()
     try:
-        results, failed = _bake_scenes(mine, args, out, say, state)
+        results, failed = _bake_scenes(jobs, args, out, say, state)
     finally:
         phong_nodes.unregister()
     index = report.write_index(out)
@@ -132,6 +172,78 @@ def _main(argv, state) -> int:
           f"report: {index}", file=say)
     say.flush()
     return 0 if ok else 1
+
+
+class Job:
+    """One scene to compare: *make()* returns the Blender scene; *done(scene, folder)* runs
+    before its report folder is put in place."""
+
+    def __init__(self, name, make, done=None, drop=False):
+        self.name, self.make, self.done, self.drop = name, make, done, drop
+
+
+def _demo_jobs(mine, args) -> list:
+    def make(data):
+        from phong_nodes.addon.demos import builder  # noqa: PLC0415
+
+        return builder.build(data, args.resolution)
+
+    def save(scene, folder, name):
+        import bpy  # noqa: PLC0415
+
+        bpy.data.libraries.write(os.path.join(folder, f"{name}.blend"), {scene},
+                                 path_remap="NONE", fake_user=False)
+
+    return [Job(d["name"], lambda d=d: make(d),
+                (lambda scene, folder, n=d["name"]: save(scene, folder, n))
+                if args.save_blend else None, drop=True) for d in mine]
+
+
+def _blend_jobs(args):
+    """The jobs of the scenes of args.file with Phong materials (BadInput: exit 2)."""
+    import bpy  # noqa: PLC0415
+
+    from phong_nodes.addon.demos import bake, evaluate  # noqa: PLC0415
+
+    path = os.path.abspath(args.file)
+    if not os.path.isfile(path):
+        raise BadInput(f"{args.file}: no such file")
+    try:
+        bpy.ops.wm.open_mainfile(filepath=path, load_ui=False)
+    except RuntimeError as error:
+        reason = str(error).strip().splitlines()[-1] if str(error).strip() else "unreadable"
+        raise BadInput(f"{args.file}: cannot open as a .blend file ({reason})") from None
+    names = [scene.name for scene in bpy.data.scenes]
+    if args.scenes:
+        wanted = [n.strip() for n in args.scenes.split(",") if n.strip()]
+        unknown = [n for n in wanted if n not in names]
+        if unknown or not wanted:
+            raise BadInput(f"--scenes: no scene {', '.join(map(repr, unknown)) or '(none given)'} "
+                           f"in {args.file}; it has {', '.join(map(repr, names))}")
+    else:
+        wanted = [n for n in names
+                  if evaluate.phong_objects(bpy.data.scenes[n],
+                                            evaluate.view_layer_of(bpy.data.scenes[n]))]
+        if not wanted:
+            raise BadInput(f"{args.file}: no scene has an object with a Phong material "
+                           "(Apply Phong Material first)")
+    for name in wanted:
+        try:
+            bake.check(bpy.data.scenes[name])
+        except bake.BakeError as error:
+            raise BadInput(f"{args.file}: {error}") from None
+    try:
+        mine = scenes.shard(wanted, args.shard)
+    except scenes.SceneError as error:
+        raise BadInput(str(error)) from None
+    jobs, folders = [], set()
+    for name in mine:
+        folder = evaluate.folder_name(bpy.data.scenes[name])
+        while folder in folders:
+            folder += "_"
+        folders.add(folder)
+        jobs.append(Job(folder, lambda n=name: bpy.data.scenes[n]))
+    return jobs, len(wanted)
 
 
 def _terminal():
@@ -146,18 +258,15 @@ def _terminal():
     return say
 
 
-def _bake_scenes(mine, args, out, say, state):
-    """Build and bake each scene into out/<name>; returns (metrics list, failed names)."""
-    import bpy  # noqa: PLC0415
-
+def _bake_scenes(jobs, args, out, say, state):
+    """Make and bake each job's scene into out/<name>; returns (metrics list, failed names)."""
     from phong_nodes.addon.demos import bake, builder  # noqa: PLC0415
 
     check_interrupt()
     results, failed = [], []
-    for number, data in enumerate(mine, start=1):
+    for number, job in enumerate(jobs, start=1):
         t0 = time.perf_counter()
-        name = data["name"]
-        print(f"[{number}/{len(mine)}] {name}: build", end="", file=say)
+        print(f"[{number}/{len(jobs)}] {job.name}: build", end="", file=say)
 
         def progress(fraction, text, t0=t0):
             if fraction < 1.0:  # at 1.0 the scene folder is already in place
@@ -165,13 +274,16 @@ def _bake_scenes(mine, args, out, say, state):
             print(f" | {time.perf_counter() - t0:.1f} s: {text}", end="", file=say)
 
         try:
-            scene = builder.build(data, args.resolution)
-            metrics = bake.bake(scene, os.path.join(out, name), engines=args.engines,
-                                progress=progress)
-            bpy.data.scenes.remove(scene)
+            scene = job.make()
+            metrics = bake.bake(scene, os.path.join(out, job.name), engines=args.engines,
+                                progress=progress, resolution=args.resolution,
+                                on_folder=None if job.done is None
+                                else lambda folder, s=scene: job.done(s, folder))
+            if job.drop:
+                builder.remove(scene)
         except Exception as error:  # noqa: BLE001  (one bad scene must not hide the others)
-            print(f"\nphong: {name}: bake failed: {error}", file=sys.stderr)
-            failed.append(name)
+            print(f"\nphong: {job.name}: bake failed: {error}", file=sys.stderr)
+            failed.append(job.name)
             continue
         print(f"\n      {compare.verdict_text(metrics['verdict'])}", file=say)
         results.append(metrics)

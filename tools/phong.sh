@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Phong Nodes developer entry point.
-#   bash tools/phong.sh demo [options]   render the demo (see: demo --help)
+#   bash tools/phong.sh demo [options]   build the demo scenes and compare them (see: demo --help)
+#   bash tools/phong.sh compare FILE.blend [options]   compare the scenes of a .blend (compare --help)
 #   bash tools/phong.sh test [pytest options]
 #   bash tools/phong.sh build [DIR]      DIR/<id>-<version>.zip (DIR: dist), validated by Blender's own tool
 #   bash tools/phong.sh setup            only create/refresh the virtual environment
@@ -81,7 +82,8 @@ link_package
 case "$command" in
   setup) ;;
   demo) exec "$venv/bin/python" "$root/tools/phong.py" "$@" ;;
+  compare) exec "$venv/bin/python" "$root/tools/phong.py" compare "$@" ;;
   test) cd "$root" && exec "$venv/bin/python" -m pytest "$@" ;;
   build) build "$@" ;;
-  *) echo "unknown command '$command' (expected demo, test, build or setup)" >&2; exit 2 ;;
+  *) echo "unknown command '$command' (expected demo, compare, test, build or setup)" >&2; exit 2 ;;
 esac

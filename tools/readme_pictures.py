@@ -3,6 +3,9 @@
 
 * docs/lights_workflow.png: three ordinary Blender lights (a warm point light, a cool sun, a
   spot with a soft edge), three meshes, `bpy.ops.phong.apply_material()`;
+* docs/sheet_two_lights.png, docs/sheet_exponents.png: the comparison sheets of two demo
+  scenes, built as live scenes by `bpy.ops.phong.build_demo_scene()` and compared by
+  `bpy.ops.phong.bake_comparison()` (256 px high);
 * docs/obj_import.png: an OBJ/MTL file of four spheres with classic materials of the OpenGL
   material table (brass, jade, ruby, chrome: Ka, Kd, Ks, Ns), written here and imported by
   `bpy.ops.phong.import_obj()`, lit by a point light and the ambient light.
@@ -162,9 +165,28 @@ def obj_import_picture():
     render_png(scene, "obj_import.png", 640, 180)
 
 
+def sheets():
+    import shutil
+    import tempfile
+
+    import bpy
+
+    folder = tempfile.mkdtemp(prefix="phong_sheets_")
+    for name in ("two_lights", "exponents"):
+        bpy.ops.wm.read_homefile(use_empty=True)
+        assert bpy.ops.phong.build_demo_scene(name=name, resolution=256) == {"FINISHED"}
+        with bpy.context.temp_override(scene=bpy.data.scenes[name]):
+            assert bpy.ops.phong.bake_comparison(directory=folder) == {"FINISHED"}
+        out = os.path.join(ROOT, "docs", f"sheet_{name}.png")
+        shutil.copyfile(os.path.join(folder, name, "sheet.png"), out)
+        print(out)
+    shutil.rmtree(folder)
+
+
 if __name__ == "__main__":
     main()
     obj_import_picture()
+    sheets()
     from phong_nodes.addon import compat
 
     compat.exit_process(0)

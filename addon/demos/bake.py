@@ -1,16 +1,23 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""The comparison bake: Eevee, Cycles and the numpy reference of one demo scene.
+"""The comparison bake: Eevee, Cycles and the numpy reference of any scene with Phong
+materials (a demo scene, an artist's scene, a production file).
 
-* Cycles renders the AOV view layer (1 sample at the pixel centres, box filter 0.01): the
-  picture, plus per pixel the position P, shading normal N, incoming I, object colour and
-  object index.
-* Eevee renders the picture view layer (no AOVs: every AOV costs shader compile time in
-  Eevee), 1 TAA sample, filter size 0: its first sample sits at the pixel centre too.
-* ``core.compare`` computes the reference picture from Cycles' AOVs and the metrics;
-  ``core.report`` writes the pictures, the sheet and metrics.json.
+* Cycles renders the picture, the materials' term passes ("Phong Irradiant" ...) and the
+  probes: for that render only, every lights group of the scene is swapped for a copy that
+  also writes, as AOVs, what it sees per pixel (``core.compare.PROBES``: position, normal,
+  incoming, the material's inputs, and the object's number).  Eevee never compiles them
+  (each AOV costs Eevee shader compile time).  1 sample at the pixel centres, box filter
+  0.01.
+* Eevee renders the picture: 1 TAA sample, filter size 0: its first sample sits at the
+  pixel centre too.
+* ``evaluate.describe`` reads the lights, Light Linking and World ambient as Blender
+  evaluates them; ``core.compare`` computes the reference from them and the probes, and the
+  metrics; ``core.report`` writes the pictures, the sheet and metrics.json.
 
-Everything is written into a hidden temporary folder beside the destination and renamed
-into place at the end, so an interrupted bake leaves no folder that looks finished.
+Every setting the bake changes (render settings, view layers, passes, object pass
+indices, lights groups) is put back afterwards, also after an error.  Everything is
+written into a hidden temporary folder beside the destination and renamed into place at
+the end, so an interrupted bake leaves no folder that looks finished.
 """
 
 from __future__ import annotations
@@ -25,85 +32,234 @@ import bpy
 
 from ...core import compare, outputs, report
 from .. import compat
-from . import builder, render
+from ..lighting import materials, rig
+from ..lighting import sync as sync_mod
+from . import evaluate, render
 
 
-# -- rendering ---------------------------------------------------------------------
-
-def configure(scene, engine: str) -> None:
-    """Exact-check settings of *engine*; Cycles renders the AOV layer, Eevee the picture."""
-    layers = scene.view_layers
-    render.exact(scene, engine)
-    cycles = engine == "cycles"
-    layers[builder.AOV_LAYER].use = cycles
-    layers[builder.PICTURE_LAYER].use = not cycles
-    builder.set_aov_outputs(scene, cycles)
-    compat.set_multilayer_exr(scene.render.image_settings)
+class BakeError(ValueError):
+    """A scene that cannot be compared; the message says why."""
 
 
-def render_exr(scene, path: str) -> None:
-    scene.render.filepath = path
-    scene.render.use_file_extension = False
+class Overrides:
+    """Settings changed for a bake and put back in reverse order by :meth:`restore`."""
+
+    def __init__(self):
+        self._undo = []
+
+    def set(self, owner, attr: str, value) -> None:
+        if not hasattr(owner, attr):
+            return
+        old = getattr(owner, attr)
+        if hasattr(old, "__len__") and not isinstance(old, str):
+            old = tuple(old)
+        if old == value:
+            return
+        setattr(owner, attr, value)
+        self._undo.append(lambda: setattr(owner, attr, old))
+
+    def later(self, function) -> None:
+        """Call *function* on restore (after the settings made after it are put back)."""
+        self._undo.append(function)
+
+    def restore(self) -> None:
+        """Put everything back; an enum that must wait for another (an EXR colour depth
+        for a PNG) gets a second pass."""
+        failed = []
+        for undo in reversed(self._undo):
+            try:
+                undo()
+            except (TypeError, ValueError, RuntimeError):
+                failed.append(undo)
+            except ReferenceError:  # its data block was deleted meanwhile
+                pass
+        for undo in failed:
+            try:
+                undo()
+            except (TypeError, ValueError, RuntimeError, ReferenceError):
+                pass
+        self._undo.clear()
+
+
+# -- what is compared ----------------------------------------------------------------
+
+def check(scene, view_layer=None):
+    """(view layer, Phong objects) of *scene*, or BakeError saying why it cannot be baked."""
+    layer = evaluate.view_layer_of(scene, view_layer)
+    objects = evaluate.phong_objects(scene, layer)
+    if not objects:
+        raise BakeError(f"scene {scene.name!r} has no object with a Phong material in view "
+                        f"layer {layer.name!r} (Apply Phong Material first)")
+    if scene.camera is None:
+        raise BakeError(f"scene {scene.name!r} has no camera")
+    return layer, objects
+
+
+# -- rendering ------------------------------------------------------------------------
+
+def render_exr(scene, path: str, set_=setattr) -> None:
+    """Render *scene* into the file *path* with its output settings."""
+    set_(scene.render, "filepath", path)
+    set_(scene.render, "use_file_extension", False)
     with bpy.context.temp_override(scene=scene):
         bpy.ops.render.render(write_still=True, scene=scene.name)
     if not os.path.exists(path):
         raise RuntimeError(f"the render did not write {path}")
 
 
-def render_passes(scene, engine: str, folder: str) -> dict:
-    """Render *scene* with *engine* into a scratch EXR in *folder*; {pass: array}."""
-    configure(scene, engine)
+def _render(scene, engine, folder, o: Overrides) -> dict:
+    render.exact(scene, engine, o.set)
     path = os.path.join(folder, f"{engine}.exr")
-    render_exr(scene, path)
+    render_exr(scene, path, o.set)
     try:
         return compare.read_exr(path)
     finally:
         os.remove(path)
 
 
+def _add_aovs(layer, names, o: Overrides) -> None:
+    have = {aov.name for aov in layer.aovs}
+    for name in names:
+        if name in have:
+            continue
+        aov = layer.aovs.add()
+        aov.name = name
+        aov.type = "COLOR"
+        o.later(lambda aov_name=name: _remove_aov(layer, aov_name))
+
+
+def _remove_aov(layer, name) -> None:
+    aov = next((a for a in layer.aovs if a.name == name), None)
+    if aov is not None:
+        layer.aovs.remove(aov)
+
+
+def _probe_groups(objects, o: Overrides) -> None:
+    """Swap each lights group the objects' materials use for a copy with the probes."""
+    groups = {}
+    for obj in objects:
+        for slot in obj.material_slots:
+            if materials.is_phong_material(slot.material):
+                node = slot.material.node_tree.nodes.get(materials.LIGHTS_NODE)
+                if node is not None and node.node_tree is not None:
+                    groups[node.node_tree.name] = node.node_tree
+    for group in groups.values():
+        probe = group.copy()
+        probe.name = f"{group.name} (probe)"
+        for key in (rig.SCENE_KEY, rig.SET_KEY):
+            if key in probe.keys():
+                del probe[key]  # not a lights group of the scene for Sync or the handler
+        _add_probes(probe)
+        o.set(group, "use_fake_user", True)
+        group.user_remap(probe)
+        o.later(lambda g=group, p=probe: _unswap(g, p))
+
+
+def _unswap(group, probe) -> None:
+    probe.user_remap(group)
+    bpy.data.node_groups.remove(probe)
+
+
+def _add_probes(tree) -> None:
+    """AOV outputs of what the lights group sees (``compare.PROBES``) inside *tree*."""
+    group_in = next(n for n in tree.nodes if n.bl_idname == "NodeGroupInput")
+    geometry = tree.nodes.new("ShaderNodeNewGeometry")
+    info = tree.nodes.new("ShaderNodeObjectInfo")
+    params = tree.nodes.new("ShaderNodeCombineXYZ")
+    tree.links.new(group_in.outputs["Exponent"], params.inputs[0])
+    tree.links.new(group_in.outputs["Blinn"], params.inputs[1])
+    tree.links.new(info.outputs["Object Index"], params.inputs[2])
+    sources = {"P": geometry.outputs["Position"], "N": geometry.outputs["Normal"],
+               "I": geometry.outputs["Incoming"], "normal": group_in.outputs["Normal"],
+               "view": group_in.outputs["View Vector"],
+               "color": group_in.outputs["Object Color"],
+               "ambient": group_in.outputs[materials.AMBIENT_INPUT],
+               "specular": group_in.outputs["Specular Color"],
+               "irradiant": group_in.outputs["Irradiant Color"],
+               "params": params.outputs["Vector"]}
+    for index, probe in enumerate(compare.PROBES):
+        aov = tree.nodes.new("ShaderNodeOutputAOV")
+        aov.aov_name = compare.probe_name(probe)
+        aov.location = (-600.0, 900.0 + 120.0 * index)
+        tree.links.new(sources[probe], aov.inputs["Color"])
+
+
+def render_all(scene, layer, objects, engines, folder, resolution=None, progress=None):
+    """({engine: picture}, probe and term passes of Cycles) of *scene*, rendered with exact
+    settings that are put back afterwards."""
+    progress = progress or (lambda f, t: None)
+    o = Overrides()
+    images = {}
+    try:
+        if resolution is not None:
+            aspect = scene.render.resolution_x / scene.render.resolution_y
+            width, height = max(1, round(resolution * aspect)), resolution
+        else:
+            percent = scene.render.resolution_percentage / 100.0
+            width = max(1, round(scene.render.resolution_x * percent))
+            height = max(1, round(scene.render.resolution_y * percent))
+        render.plain_picture(scene, width, height, o.set)
+        compat.set_multilayer_exr(scene.render.image_settings, o.set)
+        for other in scene.view_layers:
+            o.set(other, "use", other == layer)
+        for index, obj in enumerate(objects, start=1):
+            o.set(obj, "pass_index", index)
+        if "eevee" in engines:
+            progress(0.35, "Eevee (picture)")
+            images["eevee"] = _render(scene, "eevee", folder, o)["Combined"][..., :3]
+        progress(0.05 if "eevee" not in engines else 0.5, "Cycles (picture, terms, probes)")
+        _add_aovs(layer, list(materials.AOVS) + [compare.probe_name(p) for p in compare.PROBES],
+                  o)
+        _probe_groups(objects, o)
+        passes = _render(scene, "cycles", folder, o)
+        images["cycles"] = passes["Combined"][..., :3]
+    finally:
+        with sync_mod.paused():
+            o.restore()
+    terms = {term: passes[f"Phong {term}"][..., :3] for term in compare.TERMS}
+    return images, passes, terms
+
+
 # -- the bake ---------------------------------------------------------------------------
 
-def bake(scene, out_dir: str, engines=compare.ENGINES, progress=None) -> dict:
-    """Render and compare *scene* (built by builder.build) into *out_dir* (replaced whole).
+def bake(scene, out_dir: str, engines=compare.ENGINES, progress=None, view_layer=None,
+         resolution=None, on_folder=None) -> dict:
+    """Render and compare *scene* into *out_dir* (replaced whole).
 
-    *progress(fraction, text)* is called between steps.  Returns the metrics dict (also
-    written as metrics.json).
+    *view_layer*: the name of the view layer to render (default: the first that renders);
+    *resolution*: the picture height in pixels (default: the scene's own size).
+    *progress(fraction, text)* is called between steps; *on_folder(folder)* may add files
+    to the report folder before it is put in place.  Returns the metrics dict (also
+    written as metrics.json).  BakeError when the scene cannot be compared.
     """
-    data = builder.scene_dict(scene)
-    if data is None:
-        raise ValueError(f"scene {scene.name!r} is not a Phong demo scene "
-                         "(build one with phong.build_demo_scene)")
+    layer, objects = check(scene, view_layer)
     engines = [e for e in compare.ENGINES if e in engines]
     progress = progress or (lambda f, t: None)
     parent = os.path.dirname(os.path.abspath(out_dir)) or "."
     os.makedirs(parent, exist_ok=True)
     tmp = tempfile.mkdtemp(prefix=outputs.temp_prefix("partial", os.path.basename(out_dir)),
                            dir=parent)
-    timings = {}
     try:
         t0 = time.perf_counter()
-        progress(0.05, "Cycles (picture + AOVs)")
-        aovs = render_passes(scene, "cycles", tmp)
-        images = {"cycles": aovs["Combined"][..., :3]}
-        timings["cycles_s"] = time.perf_counter() - t0
-        if "eevee" in engines:
-            t0 = time.perf_counter()
-            progress(0.35, "Eevee (picture)")
-            images["eevee"] = render_passes(scene, "eevee", tmp)["Combined"][..., :3]
-            timings["eevee_s"] = time.perf_counter() - t0
-            configure(scene, "cycles")  # leave the AOV outputs on for the user
-
+        with sync_mod.paused():
+            data = evaluate.describe(scene, layer, objects)
+            images, passes, terms = render_all(scene, layer, objects, engines, tmp,
+                                               resolution, progress)
+        timings = {"renders_s": time.perf_counter() - t0}
         t0 = time.perf_counter()
-        progress(0.7, "reference and report")
-        metrics, refimg, mask = compare.evaluate(data, images, aovs, engines)
-        metrics["resolution"] = [scene.render.resolution_x, scene.render.resolution_y]
+        progress(0.8, "reference and report")
+        metrics, refimg, mask = compare.evaluate(data, images, passes, engines, terms)
+        height, width = images["cycles"].shape[:2]
+        metrics["resolution"] = [width, height]
         timings["reference_s"] = time.perf_counter() - t0
         t0 = time.perf_counter()
-        report.write_scene(tmp, data, images, refimg, mask, metrics)
+        report.write_scene(tmp, data, images, refimg, mask, metrics, terms)
         timings["report_s"] = time.perf_counter() - t0
         metrics["timings"] = timings
         with open(os.path.join(tmp, "metrics.json"), "w", encoding="utf-8") as handle:
             json.dump(metrics, handle, indent=2, ensure_ascii=False)
+        if on_folder is not None:
+            on_folder(tmp)
         progress(0.95, "finishing")
         outputs.replace_dir(tmp, out_dir)
     except BaseException:

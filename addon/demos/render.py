@@ -12,46 +12,40 @@ from .. import compat
 _EEVEE_OFF = ("use_shadows", "use_raytracing", "use_gtao", "use_bloom", "use_volumetric_shadows")
 
 
-def plain_picture(scene, width: int, height: int) -> None:
-    """Pixels that are the shader's values: square pixels, no compositing, sequencer,
-    dithering or transparency, Standard view transform without look, exposure or gamma."""
-    r = scene.render
-    r.resolution_x, r.resolution_y, r.resolution_percentage = width, height, 100
-    r.pixel_aspect_x = r.pixel_aspect_y = 1.0
-    r.film_transparent = False
-    r.use_compositing = False
-    r.use_sequencer = False
-    r.dither_intensity = 0.0
-    view = scene.view_settings
-    view.view_transform = "Standard"
-    view.look = "None"
-    view.exposure = 0.0
-    view.gamma = 1.0
+def _set_all(owner, values: dict, set_) -> None:
+    for attr, value in values.items():
+        if hasattr(owner, attr):
+            set_(owner, attr, value)
 
 
-def exact(scene, engine: str) -> None:
+def plain_picture(scene, width: int, height: int, set_=setattr) -> None:
+    """Pixels that are the shader's values: square pixels, no border, compositing,
+    sequencer, motion blur, simplify, dithering or transparency, Standard view transform
+    without look, exposure or gamma.  *set_(owner, attribute, value)* does the setting (the
+    bake passes one that remembers the old values)."""
+    _set_all(scene.render, {
+        "resolution_x": width, "resolution_y": height, "resolution_percentage": 100,
+        "pixel_aspect_x": 1.0, "pixel_aspect_y": 1.0, "use_border": False,
+        "film_transparent": False, "use_compositing": False, "use_sequencer": False,
+        "use_motion_blur": False, "use_simplify": False, "dither_intensity": 0.0}, set_)
+    _set_all(scene.view_settings, {"view_transform": "Standard", "look": "None",
+                                   "exposure": 0.0, "gamma": 1.0, "use_curve_mapping": False},
+             set_)
+
+
+def exact(scene, engine: str, set_=setattr) -> None:
     """Configure *scene* for an exact check with *engine* ('cycles' or 'eevee')."""
     if engine == "cycles":
-        scene.render.engine = "CYCLES"
-        cy = scene.cycles
-        cy.device = "CPU"
-        cy.samples = 1
-        cy.use_denoising = False
-        cy.use_adaptive_sampling = False
-        cy.pixel_filter_type = "BOX"
-        cy.filter_width = 0.01
-        cy.max_bounces = 0
-        cy.seed = 0
-        if hasattr(cy, "use_light_tree"):
-            cy.use_light_tree = False
+        set_(scene.render, "engine", "CYCLES")
+        _set_all(scene.cycles, {
+            "device": "CPU", "samples": 1, "use_denoising": False,
+            "use_adaptive_sampling": False, "pixel_filter_type": "BOX", "filter_width": 0.01,
+            "max_bounces": 0, "seed": 0, "use_animated_seed": False, "film_exposure": 1.0,
+            "use_light_tree": False}, set_)
     elif engine == "eevee":
-        scene.render.engine = compat.eevee_engine()
-        scene.eevee.taa_render_samples = 1
-        scene.render.filter_size = 0.0
-        if hasattr(scene.render, "use_high_quality_normals"):
-            scene.render.use_high_quality_normals = True
-        for attr in _EEVEE_OFF:
-            if hasattr(scene.eevee, attr):
-                setattr(scene.eevee, attr, False)
+        set_(scene.render, "engine", compat.eevee_engine())
+        set_(scene.eevee, "taa_render_samples", 1)
+        _set_all(scene.render, {"filter_size": 0.0, "use_high_quality_normals": True}, set_)
+        _set_all(scene.eevee, {attr: False for attr in _EEVEE_OFF}, set_)
     else:
         raise ValueError(f"unknown engine {engine!r}: expected 'cycles' or 'eevee'")

@@ -11,6 +11,8 @@ nothing of that changed it costs one fingerprint of the lights (microseconds).
 
 from __future__ import annotations
 
+import contextlib
+
 import bpy
 from bpy.app.handlers import persistent
 
@@ -191,6 +193,17 @@ def remember(scene, view_layer=None) -> None:
 _SEEN: dict = {}    # scene pointer -> signature of its lights when last relinked
 _LIGHTS: dict = {}  # scene pointer -> its light objects (looked up again on structure changes)
 _BUSY = []
+
+
+@contextlib.contextmanager
+def paused():
+    """No relink by the handler inside this block (the bake swaps lights groups for a
+    render and puts them back)."""
+    _BUSY.append(True)
+    try:
+        yield
+    finally:
+        _BUSY.pop()
 
 
 @persistent

@@ -15,7 +15,7 @@ from bpy_extras.io_utils import ExportHelper, ImportHelper
 from ...core import compare, outputs, scenes
 from ...node_groups.library import GROUPS
 from .. import loader
-from ..demos import bake, builder
+from ..demos import bake, builder, evaluate
 from ...core import mtl
 from ..interchange import mtl_export, obj_import
 from ..lighting import materials
@@ -271,8 +271,9 @@ class PHONG_OT_build_demo_scene(bpy.types.Operator):
 
 
 class PHONG_OT_bake_comparison(bpy.types.Operator):
-    """Render the active demo scene with Eevee and Cycles, compare both with the numpy \
-reference of the formulas and write images, heatmaps, a sheet and metrics.json"""
+    """Render the active scene's Phong materials with Eevee and Cycles, compare both with \
+the numpy reference of the formulas for the scene's lights, and write images, term passes, \
+heatmaps, a sheet and metrics.json"""
 
     bl_idname = "phong.bake_comparison"
     bl_label = "Bake Phong Comparison"
@@ -285,14 +286,27 @@ reference of the formulas and write images, heatmaps, a sheet and metrics.json""
 
     @classmethod
     def poll(cls, context):
-        if context.scene is None or builder.SCENE_KEY not in context.scene:
-            cls.poll_message_set("The active scene is not a Phong demo scene "
-                                 "(Build Phong Demo Scene first)")
+        if context.scene is None:
+            cls.poll_message_set("No active scene")
             return False
         return True
 
+    @staticmethod
+    def _layer(context):
+        """The active view layer's name when it is one of the active scene's, else None."""
+        layer = context.view_layer
+        scene = context.scene
+        if layer is not None and scene.view_layers.get(layer.name) == layer:
+            return layer.name
+        return None
+
     def execute(self, context):
         scene = context.scene
+        try:
+            bake.check(scene, self._layer(context))
+        except bake.BakeError as error:
+            self.report({"ERROR"}, f"Bake Phong Comparison: {error}")
+            return {"CANCELLED"}
         folder = bpy.path.abspath(self.directory) if self.directory.startswith("//") \
             else self.directory
         if self.directory.startswith("//") and not bpy.data.filepath:
@@ -301,23 +315,24 @@ reference of the formulas and write images, heatmaps, a sheet and metrics.json""
         if problem is not None:
             self.report({"ERROR"}, f"Bake Phong Comparison: {problem}")
             return {"CANCELLED"}
-        data = builder.scene_dict(scene)
+        name = evaluate.folder_name(scene)
         wm = context.window_manager
         wm.progress_begin(0, 100)
         try:
-            metrics = bake.bake(scene, os.path.join(folder, data["name"]),
+            metrics = bake.bake(scene, os.path.join(folder, name),
                                 engines=[e.lower() for e in self.engines],
-                                progress=lambda f, _t: wm.progress_update(int(100 * f)))
-        except (RuntimeError, OSError) as error:
+                                progress=lambda f, _t: wm.progress_update(int(100 * f)),
+                                view_layer=self._layer(context))
+        except (RuntimeError, OSError, bake.BakeError) as error:
             self.report({"ERROR"}, f"Bake Phong Comparison: bake failed: {error}")
             return {"CANCELLED"}
         finally:
             wm.progress_end()
-        sheet = os.path.join(folder, data["name"], "sheet.png")
+        sheet = os.path.join(folder, name, "sheet.png")
         _show_image(context, sheet)
         verdicts = compare.verdict_text(metrics["verdict"])
         self.report({"INFO"} if metrics["ok"] else {"WARNING"},
-                    f"Phong comparison of '{data['name']}': {verdicts} ({sheet})")
+                    f"Phong comparison of '{scene.name}': {verdicts} ({sheet})")
         return {"FINISHED"}
 
     def invoke(self, context, event):
