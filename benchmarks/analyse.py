@@ -36,6 +36,8 @@ def analyse(raw, cfg):
     }
     figures.update(scale(raw["cycles"]["scale"], cfg))
     figures["artist_scale"] = artist_figure(raw["artist"])
+    if raw.get("demos"):
+        figures["demo_eevee"] = demo_figure(raw["demos"], cfg)
     return figures
 
 
@@ -202,4 +204,31 @@ def artist_figure(runs):
         "goal": f"move update <= {MOVE_GOAL}x Principled; Relink after adding a light and "
                 f"Apply < {SECONDS_GOAL} s at {SECONDS_GOAL_OBJECTS} objects",
         "goal_value": MOVE_GOAL, "goal_kind": "max",
+    }
+
+
+def demo_figure(runs, cfg):
+    """7: Eevee first render of each demo scene (cold-cache process, after a warm-up render)
+    as built (materials that differ only in values share a layout), and the ratio to the
+    same scene with one layout per material."""
+    per_scene = {}
+    for name in cfg["demo_scenes"]:
+        shared = [run[f"{name}:shared"]["first"] for run in runs]
+        distinct = [run[f"{name}:distinct"]["first"] for run in runs]
+        per_scene[name] = {"shared_first_seconds": summary(shared),
+                           "distinct_first_seconds": summary(distinct),
+                           "materials": runs[0][f"{name}:distinct"]["materials"],
+                           "ratio": ratio_summary(shared, distinct)}
+    total_shared = [sum(run[f"{n}:shared"]["first"] for n in cfg["demo_scenes"]) for run in runs]
+    total_distinct = [sum(run[f"{n}:distinct"]["first"] for n in cfg["demo_scenes"])
+                      for run in runs]
+    return {
+        "what": "Eevee first render (compile included) of every demo scene as built, / the "
+                "same scene with one node layout per material",
+        "scenes": per_scene,
+        "total_shared_seconds": summary(total_shared),
+        "total_distinct_seconds": summary(total_distinct),
+        "ratio": ratio_summary(total_shared, total_distinct),
+        "goal": "< 1 (shared layouts compile less)", "goal_value": 1.0,
+        "goal_kind": "max_strict",
     }

@@ -512,6 +512,56 @@ def worker_eevee(cfg, cases):
         remove_scene(scene)
     return out
 
+# --------------------------------------------------------------------- demo scenes
+
+def distinct_layouts(scene):
+    """Give every Phong material of *scene* its own node layout without changing a value:
+    material k gets a chain of k Math ADD 0 nodes on its Exponent (a shader per material,
+    what a recipe that wires per-object values into each material would compile)."""
+    from phong_nodes.addon.lighting import materials  # noqa: PLC0415
+
+    found = {slot.material for obj in scene.objects for slot in obj.material_slots
+             if materials.is_phong_material(slot.material)}
+    for k, material in enumerate(sorted(found, key=lambda m: m.name), start=1):
+        tree = material.node_tree
+        socket = tree.nodes["phong_exponent"].outputs[0]
+        target = tree.nodes[materials.LIGHTS_NODE].inputs["Exponent"]
+        for _ in range(k):
+            add = tree.nodes.new("ShaderNodeMath")
+            add.operation = "ADD"
+            add.inputs[1].default_value = 0.0
+            tree.links.new(socket, add.inputs[0])
+            socket = add.outputs[0]
+        tree.links.new(socket, target)
+    return len(found)
+
+
+def worker_demos(cfg, names):
+    """One cold process: warm the engine with the Emission floor, then per demo scene (built
+    by build_demo_scene's code) the first and second Eevee render, and the same with one
+    layout per material (distinct_layouts)."""
+    from phong_nodes.addon.demos import builder  # noqa: PLC0415
+    from phong_nodes.core import scenes  # noqa: PLC0415
+
+    out = {}
+    scene, _ = build_scene("dwarm", res=cfg["eevee_res"], grid=1, n_lights=1,
+                           material="emission", segments=cfg["segments"])
+    set_eevee(scene, cfg["eevee_samples"])
+    out["warmup_first"] = render(scene)
+    remove_scene(scene)
+    for name in names:
+        data = scenes.load(os.path.join(scenes.SCENES_DIR, f"{name}.toml"))
+        for variant in ("shared", "distinct"):
+            scene = builder.build(data, cfg["eevee_res"])
+            count = distinct_layouts(scene) if variant == "distinct" else None
+            set_eevee(scene, cfg["eevee_samples"])
+            first = render(scene)
+            second = render(scene)
+            out[f"{name}:{variant}"] = {"first": first, "second": second, "materials": count}
+            builder.remove(scene)
+    return out
+
+
 def main(name, params):
     cfg = params["cfg"]
     worker_setup()
@@ -521,6 +571,8 @@ def main(name, params):
         result = worker_eevee(cfg, [tuple(c) for c in params["cases"]])
     elif name == "artist":
         result = worker_artist(cfg, *params["case"])
+    elif name == "demos":
+        result = worker_demos(cfg, params["names"])
     else:
         raise SystemExit(f"unknown worker {name}")
     with open(params["result_path"], "w") as fh:

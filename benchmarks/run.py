@@ -53,6 +53,8 @@ FULL = {
     "scale_distinct": True,
     "artist_objects": [1000, 10000], "artist_lights": [4, 16], "scale_moves": 9,
     "eevee_res": 256, "eevee_samples": 4, "eevee_grid": 3, "eevee_cold": True,
+    "demo_scenes": ["color_product", "exponents", "four_terms", "lambert_vs_phong",
+                    "point_falloff", "spot_edges", "textured", "two_lights"],
 }
 QUICK = {
     "repeats": 3,
@@ -64,6 +66,7 @@ QUICK = {
     "scale_distinct": True,
     "artist_objects": [6, 12], "artist_lights": [2, 4], "scale_moves": 3,
     "eevee_res": 32, "eevee_samples": 1, "eevee_grid": 1, "eevee_cold": False,
+    "demo_scenes": ["exponents", "two_lights"],
 }
 
 
@@ -131,9 +134,14 @@ def collect(cfg, log=print):
         for case in rotated(cases, r):
             artist_runs.append(run_worker("artist", {"cfg": cfg, "case": case}, log=log))
 
+    log("Demo scenes, Eevee first render: shared layouts vs one per material (figure 7)...")
+    names = cfg["demo_scenes"]
+    demo_runs = [run_worker("demos", {"cfg": cfg, "names": rotated(names, r)},
+                            cold_cache=cfg["eevee_cold"], log=log) for r in range(reps)]
+
     load_after = load_average()
     return {"cycles": cyc, "eevee_compile": compile_runs, "eevee_lights": light_runs,
-            "artist": artist_runs,
+            "artist": artist_runs, "demos": demo_runs,
             "load_before": load_before, "load_after": load_after,
             "total_seconds": time.perf_counter() - started}
 

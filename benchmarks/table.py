@@ -26,7 +26,7 @@ def markdown(figures, meta):
     """The table (one row per figure and case) and two lines on the run and its sizes."""
     rows = [*cycles_rows(figures), *eevee_rows(figures), *quality_rows(figures),
             *scale_rows(figures, meta["config"]["scale_objects"]),
-            *artist_rows(figures["artist_scale"])]
+            *artist_rows(figures["artist_scale"]), *demo_rows(figures.get("demo_eevee"))]
     lines = ["| figure | median (min–max) | goal | verdict | detail |",
              "|---|---|---|---|---|"]
     lines += ["| " + " | ".join(r) + " |" for r in rows]
@@ -156,3 +156,17 @@ def artist_rows(figure):
                  + ", ".join(sorted({str(c["drivers_after_add"][0] - c["drivers"][0])
                                      for c in figure["cases"].values()}))))
     return rows
+
+
+def demo_rows(figure):
+    """Table rows of figure 7 (absent in results of older runs)."""
+    if figure is None:
+        return []
+    detail = "; ".join(f"{name} {fmt(c['shared_first_seconds'])} s vs "
+                       f"{fmt(c['distinct_first_seconds'])} s ({c['materials']} materials)"
+                       for name, c in figure["scenes"].items())
+    return [("7. Demo scenes, Eevee first render: as built / one layout per material",
+             fmt(figure["ratio"]) + "×", "< 1×",
+             verdict(figure["ratio"]["median"], figure["goal_value"], figure["goal_kind"]),
+             f"all scenes {fmt(figure['total_shared_seconds'])} s vs "
+             f"{fmt(figure['total_distinct_seconds'])} s; {detail}")]
