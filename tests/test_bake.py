@@ -7,7 +7,6 @@ import math
 import os
 import re
 import subprocess
-import sys
 
 import numpy as np
 import pytest
@@ -15,7 +14,6 @@ import pytest
 import blender_env as be
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-CLI = os.path.join(ROOT, "tools", "phong.py")
 
 
 def _layout(material):
@@ -246,8 +244,8 @@ def test_a_scene_made_by_hand_compares_ok_by_operator_and_cli(bpy_clean, tmp_pat
     path = tmp_path / "by_hand.blend"
     bpy.ops.wm.save_as_mainfile(filepath=str(path), copy=True)
     env = dict(os.environ, BLENDER_USER_RESOURCES=str(tmp_path / "user"))
-    result = subprocess.run([sys.executable, CLI, "compare", str(path), "--out",
-                             str(tmp_path / "cli"), "--engines", "cycles"],
+    result = subprocess.run(["bash", os.path.join(ROOT, "tools", "phong.sh"), "compare",
+                             str(path), "--out", str(tmp_path / "cli"), "--engines", "cycles"],
                             capture_output=True, text=True, env=env, timeout=300)
     assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
     cli = json.loads((tmp_path / "cli" / "By_hand" / "metrics.json").read_text())
