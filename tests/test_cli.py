@@ -125,3 +125,19 @@ def test_compare_bad_input_exits_2_with_one_line_and_writes_nothing(tmp_path, pl
     assert len(lines) == 1 and message in lines[0], result.stderr
     assert "Traceback" not in result.stderr
     assert not out.exists(), "nothing written"
+
+
+@pytest.mark.slow
+@pytest.mark.cycles
+def test_save_blend_keeps_a_demo_scene_that_compare_checks(tmp_path):
+    out = tmp_path / "demo"
+    result = run_cli(tmp_path, "--scenes", "lambert_vs_phong", "--resolution", "16",
+                     "--engines", "cycles", "--save-blend", "--out", str(out))
+    assert result.returncode == 0, result.stderr[-3000:]
+    blend = out / "lambert_vs_phong" / "lambert_vs_phong.blend"
+    assert blend.is_file()
+    result = run_cli(tmp_path, "compare", str(blend), "--engines", "cycles", "--out",
+                     str(tmp_path / "check"))
+    assert result.returncode == 0, result.stderr[-3000:]
+    metrics = json.loads((tmp_path / "check" / "lambert_vs_phong" / "metrics.json").read_text())
+    assert metrics["ok"] and metrics["resolution"] == [32, 16], "the saved scene's own size"

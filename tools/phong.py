@@ -175,8 +175,8 @@ def _main(argv, state) -> int:
 
 
 class Job:
-    """One scene to compare: *make()* returns the Blender scene; *done(scene, folder)* runs
-    before its report folder is put in place."""
+    """One scene to compare: *make()* returns the Blender scene; *done(scene, folder, name)*
+    runs before its report folder is put in place."""
 
     def __init__(self, name, make, done=None, drop=False):
         self.name, self.make, self.done, self.drop = name, make, done, drop
@@ -194,9 +194,8 @@ def _demo_jobs(mine, args) -> list:
         bpy.data.libraries.write(os.path.join(folder, f"{name}.blend"), {scene},
                                  path_remap="NONE", fake_user=False)
 
-    return [Job(d["name"], lambda d=d: make(d),
-                (lambda scene, folder, n=d["name"]: save(scene, folder, n))
-                if args.save_blend else None, drop=True) for d in mine]
+    return [Job(d["name"], lambda d=d: make(d), save if args.save_blend else None, drop=True)
+            for d in mine]
 
 
 def _blend_jobs(args):
@@ -278,7 +277,7 @@ def _bake_scenes(jobs, args, out, say, state):
             metrics = bake.bake(scene, os.path.join(out, job.name), engines=args.engines,
                                 progress=progress, resolution=args.resolution,
                                 on_folder=None if job.done is None
-                                else lambda folder, s=scene: job.done(s, folder))
+                                else lambda folder, s=scene: job.done(s, folder, job.name))
             if job.drop:
                 builder.remove(scene)
         except Exception as error:  # noqa: BLE001  (one bad scene must not hide the others)

@@ -118,13 +118,7 @@ def _render(scene, engine, folder, o: Overrides) -> dict:
 
 
 def _add_aovs(layer, names, o: Overrides) -> None:
-    have = {aov.name for aov in layer.aovs}
-    for name in names:
-        if name in have:
-            continue
-        aov = layer.aovs.add()
-        aov.name = name
-        aov.type = "COLOR"
+    for name in materials.add_view_layer_aovs(layer, names):
         o.later(lambda aov_name=name: _remove_aov(layer, aov_name))
 
 
@@ -186,7 +180,8 @@ def _add_probes(tree) -> None:
 
 def render_all(scene, layer, objects, engines, folder, resolution=None, progress=None):
     """({engine: picture}, probe and term passes of Cycles) of *scene*, rendered with exact
-    settings that are put back afterwards."""
+    settings that are put back afterwards; call it inside ``sync.paused()`` (the lights
+    groups are swapped meanwhile)."""
     progress = progress or (lambda f, t: None)
     o = Overrides()
     images = {}
@@ -214,8 +209,7 @@ def render_all(scene, layer, objects, engines, folder, resolution=None, progress
         passes = _render(scene, "cycles", folder, o)
         images["cycles"] = passes["Combined"][..., :3]
     finally:
-        with sync_mod.paused():
-            o.restore()
+        o.restore()  # the caller holds the handler paused (sync.paused)
     terms = {term: passes[f"Phong {term}"][..., :3] for term in compare.TERMS}
     return images, passes, terms
 

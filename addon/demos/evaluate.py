@@ -18,7 +18,8 @@ from ..lighting import lights as lights_mod
 from ..lighting import materials, properties
 from . import builder
 
-LIGHT_TYPES = {"POINT": "point", "SUN": "directional", "SPOT": "spot"}
+#: Blender light type -> the scene files' (and the reference's) light type.
+LIGHT_TYPES = {kind: name for name, kind in builder.LIGHT_TYPES.items()}
 
 
 def view_layer_of(scene, name: str | None = None):
@@ -30,18 +31,10 @@ def view_layer_of(scene, name: str | None = None):
 
 def phong_objects(scene, view_layer) -> list:
     """The objects of *view_layer* that render with a Phong material in some slot."""
-    found = []
-    for obj in view_layer.objects:
-        if obj.hide_render or not hasattr(obj.data, "materials"):
-            continue
-        try:
-            visible = obj.visible_get(view_layer=view_layer)
-        except (TypeError, RuntimeError):
-            visible = not obj.hide_get()
-        if visible and any(materials.is_phong_material(slot.material)
-                           for slot in obj.material_slots):
-            found.append(obj)
-    return found
+    return [obj for obj in view_layer.objects
+            if not obj.hide_render and hasattr(obj.data, "materials")
+            and lights_mod.visible(obj, view_layer)
+            and any(materials.is_phong_material(slot.material) for slot in obj.material_slots)]
 
 
 def folder_name(scene) -> str:

@@ -30,13 +30,14 @@ def scene_lights(scene, view_layer=None, candidates=None):
     supported, unsupported = [], []
     candidates = light_objects(scene) if candidates is None else candidates
     for obj in sorted(candidates, key=lambda o: o.name):
-        if obj.hide_render or not _visible(obj, view_layer):
+        if obj.hide_render or not visible(obj, view_layer):
             continue
         (supported if obj.data.type in SUPPORTED else unsupported).append(obj)
     return supported, unsupported
 
 
-def _visible(obj, view_layer) -> bool:
+def visible(obj, view_layer) -> bool:
+    """Whether *obj* is visible in *view_layer*."""
     try:
         return obj.visible_get(view_layer=view_layer)
     except (TypeError, RuntimeError):

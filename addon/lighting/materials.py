@@ -59,6 +59,17 @@ AMBIENT_INPUT = "Ambient Object Color"
 AMBIENT_CONTROL = "phong_ambient_color"
 
 
+def add_view_layer_aovs(layer, names) -> list:
+    """Add the colour AOVs *names* that *layer* lacks; returns the names added."""
+    have = {aov.name for aov in layer.aovs}
+    added = [name for name in names if name not in have]
+    for name in added:
+        aov = layer.aovs.add()
+        aov.name = name
+        aov.type = "COLOR"
+    return added
+
+
 def is_phong_material(material) -> bool:
     return material is not None and bool(material.get(MATERIAL_TAG)) and material.node_tree is not None
 

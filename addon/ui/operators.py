@@ -216,12 +216,7 @@ compositor"""
 
     def execute(self, context):
         layer = context.view_layer
-        have = {aov.name for aov in layer.aovs}
-        added = [name for name in materials.AOVS if name not in have]
-        for name in added:
-            aov = layer.aovs.add()
-            aov.name = name
-            aov.type = "COLOR"
+        added = materials.add_view_layer_aovs(layer, materials.AOVS)
         self.report({"INFO"}, f"Phong passes on view layer {layer.name!r}: "
                               + (", ".join(added) if added else "all there already"))
         return {"FINISHED"}
