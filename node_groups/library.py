@@ -23,7 +23,7 @@ from .expr import (
 )
 
 #: Bump when any group changes: files with older groups are upgraded in place.
-LIBRARY_VERSION = 2
+LIBRARY_VERSION = 3
 
 #: Smallest falloff denominator (docs/contract.md, "Edge cases": max(denominator, 10⁻⁶)).
 MIN_DENOMINATOR = 1e-6
@@ -371,6 +371,142 @@ def _shading(g):
     g.output("Specular", specular, "Specular term", color=True)
     g.output("Color", color, "Clamped sum of the four terms", color=True)
     g.output("Shader", emission(color), "Emission of Color at strength 1: the model's colour in any engine")
+
+
+# -- three.js (docs/threejs.md: three.js r181's shader chunks, npm three@0.181.0) ---------
+#
+# What three.js's MeshPhongMaterial and MeshLambertMaterial compute per light, so that a
+# scene in the three.js model (docs/threejs.md) shows in Blender what the browser shows.
+# Each helper cites the chunk (src/renderers/shaders/ShaderChunk/<chunk>.glsl.js) it
+# restates.  Directional lights are the seeds' Phong Directional Light: three.js's
+# direction is the same ℓ = -u/‖u‖ (lights_pars_begin, getDirectionalLightInfo).
+
+#: three.js's MeshPhongMaterial.specular default, 0x111111, as linear RGB (three.js converts
+#: hex colours from sRGB).
+THREEJS_SPECULAR = (((17 / 255 + 0.055) / 1.055) ** 2.4,) * 3
+#: 1/π as three.js writes it (common: RECIPROCAL_PI).
+RECIPROCAL_PI = 0.3183098861837907
+
+
+def saturate(x):
+    """clamp(x, 0, 1) (common: saturate)."""
+    return minimum(maximum(x, 0.0), 1.0)
+
+
+def distance_attenuation(r, cutoff, decay):
+    """1/max(r^decay, 0.01), times (saturate(1 - (r/cutoff)^4))² when cutoff > 0
+    (lights_pars_begin: getDistanceAttenuation)."""
+    falloff = 1.0 / maximum(power(r, decay), 0.01)
+    x = r / cutoff
+    x2 = x * x
+    window = saturate(1.0 - x2 * x2)
+    return falloff * select(less_than(0.0, cutoff), window * window, 1.0)
+
+
+def smoothstep(edge0, edge1, x):
+    """GLSL smoothstep: t = saturate((x - edge0)/(edge1 - edge0)), t²(3 - 2t)
+    (lights_pars_begin: getSpotAttenuation).  With edge0 = edge1 (penumbra 0) GLSL divides
+    by zero: t is 1 where x > edge0 and 0 below (what SwiftShader and GPUs do), a hard
+    edge."""
+    t = saturate((x - edge0) / (edge1 - edge0))
+    t = select(less_than(edge0, edge1), t, less_than(edge0, x))
+    return t * t * (3.0 - 2.0 * t)
+
+
+def f_schlick(f0, dot_vh):
+    """F_Schlick(f0, f90 = 1, v·h) with Epic's exp2 form of (1 - v·h)^5 (common: F_Schlick)."""
+    fresnel = power(2.0, (-5.55473 * dot_vh - 6.98316) * dot_vh)
+    return f0 * (1.0 - fresnel) + WHITE * fresnel  # f90 = 1 in every channel
+
+
+def brdf_blinn_phong(l, v, n, specular, shininess):
+    """F · G · D with G = 0.25 (G_BlinnPhong_Implicit) and D = (s/2 + 1)/π · (n·h)^s
+    (bsdfs: BRDF_BlinnPhong, D_BlinnPhong); h = normalize(ℓ + v)."""
+    h = normalize(l + v)
+    dot_nh = saturate(dot(n, h))
+    dot_vh = saturate(dot(v, h))
+    d = RECIPROCAL_PI * (shininess * 0.5 + 1.0) * power(dot_nh, shininess)
+    return f_schlick(specular, dot_vh) * (0.25 * d)
+
+
+_T_CUTOFF = "three.js distance: the light reaches 0 there (smooth window); 0 = no cut-off"
+_T_DECAY = "three.js decay: intensity/d^decay (2 physical)"
+
+
+def _threejs_falloff_inputs(g):
+    i = g.value("Intensity", 1.0, "three.js light intensity (the light's colour is multiplied by it)",
+                min=0.0)
+    cutoff = g.value("Distance", 0.0, _T_CUTOFF, min=0.0)
+    decay = g.value("Decay", 2.0, _T_DECAY, min=0.0, max=16.0)
+    return i, cutoff, decay
+
+
+@group("three.js Point Light", "three.js PointLight: intensity/d^decay with a cut-off window (lights_pars_begin)")
+def _threejs_point(g):
+    """docs/threejs.md §Point light."""
+    s = g.vector("Position", ZERO, _POS)
+    i, cutoff, decay = _threejs_falloff_inputs(g)
+    to_light = s - geometry("Position")
+    r = length(to_light)
+    g.output("Light Vector", normalize(to_light), "ℓ = (S-P)/‖S-P‖")
+    g.output("Intensity", i * distance_attenuation(r, cutoff, decay),
+             "i/max(d^decay, 0.01) · saturate(1-(d/distance)⁴)²")
+    g.output("Distance", r, "d = ‖S-P‖")
+
+
+@group("three.js Spot Light", "three.js SpotLight: cone with a smoothstep penumbra and distance attenuation (lights_pars_begin)")
+def _threejs_spot(g):
+    """docs/threejs.md §Spot light."""
+    s = g.vector("Position", ZERO, _POS)
+    u = g.vector("Direction", DOWN, "Axis u of the cone, from the light toward its target")
+    angle = g.value("Angle", math.pi / 3.0, "three.js angle: half angle of the cone",
+                    min=0.0, max=math.pi / 2.0, subtype="ANGLE")
+    penumbra = g.value("Penumbra", 0.0, "three.js penumbra: share of the cone that fades",
+                       min=0.0, max=1.0, subtype="FACTOR")
+    i, cutoff, decay = _threejs_falloff_inputs(g)
+    to_light = s - geometry("Position")
+    r = length(to_light)
+    l = normalize(to_light)
+    cos_w = -dot(l, normalize(u))
+    cone = smoothstep(cos(angle), cos(angle * (1.0 - penumbra)), cos_w)
+    g.output("Light Vector", l, "ℓ = (S-P)/‖S-P‖")
+    g.output("Intensity", i * cone * distance_attenuation(r, cutoff, decay),
+             "i · smoothstep(cos angle, cos(angle·(1-penumbra)), cos ω) · attenuation")
+    g.output("Distance", r, "d = ‖S-P‖")
+    g.output("Cos Angle", cos_w, "cos ω = -ℓ·u")
+
+
+@group("three.js Ambient", "three.js AmbientLight on a Phong or Lambert material (lights_phong_pars_fragment)")
+def _threejs_ambient(g):
+    """docs/threejs.md §Ambient light."""
+    i = g.value("Intensity", 1.0, "three.js AmbientLight intensity", min=0.0)
+    lc = g.color("Light Color", WHITE, "Colour of the ambient light")
+    c = g.color("Diffuse Color", WHITE, "The material's color (three.js's diffuse colour)")
+    g.output("Color", (i * RECIPROCAL_PI) * (lc * c), "i·light ⊗ color / π", color=True)
+
+
+@group("three.js Phong", "One light on three.js's MeshPhongMaterial (Specular Strength 0: MeshLambertMaterial)")
+def _threejs_phong(g):
+    """docs/threejs.md §Direct light: RE_Direct_BlinnPhong (lights_phong_pars_fragment) and
+    RE_Direct_Lambert (lights_lambert_pars_fragment)."""
+    l = g.vector("Light Vector", ZERO, _L)
+    i = g.value("Intensity", 1.0, "Intensity of the light at the point (from a three.js light group)",
+                min=0.0)
+    lc = g.color("Light Color", WHITE, _LC)
+    c = g.color("Diffuse Color", WHITE, "The material's color (three.js's diffuse colour)")
+    sc = g.color("Specular Color", THREEJS_SPECULAR, "The material's specular colour (three.js default 0x111111)")
+    s = g.value("Shininess", 30.0, "three.js shininess", min=0.0, max=10000.0)
+    strength = g.value("Specular Strength", 1.0,
+                       "three.js specularStrength: 1 MeshPhongMaterial, 0 MeshLambertMaterial",
+                       min=0.0, max=1.0, subtype="FACTOR")
+    n = g.normal()
+    v = g.view()
+    irradiance = (i * saturate(dot(n, l))) * lc
+    diffuse = irradiance * (RECIPROCAL_PI * c)
+    specular = irradiance * brdf_blinn_phong(l, v, n, sc, maximum(s, 1e-4)) * strength
+    g.output("Diffuse", diffuse, "saturate(n·ℓ)·i·light ⊗ color/π", color=True)
+    g.output("Specular", specular, "saturate(n·ℓ)·i·light ⊗ F·G·D · specular strength", color=True)
+    g.output("Color", diffuse + specular, "Diffuse + Specular (not clamped)", color=True)
 
 
 NAMES = tuple(GROUPS)

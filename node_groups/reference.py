@@ -71,6 +71,10 @@ __all__ = [
     "color_add",
     "color_multiply",
     "phong_shading",
+    "threejs_point_light",
+    "threejs_spot_light",
+    "threejs_ambient",
+    "threejs_phong",
     "GROUPS",
     "DEFAULTS",
 ]
@@ -371,6 +375,104 @@ def phong_shading(light_vector=_ZERO3, light_intensity=1.0, light_color=_ONE3,
 
 
 # ---------------------------------------------------------------------------
+# three.js r181 (docs/threejs.md): MeshPhongMaterial / MeshLambertMaterial per light
+# ---------------------------------------------------------------------------
+# Restated from three.js's GLSL (src/renderers/shaders/ShaderChunk, npm three@0.181.0),
+# not from node_groups/library.py.  GLSL's saturate(x) = clamp(x, 0, 1).
+
+#: MeshPhongMaterial.specular default 0x111111 in linear RGB (sRGB 17/255 decoded).
+THREEJS_SPECULAR = tuple([((17 / 255 + 0.055) / 1.055) ** 2.4] * 3)
+
+
+def _saturate(x):
+    return np.clip(x, 0.0, 1.0)
+
+
+def threejs_distance_attenuation(distance, cutoff, decay):
+    """getDistanceAttenuation (lights_pars_begin): 1/max(d^decay, 0.01), and when the
+    cut-off distance is > 0 also (saturate(1 - (d/cutoff)^4))^2."""
+    d, c, k = _sca(distance), _sca(cutoff), _sca(decay)
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        att = 1.0 / np.maximum(np.power(d, k), 0.01)
+        ratio = np.where(c > 0, d / np.where(c > 0, c, 1.0), 0.0)
+    window = np.square(_saturate(1.0 - ratio ** 4))
+    return np.where(c > 0, att * window, att)
+
+
+def threejs_smoothstep(edge0, edge1, x):
+    """GLSL smoothstep; edge0 = edge1 (penumbra 0) is the step x > edge0."""
+    e0, e1, x = np.broadcast_arrays(_sca(edge0), _sca(edge1), _sca(x))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = _saturate((x - e0) / np.where(e1 > e0, e1 - e0, 1.0))
+    t = np.where(e1 > e0, t, (x > e0).astype(np.float64))
+    return t * t * (3.0 - 2.0 * t)
+
+
+def threejs_point_light(position=_ZERO3, intensity=1.0, distance=0.0, decay=2.0,
+                        geometry_position=_ZERO3):
+    """three.js Point Light (getPointLightInfo): ℓ = normalize(S - P), d = ‖S - P‖,
+    Intensity = i · getDistanceAttenuation(d, distance, decay)."""
+    to_light = _vec(position) - _vec(geometry_position)
+    d = _length(to_light)
+    return {"Light Vector": normalize(to_light),
+            "Intensity": _sca(intensity) * threejs_distance_attenuation(d, distance, decay),
+            "Distance": d}
+
+
+def threejs_spot_light(position=_ZERO3, direction=(0.0, 0.0, -1.0), angle=math.pi / 3.0,
+                       penumbra=0.0, intensity=1.0, distance=0.0, decay=2.0,
+                       geometry_position=_ZERO3):
+    """three.js Spot Light (getSpotLightInfo, getSpotAttenuation; WebGLLights: coneCos =
+    cos(angle), penumbraCos = cos(angle·(1 - penumbra))): Intensity = i ·
+    smoothstep(coneCos, penumbraCos, cos ω) · getDistanceAttenuation, cos ω = ℓ·(-u)."""
+    to_light = _vec(position) - _vec(geometry_position)
+    d = _length(to_light)
+    ell = normalize(to_light)
+    cos_w = -dot(ell, normalize(direction))
+    a = _sca(angle)
+    cone = threejs_smoothstep(np.cos(a), np.cos(a * (1.0 - _sca(penumbra))), cos_w)
+    return {"Light Vector": ell,
+            "Intensity": _sca(intensity) * cone * threejs_distance_attenuation(d, distance, decay),
+            "Distance": d, "Cos Angle": cos_w}
+
+
+def threejs_ambient(intensity=1.0, light_color=_ONE3, diffuse_color=_ONE3):
+    """three.js Ambient (RE_IndirectDiffuse_BlinnPhong / _Lambert with irradiance =
+    ambientLightColor = intensity · colour): irradiance · BRDF_Lambert(color) = i·L⊗C/π."""
+    return {"Color": _sca(intensity)[..., None] * _col(light_color) * _col(diffuse_color) / math.pi}
+
+
+def threejs_phong(light_vector=_ZERO3, intensity=1.0, light_color=_ONE3, diffuse_color=_ONE3,
+                  specular_color=THREEJS_SPECULAR, shininess=30.0, specular_strength=1.0,
+                  normal=_ZERO3, view_vector=_ZERO3, geometry_normal=_UP, incoming=_UP):
+    """three.js Phong (RE_Direct_BlinnPhong; RE_Direct_Lambert when Specular Strength is 0):
+
+    irradiance = saturate(n·ℓ) · i · light colour
+    Diffuse  = irradiance ⊗ color/π                                  (BRDF_Lambert)
+    Specular = irradiance ⊗ F · 0.25 · D · specularStrength           (BRDF_BlinnPhong)
+      h = normalize(ℓ + v), F = f0 (1 - f) + f, f = 2^((-5.55473 v·h - 6.98316) v·h)
+      (F_Schlick, f90 = 1), D = (s/2 + 1)/π · saturate(n·h)^s, s = max(shininess, 1e-4)
+      (WebGLMaterials clamps shininess, so pow(0, 0) never happens)
+    Color = Diffuse + Specular
+    """
+    ell = _vec(light_vector)
+    n = resolve_normal(normal, geometry_normal)
+    v = resolve_view(view_vector, incoming)
+    irradiance = (_saturate(dot(n, ell)) * _sca(intensity))[..., None] * _col(light_color)
+    diffuse = irradiance * _col(diffuse_color) / math.pi
+    h = normalize(ell + v)
+    nh = _saturate(dot(n, h))
+    vh = _saturate(dot(v, h))
+    s = np.maximum(_sca(shininess), 1e-4)
+    fresnel = np.exp2((-5.55473 * vh - 6.98316) * vh)[..., None]
+    f = _col(specular_color) * (1.0 - fresnel) + fresnel
+    with np.errstate(over="ignore", invalid="ignore"):
+        d = (s * 0.5 + 1.0) / math.pi * np.power(nh, s)
+    specular = irradiance * f * (0.25 * d)[..., None] * _sca(specular_strength)[..., None]
+    return {"Diffuse": diffuse, "Specular": specular, "Color": diffuse + specular}
+
+
+# ---------------------------------------------------------------------------
 # generic table: group name -> f(inputs, geometry)
 # ---------------------------------------------------------------------------
 
@@ -423,6 +525,32 @@ _TABLE = {
         {"Light Vector": "light_vector", "Intensity": "intensity", "Light Color": "light_color",
          "Specular Color": "specular_color", "Exponent": "exponent", "Normal": "normal",
          "View Vector": "view_vector"},
+        {"Normal": "geometry_normal", "Incoming": "incoming"},
+    ),
+    "three.js Point Light": (
+        threejs_point_light,
+        {"Position": "position", "Intensity": "intensity", "Distance": "distance",
+         "Decay": "decay"},
+        {"Position": "geometry_position"},
+    ),
+    "three.js Spot Light": (
+        threejs_spot_light,
+        {"Position": "position", "Direction": "direction", "Angle": "angle",
+         "Penumbra": "penumbra", "Intensity": "intensity", "Distance": "distance",
+         "Decay": "decay"},
+        {"Position": "geometry_position"},
+    ),
+    "three.js Ambient": (
+        threejs_ambient,
+        {"Intensity": "intensity", "Light Color": "light_color", "Diffuse Color": "diffuse_color"},
+        {},
+    ),
+    "three.js Phong": (
+        threejs_phong,
+        {"Light Vector": "light_vector", "Intensity": "intensity", "Light Color": "light_color",
+         "Diffuse Color": "diffuse_color", "Specular Color": "specular_color",
+         "Shininess": "shininess", "Specular Strength": "specular_strength",
+         "Normal": "normal", "View Vector": "view_vector"},
         {"Normal": "geometry_normal", "Incoming": "incoming"},
     ),
     "Phong Color Add": (color_add, {"A": "a", "B": "b"}, {}),

@@ -313,6 +313,22 @@ SPEC_GROUPS = {
          ("Exponent", S), ("Blinn", S), ("Normal", V), ("View Vector", V)],
         [("Irradiant", V), ("Ambient", V), ("Diffuse", V), ("Specular", V), ("Color", V),
          ("Shader", SH)]),
+    # three.js r181 (docs/threejs.md)
+    "three.js Point Light": (
+        [("Position", V), ("Intensity", S), ("Distance", S), ("Decay", S)],
+        [("Light Vector", V), ("Intensity", S), ("Distance", S)]),
+    "three.js Spot Light": (
+        [("Position", V), ("Direction", V), ("Angle", S), ("Penumbra", S), ("Intensity", S),
+         ("Distance", S), ("Decay", S)],
+        [("Light Vector", V), ("Intensity", S), ("Distance", S), ("Cos Angle", S)]),
+    "three.js Ambient": (
+        [("Intensity", S), ("Light Color", V), ("Diffuse Color", V)],
+        [("Color", V)]),
+    "three.js Phong": (
+        [("Light Vector", V), ("Intensity", S), ("Light Color", V), ("Diffuse Color", V),
+         ("Specular Color", V), ("Shininess", S), ("Specular Strength", S), ("Normal", V),
+         ("View Vector", V)],
+        [("Diffuse", V), ("Specular", V), ("Color", V)]),
 }
 
 

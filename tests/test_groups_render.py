@@ -56,15 +56,23 @@ EEVEE_PACKS = {
     "Phong Color Add": [["Color"]],
     "Phong Color Multiply": [["Color"]],
     "Phong Shading": [["Irradiant"], ["Ambient"], ["Diffuse"], ["Specular"], ["Color"]],
+    "three.js Point Light": [["Light Vector"], ["Intensity", "Distance"]],
+    "three.js Spot Light": [["Light Vector"], ["Intensity", "Distance", "Cos Angle"]],
+    "three.js Ambient": [["Color"]],
+    "three.js Phong": [["Diffuse"], ["Specular"], ["Color"]],
 }
 TILES = [(g, k) for g in GROUPS for k in range(len(EEVEE_PACKS[g]))]
 COLS = 5
 ROWS = math.ceil(len(TILES) / COLS)
 
-CURVED_GROUPS = ["Phong Diffuse", "Phong Specular", "Phong Blinn Specular", "Phong Shading"]
-CURVED_RES = 160
+CURVED_GROUPS = ["Phong Diffuse", "Phong Specular", "Phong Blinn Specular", "Phong Shading",
+                 "three.js Phong"]
+CURVED_RES = 160  # picture height; spheres in CURVED_COLS columns of two rows
+CURVED_COLS = 3
 
-GEO_POS_SOCKETS = {"Phong Point Light": "Position", "Phong Spot Light": "Position"}
+GEO_POS_SOCKETS = {"Phong Point Light": "Position", "Phong Spot Light": "Position",
+                   "three.js Point Light": "Position", "three.js Spot Light": "Position"}
+SPOTS = ("Phong Spot Light", "three.js Spot Light")
 
 
 # ============================================================== random inputs
@@ -121,9 +129,27 @@ def gen_inputs(group, rng, n, P, N, I, curved=False):
                 else:
                     s = rng.uniform(0.0, 200.0, n)
                     s[rng.random(n) < 0.1] = 0.0
+            elif name == "Distance" and group.startswith("three.js"):  # the cut-off
+                s = rng.uniform(0.5, 10.0, n)
+                s[rng.random(n) < 0.4] = 0.0
             elif name == "Distance":
                 s = rng.uniform(0.0, 6.0, n)
                 s[rng.random(n) < 0.03] = 0.0
+            elif name == "Decay":
+                s = rng.uniform(0.0, 3.0, n)
+                s[rng.random(n) < 0.3] = 2.0
+            elif name == "Angle":
+                s = rng.uniform(0.05, math.pi / 2.0, n)
+            elif name == "Penumbra":
+                s = rng.uniform(0.0, 1.0, n)
+                s[rng.random(n) < 0.3] = 0.0
+            elif name == "Shininess":
+                s = rng.uniform(0.0, 20.0 if curved else 200.0, n)
+                s[rng.random(n) < 0.05] = 0.0
+            elif name == "Specular Strength":
+                s = rng.uniform(0.0, 1.0, n)
+                s[rng.random(n) < 0.2] = 0.0
+                s[rng.random(n) < 0.3] = 1.0
             elif name == "Blinn":
                 s = rng.uniform(0.0, 1.0, n)
                 s[rng.random(n) < 0.2] = 0.0
@@ -135,7 +161,7 @@ def gen_inputs(group, rng, n, P, N, I, curved=False):
     use_geo = np.zeros(n, dtype=bool)
     if group in GEO_POS_SOCKETS:
         # spot: aim part of the cones at P so that in/out of cone is balanced
-        if group == "Phong Spot Light":
+        if group in SPOTS:
             aim = rng.random(n) < 0.5
             to_p = P - x["Position"]
             to_p /= np.maximum(np.linalg.norm(to_p, axis=1, keepdims=True), 1e-9)
@@ -143,10 +169,11 @@ def gen_inputs(group, rng, n, P, N, I, curved=False):
             x["Direction"][aim] = (to_p + jitter)[aim] * rng.uniform(0.3, 2.0, (n, 1))[aim]
         # r = 0: the light sits on the shaded point (flag: Position <- Geometry Position)
         use_geo = degenerate.copy()
-        for s in ("Quadratic", "Linear", "Constant"):
+        falloff = [s for s in ("Quadratic", "Linear", "Constant") if s in x]
+        for s in falloff:
             x[s][degenerate & (rng.random(n) < 0.5)] = 0.0
         allzero = rng.random(n) < 0.04
-        for s in ("Quadratic", "Linear", "Constant"):
+        for s in falloff:
             x[s][allzero] = 0.0
     if "View Vector" in x and "Light Vector" in x and not curved:
         # many samples near the mirror / half-vector direction, so highlights are exercised
@@ -385,6 +412,15 @@ def near_discontinuity(group, vals, geo):
                 bad |= lit & (np.abs(rv) < EPS_DISC)
             if group != "Phong Specular":
                 bad |= lit & ((np.abs(hn) < EPS_DISC) | (np.linalg.norm(lv, axis=1) < EPS_DISC))
+        if group == "three.js Phong":  # normalize(ℓ + v); (n·h)^s with s near 0 is a step
+            v = reference.resolve_view(vals.get("View Vector", np.zeros_like(ell)), geo["Incoming"])
+            lv = ell + v
+            hn = np.sum(_norm(lv) * n, axis=1)
+            bad |= lit & ((np.abs(hn) < EPS_DISC) | (np.linalg.norm(lv, axis=1) < EPS_DISC))
+    if group == "three.js Spot Light":  # penumbra 0: a step at the cone
+        ell = _norm(vals["Position"] - geo["Position"])
+        cw = -np.sum(ell * _norm(vals["Direction"]), axis=1)
+        bad |= np.abs(cw - np.cos(vals["Angle"])) < EPS_DISC
     if group == "Phong Spot Light":
         ell = _norm(vals["Position"] - geo["Position"])
         u = _norm(vals["Direction"])
@@ -452,8 +488,8 @@ def renders(extension, blender_tmp):
     R.flat_c = {k: v[::-1] for k, v in be.read_multilayer_exr(os.path.join(out, "flat_cycles.exr")).items()}
 
     # ---------------- curved: spheres, perspective, Normal / View Vector unlinked
-    sc2 = be.new_scene("PhongCurved", CURVED_RES, CURVED_RES, "cycles")
-    be.add_persp_camera(sc2, (0.0, 0.0, 7.0), (0.0, 0.0, 0.0), lens=50.0)
+    sc2 = be.new_scene("PhongCurved", CURVED_RES * CURVED_COLS // 2, CURVED_RES, "cycles")
+    be.add_persp_camera(sc2, (0.0, 0.0, 10.0), (0.0, 0.0, 0.0), lens=50.0)
     cycles_aovs(sc2, max_in)
     eevee_mats2 = []
     for k, group in enumerate(CURVED_GROUPS):
@@ -473,7 +509,8 @@ def renders(extension, blender_tmp):
         pack = len(EEVEE_PACKS[group]) - 1  # Color
         mat_e = build_material(f"SE{k} {group}", group, imgs, flag, layout, "eevee", pack,
                                unlinked_zero=unl)
-        loc = (-1.1 + 2.2 * (k % 2), -1.1 + 2.2 * (k // 2), 0.0)
+        loc = (2.2 * (k % CURVED_COLS - (CURVED_COLS - 1) / 2.0), -1.1 + 2.2 * (k // CURVED_COLS),
+               0.0)
         obj = be.add_uv_sphere(sc2, f"sphere{k}", loc, 1.0, mat_c)
         eevee_mats2.append((obj, mat_e))
     t0 = time.perf_counter()
@@ -571,9 +608,9 @@ def _curved_case(R, group):
     Normal / View Vector unlinked at zero, so the reference uses Geometry Normal / Incoming."""
     k = CURVED_GROUPS.index(group)
     hit = R.curved_c["hit"][..., 0] > 0.5
-    half = CURVED_RES // 2
+    half = CURVED_RES // 2  # each sphere's square of the picture
     quad = np.zeros_like(hit)
-    qy, qx = k // 2, k % 2
+    qy, qx = k // CURVED_COLS, k % CURVED_COLS
     quad[qy * half:(qy + 1) * half, qx * half:(qx + 1) * half] = True
     ys, xs = np.nonzero(hit & quad)
     linked = [s for s, _ in GROUPS[group][0] if s not in ("Normal", "View Vector")]

@@ -31,6 +31,7 @@ SPEC_GROUPS = [
     "Phong Directional Light", "Phong Point Light", "Phong Spot Light", "Phong Power Falloff",
     "Phong Irradiant", "Phong Ambient", "Phong Diffuse", "Phong Specular",
     "Phong Blinn Specular", "Phong Color Add", "Phong Color Multiply", "Phong Shading",
+    "three.js Point Light", "three.js Spot Light", "three.js Ambient", "three.js Phong",
 ]
 
 
@@ -577,3 +578,96 @@ def test_spec_defaults():
     assert d["Phong Shading"]["Blinn"] == 0
     for name, sockets in ref.INPUTS.items():
         assert set(sockets) == set(d[name])
+
+
+# ---------------------------------------------------------------------------
+# three.js r181 (docs/threejs.md); hand values from the GLSL of three@0.181.0
+# ---------------------------------------------------------------------------
+
+def test_threejs_specular_default_is_0x111111_decoded():
+    c = 17 / 255  # > 0.04045: the power branch of the sRGB decoding
+    close(ref.THREEJS_SPECULAR, [((c + 0.055) / 1.055) ** 2.4] * 3)
+    assert 0.0056 < ref.THREEJS_SPECULAR[0] < 0.0057
+
+
+def test_threejs_point_decay_and_floor():
+    # d = 3 above the point: 1/d^2 = 1/9; decay 1: 1/3; decay 0: 1; d = 0.05: max(d², 0.01)
+    for decay, want in ((2.0, 1 / 9), (1.0, 1 / 3), (0.0, 1.0)):
+        out = ref.threejs_point_light((0, 0, 3), 2.0, 0.0, decay, geometry_position=(0, 0, 0))
+        close(out["Intensity"], 2.0 * want)
+        close(out["Light Vector"], Z)
+        close(out["Distance"], 3.0)
+    out = ref.threejs_point_light((0, 0, 0.05), 1.0, 0.0, 2.0, geometry_position=(0, 0, 0))
+    close(out["Intensity"], 100.0)  # 1/max(0.0025, 0.01)
+
+
+def test_threejs_point_cutoff_window():
+    # distance 4, d = 2: (1 - (1/2)^4)^2 = (15/16)^2; d >= 4: 0
+    out = ref.threejs_point_light((0, 0, 2), 1.0, 4.0, 2.0, geometry_position=(0, 0, 0))
+    close(out["Intensity"], 0.25 * (15 / 16) ** 2)
+    out = ref.threejs_point_light((0, 0, 5), 1.0, 4.0, 2.0, geometry_position=(0, 0, 0))
+    close(out["Intensity"], 0.0)
+
+
+def test_threejs_spot_penumbra_smoothstep():
+    # angle 60°, penumbra 0.5: coneCos = cos 60° = 0.5, penumbraCos = cos 30°
+    a = math.radians(60)
+    lo, hi = 0.5, math.cos(math.radians(30))
+    for cos_w in (0.45, 0.6, 0.7, 0.8, 0.95):
+        sin_w = math.sqrt(1 - cos_w * cos_w)
+        p = (sin_w, 0.0, 2.0 - 1.0 * cos_w)  # at distance 1 from the light at (0, 0, 2)
+        p = (sin_w, 0.0, 2.0 - cos_w)
+        out = ref.threejs_spot_light((0, 0, 2), (0, 0, -1), a, 0.5, 1.0, 0.0, 0.0,
+                                     geometry_position=p)
+        t = min(max((cos_w - lo) / (hi - lo), 0.0), 1.0)
+        close(out["Intensity"], t * t * (3 - 2 * t), 1e-12)
+        close(out["Cos Angle"], cos_w, 1e-12)
+
+
+def test_threejs_spot_penumbra_zero_is_a_hard_edge():
+    a = math.radians(30)
+    inside = (math.tan(math.radians(29)), 0.0, 0.0)
+    outside = (math.tan(math.radians(31)), 0.0, 0.0)
+    for p, want in ((inside, 1.0), (outside, 0.0)):
+        out = ref.threejs_spot_light((0, 0, 1), (0, 0, -1), a, 0.0, 1.0, 0.0, 0.0,
+                                     geometry_position=p)
+        close(out["Intensity"], want)
+
+
+def test_threejs_lambert_divides_by_pi():
+    out = ref.threejs_phong(Z, 2.0, WHITE, (0.5, 0.25, 0.1), specular_strength=0.0,
+                            geometry_normal=Z, incoming=Z)
+    close(out["Diffuse"], [1 / math.pi, 0.5 / math.pi, 0.2 / math.pi])
+    close(out["Specular"], [0, 0, 0])
+    # 60° off the normal: cos 60° = 1/2; from behind: 0
+    ell = (math.sin(math.radians(60)), 0.0, 0.5)
+    close(ref.threejs_phong(ell, 1.0, WHITE, WHITE, specular_strength=0.0,
+                            geometry_normal=Z, incoming=Z)["Diffuse"], [0.5 / math.pi] * 3)
+    close(ref.threejs_phong((0, 0, -1), 1.0, WHITE, WHITE, geometry_normal=Z,
+                            incoming=Z)["Color"], [0, 0, 0])
+
+
+def test_threejs_blinn_phong_at_the_half_vector():
+    # ℓ = v = n: n·h = v·h = 1; f = 2^(-12.53789); D = (s/2 + 1)/π
+    f = 2.0 ** (-5.55473 - 6.98316)
+    for s in (1.0, 30.0, 100.0):
+        out = ref.threejs_phong(Z, 1.0, WHITE, (0, 0, 0), (0.2, 0.5, 1.0), s, 1.0,
+                                geometry_normal=Z, incoming=Z)
+        spec = [(c * (1 - f) + f) * 0.25 * (s / 2 + 1) / math.pi for c in (0.2, 0.5, 1.0)]
+        close(out["Specular"], spec)
+    # Fresnel with a black specular colour still reflects f90 · fresnel (MeshPhongMaterial)
+    out = ref.threejs_phong(Z, 1.0, WHITE, (0, 0, 0), (0, 0, 0), 30.0, 1.0,
+                            geometry_normal=Z, incoming=Z)
+    close(out["Specular"], [f * 0.25 * 16 / math.pi] * 3)
+    # half-way: ℓ and v 90° apart in the plane, n = h: v·h = cos 45°
+    ell, v = (S2, 0.0, S2), (-S2, 0.0, S2)
+    vh = S2
+    fr = 2.0 ** ((-5.55473 * vh - 6.98316) * vh)
+    out = ref.threejs_phong(ell, 1.0, WHITE, (0, 0, 0), (0.3, 0.3, 0.3), 10.0, 0.5,
+                            geometry_normal=Z, incoming=v)
+    close(out["Specular"], [S2 * (0.3 * (1 - fr) + fr) * 0.25 * 6 / math.pi * 0.5] * 3)
+
+
+def test_threejs_ambient_divides_by_pi():
+    close(ref.threejs_ambient(0.5, (1.0, 0.5, 0.0), (0.8, 0.8, 0.8))["Color"],
+          [0.4 / math.pi, 0.2 / math.pi, 0.0])
