@@ -27,6 +27,12 @@ EEVEE_SHARE = 0.995
 #: Pixels this close to a discontinuity of the model are not compared.
 AMBIGUOUS = 1e-5
 
+#: three.js (a peer, rendered by a browser): this share of the pixels both cover within
+#: 2/255 of Cycles, in display values (its canvas holds 8-bit sRGB).
+THREEJS_STEP = 2.0 / 255.0
+THREEJS_SHARE = 0.99
+PEERS = ("threejs",)
+
 ENGINES = ("eevee", "cycles")
 PAIRS = (("eevee", "reference"), ("cycles", "reference"), ("eevee", "cycles"))
 
@@ -66,10 +72,11 @@ def read_exr(path: str) -> dict:
 # -- the reference -------------------------------------------------------------------
 
 #: AOVs the bake adds to every lights group for its Cycles render (the probes): what each
-#: pixel's lights group sees.  "params" packs (Exponent, Blinn, object number).
+#: pixel's lights group sees.  "params" packs (Exponent, Blinn, object number), "strength"
+#: is the Specular Strength (three.js's specularStrength).
 PROBE_PREFIX = "phong_probe_"
 PROBES = ("P", "N", "I", "normal", "view", "color", "ambient", "specular", "irradiant",
-          "params")
+          "params", "strength")
 TERMS = ("Irradiant", "Ambient", "Diffuse", "Specular")
 
 
@@ -92,6 +99,24 @@ def light_at(light, P):
                          light["intensity"], light["quadratic"], light["linear"],
                          light["constant"], geometry_position=P)
     edge = np.abs(out["Cos Angle"] - math.cos(theta)) < AMBIGUOUS
+    return out["Light Vector"], out["Intensity"], edge
+
+
+def threejs_light_at(light, P):
+    """(ℓ, intensity, ambiguous) of one light of the three.js model at the points P."""
+    kind = light["type"]
+    if kind == "directional":
+        out = ref.directional_light(light["direction"], light["intensity"], geometry_position=P)
+        return out["Light Vector"], out["Intensity"], np.zeros(len(P), bool)
+    if kind == "point":
+        out = ref.threejs_point_light(light["position"], light["intensity"], light["distance"],
+                                      light["decay"], geometry_position=P)
+        return out["Light Vector"], out["Intensity"], np.zeros(len(P), bool)
+    angle = math.radians(light["half_angle"])
+    out = ref.threejs_spot_light(light["position"], light["direction"], angle,
+                                 light["penumbra"], light["intensity"], light["distance"],
+                                 light["decay"], geometry_position=P)
+    edge = (np.abs(out["Cos Angle"] - math.cos(angle)) < AMBIGUOUS) & (light["penumbra"] == 0)
     return out["Light Vector"], out["Intensity"], edge
 
 
@@ -128,12 +153,24 @@ def reference_image(scene: dict, aovs: dict) -> dict:
         reach[row, obj["lights"]] = True
 
     amb = scene["ambient"]
-    sums = {"Irradiant": np.broadcast_to(irradiant, P.shape).copy(),
-            "Ambient": ref.ambient(amb["intensity"], amb["color"], ambient_color)["Color"],
+    threejs = scene.get("model") == "threejs"
+    ambient = (ref.threejs_ambient if threejs else ref.ambient)(
+        amb["intensity"], amb["color"], ambient_color)["Color"]
+    sums = {"Irradiant": np.broadcast_to(irradiant, P.shape).copy(), "Ambient": ambient,
             "Diffuse": np.zeros_like(P), "Specular": np.zeros_like(P)}
     ambiguous = np.zeros(len(P), bool)
     n = ref.resolve_normal(normal, N)
-    for k, light in enumerate(scene["lights"]):
+    if threejs:
+        strength = probe("strength", 1)[hit][..., 0].astype(np.float64)
+        for k, light in enumerate(scene["lights"]):
+            on = reach[idx, k]
+            ell, intensity, edge = threejs_light_at(light, P)
+            ambiguous |= edge & on
+            out = ref.threejs_phong(ell, np.where(on, intensity, 0.0), light["color"], color,
+                                    spec_color, exponent, strength, normal, view, N, I)
+            sums["Diffuse"] += out["Diffuse"]
+            sums["Specular"] += out["Specular"]
+    for k, light in enumerate(scene["lights"] if not threejs else ()):
         on = reach[idx, k]
         ell, intensity, edge = light_at(light, P)
         dif = np.where(on, light["diffuse"], 0.0)
@@ -182,6 +219,53 @@ def compare(a: np.ndarray, b: np.ndarray, mask: np.ndarray) -> dict:
         "psnr_db": None if mse == 0 else float(10 * math.log10(1.0 / mse)),
         "share_over_1_255": float(np.mean(d > EEVEE_STEP)),
     }
+
+
+def srgb_encode(linear: np.ndarray) -> np.ndarray:
+    """Display values of linear colours: clipped to [0, 1], sRGB transfer function (what
+    Blender's Standard view transform and three.js's sRGB canvas do)."""
+    x = np.clip(np.asarray(linear, np.float64), 0.0, 1.0)
+    return np.where(x <= 0.0031308, 12.92 * x, 1.055 * np.power(x, 1 / 2.4) - 0.055)
+
+
+def srgb_decode(display: np.ndarray) -> np.ndarray:
+    """Linear colours of display values in [0, 1]."""
+    x = np.asarray(display, np.float64)
+    return np.where(x <= 0.04045, x / 12.92, np.power((x + 0.055) / 1.055, 2.4))
+
+
+def compare_display(peer_rgba: np.ndarray, other: np.ndarray, mask: np.ndarray) -> dict:
+    """Metrics of a browser's 8-bit sRGB picture against a linear render, in display values
+    (max over RGB of |peer/255 - sRGB(other)|) on the pixels of *mask*."""
+    a = peer_rgba[..., :3].astype(np.float64) / 255.0
+    b = srgb_encode(other[..., :3])
+    diff = np.abs(a - b).max(axis=-1)[mask]
+    if diff.size == 0:
+        return {"pixels": 0, "max_abs": 0.0, "mean_abs": 0.0, "psnr_db": None,
+                "share_over_1_255": 0.0, "share_within_2_255": 0.0, "space": "display"}
+    mse = float(np.mean((a[mask] - b[mask]) ** 2))
+    return {"pixels": int(diff.size), "max_abs": float(diff.max()),
+            "mean_abs": float(diff.mean()),
+            "psnr_db": None if mse == 0 else float(10 * math.log10(1.0 / mse)),
+            "share_over_1_255": float(np.mean(diff > 1.0 / 255.0 + 1e-9)),
+            "share_within_2_255": float(np.mean(diff <= THREEJS_STEP + 1e-9)),
+            "space": "display"}
+
+
+def evaluate_peer(scene: dict, rgba: np.ndarray, images: dict, mask: np.ndarray) -> tuple:
+    """three.js's picture (8-bit sRGB RGBA, row 0 = top) against every render: ({pair:
+    metrics}, verdict or None, the mask of the pixels compared).  Only pixels both three.js
+    and the reference cover are compared.  The verdict counts only for a scene in the
+    three.js model (in the seeds' model three.js shows another formula)."""
+    both = mask & (rgba[..., 3] > 0)
+    pairs = {f"threejs-{name}": compare_display(rgba, images[name], both)
+             for name in ("cycles", "eevee", "reference") if name in images}
+    if scene.get("model") != "threejs" or "threejs-cycles" not in pairs:
+        return pairs, None, both
+    within = pairs["threejs-cycles"]["share_within_2_255"]
+    return pairs, {"ok": within >= THREEJS_SHARE and pairs["threejs-cycles"]["pixels"] > 0,
+                   "rule": f"≥ {THREEJS_SHARE:.0%} of pixels both cover within 2/255 of Cycles",
+                   "value": f"{within:.3%}"}, both
 
 
 def verdict(pair_metrics: dict, term_metrics: dict | None = None) -> dict:

@@ -174,6 +174,8 @@ def svg_plot(title: str, xlabel: str, ylabel: str, curves: list, x_range, y_rang
 
 def plots(scene: dict) -> dict:
     """{file name: SVG text} for the scene's lights: falloff curves, cos^e edge curves."""
+    if scene.get("model") == "threejs":
+        return _threejs_plots(scene)
     out = {}
     points = [l for l in scene["lights"] if l["type"] in ("point", "spot")]
     if points:
@@ -211,21 +213,54 @@ def plots(scene: dict) -> dict:
     return out
 
 
+def _threejs_plots(scene: dict) -> dict:
+    """The three.js model's curves: distance attenuation, spot penumbra (docs/threejs.md)."""
+    out = {}
+    points = [l for l in scene["lights"] if l["type"] in ("point", "spot")]
+    if points:
+        reach = max([4.0] + [l["distance"] * 1.1 for l in points])
+        d = np.linspace(0.05, reach, 300)
+        curves = []
+        for light in points:
+            y = ref.threejs_distance_attenuation(d, light["distance"], light["decay"])
+            label = f"1/d^{light['decay']:g}" + (f", distance {light['distance']:g}"
+                                                  if light["distance"] > 0 else "")
+            if label not in [c[0] for c in curves]:
+                curves.append((label, d, y))
+        out["plot_falloff.svg"] = svg_plot("three.js distance attenuation (intensity 1)",
+                                           "distance d", "intensity", curves, (0, reach), (0, 2))
+    spots = [l for l in scene["lights"] if l["type"] == "spot"]
+    if spots:
+        curves = []
+        top = max(l["half_angle"] for l in spots)
+        w = np.linspace(0, min(90.0, top * 1.25), 300)
+        for light in spots:
+            a = math.radians(light["half_angle"])
+            y = ref.threejs_smoothstep(math.cos(a), math.cos(a * (1 - light["penumbra"])),
+                                       np.cos(np.radians(w)))
+            curves.append((f"penumbra {light['penumbra']:g}", w, y))
+        out["plot_spot_edge.svg"] = svg_plot(
+            f"three.js spot: smoothstep penumbra, angle ≤ {top:g}°", "angle ω from the axis (°)",
+            "factor", curves, (0, float(w[-1])), (0, 1.05))
+    return out
+
+
 # -- one scene ------------------------------------------------------------------------
 
 def write_scene(folder: str, scene: dict, images: dict, refimg: dict, mask, metrics,
-                terms=None) -> None:
+                terms=None, peer_mask=None) -> None:
     """Every image of one scene, and its sheet, into *folder*.  *terms*: {term: the
-    render's own term pass}, shown instead of the reference's terms."""
+    render's own term pass}, shown instead of the reference's terms.  *peer_mask*: the
+    pixels compared with three.js (images["threejs"], linear)."""
     shown = {}
-    for name in ("eevee", "cycles", "reference"):
+    for name in ("eevee", "cycles", "reference", "threejs"):
         if name in images:
             shown[name] = to_srgb(images[name])
             write_png(os.path.join(folder, f"{name}.png"), shown[name])
     heat = {}
     for pair in metrics["pairs"]:
         a, b = pair.split("-")
-        heat[pair] = heatmap(images[a], images[b], mask)
+        heat[pair] = heatmap(images[a], images[b], peer_mask if a == "threejs" else mask)
         write_png(os.path.join(folder, f"diff_{a}_{b}.png"), heat[pair])
     term_imgs = {}
     for term in TERMS:
@@ -237,10 +272,14 @@ def write_scene(folder: str, scene: dict, images: dict, refimg: dict, mask, metr
 
     def caption(pair):
         m = metrics["pairs"][pair]
+        if m.get("space") == "display":
+            return (f"|{pair.replace('-', ' - ')}| (display)  "
+                    f"{m['share_within_2_255']:.1%} ≤ 2/255")
         return f"|{pair.replace('-', ' - ')}|  max {m['max_abs']:.1e}"
 
-    tiles = [(n.capitalize() if n != "reference" else "Reference (numpy)", shown[n])
-             for n in ("eevee", "cycles", "reference") if n in shown]
+    names = {"reference": "Reference (numpy)", "threejs": "three.js r181 (Chromium)"}
+    tiles = [(names.get(n, n.capitalize()), shown[n])
+             for n in ("eevee", "cycles", "reference", "threejs") if n in shown]
     tiles += [(caption(p), heat[p]) for p in heat]
     def term_caption(term):
         m = metrics.get("terms", {}).get(term)

@@ -12,6 +12,8 @@ Schema (units: Blender world space, Z up; angles in degrees; colours are either
 ``"#RRGGBB"`` (sRGB, converted to scene-linear) or ``[r, g, b]`` (scene-linear, >= 0)):
 
     title = "..."                 # required
+    model = "seeds"               # or "threejs": three.js r181's MeshPhongMaterial /
+                                  # MeshLambertMaterial and its lights (docs/threejs.md)
     source = "seed 000 §3.1"      # where the figure comes from (optional)
     description = "..."           # optional
     aspect = 2.0                  # width / height of the picture (default 1)
@@ -35,6 +37,9 @@ Schema (units: Blender world space, Z up; angles in degrees; colours are either
                                   # (the light's γ, β or α = 1, the others 0)
     half_angle = 30.0             # spot, degrees, in (0, 90]
     edge_exponent = 0.0           # spot, >= 0
+    # model = "threejs": lights take three.js's settings instead (three.js defaults):
+    #   intensity = 1.0; distance = 0.0 (point, spot: cut-off, 0 = none); decay = 2.0
+    #   (point, spot); half_angle = 60.0 (spot: three.js's angle); penumbra = 0.0 (spot, [0, 1])
     [[objects]]                   # at least one
     name = "ball"                 # unique, required
     shape = "sphere"              # or "plane" (square, normal +Z before rotation)
@@ -46,6 +51,8 @@ Schema (units: Blender world space, Z up; angles in degrees; colours are either
     color = "#CCCCCC"; specular_color = "#FFFFFF"; exponent = 30.0; blinn = 0.0
     irradiant = [0, 0, 0]
     texture = { type = "checker", color2 = "#333333", scale = 4.0 }   # optional
+    # model = "threejs": type = "phong" or "lambert"; color (default "#FFFFFF"),
+    # specular_color ("#111111"), exponent (shininess, 30), irradiant (emissive); no blinn
 """
 
 from __future__ import annotations
@@ -66,6 +73,9 @@ TEXTURES = ("checker",)
 #: falloff_exponent k -> (quadratic α, linear β, constant γ): i0/d^k = i0/(αd² + βd + γ).
 FALLOFF_EXPONENTS = {0.0: (0.0, 0.0, 1.0), 1.0: (0.0, 1.0, 0.0), 2.0: (1.0, 0.0, 0.0)}
 NAME_RE = re.compile(r"^[a-z0-9_]+$")
+#: The lighting models of a scene file (``model = ...``).
+MODELS = ("seeds", "threejs")
+THREEJS_MATERIALS = ("phong", "lambert")
 
 
 class SceneError(ValueError):
@@ -214,7 +224,8 @@ def _show(value) -> str:
 
 # -- the schema -------------------------------------------------------------------
 
-TOP_KEYS = ("title", "source", "description", "aspect", "camera", "ambient", "lights", "objects")
+TOP_KEYS = ("title", "model", "source", "description", "aspect", "camera", "ambient", "lights",
+            "objects")
 CAMERA_KEYS = ("type", "location", "look_at", "lens", "ortho_scale")
 AMBIENT_KEYS = ("intensity", "color")
 LIGHT_KEYS = {
@@ -224,9 +235,17 @@ LIGHT_KEYS = {
     "spot": ("name", "type", "color", "intensity", "diffuse", "specular", "position", "direction",
              "quadratic", "linear", "constant", "half_angle", "edge_exponent"),
 }
+#: The lights' keys in the three.js model.
+THREEJS_LIGHT_KEYS = {
+    "point": ("name", "type", "color", "intensity", "position", "distance", "decay"),
+    "directional": ("name", "type", "color", "intensity", "direction"),
+    "spot": ("name", "type", "color", "intensity", "position", "direction", "distance",
+             "decay", "half_angle", "penumbra"),
+}
 OBJECT_KEYS = ("name", "shape", "location", "rotation", "size", "label", "lights", "terms",
                "material")
 MATERIAL_KEYS = ("color", "specular_color", "exponent", "blinn", "irradiant", "texture")
+THREEJS_MATERIAL_KEYS = ("type", "color", "specular_color", "exponent", "irradiant", "texture")
 TEXTURE_KEYS = ("type", "color2", "scale")
 
 
@@ -234,17 +253,19 @@ def parse(data: dict, path: str = "<scene>") -> dict:
     """Validate a TOML document (already parsed); returns the scene with defaults filled."""
     c = _Checker(path)
     c.unknown(data, TOP_KEYS, "")
+    model = c.string(data, "model", "", default="seeds", choices=MODELS)
     scene = {
         "title": c.string(data, "title", ""),
+        "model": model,
         "source": c.string(data, "source", "", default=""),
         "description": c.string(data, "description", "", default=""),
         "aspect": c.number(data, "aspect", "", default=1.0, minimum=0.1, maximum=10.0),
     }
     scene["camera"] = _camera(c, c.table(data, "camera", ""))
     scene["ambient"] = _ambient(c, c.table(data, "ambient", "", required=False))
-    scene["lights"] = _lights(c, c.array_of_tables(data, "lights", "", required=False))
+    scene["lights"] = _lights(c, c.array_of_tables(data, "lights", "", required=False), model)
     scene["objects"] = _objects(c, c.array_of_tables(data, "objects", ""),
-                                [light["name"] for light in scene["lights"]])
+                                [light["name"] for light in scene["lights"]], model)
     return scene
 
 
@@ -271,11 +292,11 @@ def _ambient(c: _Checker, amb: dict) -> dict:
     }
 
 
-def _lights(c: _Checker, raws: list) -> list:
+def _lights(c: _Checker, raws: list, model: str = "seeds") -> list:
     lights = []
     for index, raw in enumerate(raws):
         where = f"lights[{index}]"
-        light = _light(c, raw, where, index)
+        light = (_threejs_light if model == "threejs" else _light)(c, raw, where, index)
         if any(other["name"] == light["name"] for other in lights):
             c.fail(f"{where}.name", "a name not used by another light", light["name"])
         lights.append(light)
@@ -320,7 +341,31 @@ def _light(c: _Checker, raw: dict, where: str, index: int) -> dict:
     return light
 
 
-def _objects(c: _Checker, raws: list, light_names: list) -> list:
+def _threejs_light(c: _Checker, raw: dict, where: str, index: int) -> dict:
+    """A light of a three.js scene: three.js's settings and defaults (docs/threejs.md)."""
+    kind = c.string(raw, "type", where, choices=LIGHT_TYPES)
+    c.unknown(raw, THREEJS_LIGHT_KEYS[kind], where)
+    light = {
+        "name": c.string(raw, "name", where, default=f"light{index}", pattern=NAME_RE),
+        "type": kind,
+        "color": c.color(raw, "color", where, "#FFFFFF"),
+        "intensity": c.number(raw, "intensity", where, default=1.0, minimum=0.0),
+    }
+    if kind in ("point", "spot"):
+        light["position"] = c.vector(raw, "position", where)
+        light["distance"] = c.number(raw, "distance", where, default=0.0, minimum=0.0)
+        light["decay"] = c.number(raw, "decay", where, default=2.0, minimum=0.0)
+    if kind in ("directional", "spot"):
+        light["direction"] = c.vector(raw, "direction", where, nonzero=True)
+    if kind == "spot":
+        light["half_angle"] = c.number(raw, "half_angle", where, default=60.0, minimum=0.0,
+                                       maximum=90.0, exclusive_min=True)
+        light["penumbra"] = c.number(raw, "penumbra", where, default=0.0, minimum=0.0,
+                                     maximum=1.0)
+    return light
+
+
+def _objects(c: _Checker, raws: list, light_names: list, model: str = "seeds") -> list:
     if not raws:
         c.fail("objects", "at least one [[objects]] table", [])
     objects = []
@@ -338,23 +383,29 @@ def _objects(c: _Checker, raws: list, light_names: list) -> list:
         obj["lights"] = c.names(raw, "lights", where, light_names, light_names)
         obj["terms"] = c.names(raw, "terms", where, TERMS, TERMS)
         obj["material"] = _material(c, c.table(raw, "material", where, required=False),
-                                    f"{where}.material")
+                                    f"{where}.material", model)
         if any(other["name"] == obj["name"] for other in objects):
             c.fail(f"{where}.name", "a name not used by another object", obj["name"])
         objects.append(obj)
     return objects
 
 
-def _material(c: _Checker, mat: dict, where: str) -> dict:
-    c.unknown(mat, MATERIAL_KEYS, where)
+def _material(c: _Checker, mat: dict, where: str, model: str = "seeds") -> dict:
+    threejs = model == "threejs"
+    c.unknown(mat, THREEJS_MATERIAL_KEYS if threejs else MATERIAL_KEYS, where)
     material = {
-        "color": c.color(mat, "color", where, "#CCCCCC"),
-        "specular_color": c.color(mat, "specular_color", where, "#FFFFFF"),
+        "color": c.color(mat, "color", where, "#FFFFFF" if threejs else "#CCCCCC"),
+        "specular_color": c.color(mat, "specular_color", where,
+                                  "#111111" if threejs else "#FFFFFF"),
         "exponent": c.number(mat, "exponent", where, default=30.0, minimum=0.0),
-        "blinn": c.number(mat, "blinn", where, default=0.0, minimum=0.0, maximum=1.0),
+        "blinn": 0.0 if threejs else c.number(mat, "blinn", where, default=0.0, minimum=0.0,
+                                              maximum=1.0),
         "irradiant": c.color(mat, "irradiant", where, (0.0, 0.0, 0.0)),
         "texture": None,
     }
+    if threejs:
+        material["type"] = c.string(mat, "type", where, default="phong",
+                                    choices=THREEJS_MATERIALS)
     if "texture" in mat:
         tex = c.table(mat, "texture", where)
         twhere = f"{where}.texture"

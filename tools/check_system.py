@@ -4,9 +4,18 @@ bpy links against X11 and OpenGL/EGL libraries that a minimal machine lacks;
 Eevee renders headless through Mesa's EGL.  Exit 0 when all is there, 1 with
 an ``apt-get install`` line otherwise.  ``--packages`` prints every Debian package that bpy
 needs (one per line) without importing it: what CI installs when it runs as root.
+
+The three.js peer renderer (``core/threejs.py``, ``core/browser.py``) also needs a Chromium to
+render its pages and npm to install three.js; it is optional, so the check above ignores it.
+``--browser-packages`` prints the Debian packages it lacks (one per line, nothing when all are
+there: CI installs them too), ``--browser`` says what is missing on stderr and exits 1 then.
 """
 
+from __future__ import annotations
+
 import ctypes.util
+import os
+import shutil
 import subprocess
 import sys
 
@@ -30,10 +39,46 @@ def all_packages() -> list:
     return sorted(set(PACKAGES.values()) | {"libgl1-mesa-dri"})
 
 
+# The browsers core/browser.py looks for (after $PHONG_CHROMIUM); keep the two lists alike.
+BROWSERS = ("chromium", "chromium-browser", "google-chrome")
+
+
+def browser_packages() -> list:
+    """Debian packages the three.js peer renderer lacks, judged by the commands on PATH (npm
+    may come from outside dpkg): chromium without a browser, nodejs and npm without npm."""
+    wanted = os.environ.get("PHONG_CHROMIUM")
+    names = (wanted,) if wanted else BROWSERS
+    missing = [] if any(shutil.which(name) for name in names) else ["chromium"]
+    if shutil.which("npm") is None:
+        missing += ["nodejs", "npm"]
+    return missing
+
+
+def browser_hint() -> str | None:
+    """One line naming what the three.js peer renderer lacks and how to install it; None when
+    Chromium and npm are both there."""
+    packages = browser_packages()
+    if not packages:
+        return None
+    needs = " and ".join((["Chromium"] if "chromium" in packages else [])
+                         + (["nodejs/npm (to install three.js)"] if "npm" in packages else []))
+    return (f"The three.js peer renderer needs {needs}: "
+            f"sudo apt-get install -y {' '.join(packages)} && bash tools/phong.sh setup")
+
+
 def main() -> int:
     if sys.argv[1:] == ["--packages"]:
         print("\n".join(all_packages()))
         return 0
+    if sys.argv[1:] == ["--browser-packages"]:
+        for package in browser_packages():
+            print(package)
+        return 0
+    if sys.argv[1:] == ["--browser"]:
+        hint = browser_hint()
+        if hint:
+            print(hint, file=sys.stderr)
+        return 1 if hint else 0
     probe = subprocess.run([sys.executable, "-c", "import bpy"], capture_output=True, text=True)
     missing = missing_from_message(probe.stderr) if probe.returncode else []
     if probe.returncode and not missing:

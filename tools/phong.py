@@ -90,6 +90,9 @@ def parse_args(argv):
                         help=f"output folder (default: {default_out})")
     parser.add_argument("--shard", default=None,
                         help="i/n: bake only every n-th scene starting at the i-th (1-based)")
+    parser.add_argument("--peers", default="",
+                        help="other renderers to compare: threejs (exports each scene as a "
+                             "three.js page and renders it in headless Chromium)")
     args = parser.parse_args(argv[1:] if compare_mode else argv)
     args.compare = compare_mode
     engines = [e.strip().lower() for e in args.engines.split(",") if e.strip()]
@@ -100,7 +103,27 @@ def parse_args(argv):
     if args.resolution is not None and not 8 <= args.resolution <= 4096:
         parser.error(f"--resolution must be between 8 and 4096, got {args.resolution}")
     args.engines = engines
+    peers = [p.strip().lower() for p in args.peers.split(",") if p.strip()]
+    unknown = sorted(set(peers) - {"threejs"})
+    if unknown:
+        parser.error(f"--peers: unknown peer(s) {', '.join(unknown)}; expected threejs")
+    args.peers = peers
     return args
+
+
+def peer_problem(peers) -> str | None:
+    """Why a peer cannot run on this machine (what to install), or None."""
+    if "threejs" not in peers:
+        return None
+    from phong_nodes.core import browser, threejs  # noqa: PLC0415
+
+    if browser.find_browser() is None:
+        return f"--peers threejs: {browser.missing_message()}"
+    try:
+        threejs.three_module()
+    except threejs.ThreeMissing as error:
+        return f"--peers threejs: {error}"
+    return None
 
 
 def main(argv=None) -> int:
@@ -126,6 +149,10 @@ class BadInput(Exception):
 
 def _main(argv, state) -> int:
     args = parse_args(sys.argv[1:] if argv is None else argv)
+    problem = peer_problem(args.peers)
+    if problem is not None:
+        print(f"phong: {problem}", file=sys.stderr)
+        return 2
     try:
         if args.compare:
             # bpy must read the .blend before anything is written
@@ -276,6 +303,7 @@ def _bake_scenes(jobs, args, out, say, state):
             scene = job.make()
             metrics = bake.bake(scene, os.path.join(out, job.name), engines=args.engines,
                                 progress=progress, resolution=args.resolution,
+                                peers=args.peers,
                                 on_folder=None if job.done is None
                                 else lambda folder, s=scene: job.done(s, folder, job.name))
             if job.drop:
@@ -299,7 +327,8 @@ def summary_table(results) -> list:
     for m in results:
         for pair, p in m["pairs"].items():
             engine = pair.split("-")[0]
-            v = m["verdict"].get(engine) if pair.endswith("reference") else None
+            v = (m["verdict"].get(engine) if pair.endswith("reference") or pair == "threejs-cycles"
+                 else None)
             mark = "" if v is None else ("OK" if v["ok"] else "FAIL")
             psnr = "inf" if p["psnr_db"] is None else f"{p['psnr_db']:.1f}"
             lines.append(f"{m['scene']:<18}{pair:<19}{p['max_abs']:>10.2e}"

@@ -75,8 +75,34 @@ build() {
   echo "$zip"
 }
 
+# three.js for the three.js peer renderer (core/threejs.py), the version pinned by
+# tools/threejs/package-lock.json, installed with npm into a cache folder outside the repository
+# ($PHONG_THREE_DIR, else ~/.cache/phong-nodes/three-<version>).  Optional: without npm it says
+# so on one line and the rest of Phong Nodes works as before.
+ensure_three() {
+  local version=0.181.0
+  local dir=${PHONG_THREE_DIR:-${XDG_CACHE_HOME:-$HOME/.cache}/phong-nodes/three-$version}
+  if [ -n "${PHONG_THREE_DIR:-}" ]; then
+    export PHONG_THREE_DIR
+  fi
+  if [ -f "$dir/node_modules/three/build/three.cjs" ]; then
+    return 0
+  fi
+  if ! command -v npm >/dev/null 2>&1; then
+    echo "three.js peer renderer unavailable: it needs nodejs/npm (sudo apt-get install -y nodejs npm)" >&2
+    return 0
+  fi
+  echo "Installing three.js $version into $dir (npm ci)..." >&2
+  mkdir -p "$dir"
+  cp "$root/tools/threejs/package.json" "$root/tools/threejs/package-lock.json" "$dir/"
+  if ! (cd "$dir" && npm ci --no-audit --no-fund --silent >&2); then
+    echo "npm could not install three.js into $dir: the three.js peer renderer is unavailable" >&2
+  fi
+}
+
 setup
 link_package
+ensure_three
 "$venv/bin/python" "$root/tools/check_system.py"
 
 case "$command" in

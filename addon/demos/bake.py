@@ -30,10 +30,11 @@ import time
 
 import bpy
 
-from ...core import compare, outputs, report
+from ...core import browser, compare, outputs, report, threejs
 from .. import compat
 from ..lighting import materials, rig
 from ..lighting import sync as sync_mod
+from ..interchange import threejs_export
 from . import evaluate, render
 
 
@@ -170,7 +171,8 @@ def _add_probes(tree) -> None:
                "ambient": group_in.outputs[materials.AMBIENT_INPUT],
                "specular": group_in.outputs["Specular Color"],
                "irradiant": group_in.outputs["Irradiant Color"],
-               "params": params.outputs["Vector"]}
+               "params": params.outputs["Vector"],
+               "strength": group_in.outputs["Specular Strength"]}
     for index, probe in enumerate(compare.PROBES):
         aov = tree.nodes.new("ShaderNodeOutputAOV")
         aov.aov_name = compare.probe_name(probe)
@@ -216,8 +218,39 @@ def render_all(scene, layer, objects, engines, folder, resolution=None, progress
 
 # -- the bake ---------------------------------------------------------------------------
 
+def check_peers(peers) -> None:
+    """BakeError naming what to install when a peer cannot run here (before anything is
+    written)."""
+    unknown = [p for p in peers if p not in compare.PEERS]
+    if unknown:
+        raise BakeError(f"unknown peer {unknown[0]!r}; expected one of {', '.join(compare.PEERS)}")
+    if "threejs" in peers:
+        if browser.find_browser() is None:
+            raise BakeError(browser.missing_message())
+        try:
+            threejs.three_module()
+        except threejs.ThreeMissing as error:
+            raise BakeError(str(error)) from None
+
+
+def _threejs_peer(scene, layer, objects, width, height, folder) -> tuple:
+    """(three.js's RGBA picture, seconds in the browser, warnings): the scene exported as
+    a page into *folder*/threejs/ (kept in the report) and rendered by Chromium."""
+    page = os.path.join(folder, "threejs", "scene.html")
+    os.makedirs(os.path.dirname(page), exist_ok=True)
+    data, warnings = threejs_export.scene_dict(scene, layer, width, height, objects)
+    threejs.write_page(page, data)
+    result = browser.render_page(page)
+    if result.errors:
+        raise browser.BrowserError("the three.js page reported: " + "; ".join(result.errors))
+    if result.rgba.shape[:2] != (height, width):
+        raise browser.BrowserError(f"the three.js page drew {result.rgba.shape[1]}×"
+                                   f"{result.rgba.shape[0]} pixels, not {width}×{height}")
+    return result.rgba, result.seconds, warnings
+
+
 def bake(scene, out_dir: str, engines=compare.ENGINES, progress=None, view_layer=None,
-         resolution=None, on_folder=None) -> dict:
+         resolution=None, on_folder=None, peers=()) -> dict:
     """Render and compare *scene* into *out_dir* (replaced whole).
 
     *view_layer*: the name of the view layer to render (default: the first that renders);
@@ -227,6 +260,7 @@ def bake(scene, out_dir: str, engines=compare.ENGINES, progress=None, view_layer
     written as metrics.json).  BakeError when the scene cannot be compared.
     """
     layer, objects = check(scene, view_layer)
+    check_peers(peers)
     engines = [e for e in compare.ENGINES if e in engines]
     progress = progress or (lambda f, t: None)
     parent = os.path.dirname(os.path.abspath(out_dir)) or "."
@@ -246,8 +280,24 @@ def bake(scene, out_dir: str, engines=compare.ENGINES, progress=None, view_layer
         height, width = images["cycles"].shape[:2]
         metrics["resolution"] = [width, height]
         timings["reference_s"] = time.perf_counter() - t0
+        peer_mask = None
+        if "threejs" in peers:
+            progress(0.85, "three.js in Chromium")
+            t0 = time.perf_counter()
+            rgba, seconds, warnings = _threejs_peer(scene, layer, objects, width, height, tmp)
+            pairs, peer_verdict, peer_mask = compare.evaluate_peer(data, rgba, images, mask)
+            images["threejs"] = compare.srgb_decode(rgba[..., :3] / 255.0)
+            metrics["pairs"].update(pairs)
+            metrics["threejs"] = {"browser_s": seconds, "warnings": warnings,
+                                  "covered": int((rgba[..., 3] > 0).sum()),
+                                  "compared": int(peer_mask.sum()),
+                                  "in_verdict": peer_verdict is not None}
+            if peer_verdict is not None:
+                metrics["verdict"]["threejs"] = peer_verdict
+                metrics["ok"] = metrics["ok"] and peer_verdict["ok"]
+            timings["threejs_s"] = time.perf_counter() - t0
         t0 = time.perf_counter()
-        report.write_scene(tmp, data, images, refimg, mask, metrics, terms)
+        report.write_scene(tmp, data, images, refimg, mask, metrics, terms, peer_mask)
         timings["report_s"] = time.perf_counter() - t0
         metrics["timings"] = timings
         with open(os.path.join(tmp, "metrics.json"), "w", encoding="utf-8") as handle:

@@ -28,7 +28,7 @@ import bpy
 from mathutils import Vector
 
 from .. import compat
-from ..lighting import materials, properties
+from ..lighting import materials, properties, rig
 from ..lighting import sync as sync_mod
 from . import meshes, render
 
@@ -45,6 +45,7 @@ def build(data: dict, resolution: int = 256) -> bpy.types.Scene:
     """A new scene for the scene file *data*; the user's scenes are not touched."""
     scene = bpy.data.scenes.new(data["name"])
     scene[SCENE_KEY] = json.dumps({k: v for k, v in data.items() if k != "path"})
+    scene[rig.MODEL_KEY] = data.get("model", rig.MODELS[0])
     render.plain_picture(scene, max(1, round(resolution * data["aspect"])), resolution)
     scene.render.engine = compat.eevee_engine()
     world = bpy.data.worlds.new(f"Phong {data['name']}")
@@ -139,6 +140,10 @@ def _controls(material, obj_data) -> None:
         materials.set_quietly(nodes[name].outputs[0], (*color, 1.0))
     materials.set_quietly(nodes["phong_exponent"].outputs[0], [mat["exponent"]])
     materials.set_quietly(nodes["phong_blinn"].outputs[0], [mat["blinn"]])
+    # three.js: MeshLambertMaterial, or no specular term, is specularStrength 0 (a black
+    # specular colour alone would keep three.js's Fresnel reflection)
+    lambert = mat.get("type") == "lambert" or "specular" not in terms
+    materials.set_quietly(nodes["phong_specular_strength"].outputs[0], [0.0 if lambert else 1.0])
     lights = nodes[materials.LIGHTS_NODE]
     color_feed = lights.inputs["Object Color"].links[0].from_socket
     textured = color_feed.node.name != "phong_object_color"
@@ -205,7 +210,6 @@ def _camera(scene, cam_data, name):
 def remove(scene) -> None:
     """Remove a built scene and the data made for it (objects, meshes, lights, materials and
     their sources, lights groups, light-linking collections, world, camera)."""
-    from ..lighting import rig  # noqa: PLC0415
 
     doomed = set()
     for obj in scene.objects:

@@ -15,7 +15,7 @@ import math
 import re
 
 from ..lighting import lights as lights_mod
-from ..lighting import materials, properties
+from ..lighting import materials, properties, rig
 from . import builder
 
 #: Blender light type -> the scene files' (and the reference's) light type.
@@ -60,6 +60,7 @@ def describe(scene, view_layer, objects) -> dict:
         "source": data.get("source", ""),
         "description": data.get("description", ""),
         "aspect": width / height,
+        "model": rig.model_of(scene),
         "ambient": _ambient(scene.world),
         "lights": [_light(obj.evaluated_get(depsgraph)) for obj in lights],
         "objects": [{
@@ -92,11 +93,12 @@ def _light(obj) -> dict:
            "diffuse": values["diffuse"], "specular": values["specular"]}
     if light.type in ("POINT", "SPOT"):
         out["position"] = [float(c) for c in matrix.translation]
-        for attr in ("quadratic", "linear", "constant"):
+        for attr in ("quadratic", "linear", "constant", "distance", "decay"):
             out[attr] = values[attr]
     if light.type in ("SUN", "SPOT"):
         out["direction"] = [-float(matrix[i][2]) for i in range(3)]  # the world -Z axis
     if light.type == "SPOT":
         out["half_angle"] = math.degrees(light.spot_size / 2.0)
         out["edge_exponent"] = values["edge_exponent"]
+        out["penumbra"] = values["penumbra"]
     return out

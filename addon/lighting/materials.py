@@ -29,7 +29,7 @@ from . import drivers, rig
 #: Custom property that marks a Phong material; its value is the layout version (1: the
 #: layout of version 0.1, every light's nodes and drivers in the material).
 MATERIAL_TAG = "phong_nodes_material"
-LAYOUT = 3
+LAYOUT = 4
 SOURCE_KEY = "phong_source"
 #: Marks a Phong material made for a slot that had no material.
 EMPTY_SOURCE_KEY = "phong_source_empty"
@@ -50,6 +50,10 @@ CONTROLS = {
     "phong_blinn": ("ShaderNodeValue", "Blinn", 0.0, "Blinn"),
     "phong_irradiant_color": ("ShaderNodeRGB", "Irradiant Color", (0.0, 0.0, 0.0, 1.0),
                               "Irradiant Color"),
+    # three.js's specularStrength: 1 MeshPhongMaterial, 0 MeshLambertMaterial (layout 4);
+    # the seeds' model does not read it
+    "phong_specular_strength": ("ShaderNodeValue", "Specular Strength (three.js)", 1.0,
+                                "Specular Strength"),
 }
 OLD_GENERATED = "phong_gen:"  # prefix of the per-light nodes of layout 1
 #: Input of the lights group for the colour the ambient light sees (MTL's Ka).  Linked from

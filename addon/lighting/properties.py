@@ -28,7 +28,20 @@ LIGHT_SETTINGS = (
      "Diffuse factor i_source,diff / i_source (seed 000 §3.5)"),
     ("specular", "phong_specular", "Specular", 1.0, 0.0, 10.0,
      "Specular factor i_source,spec / i_source (seed 000 §3.5)"),
+    # the three.js model (docs/threejs.md); intensity is shared
+    ("distance", "phong_distance", "Distance", 0.0, 0.0, 1000.0,
+     "three.js distance: the light fades smoothly to 0 there; 0 = no cut-off (Point and Spot)"),
+    ("decay", "phong_decay", "Decay", 2.0, 0.0, 4.0,
+     "three.js decay: intensity/d^decay, 2 physical (Point and Spot)"),
+    ("penumbra", "phong_penumbra", "Penumbra", 0.0, 0.0, 1.0,
+     "three.js penumbra: the share of the cone's angle that fades out (Spot)"),
 )
+#: The settings each model reads (the light panel shows these).
+MODEL_SETTINGS = {
+    "seeds": ("intensity", "quadratic", "linear", "constant", "edge_exponent", "diffuse",
+              "specular"),
+    "threejs": ("intensity", "distance", "decay", "penumbra"),
+}
 
 AMBIENT_INTENSITY = ("phong_ambient_intensity", 0.1)
 AMBIENT_COLOR = ("phong_ambient_color", (1.0, 1.0, 1.0))
@@ -95,6 +108,43 @@ class PhongWorldSettings(bpy.types.PropertyGroup):
         get=_get_ambient_color, set=_set_ambient_color)
 
 
+#: (identifier, label, description) of the lighting models; identifiers are the values of
+#: ``scene["phong_model"]`` and of the scene files' ``model``.
+MODEL_ITEMS = (
+    ("seeds", "Seeds (textbook Phong)",
+     "The lecture notes' Phong model: i0/(αr²+βr+γ) lights, (r·v)^e or (h·n)^e highlights"),
+    ("threejs", "three.js",
+     "What three.js r181's MeshPhongMaterial / MeshLambertMaterial show: Lambert/π, "
+     "normalised Blinn-Phong with Fresnel, distance/decay lights, smoothstep penumbra"),
+)
+MODEL_KEY = "phong_model"
+
+
+def _get_model(self):
+    value = self.id_data.get(MODEL_KEY, MODEL_ITEMS[0][0])
+    names = [item[0] for item in MODEL_ITEMS]
+    return names.index(value) if value in names else 0
+
+
+def _set_model(self, value):
+    scene = self.id_data
+    new = MODEL_ITEMS[value][0]
+    if scene.get(MODEL_KEY, MODEL_ITEMS[0][0]) == new:
+        return
+    scene[MODEL_KEY] = new
+    from . import sync  # noqa: PLC0415  (sync imports this module)
+    sync.relink_scene(scene)
+
+
+class PhongSceneSettings(bpy.types.PropertyGroup):
+    """Phong settings of a scene (stored as custom properties of the scene)"""
+
+    model: bpy.props.EnumProperty(
+        name="Lighting Model", items=MODEL_ITEMS, get=_get_model, set=_set_model,
+        description="The lighting model of the scene's Phong materials (changing it "
+                    "rebuilds the scene's lights groups; the materials keep their values)")
+
+
 def ensure_light_props(light) -> None:
     """Write every missing Phong custom property of *light* (drivers need them to exist)."""
     missing = False
@@ -148,7 +198,7 @@ def ensure_world_props(world) -> None:
         world.update_tag()
 
 
-classes = (PhongLightSettings, PhongWorldSettings)
+classes = (PhongLightSettings, PhongWorldSettings, PhongSceneSettings)
 
 
 _register_classes, _unregister_classes = bpy.utils.register_classes_factory(classes)
@@ -158,9 +208,11 @@ def register():
     _register_classes()
     bpy.types.Light.phong = PointerProperty(type=PhongLightSettings)
     bpy.types.World.phong = PointerProperty(type=PhongWorldSettings)
+    bpy.types.Scene.phong = PointerProperty(type=PhongSceneSettings)
 
 
 def unregister():
+    del bpy.types.Scene.phong
     del bpy.types.World.phong
     del bpy.types.Light.phong
     _unregister_classes()

@@ -6,7 +6,7 @@ that every Phong material of that light set uses (one node).  Its inputs are the
 own values, its outputs the model's colour, each term and the shader:
 
     inputs   Object Color, Specular Color, Exponent, Blinn, Irradiant Color, Normal,
-             View Vector, Ambient Object Color
+             View Vector, Ambient Object Color, Specular Strength
     outputs  Color, Irradiant, Ambient, Diffuse, Specular, Shader
 
 Inside (docs/contract.md, "Several lights"): one Phong Ambient of the World's ambient light
@@ -18,6 +18,12 @@ the Phong Color Add chain of the ambient and the shadings' colours (the clamped 
 terms: min is taken once over non-negative terms), Diffuse and Specular the sums of the
 shadings' terms.  With no light: one Phong Shading with Light Intensity 0 for the irradiant
 (ambient + irradiant; black when both are zero: docs/model.md §No light at all).
+
+In the three.js model (``scene["phong_model"] == "threejs"``, docs/threejs.md) each light
+is a three.js light group (Phong Directional Light, three.js Point / Spot Light) and a
+three.js Phong (MeshPhongMaterial; Specular Strength 0 is MeshLambertMaterial), the
+ambient is a three.js Ambient and the Irradiant Color is three.js's emissive, added as is.
+Blinn is not used there; the seeds' model does not use Specular Strength.
 
 The number of drivers depends on the lights (about 15 per light), not on the objects.
 """
@@ -35,9 +41,13 @@ from .lights import SUPPORTED
 SCENE_KEY = "phong_lights_scene"
 SET_KEY = "phong_lights_set"
 #: Bump when the layout of the lights group changes.
-RIG_VERSION = 2
+RIG_VERSION = 3
 VERSION_KEY = "phong_lights_version"
 ALL = "*"
+#: The lighting models (docs/model.md, docs/threejs.md); a scene's is
+#: ``scene[MODEL_KEY]`` (default the seeds'), also stamped on its lights groups.
+MODELS = tuple(item[0] for item in properties.MODEL_ITEMS)
+MODEL_KEY = properties.MODEL_KEY
 
 INPUTS = (  # (name, socket type, default)
     ("Object Color", "NodeSocketColor", (0.8, 0.8, 0.8, 1.0)),
@@ -49,10 +59,17 @@ INPUTS = (  # (name, socket type, default)
     ("View Vector", "NodeSocketVector", (0.0, 0.0, 0.0)),
     # last, so that the sockets before it keep their identifiers (and links) on upgrade
     ("Ambient Object Color", "NodeSocketColor", (0.8, 0.8, 0.8, 1.0)),
+    ("Specular Strength", "NodeSocketFloat", 1.0),  # three.js's specularStrength
 )
 TERMS = ("Irradiant", "Ambient", "Diffuse", "Specular")
 OUTPUTS = (("Color", "NodeSocketColor"),) + tuple((t, "NodeSocketColor") for t in TERMS) + (
     ("Shader", "NodeSocketShader"),)
+
+
+def model_of(scene) -> str:
+    """The lighting model of *scene*: "seeds" (default) or "threejs"."""
+    model = scene.get(MODEL_KEY, MODELS[0]) if scene is not None else MODELS[0]
+    return model if model in MODELS else MODELS[0]
 
 
 def set_key(lights, everything: bool) -> str:
@@ -79,7 +96,7 @@ def groups_of(scene) -> list:
 
 
 def group_name(scene, lights, key: str) -> str:
-    name = f"Phong Lights {scene.name}"
+    name = f"{'three.js' if model_of(scene) == 'threejs' else 'Phong'} Lights {scene.name}"
     if key != ALL:
         name += f" [{', '.join(o.name for o in lights) or 'no light'}]"
     return name
@@ -92,28 +109,28 @@ def ensure(scene, lights, key: str):
         tree = bpy.data.node_groups.new(group_name(scene, lights, key), "ShaderNodeTree")
         tree[SCENE_KEY] = scene
         tree[SET_KEY] = key
-        build(tree, lights, scene.world)
+        build(tree, lights, scene.world, model_of(scene))
         return tree
-    tree = rebuild(tree, lights, scene.world)
+    tree = rebuild(tree, lights, scene.world, model_of(scene))
     name = group_name(scene, lights, key)
     if not (tree.name == name or tree.name.startswith(name + ".")):  # the scene was renamed
         tree.name = name
     return tree
 
 
-def rebuild(tree, lights, world):
+def rebuild(tree, lights, world, model=MODELS[0]):
     """*tree* rewritten for *lights*; returns the group that now stands for it.
 
     A group used by many materials is not edited in place (Blender propagates every node
     edit to each material that uses the group: 1,000 materials made a rebuild take 7 s):
     a new group is built apart, takes over the users of the old one, and its name."""
     if tree.users <= 1:
-        build(tree, lights, world)
+        build(tree, lights, world, model)
         return tree
     fresh = bpy.data.node_groups.new(tree.name + " (new)", "ShaderNodeTree")
     for key in tree.keys():
         fresh[key] = tree[key]
-    build(fresh, lights, world)
+    build(fresh, lights, world, model)
     name = tree.name
     tree.user_remap(fresh)
     bpy.data.node_groups.remove(tree)
@@ -121,17 +138,13 @@ def rebuild(tree, lights, world):
     return fresh
 
 
-def build(tree, lights, world) -> None:
-    """(Re)write *tree* for *lights* (supported light objects) and *world*."""
+def build(tree, lights, world, model=MODELS[0]) -> None:
+    """(Re)write *tree* for *lights* (supported light objects) and *world* in *model*."""
     _interface(tree)
-    if tree.animation_data is not None:
-        tree.animation_data_clear()
-    tree.nodes.clear()
-    group_in = tree.nodes.new("NodeGroupInput")
-    group_in.location = (-900.0, 0.0)
-    group_out = tree.nodes.new("NodeGroupOutput")
-    out_x = 500.0 + 180.0 * max(len(lights), 1)
-    group_out.location = (out_x + 250.0, 0.0)
+    if model == "threejs":
+        _build_threejs(tree, lights, world)
+        return
+    group_in, group_out, out_x = _start(tree, lights)
     shadings = []
     for index, obj in enumerate(lights):
         y = -520.0 * index
@@ -156,8 +169,112 @@ def build(tree, lights, world) -> None:
     tree.links.new(group_in.outputs["Ambient Object Color"], ambient.inputs["Object Color"])
     _drive_ambient(ambient, world)
     _sums(tree, ambient, shadings, group_out, out_x)
+    _stamp(tree, lights, MODELS[0])
+
+
+def _stamp(tree, lights, model) -> None:
     tree[VERSION_KEY] = RIG_VERSION
+    tree[MODEL_KEY] = model
     tree["phong_lights"] = [obj.name for obj in lights]
+
+
+def _start(tree, lights):
+    """Clear *tree*; returns (group input, group output, x of the sums' end)."""
+    if tree.animation_data is not None:
+        tree.animation_data_clear()
+    tree.nodes.clear()
+    group_in = tree.nodes.new("NodeGroupInput")
+    group_in.location = (-900.0, 0.0)
+    group_out = tree.nodes.new("NodeGroupOutput")
+    out_x = 500.0 + 180.0 * max(len(lights), 1)
+    group_out.location = (out_x + 250.0, 0.0)
+    return group_in, group_out, out_x
+
+
+#: three.js model: light type -> its light group; the shading input fed by each group input.
+THREEJS_LIGHTS = {"POINT": "three.js Point Light", "SUN": "Phong Directional Light",
+                  "SPOT": "three.js Spot Light"}
+THREEJS_SHADING = {"Object Color": "Diffuse Color", "Specular Color": "Specular Color",
+                   "Exponent": "Shininess", "Specular Strength": "Specular Strength",
+                   "Normal": "Normal", "View Vector": "View Vector"}
+
+
+def _build_threejs(tree, lights, world) -> None:
+    """The three.js model (docs/threejs.md): per light a light group and a three.js Phong,
+    the ambient a three.js Ambient, the emissive the Irradiant Color input."""
+    group_in, group_out, out_x = _start(tree, lights)
+    shadings = []
+    for index, obj in enumerate(lights):
+        y = -520.0 * index
+        light_node = _threejs_light_node(tree, obj, (-600.0, y))
+        shading = _group_node(tree, "three.js Phong", f"shading:{obj.name}", (-300.0, y))
+        for source, target in THREEJS_SHADING.items():
+            tree.links.new(group_in.outputs[source], shading.inputs[target])
+        tree.links.new(light_node.outputs["Light Vector"], shading.inputs["Light Vector"])
+        tree.links.new(light_node.outputs["Intensity"], shading.inputs["Intensity"])
+        drivers.color(shading.inputs["Light Color"], "LIGHT", obj.data, "color")
+        shadings.append(shading)
+    ambient = _group_node(tree, "three.js Ambient", "ambient", (-300.0, 520.0))
+    tree.links.new(group_in.outputs["Ambient Object Color"], ambient.inputs["Diffuse Color"])
+    _drive_ambient(ambient, world)
+    links = tree.links
+    color = ambient.outputs["Color"]
+    parts = [group_in.outputs["Irradiant Color"]] + [s.outputs["Color"] for s in shadings]
+    for index, part in enumerate(parts):
+        add = _group_node(tree, "Phong Color Add", f"add:{index}", (180.0 * index, 300.0))
+        links.new(color, add.inputs["A"])
+        links.new(part, add.inputs["B"])
+        color = add.outputs["Color"]
+    terms = {"Irradiant": group_in.outputs["Irradiant Color"], "Ambient": ambient.outputs["Color"]}
+    for row, term in enumerate(("Diffuse", "Specular")):
+        total = None
+        for index, shading in enumerate(shadings):
+            if total is None:
+                total = shading.outputs[term]
+                continue
+            node = tree.nodes.new("ShaderNodeVectorMath")
+            node.name = f"{term.lower()}:{index}"
+            node.operation = "ADD"
+            node.location = (180.0 * index, -200.0 - 160.0 * row)
+            links.new(total, node.inputs[0])
+            links.new(shading.outputs[term], node.inputs[1])
+            total = node.outputs["Vector"]
+        if total is not None:
+            links.new(total, group_out.inputs[term])
+        else:  # no light: black
+            group_out.inputs[term].default_value = (0.0, 0.0, 0.0, 1.0)
+    for term, socket in terms.items():
+        links.new(socket, group_out.inputs[term])
+    _emission(tree, color, group_out, out_x)
+    _stamp(tree, lights, "threejs")
+
+
+def _threejs_light_node(tree, obj, location):
+    light = obj.data
+    properties.ensure_light_props(light)
+    node = _group_node(tree, THREEJS_LIGHTS[light.type], f"light:{obj.name}", location)
+    inputs = node.inputs
+    keys = {attr: f'["{key}"]' for attr, (key, _default) in properties.LIGHT_KEYS.items()}
+    if light.type in ("POINT", "SPOT"):
+        drivers.world_location(inputs["Position"], obj)
+        for attr in ("distance", "decay"):
+            drivers.prop(inputs[attr.capitalize()], None, "LIGHT", light, keys[attr])
+    if light.type in ("SUN", "SPOT"):
+        drivers.world_minus_z(inputs["Direction"], obj)
+    if light.type == "SPOT":
+        drivers.prop(inputs["Angle"], None, "LIGHT", light, "spot_size", scale=0.5)
+        drivers.prop(inputs["Penumbra"], None, "LIGHT", light, keys["penumbra"])
+    drivers.prop(inputs["Intensity"], None, "LIGHT", light, keys["intensity"])
+    return node
+
+
+def _emission(tree, color, group_out, out_x) -> None:
+    emission = tree.nodes.new("ShaderNodeEmission")
+    emission.name = "emission"
+    emission.location = (out_x, 300.0)
+    emission.inputs["Strength"].default_value = 1.0
+    tree.links.new(color, emission.inputs["Color"])
+    tree.links.new(emission.outputs["Emission"], group_out.inputs["Shader"])
 
 
 def _interface(tree) -> None:
@@ -176,7 +293,7 @@ def _interface(tree) -> None:
     for name, socket_type, default in INPUTS:
         item = tree.interface.new_socket(name, in_out="INPUT", socket_type=socket_type)
         item.default_value = default
-        if name == "Blinn":
+        if name in ("Blinn", "Specular Strength"):
             item.min_value, item.max_value = 0.0, 1.0
 
 
@@ -226,7 +343,8 @@ def _light_node(tree, obj, location):
 def _shading_node(tree, group_in, name, location, first):
     node = _group_node(tree, "Phong Shading", name, location)
     for socket_name, _type, _default in INPUTS:
-        if (socket_name == "Irradiant Color" and not first) or socket_name not in node.inputs:
+        if ((socket_name == "Irradiant Color" and not first) or socket_name not in node.inputs
+                or socket_name == "Specular Strength"):  # the seeds' is the light's (driven)
             continue
         tree.links.new(group_in.outputs[socket_name], node.inputs[socket_name])
     return node
@@ -271,9 +389,4 @@ def _sums(tree, ambient, shadings, group_out, out_x) -> None:
     links.new(color, group_out.inputs["Color"])
     for term, socket in terms.items():
         links.new(socket, group_out.inputs[term])
-    emission = tree.nodes.new("ShaderNodeEmission")
-    emission.name = "emission"
-    emission.location = (out_x, 300.0)
-    emission.inputs["Strength"].default_value = 1.0
-    links.new(color, emission.inputs["Color"])
-    links.new(emission.outputs["Emission"], group_out.inputs["Shader"])
+    _emission(tree, color, group_out, out_x)

@@ -5,7 +5,8 @@ Export ▸ Phong Materials (.mtl)."""
 import bpy
 
 from .operators import (PHONG_OT_add_node_group, PHONG_OT_export_mtl, PHONG_OT_export_obj,
-                        PHONG_OT_import_obj, PHONG_OT_load_node_groups)
+                        PHONG_OT_export_threejs, PHONG_OT_import_obj,
+                        PHONG_OT_load_node_groups)
 
 #: The sections of Shift+A ▸ Phong, also the asset catalogs (``assets.py``).
 SECTIONS = (
@@ -15,6 +16,8 @@ SECTIONS = (
                "Phong Blinn Specular")),
     ("Colour", ("Phong Color Add", "Phong Color Multiply")),
     ("Model", ("Phong Shading",)),
+    ("three.js", ("three.js Point Light", "three.js Spot Light", "three.js Ambient",
+                  "three.js Phong")),
 )
 
 
@@ -47,6 +50,7 @@ def _draw_add_menu(self, context):
 def _draw_export_menu(self, _context):
     self.layout.operator(PHONG_OT_export_obj.bl_idname, text="Wavefront (.obj) with Phong Materials")
     self.layout.operator(PHONG_OT_export_mtl.bl_idname, text="Phong Materials (.mtl)")
+    self.layout.operator(PHONG_OT_export_threejs.bl_idname, text="three.js Page (.html)")
 
 
 def _draw_import_menu(self, _context):

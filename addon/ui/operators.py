@@ -17,8 +17,9 @@ from ...node_groups.library import GROUPS
 from .. import loader
 from ..demos import bake, builder, evaluate
 from ...core import mtl
-from ..interchange import mtl_export, obj_import
-from ..lighting import materials
+from ...core import threejs
+from ..interchange import mtl_export, obj_import, threejs_export
+from ..lighting import materials, rig
 from ..lighting import sync as sync_mod
 
 
@@ -147,10 +148,22 @@ originals are kept)"""
     bl_label = "Apply Phong Material"
     bl_options = {"REGISTER", "UNDO"}
 
+    model: EnumProperty(
+        name="Model", default="SCENE",
+        items=(("SCENE", "Scene's Model", "Keep the scene's lighting model (Seeds unless "
+                "changed)"),
+               ("SEEDS", "Seeds", "The textbook Phong model of the lecture notes"),
+               ("THREEJS", "three.js", "three.js r181's MeshPhongMaterial / "
+                "MeshLambertMaterial (docs/threejs.md)")),
+        description="Lighting model of the scene's Phong materials (one per scene: the "
+                    "lights are shared)")
+
     def execute(self, context):
         meshes = _selected_meshes(self, context, "Apply Phong Material")
         if meshes is None:
             return {"CANCELLED"}
+        if self.model != "SCENE":
+            context.scene[rig.MODEL_KEY] = self.model.lower()
         sync = sync_mod.Sync(context.scene, context.view_layer)
         sync.rebuild_groups()
         done = {}
@@ -465,10 +478,39 @@ def _show_image(context, path):
     area.spaces.active.image = image
 
 
+class PHONG_OT_export_threejs(bpy.types.Operator, ExportHelper):
+    """Write the scene as a three.js page: the HTML page (the scene's triangles, corner normals, camera, lights and Phong materials inside) with three.js r181 copied beside it; it opens in any browser"""
+
+    bl_idname = "phong.export_threejs"
+    bl_label = "Export three.js Page"
+    bl_options = {"REGISTER"}
+
+    filename_ext = ".html"
+    filter_glob: StringProperty(default="*.html", options={"HIDDEN"})
+
+    def execute(self, context):
+        path = _export_path(self, "Export three.js page")
+        if path is None:
+            return {"CANCELLED"}
+        try:
+            warnings = threejs_export.export(path, context.scene, context.view_layer)
+        except (ValueError, threejs.ThreeMissing) as error:
+            self.report({"ERROR"}, f"Export three.js page: {error}")
+            return {"CANCELLED"}
+        except OSError as error:
+            self.report({"ERROR"}, f"Export three.js page: cannot write {path}: "
+                                   f"{error.strerror or error}")
+            return {"CANCELLED"}
+        if warnings:
+            self.report({"WARNING"}, "Export three.js page: " + "; ".join(warnings))
+        self.report({"INFO"}, f"Wrote the three.js page {path}")
+        return {"FINISHED"}
+
+
 classes = (PHONG_OT_load_node_groups, PHONG_OT_add_node_group, PHONG_OT_apply_material,
            PHONG_OT_relink_lights, PHONG_OT_restore_materials, PHONG_OT_add_term_passes,
            PHONG_OT_build_demo_scene, PHONG_OT_bake_comparison, PHONG_OT_export_mtl,
-           PHONG_OT_import_obj, PHONG_OT_export_obj)
+           PHONG_OT_import_obj, PHONG_OT_export_obj, PHONG_OT_export_threejs)
 
 
 register, unregister = bpy.utils.register_classes_factory(classes)

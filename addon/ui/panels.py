@@ -28,17 +28,28 @@ class DATA_PT_phong_light(bpy.types.Panel):
         layout.use_property_split = True
         light = context.light
         settings = light.phong
+        scene = context.scene
+        layout.prop(scene.phong, "model")
         layout.prop(settings, "intensity")
-        if light.type in ("POINT", "SPOT"):
+        if scene.phong.model == "threejs":  # docs/threejs.md
+            if light.type in ("POINT", "SPOT"):
+                col = layout.column(align=True)
+                col.prop(settings, "distance")
+                col.prop(settings, "decay")
+            if light.type == "SPOT":
+                layout.prop(settings, "penumbra")
+                layout.label(text="Angle: half the spot size", icon="INFO")
+        else:
+            if light.type in ("POINT", "SPOT"):
+                col = layout.column(align=True)
+                col.prop(settings, "quadratic")
+                col.prop(settings, "linear")
+                col.prop(settings, "constant")
+            if light.type == "SPOT":
+                layout.prop(settings, "edge_exponent")
             col = layout.column(align=True)
-            col.prop(settings, "quadratic")
-            col.prop(settings, "linear")
-            col.prop(settings, "constant")
-        if light.type == "SPOT":
-            layout.prop(settings, "edge_exponent")
-        col = layout.column(align=True)
-        col.prop(settings, "diffuse")
-        col.prop(settings, "specular")
+            col.prop(settings, "diffuse")
+            col.prop(settings, "specular")
         layout.label(text="Colour, position, direction and spot size come from the light",
                      icon="INFO")
         layout.operator(PHONG_OT_relink_lights.bl_idname, icon="FILE_REFRESH")
@@ -62,6 +73,8 @@ class WORLD_PT_phong(bpy.types.Panel):
         layout = self.layout
         layout.use_property_split = True
         settings = context.world.phong
+        if context.scene is not None:
+            layout.prop(context.scene.phong, "model")
         layout.prop(settings, "ambient_intensity")
         layout.prop(settings, "ambient_color")
         layout.operator(PHONG_OT_relink_lights.bl_idname, icon="FILE_REFRESH")

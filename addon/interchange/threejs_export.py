@@ -1,0 +1,191 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""A scene with Phong materials as a three.js page (``core/threejs.py`` writes it).
+
+What is exported, so that three.js and Blender shade the same geometry under the same
+lights (docs/threejs.md, "The exported page"):
+
+* every object of the view layer with a Phong material: Blender's own triangles
+  (``loop_triangles`` of the evaluated mesh, modifiers applied) with their corner normals,
+  in world space, one three.js mesh per object and material slot;
+* the scene camera: its world matrix and Blender's own projection matrix
+  (``calc_matrix_camera`` at the page's size: lens, sensor fit, shift, orthographic);
+* the lights as Blender evaluates them (``demos/evaluate.describe``) with their three.js
+  settings (intensity, distance, decay, angle = half the spot size, penumbra), and the
+  World's Phong ambient light as an AmbientLight; Light Linking as light sets (the page
+  renders each set's objects with its lights);
+* each Phong material's controls: Object Color (color), Specular Color (specular),
+  Exponent (shininess), Irradiant Color (emissive), Specular Strength (0:
+  MeshLambertMaterial).
+
+All colours are linear.  What three.js cannot show is reported as warnings: a texture on
+Object Color (its control's colour is exported), an own Ambient Object Color, Blinn (the
+three.js model has none), a scene in the seeds' model (the page shows three.js's model).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ...core import threejs
+from ..demos import evaluate
+from ..lighting import materials
+
+#: The control that feeds each three.js material field (by the lights group's input).
+FIELDS = {"color": "Object Color", "specular": "Specular Color", "shininess": "Exponent",
+          "emissive": "Irradiant Color", "specular_strength": "Specular Strength"}
+
+
+def _column_major(matrix) -> list:
+    return [float(matrix[row][col]) for col in range(4) for row in range(4)]
+
+
+def _input_value(node, name, warnings, material):
+    """The value feeding input *name* of the lights node: a control's, else the socket's."""
+    socket = node.inputs[name]
+    if socket.is_linked:
+        source = socket.links[0].from_node
+        if source.bl_idname in ("ShaderNodeRGB", "ShaderNodeValue"):
+            value = source.outputs[0].default_value
+        else:
+            control = {"Object Color": "phong_object_color"}.get(name)
+            fallback = material.node_tree.nodes.get(control) if control else None
+            warnings.append(f"{material.name}: {name} comes from a {source.bl_idname} node "
+                            "(a texture); the page uses "
+                            + ("its control's colour" if fallback else "the socket's value"))
+            value = (fallback.outputs[0].default_value if fallback is not None
+                     else socket.default_value)
+    else:
+        value = socket.default_value
+    if hasattr(value, "__len__"):
+        return [float(c) for c in tuple(value)[:3]]
+    return float(value)
+
+
+def material_dict(material, warnings: list) -> dict:
+    """The three.js material of a Phong material."""
+    node = material.node_tree.nodes[materials.LIGHTS_NODE]
+    values = {key: _input_value(node, name, warnings, material) for key, name in FIELDS.items()}
+    ambient = _input_value(node, materials.AMBIENT_INPUT, warnings, material)
+    if max(abs(a - b) for a, b in zip(ambient, values["color"])) > 1e-6:
+        warnings.append(f"{material.name}: its own Ambient Object Color is not exported "
+                        "(three.js's ambient light sees the material's color)")
+    if _input_value(node, "Blinn", warnings, material):
+        warnings.append(f"{material.name}: Blinn is not exported (three.js's highlight is "
+                        "always Blinn-Phong)")
+    strength = min(max(values["specular_strength"], 0.0), 1.0)
+    out = {"name": material.name, "type": "lambert" if strength == 0.0 else "phong",
+           "color": values["color"], "emissive": values["emissive"]}
+    if out["type"] == "phong":
+        out.update(specular=values["specular"], shininess=values["shininess"],
+                   specular_strength=strength)
+    return out
+
+
+def _mesh_arrays(obj, depsgraph):
+    """(positions (T, 3, 3), corner normals (T, 3, 3), material index (T,)) in world space."""
+    evaluated = obj.evaluated_get(depsgraph)
+    mesh = evaluated.to_mesh()
+    try:
+        mesh.calc_loop_triangles()
+        count = len(mesh.loop_triangles)
+        loops = np.empty(count * 3, np.int32)
+        mesh.loop_triangles.foreach_get("loops", loops)
+        slots = np.empty(count, np.int32)
+        mesh.loop_triangles.foreach_get("material_index", slots)
+        co = np.empty(len(mesh.vertices) * 3, np.float64)
+        mesh.vertices.foreach_get("co", co)
+        vertex_of = np.empty(len(mesh.loops), np.int32)
+        mesh.loops.foreach_get("vertex_index", vertex_of)
+        normals = np.empty(len(mesh.loops) * 3, np.float64)
+        mesh.corner_normals.foreach_get("vector", normals)
+    finally:
+        evaluated.to_mesh_clear()
+    matrix = np.array(evaluated.matrix_world, dtype=np.float64)
+    points = co.reshape(-1, 3)[vertex_of[loops]]
+    points = points @ matrix[:3, :3].T + matrix[:3, 3]
+    normal_matrix = np.linalg.inv(matrix[:3, :3]).T
+    corner = normals.reshape(-1, 3)[loops] @ normal_matrix.T
+    corner /= np.maximum(np.linalg.norm(corner, axis=1, keepdims=True), 1e-30)
+    return points.reshape(-1, 3, 3), corner.reshape(-1, 3, 3), slots
+
+
+def _light_dict(light) -> dict:
+    out = {"name": light["name"], "type": light["type"], "color": light["color"],
+           "intensity": light["intensity"]}
+    if light["type"] == "directional":
+        u = np.asarray(light["direction"], np.float64)
+        u /= np.linalg.norm(u)
+        out.update(position=[float(c) for c in -u], target=[0.0, 0.0, 0.0])
+        return out
+    out.update(position=light["position"], distance=light["distance"], decay=light["decay"])
+    if light["type"] == "spot":
+        u = np.asarray(light["direction"], np.float64)
+        u /= np.linalg.norm(u)
+        out.update(target=[float(c) for c in np.asarray(light["position"]) + u],
+                   angle=math.radians(light["half_angle"]), penumbra=light["penumbra"])
+    return out
+
+
+def scene_dict(scene, view_layer, width: int, height: int, objects=None) -> tuple:
+    """(the page's scene dict (``core/threejs.py``), warnings) of *scene* at width × height.
+    *objects*: the Phong objects to export (default: those of the view layer)."""
+    if scene.camera is None:
+        raise ValueError(f"scene {scene.name!r} has no camera")
+    if objects is None:
+        objects = evaluate.phong_objects(scene, view_layer)
+    if not objects:
+        raise ValueError(f"scene {scene.name!r} has no object with a Phong material in view "
+                         f"layer {view_layer.name!r} (Apply Phong Material first)")
+    depsgraph = view_layer.depsgraph
+    data = evaluate.describe(scene, view_layer, objects)
+    warnings = []
+    if data["model"] != "threejs":
+        warnings.append(f"scene {scene.name!r} uses the seeds' model: the page shows three.js's "
+                        "(set the scene's Lighting Model to three.js to see the same in Blender)")
+    camera = scene.camera.evaluated_get(depsgraph)
+    projection = camera.calc_matrix_camera(depsgraph, x=width, y=height,
+                                           scale_x=scene.render.pixel_aspect_x,
+                                           scale_y=scene.render.pixel_aspect_y)
+    mats, index, meshes = [], {}, []
+    for obj, described in zip(objects, data["objects"]):
+        points, normals, slots = _mesh_arrays(obj, depsgraph)
+        for slot_index in np.unique(slots):
+            slot = obj.material_slots[int(slot_index)] if obj.material_slots else None
+            material = slot.material if slot is not None else None
+            if not materials.is_phong_material(material):
+                warnings.append(f"{obj.name}: faces without a Phong material are not exported")
+                continue
+            if material.name not in index:
+                index[material.name] = len(mats)
+                mats.append(material_dict(material, warnings))
+            picked = slots == slot_index
+            meshes.append({
+                "name": f"{obj.name} [{material.name}]", "material": index[material.name],
+                "lights": described["lights"],
+                "positions": np.round(points[picked].ravel(), 6).tolist(),
+                "normals": np.round(normals[picked].ravel(), 6).tolist()})
+    return {
+        "format": "phong-nodes-threejs", "version": 1,
+        "title": data["title"], "width": int(width), "height": int(height),
+        "camera": {"type": "orthographic" if camera.data.type == "ORTHO" else "perspective",
+                   "matrix_world": _column_major(camera.matrix_world),
+                   "projection": _column_major(projection)},
+        "ambient": {"color": data["ambient"]["color"], "intensity": data["ambient"]["intensity"]},
+        "lights": [_light_dict(light) for light in data["lights"]],
+        "materials": mats,
+        "meshes": meshes,
+    }, sorted(set(warnings))
+
+
+def export(filepath: str, scene, view_layer, width=None, height=None) -> list:
+    """Write the three.js page *filepath* (and three.js beside it); returns the warnings.
+    The size defaults to the scene's render size."""
+    if width is None or height is None:
+        percent = scene.render.resolution_percentage / 100.0
+        width = max(1, round(scene.render.resolution_x * percent))
+        height = max(1, round(scene.render.resolution_y * percent))
+    data, warnings = scene_dict(scene, view_layer, width, height)
+    threejs.write_page(filepath, data)
+    return warnings

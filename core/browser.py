@@ -1,0 +1,179 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Headless Chromium for the three.js peer renderer: open a page of ``core/threejs.py`` and
+take its pixels and errors back.
+
+Chromium renders WebGL on the CPU (ANGLE on SwiftShader, no GPU needed) and prints the page's
+DOM after the load event (``--dump-dom``); the page has by then rendered synchronously and
+written the picture as base64 RGBA into ``<pre id="phong-pixels">``.  One render of a small
+page (256 x 128, a few triangles) takes 1.3 to 1.6 s of wall time, nearly all of it Chromium
+starting up (measured with Chromium 150 on a 16-core machine; a fresh profile every time).
+
+Errors are the page's own capture (``window.onerror``, unhandled rejections, ``console.error``
+and ``console.warn``) plus the ``CONSOLE`` lines of level ERROR in Chromium's log; the rest of
+the log (D-Bus, EGL_BAD_MATCH and other GPU-process noise) is not the page's and is ignored.
+"""
+
+from __future__ import annotations
+
+import base64
+import html
+import os
+import re
+import shutil
+import signal
+import subprocess
+import tempfile
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+BROWSERS = ("chromium", "chromium-browser", "google-chrome")
+
+FLAGS = (
+    "--headless=new", "--use-angle=swiftshader", "--enable-unsafe-swiftshader",
+    "--allow-file-access-from-files", "--no-first-run", "--disable-background-networking",
+    "--disable-component-update", "--disable-sync", "--disable-quic", "--disable-extensions",
+    "--enable-logging=stderr", "--v=0",
+)
+
+
+class BrowserError(RuntimeError):
+    """Chromium could not render the page; ``errors`` holds what the page reported."""
+
+    def __init__(self, message: str, errors: list | None = None, title: str = ""):
+        super().__init__(message)
+        self.errors = list(errors or [])
+        self.title = title
+
+
+@dataclass
+class PageResult:
+    rgba: np.ndarray            # uint8 (H, W, 4), row 0 = top of the picture
+    errors: list = field(default_factory=list)
+    seconds: float = 0.0        # wall time of the Chromium run
+    title: str = ""             # "phong: done" when the page finished without an exception
+
+
+def find_browser() -> str | None:
+    """``$PHONG_CHROMIUM`` (a path or a command name), else the first of chromium,
+    chromium-browser, google-chrome on PATH; None when there is none."""
+    wanted = os.environ.get("PHONG_CHROMIUM")
+    if wanted:
+        return shutil.which(wanted)
+    for name in BROWSERS:
+        path = shutil.which(name)
+        if path:
+            return path
+    return None
+
+
+def missing_message() -> str:
+    """One line: what the three.js peer renderer lacks and the command that installs it."""
+    no_browser, no_npm = find_browser() is None, shutil.which("npm") is None
+    if not (no_browser or no_npm):
+        return "Chromium and npm are there (PHONG_CHROMIUM picks another Chromium or Chrome)"
+    needs = (["Chromium"] if no_browser else []) + (["nodejs/npm (to install three.js)"]
+                                                   if no_npm else [])
+    packages = (["chromium"] if no_browser else []) + (["nodejs", "npm"] if no_npm else [])
+    return (f"The three.js peer renderer needs {' and '.join(needs)}: "
+            f"sudo apt-get install -y {' '.join(packages)} && bash tools/phong.sh setup"
+            + (" (or set PHONG_CHROMIUM to a Chromium or Chrome binary)" if no_browser else ""))
+
+
+# Chromium's log line of a console message: "[pid:tid:date:LEVEL:CONSOLE:12] "text", source: ..."
+# (older releases: "LEVEL:CONSOLE(12)]").  Chromium logs ordinary pages' messages at INFO,
+# whatever their console level, so only the ERROR ones of other builds count here: the page
+# captures its own console.error / console.warn itself.
+_CONSOLE = re.compile(
+    r"^\[[^\]]*?:(?P<level>[A-Za-z0-9]+):CONSOLE(?::\d+|\(\d+\))\]\s*(?P<text>.*)$")
+_PRE = re.compile(r"<pre\b(?P<attrs>[^>]*)>(?P<text>.*?)</pre>", re.DOTALL)
+_ATTR = re.compile(r'([\w:-]+)="([^"]*)"')
+_TITLE = re.compile(r"<title>(.*?)</title>", re.DOTALL)
+
+
+def console_errors(log: str) -> list:
+    """The console messages of level ERROR in Chromium's log (stderr)."""
+    found = []
+    for line in log.splitlines():
+        match = _CONSOLE.match(line.strip())
+        if match and match.group("level").upper() == "ERROR":
+            found.append("console: " + match.group("text"))
+    return found
+
+
+def parse_dom(dom: str) -> tuple:
+    """(title, errors, rgba or None) from the DOM the page left."""
+    pres = {}
+    for match in _PRE.finditer(dom):
+        attrs = dict(_ATTR.findall(match.group("attrs")))
+        if "id" in attrs:
+            pres[attrs["id"]] = (attrs, match.group("text"))
+    title = _TITLE.search(dom)
+    title = html.unescape(title.group(1)).strip() if title else ""
+    errors = []
+    if "phong-errors" in pres:
+        errors = [line for line in html.unescape(pres["phong-errors"][1]).splitlines() if line]
+    rgba = None
+    if "phong-pixels" in pres:
+        attrs, text = pres["phong-pixels"]
+        width, height = int(attrs.get("data-width", 0)), int(attrs.get("data-height", 0))
+        data = base64.b64decode("".join(text.split())) if width and height else b""
+        if width and height and len(data) == width * height * 4:
+            rgba = np.frombuffer(data, dtype=np.uint8).reshape(height, width, 4).copy()
+    return title, errors, rgba
+
+
+def _command(browser: str, html_path: str, profile: str) -> list:
+    command = [browser, *FLAGS, f"--user-data-dir={profile}"]
+    if hasattr(os, "geteuid") and os.geteuid() == 0:
+        command.append("--no-sandbox")  # Chromium refuses to run as root with its sandbox
+    url = "file://" + os.path.abspath(html_path)
+    return command + ["--dump-dom", url]
+
+
+def render_page(html_path: str, timeout: float = 180) -> PageResult:
+    """Render the page in headless Chromium (a fresh profile, removed afterwards) and return its
+    pixels, errors and the wall time.  :class:`BrowserError` on a timeout, a Chromium that
+    failed without printing a DOM, or a page that left no pixels (its errors in the message)."""
+    browser = find_browser()
+    if browser is None:
+        raise BrowserError(missing_message())
+    if not os.path.isfile(html_path):
+        raise BrowserError(f"no page {html_path}")
+    profile = tempfile.mkdtemp(prefix="phong-chromium-")
+    start = time.monotonic()
+    try:
+        process = subprocess.Popen(_command(browser, html_path, profile),
+                                   stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
+                                   stderr=subprocess.PIPE, start_new_session=True)
+        try:
+            out, err = process.communicate(timeout=timeout)
+        except subprocess.TimeoutExpired:
+            _kill_group(process)
+            process.communicate()
+            raise BrowserError(f"Chromium did not finish {html_path} in {timeout:g} s") from None
+        finally:
+            _kill_group(process)  # helpers that outlived the browser process
+    finally:
+        shutil.rmtree(profile, ignore_errors=True)
+    seconds = time.monotonic() - start
+    dom, log = out.decode("utf-8", "replace"), err.decode("utf-8", "replace")
+    if "<html" not in dom:
+        last = [line for line in log.splitlines() if line.strip()][-3:]
+        raise BrowserError(f"Chromium ({browser}) exited with {process.returncode} and no page "
+                           f"for {html_path}: " + " / ".join(last))
+    title, errors, rgba = parse_dom(dom)
+    errors += console_errors(log)
+    if rgba is None:
+        raise BrowserError(f"{html_path} left no pixels (title {title!r}): "
+                           + ("; ".join(errors) or "no error reported"), errors, title)
+    return PageResult(rgba=rgba, errors=errors, seconds=seconds, title=title)
+
+
+def _kill_group(process: subprocess.Popen) -> None:
+    """End what is left of the process group this module started for Chromium."""
+    try:
+        os.killpg(process.pid, signal.SIGKILL)
+    except (ProcessLookupError, PermissionError, OSError):
+        pass
