@@ -185,8 +185,10 @@ def test_file_of_the_previous_version_upgrades(bpy_clean):
     assert material["phong_nodes_material"] == 1 and material.node_tree.animation_data
     assert bpy.ops.phong.relink_lights() == {"FINISHED"}
     nodes = material.node_tree.nodes
-    assert material["phong_nodes_material"] == 3
+    assert material["phong_nodes_material"] == 4
     assert not [n for n in nodes if n.name.startswith("phong_gen:")]
+    strength = nodes["phong_lights"].inputs["Specular Strength"]  # layout 4's control
+    assert strength.links[0].from_node.name == "phong_specular_strength"
     assert not (material.node_tree.animation_data and material.node_tree.animation_data.drivers)
     assert nodes["phong_exponent"].outputs[0].default_value == pytest.approx(12.0)
     assert tuple(nodes["phong_specular_color"].outputs[0].default_value)[:3] == \
@@ -465,7 +467,7 @@ def test_a_layout_2_textured_material_upgrades_keeping_its_texture(bpy_clean, tm
     assert "Ambient Object Color" not in node.inputs
     assert bpy.ops.phong.relink_lights() == {"FINISHED"}
     node = material.node_tree.nodes["phong_lights"]
-    assert material["phong_nodes_material"] == 3
+    assert material["phong_nodes_material"] == 4
     feeds = {name: node.inputs[name].links[0].from_node.name
              for name in ("Object Color", "Ambient Object Color", "Specular Color", "Exponent")}
     assert feeds["Object Color"] == feeds["Ambient Object Color"] == texture.name

@@ -6,11 +6,13 @@
 * docs/sheet_two_lights.png, docs/sheet_exponents.png: the comparison sheets of two demo
   scenes, built as live scenes by `bpy.ops.phong.build_demo_scene()` and compared by
   `bpy.ops.phong.bake_comparison()` (256 px high);
+* docs/sheet_threejs_phong_lab.png: the seeds' three.js Phong lab in the three.js model,
+  compared with three.js itself in headless Chromium (`peers={'THREEJS'}`);
 * docs/obj_import.png: an OBJ/MTL file of four spheres with classic materials of the OpenGL
   material table (brass, jade, ruby, chrome: Ka, Kd, Ks, Ns), written here and imported by
   `bpy.ops.phong.import_obj()`, lit by a point light and the ambient light.
 
-Run: .venv/bin/python tools/readme_pictures.py
+Run: .venv/bin/python tools/readme_pictures.py  (only the three.js sheet: ... threejs)
 """
 
 import math
@@ -165,18 +167,19 @@ def obj_import_picture():
     render_png(scene, "obj_import.png", 640, 180)
 
 
-def sheets():
+def sheets(names=(("two_lights", set()), ("exponents", set()),
+                  ("threejs_phong_lab", {"THREEJS"}))):
     import shutil
     import tempfile
 
     import bpy
 
     folder = tempfile.mkdtemp(prefix="phong_sheets_")
-    for name in ("two_lights", "exponents"):
+    for name, peers in names:
         bpy.ops.wm.read_homefile(use_empty=True)
         assert bpy.ops.phong.build_demo_scene(name=name, resolution=256) == {"FINISHED"}
         with bpy.context.temp_override(scene=bpy.data.scenes[name]):
-            assert bpy.ops.phong.bake_comparison(directory=folder) == {"FINISHED"}
+            assert bpy.ops.phong.bake_comparison(directory=folder, peers=peers) == {"FINISHED"}
         out = os.path.join(ROOT, "docs", f"sheet_{name}.png")
         shutil.copyfile(os.path.join(folder, name, "sheet.png"), out)
         print(out)
@@ -184,9 +187,13 @@ def sheets():
 
 
 if __name__ == "__main__":
-    main()
-    obj_import_picture()
-    sheets()
+    if sys.argv[1:] == ["threejs"]:
+        phong_nodes.register()
+        sheets((("threejs_phong_lab", {"THREEJS"}),))
+    else:
+        main()
+        obj_import_picture()
+        sheets()
     from phong_nodes.addon import compat
 
     compat.exit_process(0)

@@ -291,6 +291,10 @@ heatmaps, a sheet and metrics.json"""
                               description="Output folder (one sub-folder per scene)")
     engines: EnumProperty(name="Engines", options={"ENUM_FLAG"}, default={"EEVEE", "CYCLES"},
                           items=(("EEVEE", "Eevee", ""), ("CYCLES", "Cycles", "")))
+    peers: EnumProperty(name="Peers", options={"ENUM_FLAG"}, default=set(),
+                        items=(("THREEJS", "three.js", "Export the scene as a three.js page "
+                                "and render it in headless Chromium (needs chromium and "
+                                "three.js: bash tools/phong.sh setup)"),))
 
     @classmethod
     def poll(cls, context):
@@ -310,8 +314,10 @@ heatmaps, a sheet and metrics.json"""
 
     def execute(self, context):
         scene = context.scene
+        peers = [p.lower() for p in self.peers]
         try:
             bake.check(scene, self._layer(context))
+            bake.check_peers(peers)
         except bake.BakeError as error:
             self.report({"ERROR"}, f"Bake Phong Comparison: {error}")
             return {"CANCELLED"}
@@ -330,7 +336,7 @@ heatmaps, a sheet and metrics.json"""
             metrics = bake.bake(scene, os.path.join(folder, name),
                                 engines=[e.lower() for e in self.engines],
                                 progress=lambda f, _t: wm.progress_update(int(100 * f)),
-                                view_layer=self._layer(context))
+                                view_layer=self._layer(context), peers=peers)
         except (RuntimeError, OSError, bake.BakeError) as error:
             self.report({"ERROR"}, f"Bake Phong Comparison: bake failed: {error}")
             return {"CANCELLED"}
