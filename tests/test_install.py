@@ -31,6 +31,11 @@ print("RESULT " + json.dumps({
     "asset_files": sorted(os.listdir(libraries[0])) if libraries else [],
     "groups": sorted(g.name for g in bpy.data.node_groups),
     "file": sys.modules[module].__file__ if module in sys.modules else None}))
+# bpy 4.x can crash in its own clean-up at interpreter exit (see addon/compat.exit_process,
+# which the extension's own headless commands use): leave as they do.
+sys.stdout.flush()
+if bpy.app.version < (5, 0, 0):
+    os._exit(0)
 """
 
 
