@@ -24,14 +24,7 @@ THREEJS_SCENES = ("threejs_lab05", "threejs_lab06", "threejs_phong_lab",
 
 
 def need_browser():
-    problem = None
-    if browser.find_browser() is None:
-        problem = browser.missing_message()
-    else:
-        try:
-            threejs.three_module()
-        except threejs.ThreeMissing as error:
-            problem = str(error)
+    problem = threejs.unavailable()
     if problem is not None:
         if os.environ.get("CI"):
             pytest.fail(problem)
@@ -147,6 +140,10 @@ def test_apply_with_the_threejs_model_and_switching_back(bpy_clean):
     assert types == ["Phong Color Add", "Phong Color Add", "three.js Ambient", "three.js Phong",
                      "three.js Spot Light"]
     assert material.node_tree.nodes["phong_specular_strength"].outputs[0].default_value == 1.0
+    out = next(n for n in tree.nodes if n.bl_idname == "NodeGroupOutput")
+    for name in ("Color", "Irradiant", "Ambient", "Diffuse", "Specular", "Shader"):
+        assert out.inputs[name].is_linked, f"the lights group's {name} output is fed"
+    assert out.inputs["Color"].links[0].from_node.name == "add:1"  # irradiant, then the spot
     # the light's three.js settings drive the group
     light.data.phong.penumbra = 0.4
     light.data.phong.decay = 1.0

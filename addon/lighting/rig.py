@@ -148,7 +148,7 @@ def build(tree, lights, world, model=MODELS[0]) -> None:
     shadings = []
     for index, obj in enumerate(lights):
         y = -520.0 * index
-        light_node = _light_node(tree, obj, (-600.0, y))
+        light_node = _light_node(tree, obj, (-600.0, y), MODELS[0])
         shading = _shading_node(tree, group_in, f"shading:{obj.name}", (-300.0, y), index == 0)
         tree.links.new(light_node.outputs["Light Vector"], shading.inputs["Light Vector"])
         tree.links.new(light_node.outputs["Intensity"], shading.inputs["Light Intensity"])
@@ -168,7 +168,8 @@ def build(tree, lights, world, model=MODELS[0]) -> None:
     ambient = _group_node(tree, "Phong Ambient", "ambient", (-300.0, 520.0))
     tree.links.new(group_in.outputs["Ambient Object Color"], ambient.inputs["Object Color"])
     _drive_ambient(ambient, world)
-    _sums(tree, ambient, shadings, group_out, out_x)
+    _sums(tree, ambient, [s.outputs["Color"] for s in shadings], shadings,
+          shadings[0].outputs["Irradiant"], group_out, out_x)
     _stamp(tree, lights, MODELS[0])
 
 
@@ -191,9 +192,16 @@ def _start(tree, lights):
     return group_in, group_out, out_x
 
 
-#: three.js model: light type -> its light group; the shading input fed by each group input.
-THREEJS_LIGHTS = {"POINT": "three.js Point Light", "SUN": "Phong Directional Light",
-                  "SPOT": "three.js Spot Light"}
+#: Per model: light type -> its light group; the light settings of its falloff (each drives
+#: the input of its capitalised name); a spot's (half angle input, (edge input, setting)).
+LIGHT_GROUPS = {"seeds": SUPPORTED,
+                "threejs": {"POINT": "three.js Point Light", "SUN": "Phong Directional Light",
+                            "SPOT": "three.js Spot Light"}}
+FALLOFF_SETTINGS = {"seeds": ("quadratic", "linear", "constant"),
+                    "threejs": ("distance", "decay")}
+SPOT_INPUTS = {"seeds": ("Half Angle", ("Edge Exponent", "edge_exponent")),
+               "threejs": ("Angle", ("Penumbra", "penumbra"))}
+#: three.js model: the three.js Phong input fed by each input of the lights group.
 THREEJS_SHADING = {"Object Color": "Diffuse Color", "Specular Color": "Specular Color",
                    "Exponent": "Shininess", "Specular Strength": "Specular Strength",
                    "Normal": "Normal", "View Vector": "View Vector"}
@@ -206,7 +214,7 @@ def _build_threejs(tree, lights, world) -> None:
     shadings = []
     for index, obj in enumerate(lights):
         y = -520.0 * index
-        light_node = _threejs_light_node(tree, obj, (-600.0, y))
+        light_node = _light_node(tree, obj, (-600.0, y), "threejs")
         shading = _group_node(tree, "three.js Phong", f"shading:{obj.name}", (-300.0, y))
         for source, target in THREEJS_SHADING.items():
             tree.links.new(group_in.outputs[source], shading.inputs[target])
@@ -217,55 +225,10 @@ def _build_threejs(tree, lights, world) -> None:
     ambient = _group_node(tree, "three.js Ambient", "ambient", (-300.0, 520.0))
     tree.links.new(group_in.outputs["Ambient Object Color"], ambient.inputs["Diffuse Color"])
     _drive_ambient(ambient, world)
-    links = tree.links
-    color = ambient.outputs["Color"]
-    parts = [group_in.outputs["Irradiant Color"]] + [s.outputs["Color"] for s in shadings]
-    for index, part in enumerate(parts):
-        add = _group_node(tree, "Phong Color Add", f"add:{index}", (180.0 * index, 300.0))
-        links.new(color, add.inputs["A"])
-        links.new(part, add.inputs["B"])
-        color = add.outputs["Color"]
-    terms = {"Irradiant": group_in.outputs["Irradiant Color"], "Ambient": ambient.outputs["Color"]}
-    for row, term in enumerate(("Diffuse", "Specular")):
-        total = None
-        for index, shading in enumerate(shadings):
-            if total is None:
-                total = shading.outputs[term]
-                continue
-            node = tree.nodes.new("ShaderNodeVectorMath")
-            node.name = f"{term.lower()}:{index}"
-            node.operation = "ADD"
-            node.location = (180.0 * index, -200.0 - 160.0 * row)
-            links.new(total, node.inputs[0])
-            links.new(shading.outputs[term], node.inputs[1])
-            total = node.outputs["Vector"]
-        if total is not None:
-            links.new(total, group_out.inputs[term])
-        else:  # no light: black
-            group_out.inputs[term].default_value = (0.0, 0.0, 0.0, 1.0)
-    for term, socket in terms.items():
-        links.new(socket, group_out.inputs[term])
-    _emission(tree, color, group_out, out_x)
+    irradiant = group_in.outputs["Irradiant Color"]
+    _sums(tree, ambient, [irradiant] + [s.outputs["Color"] for s in shadings], shadings,
+          irradiant, group_out, out_x)
     _stamp(tree, lights, "threejs")
-
-
-def _threejs_light_node(tree, obj, location):
-    light = obj.data
-    properties.ensure_light_props(light)
-    node = _group_node(tree, THREEJS_LIGHTS[light.type], f"light:{obj.name}", location)
-    inputs = node.inputs
-    keys = {attr: f'["{key}"]' for attr, (key, _default) in properties.LIGHT_KEYS.items()}
-    if light.type in ("POINT", "SPOT"):
-        drivers.world_location(inputs["Position"], obj)
-        for attr in ("distance", "decay"):
-            drivers.prop(inputs[attr.capitalize()], None, "LIGHT", light, keys[attr])
-    if light.type in ("SUN", "SPOT"):
-        drivers.world_minus_z(inputs["Direction"], obj)
-    if light.type == "SPOT":
-        drivers.prop(inputs["Angle"], None, "LIGHT", light, "spot_size", scale=0.5)
-        drivers.prop(inputs["Penumbra"], None, "LIGHT", light, keys["penumbra"])
-    drivers.prop(inputs["Intensity"], None, "LIGHT", light, keys["intensity"])
-    return node
 
 
 def _emission(tree, color, group_out, out_x) -> None:
@@ -321,21 +284,23 @@ def _group_node(tree, group_name, name, location):
     return node
 
 
-def _light_node(tree, obj, location):
+def _light_node(tree, obj, location, model):
+    """The light group of *obj* in *model*, driven by the light."""
     light = obj.data
     properties.ensure_light_props(light)
-    node = _group_node(tree, SUPPORTED[light.type], f"light:{obj.name}", location)
+    node = _group_node(tree, LIGHT_GROUPS[model][light.type], f"light:{obj.name}", location)
     inputs = node.inputs
     keys = {attr: f'["{key}"]' for attr, (key, _default) in properties.LIGHT_KEYS.items()}
     if light.type in ("POINT", "SPOT"):
         drivers.world_location(inputs["Position"], obj)
-        for attr in ("quadratic", "linear", "constant"):
+        for attr in FALLOFF_SETTINGS[model]:
             drivers.prop(inputs[attr.capitalize()], None, "LIGHT", light, keys[attr])
     if light.type in ("SUN", "SPOT"):
         drivers.world_minus_z(inputs["Direction"], obj)
     if light.type == "SPOT":
-        drivers.prop(inputs["Half Angle"], None, "LIGHT", light, "spot_size", scale=0.5)
-        drivers.prop(inputs["Edge Exponent"], None, "LIGHT", light, keys["edge_exponent"])
+        angle, (edge, setting) = SPOT_INPUTS[model]
+        drivers.prop(inputs[angle], None, "LIGHT", light, "spot_size", scale=0.5)
+        drivers.prop(inputs[edge], None, "LIGHT", light, keys[setting])
     drivers.prop(inputs["Intensity"], None, "LIGHT", light, keys["intensity"])
     return node
 
@@ -363,30 +328,35 @@ def _drive_ambient(node, world) -> None:
                   f'["{properties.AMBIENT_COLOR[0]}"]')
 
 
-def _sums(tree, ambient, shadings, group_out, out_x) -> None:
-    """Color: Phong Color Add chain of the ambient and the shadings' colours; Diffuse,
-    Specular: sums; Irradiant: the first shading's; Ambient: the Phong Ambient's."""
+def _sums(tree, ambient, parts, shadings, irradiant, group_out, out_x) -> None:
+    """Color: the Phong Color Add chain of the ambient's colour and *parts*; Diffuse and
+    Specular: the sums of the shadings' terms (black without one); Irradiant: *irradiant*;
+    Ambient: the ambient node's; Shader: an emission of Color."""
     links = tree.links
     color = ambient.outputs["Color"]
-    terms = {t: shadings[0].outputs[t] for t in TERMS}
-    terms["Ambient"] = ambient.outputs["Color"]
-    for index, shading in enumerate(shadings):
-        x = 0.0 + 180.0 * index
-        add = _group_node(tree, "Phong Color Add", f"add:{index}", (x, 300.0))
+    for index, part in enumerate(parts):
+        add = _group_node(tree, "Phong Color Add", f"add:{index}", (180.0 * index, 300.0))
         links.new(color, add.inputs["A"])
-        links.new(shading.outputs["Color"], add.inputs["B"])
+        links.new(part, add.inputs["B"])
         color = add.outputs["Color"]
-        if not index:
-            continue
-        for row, term in enumerate(("Diffuse", "Specular")):
+    links.new(color, group_out.inputs["Color"])
+    links.new(irradiant, group_out.inputs["Irradiant"])
+    links.new(ambient.outputs["Color"], group_out.inputs["Ambient"])
+    for row, term in enumerate(("Diffuse", "Specular")):
+        total = None
+        for index, shading in enumerate(shadings):
+            if total is None:
+                total = shading.outputs[term]
+                continue
             node = tree.nodes.new("ShaderNodeVectorMath")
             node.name = f"{term.lower()}:{index}"
             node.operation = "ADD"
-            node.location = (x, -200.0 - 160.0 * row)
-            links.new(terms[term], node.inputs[0])
+            node.location = (180.0 * index, -200.0 - 160.0 * row)
+            links.new(total, node.inputs[0])
             links.new(shading.outputs[term], node.inputs[1])
-            terms[term] = node.outputs["Vector"]
-    links.new(color, group_out.inputs["Color"])
-    for term, socket in terms.items():
-        links.new(socket, group_out.inputs[term])
+            total = node.outputs["Vector"]
+        if total is None:  # no light
+            group_out.inputs[term].default_value = (0.0, 0.0, 0.0, 1.0)
+        else:
+            links.new(total, group_out.inputs[term])
     _emission(tree, color, group_out, out_x)
