@@ -65,8 +65,8 @@ import html
 import json
 import os
 import re
-import shutil
-import tempfile
+
+from . import browser, outputs
 
 THREE_VERSION = "0.181.0"
 SCENE_FORMAT = "phong-nodes-threejs"
@@ -121,18 +121,20 @@ def scene_json(scene: dict) -> str:
 def _copy_if_changed(source: str, target: str) -> None:
     if os.path.isfile(target) and filecmp.cmp(source, target, shallow=False):
         return
-    folder = os.path.dirname(target)
-    handle, temp = tempfile.mkstemp(dir=folder, prefix=f".{os.path.basename(target)}.",
-                                    suffix=".tmp")
-    os.close(handle)
+    with open(source, "rb") as stream:
+        outputs.write_file(target, stream.read())
+
+
+def unavailable() -> str | None:
+    """What the three.js peer lacks on this machine (one line naming what to install), or
+    None when Chromium and three.js are both there."""
+    if browser.find_browser() is None:
+        return browser.missing_message()
     try:
-        shutil.copyfile(source, temp)
-        os.chmod(temp, 0o644)
-        os.replace(temp, target)
-    except BaseException:
-        if os.path.exists(temp):
-            os.unlink(temp)
-        raise
+        three_module()
+    except ThreeMissing as error:
+        return str(error)
+    return None
 
 
 def page_html(scene: dict) -> str:
@@ -156,17 +158,7 @@ def write_page(path: str, scene: dict) -> None:
     _copy_if_changed(module, os.path.join(folder, SCRIPT_NAME))
     if os.path.isfile(license_path):
         _copy_if_changed(license_path, os.path.join(folder, LICENSE_NAME))
-    handle, temp = tempfile.mkstemp(dir=folder, prefix=f".{os.path.basename(path)}.",
-                                    suffix=".tmp")
-    try:
-        with os.fdopen(handle, "w", encoding="utf-8") as stream:
-            stream.write(text)
-        os.chmod(temp, 0o644)
-        os.replace(temp, path)
-    except BaseException:
-        if os.path.exists(temp):
-            os.unlink(temp)
-        raise
+    outputs.write_file(path, text)
 
 
 _SCENE_RE = re.compile(

@@ -131,12 +131,9 @@ def _missing(message):
 
 @pytest.fixture(scope="module")
 def peer():
-    if browser.find_browser() is None:
-        _missing(browser.missing_message())
-    try:
-        threejs.three_module()
-    except threejs.ThreeMissing as error:
-        _missing(str(error))
+    problem = threejs.unavailable()
+    if problem is not None:
+        _missing(problem)
 
 
 @pytest.fixture(scope="module")

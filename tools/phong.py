@@ -115,15 +115,10 @@ def peer_problem(peers) -> str | None:
     """Why a peer cannot run on this machine (what to install), or None."""
     if "threejs" not in peers:
         return None
-    from phong_nodes.core import browser, threejs  # noqa: PLC0415
+    from phong_nodes.core import threejs  # noqa: PLC0415
 
-    if browser.find_browser() is None:
-        return f"--peers threejs: {browser.missing_message()}"
-    try:
-        threejs.three_module()
-    except threejs.ThreeMissing as error:
-        return f"--peers threejs: {error}"
-    return None
+    problem = threejs.unavailable()
+    return None if problem is None else f"--peers threejs: {problem}"
 
 
 def main(argv=None) -> int:

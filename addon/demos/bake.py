@@ -224,22 +224,18 @@ def check_peers(peers) -> None:
     unknown = [p for p in peers if p not in compare.PEERS]
     if unknown:
         raise BakeError(f"unknown peer {unknown[0]!r}; expected one of {', '.join(compare.PEERS)}")
-    if "threejs" in peers:
-        if browser.find_browser() is None:
-            raise BakeError(browser.missing_message())
-        try:
-            threejs.three_module()
-        except threejs.ThreeMissing as error:
-            raise BakeError(str(error)) from None
+    problem = threejs.unavailable() if "threejs" in peers else None
+    if problem is not None:
+        raise BakeError(problem)
 
 
-def _threejs_peer(scene, layer, objects, width, height, folder) -> tuple:
+def _threejs_peer(scene, layer, objects, data, width, height, folder) -> tuple:
     """(three.js's RGBA picture, seconds in the browser, warnings): the scene exported as
     a page into *folder*/threejs/ (kept in the report) and rendered by Chromium."""
     page = os.path.join(folder, "threejs", "scene.html")
     os.makedirs(os.path.dirname(page), exist_ok=True)
-    data, warnings = threejs_export.scene_dict(scene, layer, width, height, objects)
-    threejs.write_page(page, data)
+    page_data, warnings = threejs_export.scene_dict(scene, layer, width, height, objects, data)
+    threejs.write_page(page, page_data)
     result = browser.render_page(page)
     if result.errors:
         raise browser.BrowserError("the three.js page reported: " + "; ".join(result.errors))
@@ -284,7 +280,8 @@ def bake(scene, out_dir: str, engines=compare.ENGINES, progress=None, view_layer
         if "threejs" in peers:
             progress(0.85, "three.js in Chromium")
             t0 = time.perf_counter()
-            rgba, seconds, warnings = _threejs_peer(scene, layer, objects, width, height, tmp)
+            rgba, seconds, warnings = _threejs_peer(scene, layer, objects, data, width, height,
+                                                    tmp)
             pairs, peer_verdict, peer_mask = compare.evaluate_peer(data, rgba, images, mask)
             images["threejs"] = compare.srgb_decode(rgba[..., :3] / 255.0)
             metrics["pairs"].update(pairs)

@@ -128,9 +128,11 @@ def _light_dict(light) -> dict:
     return out
 
 
-def scene_dict(scene, view_layer, width: int, height: int, objects=None) -> tuple:
+def scene_dict(scene, view_layer, width: int, height: int, objects=None,
+               described=None) -> tuple:
     """(the page's scene dict (``core/threejs.py``), warnings) of *scene* at width × height.
-    *objects*: the Phong objects to export (default: those of the view layer)."""
+    *objects*: the Phong objects to export (default: those of the view layer); *described*:
+    ``evaluate.describe`` of them when the caller has it already."""
     if scene.camera is None:
         raise ValueError(f"scene {scene.name!r} has no camera")
     if objects is None:
@@ -139,7 +141,7 @@ def scene_dict(scene, view_layer, width: int, height: int, objects=None) -> tupl
         raise ValueError(f"scene {scene.name!r} has no object with a Phong material in view "
                          f"layer {view_layer.name!r} (Apply Phong Material first)")
     depsgraph = view_layer.depsgraph
-    data = evaluate.describe(scene, view_layer, objects)
+    data = described or evaluate.describe(scene, view_layer, objects)
     warnings = []
     if data["model"] != "threejs":
         warnings.append(f"scene {scene.name!r} uses the seeds' model: the page shows three.js's "
@@ -149,7 +151,7 @@ def scene_dict(scene, view_layer, width: int, height: int, objects=None) -> tupl
                                            scale_x=scene.render.pixel_aspect_x,
                                            scale_y=scene.render.pixel_aspect_y)
     mats, index, meshes = [], {}, []
-    for obj, described in zip(objects, data["objects"]):
+    for obj, entry in zip(objects, data["objects"]):
         points, normals, slots = _mesh_arrays(obj, depsgraph)
         for slot_index in np.unique(slots):
             slot = obj.material_slots[int(slot_index)] if obj.material_slots else None
@@ -163,7 +165,7 @@ def scene_dict(scene, view_layer, width: int, height: int, objects=None) -> tupl
             picked = slots == slot_index
             meshes.append({
                 "name": f"{obj.name} [{material.name}]", "material": index[material.name],
-                "lights": described["lights"],
+                "lights": entry["lights"],
                 "positions": np.round(points[picked].ravel(), 6).tolist(),
                 "normals": np.round(normals[picked].ravel(), 6).tolist()})
     return {
