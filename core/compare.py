@@ -84,39 +84,32 @@ def probe_name(probe: str) -> str:
     return PROBE_PREFIX + probe
 
 
-def light_at(light, P):
-    """(ℓ, intensity, ambiguous) of one light at the points P (N, 3)."""
+def light_at(light, P, model="seeds"):
+    """(ℓ, intensity, ambiguous) of one light of *model* ("seeds" or "threejs") at the
+    points P (N, 3).  Ambiguous: at a spot's hard cone edge."""
     kind = light["type"]
-    if kind == "directional":
+    if kind == "directional":  # the same light in both models
         out = ref.directional_light(light["direction"], light["intensity"], geometry_position=P)
         return out["Light Vector"], out["Intensity"], np.zeros(len(P), bool)
+    threejs = model == "threejs"
     if kind == "point":
-        out = ref.point_light(light["position"], light["intensity"], light["quadratic"],
-                              light["linear"], light["constant"], geometry_position=P)
+        out = (ref.threejs_point_light(light["position"], light["intensity"],
+                                       light["distance"], light["decay"], geometry_position=P)
+               if threejs else
+               ref.point_light(light["position"], light["intensity"], light["quadratic"],
+                               light["linear"], light["constant"], geometry_position=P))
         return out["Light Vector"], out["Intensity"], np.zeros(len(P), bool)
     theta = math.radians(light["half_angle"])
-    out = ref.spot_light(light["position"], light["direction"], theta, light["edge_exponent"],
-                         light["intensity"], light["quadratic"], light["linear"],
-                         light["constant"], geometry_position=P)
-    edge = np.abs(out["Cos Angle"] - math.cos(theta)) < AMBIGUOUS
-    return out["Light Vector"], out["Intensity"], edge
-
-
-def threejs_light_at(light, P):
-    """(ℓ, intensity, ambiguous) of one light of the three.js model at the points P."""
-    kind = light["type"]
-    if kind == "directional":
-        out = ref.directional_light(light["direction"], light["intensity"], geometry_position=P)
-        return out["Light Vector"], out["Intensity"], np.zeros(len(P), bool)
-    if kind == "point":
-        out = ref.threejs_point_light(light["position"], light["intensity"], light["distance"],
-                                      light["decay"], geometry_position=P)
-        return out["Light Vector"], out["Intensity"], np.zeros(len(P), bool)
-    angle = math.radians(light["half_angle"])
-    out = ref.threejs_spot_light(light["position"], light["direction"], angle,
-                                 light["penumbra"], light["intensity"], light["distance"],
-                                 light["decay"], geometry_position=P)
-    edge = (np.abs(out["Cos Angle"] - math.cos(angle)) < AMBIGUOUS) & (light["penumbra"] == 0)
+    if threejs:
+        out = ref.threejs_spot_light(light["position"], light["direction"], theta,
+                                     light["penumbra"], light["intensity"], light["distance"],
+                                     light["decay"], geometry_position=P)
+    else:
+        out = ref.spot_light(light["position"], light["direction"], theta,
+                             light["edge_exponent"], light["intensity"], light["quadratic"],
+                             light["linear"], light["constant"], geometry_position=P)
+    hard = not threejs or light["penumbra"] == 0  # three.js: smooth with a penumbra
+    edge = (np.abs(out["Cos Angle"] - math.cos(theta)) < AMBIGUOUS) & hard
     return out["Light Vector"], out["Intensity"], edge
 
 
@@ -160,29 +153,25 @@ def reference_image(scene: dict, aovs: dict) -> dict:
             "Diffuse": np.zeros_like(P), "Specular": np.zeros_like(P)}
     ambiguous = np.zeros(len(P), bool)
     n = ref.resolve_normal(normal, N)
-    if threejs:
-        strength = probe("strength", 1)[hit][..., 0].astype(np.float64)
-        for k, light in enumerate(scene["lights"]):
-            on = reach[idx, k]
-            ell, intensity, edge = threejs_light_at(light, P)
+    strength = probe("strength", 1)[hit][..., 0].astype(np.float64) if threejs else None
+    for k, light in enumerate(scene["lights"]):
+        on = reach[idx, k]
+        ell, intensity, edge = light_at(light, P, scene.get("model", "seeds"))
+        if threejs:
             ambiguous |= edge & on
             out = ref.threejs_phong(ell, np.where(on, intensity, 0.0), light["color"], color,
                                     spec_color, exponent, strength, normal, view, N, I)
-            sums["Diffuse"] += out["Diffuse"]
-            sums["Specular"] += out["Specular"]
-    for k, light in enumerate(scene["lights"] if not threejs else ()):
-        on = reach[idx, k]
-        ell, intensity, edge = light_at(light, P)
-        dif = np.where(on, light["diffuse"], 0.0)
-        spe = np.where(on, light["specular"], 0.0)
-        ambiguous |= edge & (dif + spe > 0)
-        ambiguous |= (np.abs(ref.dot(ell, n)) < AMBIGUOUS) & (spe > 0)
-        out = ref.phong_shading(
-            light_vector=ell, light_intensity=intensity, light_color=light["color"],
-            object_color=color, irradiant_color=(0.0, 0.0, 0.0), ambient_intensity=0.0,
-            diffuse_strength=dif, specular_strength=spe, specular_color=spec_color,
-            exponent=exponent, blinn=blinn, normal=normal, view_vector=view,
-            geometry_normal=N, incoming=I)
+        else:
+            dif = np.where(on, light["diffuse"], 0.0)
+            spe = np.where(on, light["specular"], 0.0)
+            ambiguous |= edge & (dif + spe > 0)
+            ambiguous |= (np.abs(ref.dot(ell, n)) < AMBIGUOUS) & (spe > 0)
+            out = ref.phong_shading(
+                light_vector=ell, light_intensity=intensity, light_color=light["color"],
+                object_color=color, irradiant_color=(0.0, 0.0, 0.0), ambient_intensity=0.0,
+                diffuse_strength=dif, specular_strength=spe, specular_color=spec_color,
+                exponent=exponent, blinn=blinn, normal=normal, view_vector=view,
+                geometry_normal=N, incoming=I)
         sums["Diffuse"] += out["Diffuse"]
         sums["Specular"] += out["Specular"]
     final = np.minimum(sum(sums.values()), 1.0)

@@ -303,17 +303,24 @@ def _lights(c: _Checker, raws: list, model: str = "seeds") -> list:
     return lights
 
 
-def _light(c: _Checker, raw: dict, where: str, index: int) -> dict:
+def _light_head(c: _Checker, raw: dict, where: str, index: int, keys: dict) -> dict:
+    """What every light has in both models (name, type, color, intensity), its keys checked
+    against *keys* (light type -> allowed keys)."""
     kind = c.string(raw, "type", where, choices=LIGHT_TYPES)
-    c.unknown(raw, LIGHT_KEYS[kind], where)
-    light = {
+    c.unknown(raw, keys[kind], where)
+    return {
         "name": c.string(raw, "name", where, default=f"light{index}", pattern=NAME_RE),
         "type": kind,
         "color": c.color(raw, "color", where, "#FFFFFF"),
         "intensity": c.number(raw, "intensity", where, default=1.0, minimum=0.0),
-        "diffuse": c.number(raw, "diffuse", where, default=1.0, minimum=0.0),
-        "specular": c.number(raw, "specular", where, default=1.0, minimum=0.0),
     }
+
+
+def _light(c: _Checker, raw: dict, where: str, index: int) -> dict:
+    light = _light_head(c, raw, where, index, LIGHT_KEYS)
+    kind = light["type"]
+    light["diffuse"] = c.number(raw, "diffuse", where, default=1.0, minimum=0.0)
+    light["specular"] = c.number(raw, "specular", where, default=1.0, minimum=0.0)
     if kind in ("point", "spot"):
         light["position"] = c.vector(raw, "position", where)
         light["quadratic"] = c.number(raw, "quadratic", where, default=1.0, minimum=0.0)
@@ -343,14 +350,8 @@ def _light(c: _Checker, raw: dict, where: str, index: int) -> dict:
 
 def _threejs_light(c: _Checker, raw: dict, where: str, index: int) -> dict:
     """A light of a three.js scene: three.js's settings and defaults (docs/threejs.md)."""
-    kind = c.string(raw, "type", where, choices=LIGHT_TYPES)
-    c.unknown(raw, THREEJS_LIGHT_KEYS[kind], where)
-    light = {
-        "name": c.string(raw, "name", where, default=f"light{index}", pattern=NAME_RE),
-        "type": kind,
-        "color": c.color(raw, "color", where, "#FFFFFF"),
-        "intensity": c.number(raw, "intensity", where, default=1.0, minimum=0.0),
-    }
+    light = _light_head(c, raw, where, index, THREEJS_LIGHT_KEYS)
+    kind = light["type"]
     if kind in ("point", "spot"):
         light["position"] = c.vector(raw, "position", where)
         light["distance"] = c.number(raw, "distance", where, default=0.0, minimum=0.0)
