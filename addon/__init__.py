@@ -6,6 +6,7 @@
 * ``lighting`` Phong materials driven by Blender lights: the material recipe, drivers, the
   lights' and world's Phong settings;
 * ``demos``    demo scenes from ``scenes/*.toml``, exact render settings, the comparison bake;
+* ``baking``   Bake Phong Lighting into images and vertex colours, showing the bake, glTF;
 * ``ui``       every operator, menu and panel, and the asset library of the groups;
 * ``compat``   every difference between Blender versions.
 
@@ -14,14 +15,19 @@ Register and unregister are symmetric.
 
 from . import loader
 from .lighting import properties, sync
-from .ui import assets, menus, operators, panels
+from .ui import assets, baking, menus, operators, panels
 
-_modules = (operators, menus, properties, panels, loader, sync, assets)
+_modules = (operators, menus, properties, panels, baking, loader, sync, assets)
 
 
 def register():
     for module in _modules:
-        module.register()
+        if module is properties:
+            # the model switch rebuilds the scene's lights groups: the settings are handed
+            # the rebuild, so that they never import the sync that builds on them
+            module.register(on_model_change=sync.relink_scene)
+        else:
+            module.register()
 
 
 def unregister():

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""Differences between the supported Blender versions (4.2 LTS to 5.0), in one place."""
+"""Differences between the supported Blender versions (4.2 LTS to 5.2 LTS), in one place."""
 
 import os
 import sys
@@ -9,17 +9,21 @@ import bpy
 VERSION = bpy.app.version
 
 
-def exit_process(code: int) -> None:
-    """Exit a headless ``bpy`` process with *code*.  The bpy 4.x module can crash in its own
-    clean-up at interpreter exit, turning success into signal 11 (bpy 4.2.23: after an Eevee
-    render, and whenever a property with Python get/set callbacks was registered, as the
-    Light and World Phong settings are): once our files are written and closed, leave
-    without running it."""
-    sys.stdout.flush()
-    sys.stderr.flush()
-    if VERSION < (5, 0, 0):
+def exit_crashes() -> bool:
+    """Whether bpy's own clean-up at interpreter exit crashes this process (signal 11): on
+    Blender 4.2 once its glTF exporter has exported, also in a plain script without this
+    extension (measured)."""
+    return VERSION < (4, 3, 0) and "io_scene_gltf2.blender.exp" in sys.modules
+
+
+def leave_if_exit_crashes(code: int) -> None:
+    """Where bpy's clean-up at exit would crash (``exit_crashes``), end the process now with
+    *code*, its output flushed (callers' files are written and closed by then); otherwise
+    return, and Python ends as usual."""
+    if exit_crashes():
+        sys.stdout.flush()
+        sys.stderr.flush()
         os._exit(code)
-    sys.exit(code)
 
 
 def eevee_engine() -> str:

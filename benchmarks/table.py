@@ -22,15 +22,37 @@ def verdict(value, goal_value, kind):
     return f"missed by {value / goal_value:.1f}×" if goal_value else "missed"
 
 
-def markdown(figures, meta):
-    """The table (one row per figure and case) and two lines on the run and its sizes."""
-    rows = [*cycles_rows(figures), *eevee_rows(figures), *quality_rows(figures),
+def rows(figures, meta):
+    """One row per figure and case: (figure, median (min–max), goal, verdict, detail)."""
+    return [*cycles_rows(figures), *eevee_rows(figures), *quality_rows(figures),
             *scale_rows(figures, meta["config"]["scale_objects"]),
             *artist_rows(figures["artist_scale"]), *demo_rows(figures.get("demo_eevee"))]
+
+
+def markdown(figures, meta):
+    """The table (one row per figure and case) and two lines on the run and its sizes."""
     lines = ["| figure | median (min–max) | goal | verdict | detail |",
              "|---|---|---|---|---|"]
-    lines += ["| " + " | ".join(r) + " |" for r in rows]
+    lines += ["| " + " | ".join(r) + " |" for r in rows(figures, meta)]
     return "\n".join(lines + [""] + footer(meta))
+
+
+def side_by_side(runs):
+    """Two or more runs ({label: (figures, meta)}) in one table: each figure's median (min–max)
+    and verdict per run, in the order of the first run's rows."""
+    tables = {label: {r[0]: r for r in rows(figures, meta)} for label, (figures, meta) in runs.items()}
+    labels = list(tables)
+    lines = ["| figure | " + " | ".join(labels) + " |", "|---" * (len(labels) + 1) + "|"]
+    for name in tables[labels[0]]:
+        cells = []
+        for label in labels:
+            row = tables[label].get(name)
+            cells.append("–" if row is None else row[1] + (f" ({row[3]})" if row[3] else ""))
+        lines.append(f"| {name} | " + " | ".join(cells) + " |")
+    lines.append("")
+    for label, (_figures, meta) in runs.items():
+        lines.append(f"{label}: " + " ".join(footer(meta)[:1]))
+    return "\n".join(lines)
 
 
 def cycles_rows(f):

@@ -124,18 +124,20 @@ def parse_dom(dom: str) -> tuple:
     return title, errors, rgba
 
 
-def _command(browser: str, html_path: str, profile: str) -> list:
-    command = [browser, *FLAGS, f"--user-data-dir={profile}"]
+def _command(browser: str, html_path: str, profile: str, extra=()) -> list:
+    command = [browser, *FLAGS, *extra, f"--user-data-dir={profile}"]
     if hasattr(os, "geteuid") and os.geteuid() == 0:
         command.append("--no-sandbox")  # Chromium refuses to run as root with its sandbox
     url = "file://" + os.path.abspath(html_path)
     return command + ["--dump-dom", url]
 
 
-def render_page(html_path: str, timeout: float = 180) -> PageResult:
+def render_page(html_path: str, timeout: float = 180, extra_flags=()) -> PageResult:
     """Render the page in headless Chromium (a fresh profile, removed afterwards) and return its
     pixels, errors and the wall time.  :class:`BrowserError` on a timeout, a Chromium that
-    failed without printing a DOM, or a page that left no pixels (its errors in the message)."""
+    failed without printing a DOM, or a page that left no pixels (its errors in the message).
+    *extra_flags*: more Chromium flags (``--virtual-time-budget=MS`` for a page that draws
+    after the load event)."""
     browser = find_browser()
     if browser is None:
         raise BrowserError(missing_message())
@@ -144,7 +146,7 @@ def render_page(html_path: str, timeout: float = 180) -> PageResult:
     profile = tempfile.mkdtemp(prefix="phong-chromium-")
     start = time.monotonic()
     try:
-        process = subprocess.Popen(_command(browser, html_path, profile),
+        process = subprocess.Popen(_command(browser, html_path, profile, extra_flags),
                                    stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
                                    stderr=subprocess.PIPE, start_new_session=True)
         try:

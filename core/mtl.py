@@ -8,16 +8,20 @@ statements follow Alias|Wavefront's *File Formats*, version 4.2 (1995), chapter 
 
 * a colour is ``r [g b]`` (one value: g = b = r); ``spectral`` and ``xyz`` colours are kept
   as statements the model cannot represent;
-* a map statement is ``map_Kd [options] file`` with options such as ``-o u [v [w]]``,
-  ``-s``, ``-t``, ``-bm mult``, ``-clamp on|off``, ``-mm base gain``; the file name is the rest
-  of the line (it may hold spaces) and is resolved relative to the MTL file's folder;
+* a map statement is ``map_Kd [options] file`` with the options of :data:`MAP_OPTIONS`; the
+  file name is the rest of the line (it may hold spaces) and is looked up as other readers
+  do (:func:`find_file`);
 * ``bump`` and ``map_Bump`` are the same statement; keywords are read case-insensitively;
-* ``#`` starts a comment, a line ending in ``\\`` continues on the next, CRLF line ends work.
+* ``#`` starts a comment, a line ending in ``\\`` continues on the next, CRLF line ends work;
+  a keyword and its values are separated by any whitespace (spaces or tabs).
 
-:func:`load` reads one library, :func:`libraries` lists the ``mtllib`` files an OBJ names and
-:func:`load_for_obj` reads them all; :func:`dumps` writes materials back (numbers as the
-shortest text that reads back as the same float).  Every error is an :class:`MtlError` that names the file
-and line; nothing is half-read (an error raises before any result is returned).
+Other programs' files are read the way other readers read them: a library is refused only
+when it cannot be read at all (a missing file).  A statement the Phong model does not use
+(``d``, ``Ni``, ``Tr``, ``Tf`` ...) never refuses a file whatever its value; a statement it
+uses whose value cannot be read is left out, and a value out of its range is clamped (``Ns``
+below 0 reads as 0), each with one warning naming file and line (``warnings`` of
+:func:`parse`).  :func:`dumps` writes materials back (numbers as the shortest decimal that
+reads back as the same float32, Blender's precision).
 """
 
 from __future__ import annotations
@@ -27,19 +31,36 @@ import os
 import re
 from dataclasses import dataclass, field
 
+import numpy as np
+
 #: Canonical keyword for each accepted spelling (lower case).
-COLORS = {"ka": "Ka", "kd": "Kd", "ks": "Ks", "ke": "Ke", "tf": "Tf"}
+COLORS = {"ka": "Ka", "kd": "Kd", "ks": "Ks", "ke": "Ke", "tf": "Tf", "kt": "Tf"}
 SCALARS = {"ns": "Ns", "ni": "Ni", "d": "d", "tr": "Tr", "sharpness": "sharpness"}
 MAPS = {"map_ka": "map_Ka", "map_kd": "map_Kd", "map_ks": "map_Ks", "map_ke": "map_Ke",
         "map_ns": "map_Ns", "map_d": "map_d", "map_bump": "bump", "bump": "bump",
         "disp": "disp", "decal": "decal", "refl": "refl", "map_refl": "refl"}
-#: Map options and how many numbers (or words) follow them: (least, most).
-MAP_OPTIONS = {"-o": (1, 3), "-s": (1, 3), "-t": (1, 3), "-bm": (1, 1), "-boost": (1, 1),
-               "-mm": (2, 2), "-texres": (1, 1), "-blendu": (1, 1), "-blendv": (1, 1),
-               "-clamp": (1, 1), "-cc": (1, 1), "-imfchan": (1, 1), "-type": (1, 1)}
-_WORD_OPTIONS = {"-blendu", "-blendv", "-clamp", "-cc", "-imfchan", "-type"}
+#: Colours and scalars the Phong model reads; the others never refuse nor warn on their own.
+USED = {"Ka", "Kd", "Ks", "Ke", "Ns"}
+#: Map options (File Formats 4.2, and ``-colorspace`` of tinyobjloader and others) and how
+#: many values follow them: (least, most, words or numbers).
+MAP_OPTIONS = {"-o": (1, 3, False), "-s": (1, 3, False), "-t": (1, 3, False),
+               "-bm": (1, 1, False), "-boost": (1, 1, False), "-mm": (2, 2, False),
+               "-texres": (1, 1, True), "-blendu": (1, 1, True), "-blendv": (1, 1, True),
+               "-clamp": (1, 1, True), "-cc": (1, 1, True), "-imfchan": (1, 1, True),
+               "-type": (1, 1, True), "-colorspace": (1, 1, True)}
+#: Option values that change nothing in the picture (those of the file format's defaults).
+NEUTRAL_OPTIONS = {"-o": (0.0, 0.0, 0.0), "-s": (1.0, 1.0, 1.0), "-t": (0.0, 0.0, 0.0),
+                   "-mm": (0.0, 1.0), "-blendu": ("on",), "-blendv": ("on",),
+                   "-clamp": ("off",), "-cc": ("off",)}
+#: Options that change no pixel of a render (mip-mapping and resolution hints), and
+#: colour spaces that are Blender's own for colour maps.
+UNSEEN_OPTIONS = {"-boost", "-texres", "-type", "-imfchan"}
+SRGB_NAMES = {"srgb", "srgb_texture", "srgb texture", "default"}
 #: Maps the Phong model has an input for.
 PHONG_MAPS = ("map_Ka", "map_Kd", "map_Ks", "map_Ke", "bump")
+#: Illumination models that let light through, reflect with Fresnel or refract (where
+#: ``Ni`` and ``Tf`` matter).
+SEE_THROUGH_ILLUM = {4, 5, 6, 7, 9}
 
 
 class MtlError(ValueError):
@@ -53,13 +74,37 @@ class MtlError(ValueError):
 @dataclass
 class TextureMap:
     path: str                 # as written in the file
-    resolved: str             # absolute, relative paths taken from the MTL file's folder
+    resolved: str             # where it was found, or the first place looked at
     options: dict             # option -> tuple of its values, e.g. {"-s": (2.0, 2.0, 1.0)}
     line: int
+    looked_at: tuple = ()     # every place looked at, in order
 
     @property
     def exists(self) -> bool:
         return os.path.isfile(self.resolved)
+
+    def unapplied_options(self, keyword: str) -> list:
+        """The options that change the picture and that the importer does not apply."""
+        out = []
+        for option, values in self.options.items():
+            # -bm: applied to a bump map, meaningless for the others (File Formats 4.2)
+            if option in UNSEEN_OPTIONS or option == "-bm" or \
+                    NEUTRAL_OPTIONS.get(option) == _padded(option, values):
+                continue
+            if option == "-colorspace" and (keyword == "bump" or
+                                            str(values[0]).lower() in SRGB_NAMES):
+                continue
+            out.append(f"{option} {' '.join(_value_text(v) for v in values)}")
+        return out
+
+
+def _padded(option, values):
+    """-o/-s/-t with their missing v, w filled in as the file format defines."""
+    if option in ("-o", "-t"):
+        return tuple(values) + (0.0,) * (3 - len(values))
+    if option == "-s":
+        return tuple(values) + (1.0,) * (3 - len(values))
+    return tuple(values)
 
 
 @dataclass
@@ -74,24 +119,36 @@ class Material:
     others: list = field(default_factory=list)    # (line, statement) kept, not understood
     comments: list = field(default_factory=list)  # written before newmtl by dumps()
 
+    def transparency(self):
+        """How much light the material lets through (0 opaque), as readers take d and Tr:
+        ``d`` wins over ``Tr`` (tinyobjloader, Blender), values clamped to 0..1."""
+        if "d" in self.scalars:
+            return 1.0 - min(max(self.scalars["d"], 0.0), 1.0)
+        if "Tr" in self.scalars:
+            return min(max(self.scalars["Tr"], 0.0), 1.0)
+        return 0.0
+
     def unsupported(self) -> list:
-        """What the Phong model cannot represent, one short phrase each (for one warning)."""
+        """What the Phong model cannot show, one short phrase each (for one warning).  Values
+        that change nothing in the picture (``d 1``, ``Tr 0``, ``Ni`` and ``Tf`` of an
+        opaque material) are not named."""
         out = []
-        d = self.scalars.get("d")
-        tr = self.scalars.get("Tr")
-        if d is not None and d != 1.0:
-            out.append(f"d {d:g} (transparency)")
-        if tr is not None and tr != 0.0:
-            out.append(f"Tr {tr:g} (transparency)")
-        if "Ni" in self.scalars:
-            out.append(f"Ni {self.scalars['Ni']:g} (refraction)")
-        if "Tf" in self.colors:
+        see_through = self.transparency() > 0.0 or self.illum in SEE_THROUGH_ILLUM
+        if self.transparency() > 0.0:
+            key = "d" if "d" in self.scalars else "Tr"
+            out.append(f"{key} {_value_text(self.scalars[key])} (transparency)")
+        if see_through and "Ni" in self.scalars and self.scalars["Ni"] != 1.0:
+            out.append(f"Ni {_value_text(self.scalars['Ni'])} (refraction)")
+        if see_through and self.colors.get("Tf", (1.0, 1.0, 1.0)) != (1.0, 1.0, 1.0):
             out.append("Tf (transmission filter)")
         if self.illum is not None and self.illum > 2:
             out.append(f"illum {self.illum} (only 0, 1 and 2 are Phong models)")
         for keyword, texture in self.maps.items():
             if keyword not in PHONG_MAPS:
                 out.append(f"{keyword} {texture.path}")
+            else:
+                out += [f"{keyword} {option} (not applied)"
+                        for option in texture.unapplied_options(keyword)]
         out += [statement for _line, statement in self.others]
         return out
 
@@ -116,97 +173,193 @@ def _logical_lines(text: str):
         yield start, pending.strip()
 
 
-def _number(path, line, keyword, token) -> float:
+def _statement(text: str):
+    """(keyword, rest): split at the first whitespace of any kind (space, tab)."""
+    parts = text.split(None, 1)
+    return parts[0], (parts[1].strip() if len(parts) > 1 else "")
+
+
+class _Skip(Exception):
+    """A statement that cannot be read: left out, with a warning when the model uses it."""
+
+
+def _number(keyword, token) -> float:
     try:
         value = float(token)
     except ValueError:
-        raise MtlError(path, line, f"{keyword}: {token!r} is not a number") from None
+        raise _Skip(f"{keyword}: {token!r} is not a number") from None
     if not math.isfinite(value):
-        raise MtlError(path, line, f"{keyword}: {token!r} is not a finite number")
+        raise _Skip(f"{keyword}: {token!r} is not a finite number")
     return value
 
 
-def _color(path, line, keyword, args):
+def _color(keyword, args):
     if args and args[0].lower() in ("spectral", "xyz"):
         return None
     if len(args) not in (1, 3):
-        raise MtlError(path, line, f"{keyword} needs 1 or 3 numbers (r [g b]), got {len(args)}")
-    values = [_number(path, line, keyword, a) for a in args]
+        raise _Skip(f"{keyword} needs 1 or 3 numbers (r [g b]), got {len(args)}")
+    values = [_number(keyword, a) for a in args]
     return tuple(values * 3 if len(values) == 1 else values)
 
 
-def _texture(path, line, keyword, rest) -> TextureMap:
-    """A map statement's options and file name (the rest of the line, spaces kept)."""
-    tokens = list(re.finditer(r"\S+", rest))
-    options, i = {}, 0
+def _illum(args):
+    """``illum 2``, and ``illum 2.0`` as some exporters (Tinkercad) write it."""
+    try:
+        value = float(args[0]) if len(args) == 1 else math.nan
+    except ValueError:
+        value = math.nan
+    if not (value.is_integer() and 0 <= value <= 10):
+        raise _Skip(f"illum {' '.join(args)!r} is not an illumination model (0 to 10); "
+                    "read as illum 2")
+    return int(value)
+
+
+def _is_option(token: str) -> bool:
+    if not token.startswith("-") or len(token) < 2:
+        return False
+    try:
+        float(token)
+    except ValueError:
+        return True
+    return False
+
+
+def _options(keyword, tokens, i, end, notes):
+    """The run of known options from tokens[i], each with at most its arity of values taken
+    from tokens[:end]: ({option: values}, index after the run)."""
+    options = {}
     while i < len(tokens) and tokens[i].group().lower() in MAP_OPTIONS:
         option = tokens[i].group().lower()
-        least, most = MAP_OPTIONS[option]
-        values = []
-        i += 1
-        while len(values) < most and i < len(tokens) - 1:
+        least, most, words = MAP_OPTIONS[option]
+        values, i, bad = [], i + 1, None
+        while len(values) < most and i < end:
             token = tokens[i].group()
-            if option in _WORD_OPTIONS:
-                values.append(token.lower())
-            else:
-                try:
-                    values.append(_number(path, line, f"{keyword} {option}", token))
-                except MtlError:
-                    if len(values) < least:
-                        raise
-                    break
+            try:
+                values.append(token.lower() if words else _number(option, token))
+            except _Skip:
+                if len(values) < least:
+                    bad, i = token, i + 1
+                break
             i += 1
-        if len(values) < least:
-            raise MtlError(path, line, f"{keyword}: option {option} needs {least} value(s)")
-        options[option] = tuple(values)
+        if len(values) >= least:
+            options[option] = tuple(values)
+        elif bad is not None:
+            notes.append(f"{keyword}: option {option} needs a number, got {bad!r}; "
+                         "option left out")
+        else:
+            notes.append(f"{keyword}: option {option} needs {least} value(s); option left out")
+    return options, i
+
+
+def _texture(path, keyword, rest, notes, line) -> TextureMap:
+    """A map statement's options and file name.  The name is the rest of the line after the
+    options (it may hold spaces; the last word always is the name, never an option's value);
+    known options after the name (``bump b.png -bm 1.5``, as tinyobjloader reads them) are
+    options too; an unknown option ends the options with a note, the name being the last
+    word."""
+    tokens = list(re.finditer(r"\S+", rest))
+    options, i = _options(keyword, tokens, 0, len(tokens) - 1, notes)
     if i >= len(tokens):
-        raise MtlError(path, line, f"{keyword}: no file name")
+        raise _Skip(f"{keyword}: no file name")
+    if _is_option(tokens[i].group()) and i < len(tokens) - 1:
+        skipped = " ".join(t.group() for t in tokens[i:-1])
+        notes.append(f"{keyword}: unknown option {tokens[i].group()}: {skipped!r} left out, "
+                     f"file name {tokens[-1].group()!r}")
+        i = len(tokens) - 1
     name = rest[tokens[i].start():].strip()
-    folder = os.path.dirname(os.path.abspath(path))
-    resolved = os.path.normpath(os.path.join(folder, name.replace("\\", "/")))
-    return TextureMap(name, resolved, options, line)
+    after = next((j for j in range(i + 1, len(tokens))
+                  if tokens[j].group().lower() in MAP_OPTIONS), None)
+    if after is not None and not find_file(path, name)[1]:
+        name = rest[tokens[i].start():tokens[after].start()].strip()
+        more, j = _options(keyword, tokens, after, len(tokens), notes)
+        options.update(more)
+        if j < len(tokens):
+            notes.append(f"{keyword}: {rest[tokens[j].start():]!r} after the file name "
+                         "left out")
+    places, found = find_file(path, name)
+    return TextureMap(name, found or places[0], options, line, tuple(places))
 
 
-def parse(text: str, path: str) -> list:
-    """The materials of MTL *text* (read from *path*: named in errors, maps resolved from it)."""
-    result, current = [], None
+_DRIVE = re.compile(r"^[A-Za-z]:[\\/]")
+
+
+def find_file(base_path: str, name: str):
+    """(places looked at, the first that is a file or None) for the file *name* written in
+    the file *base_path* (a texture of an MTL, a library of an OBJ), as other readers look:
+    the name relative to *base_path*'s folder (or as it is, when absolute), ``\\`` read as
+    ``/``; then its bare file name in that folder (Windows paths such as
+    ``C:\\Users\\...\\tex.png`` or ``.\\tex.jpg``, or a path from another folder)."""
+    folder = os.path.dirname(os.path.abspath(base_path))
+    written = name.replace("\\", "/")
+    places = []
+    if not _DRIVE.match(name) and not written.startswith("//"):
+        places.append(os.path.normpath(os.path.join(folder, written)))
+    bare = os.path.join(folder, written.rsplit("/", 1)[-1])
+    if bare not in places:
+        places.append(bare)
+    return places, next((p for p in places if os.path.isfile(p)), None)
+
+
+def parse(text: str, path: str, warnings: list | None = None) -> list:
+    """The materials of MTL *text* (read from *path*: named in warnings, maps resolved from
+    it).  What is left out or changed is appended to *warnings* (``path:line: ...``)."""
+    warnings = [] if warnings is None else warnings
+    result, current, skipping = [], None, False
     for line, statement in _logical_lines(text):
-        keyword, _, rest = statement.partition(" ")
-        rest = rest.strip()
+        keyword, rest = _statement(statement)
         low = keyword.lower()
         if low == "newmtl":
+            current, skipping = None, not rest
             if not rest:
-                raise MtlError(path, line, "newmtl without a name")
+                warnings.append(f"{path}:{line}: newmtl without a name; its statements are "
+                                "left out")
+                continue
             current = Material(rest, path, line)
             result.append(current)
             continue
         if current is None:
-            raise MtlError(path, line, f"{keyword} before any newmtl")
-        args = rest.split()
-        if low in COLORS:
-            value = _color(path, line, keyword, args)
-            if value is None:
-                current.others.append((line, f"{keyword} {args[0].lower()}"))
-            else:
-                current.colors[COLORS[low]] = value
-        elif low in SCALARS:
-            if args and args[0].lower() == "-halo":
-                args = args[1:]
-            if len(args) != 1:
-                raise MtlError(path, line, f"{keyword} needs one number, got {len(args)}")
-            value = _number(path, line, keyword, args[0])
-            if value < 0 or (low in ("d", "tr") and value > 1):
-                raise MtlError(path, line, f"{keyword} {args[0]} is out of range")
-            current.scalars[SCALARS[low]] = value
-        elif low == "illum":
-            if len(args) != 1 or not args[0].isdigit() or int(args[0]) > 10:
-                raise MtlError(path, line, f"illum needs an integer from 0 to 10, got {rest!r}")
-            current.illum = int(args[0])
-        elif low in MAPS:
-            current.maps[MAPS[low]] = _texture(path, line, keyword, rest)
-        else:
-            current.others.append((line, keyword))
+            if not skipping:
+                warnings.append(f"{path}:{line}: {keyword} before any newmtl; left out")
+            continue
+        notes = []
+        try:
+            _statement_into(current, path, line, keyword, low, rest, notes)
+        except _Skip as skip:
+            canonical = COLORS.get(low) or SCALARS.get(low) or MAPS.get(low) or low
+            if canonical in USED or canonical in PHONG_MAPS or low == "illum":
+                notes.append(f"{skip}; left out" if low != "illum" else str(skip))
+        warnings += [f"{path}:{line}: {note}" for note in notes]
     return result
+
+
+def _statement_into(current, path, line, keyword, low, rest, notes):
+    args = rest.split()
+    if low in COLORS:
+        value = _color(keyword, args)
+        if value is None:
+            current.others.append((line, f"{keyword} {args[0].lower()}"))
+        else:
+            current.colors[COLORS[low]] = value
+    elif low in SCALARS:
+        if args and args[0].lower() == "-halo":
+            args = args[1:]
+        if len(args) != 1:
+            raise _Skip(f"{keyword} needs one number, got {len(args)}")
+        value = _number(keyword, args[0])
+        if low == "ns" and value < 0:
+            notes.append(f"Ns {args[0]} is below 0; read as 0")
+            value = 0.0
+        current.scalars[SCALARS[low]] = value
+    elif low == "illum":
+        current.illum = None          # a later unreadable illum is read as none (2)
+        current.illum = _illum(args)
+    elif low in MAPS:
+        mine = []
+        current.maps[MAPS[low]] = _texture(path, keyword, rest, mine, line)
+        if MAPS[low] in PHONG_MAPS:
+            notes += mine
+    else:
+        current.others.append((line, keyword))
 
 
 def _read(path: str, named_in: str = "", line: int = 0) -> str:
@@ -217,33 +370,32 @@ def _read(path: str, named_in: str = "", line: int = 0) -> str:
         where = named_in or path
         raise MtlError(where, line, f"cannot read {path}: {error.strerror or error}") from None
     try:
-        return data.decode("utf-8")
+        return data.decode("utf-8-sig")
     except UnicodeDecodeError:
         return data.decode("latin-1")  # older exporters write Windows-1252 names
 
 
-def load(path: str) -> list:
-    """The materials of the MTL file *path*."""
-    return parse(_read(path), path)
+def load(path: str, warnings: list | None = None) -> list:
+    """The materials of the MTL file *path* (what is left out appended to *warnings*)."""
+    return parse(_read(path), path, warnings)
 
 
 def libraries(obj_path: str) -> list:
-    """(MTL path, line) of every ``mtllib`` file that the OBJ file *obj_path* names, relative
-    paths taken from the OBJ's folder.  One statement may name several files; a name with
-    spaces is accepted when the whole rest of the line names an existing file."""
-    folder = os.path.dirname(os.path.abspath(obj_path))
+    """(MTL path, line) of every ``mtllib`` file that the OBJ file *obj_path* names, looked up
+    as :func:`find_file` does (the first place looked at when it is nowhere).  One statement
+    may name several files; a name with spaces is accepted when the whole rest of the line
+    names an existing file."""
     out = []
     for line, statement in _logical_lines(_read(obj_path)):
-        keyword, _, rest = statement.partition(" ")
+        keyword, rest = _statement(statement)
         if keyword != "mtllib":
             continue
-        rest = rest.strip()
-        whole = os.path.join(folder, rest.replace("\\", "/"))
-        names = [rest] if os.path.isfile(whole) else rest.split()
+        names = [rest] if find_file(obj_path, rest)[1] else rest.split()
         if not names:
             raise MtlError(obj_path, line, "mtllib without a file name")
-        out += [(os.path.normpath(os.path.join(folder, n.replace("\\", "/"))), line)
-                for n in names]
+        for name in names:
+            places, found = find_file(obj_path, name)
+            out.append((found or places[0], line))
     return out
 
 
@@ -255,7 +407,7 @@ def load_for_obj(obj_path: str):
     for path, line in libraries(obj_path):
         if not os.path.isfile(path):
             raise MtlError(obj_path, line, f"material library {path} not found")
-        for material in parse(_read(path, obj_path, line), path):
+        for material in parse(_read(path, obj_path, line), path, warnings):
             if material.name in materials:
                 first = materials[material.name]
                 warnings.append(f"{path}:{material.line}: material {material.name!r} is "
@@ -268,9 +420,8 @@ def load_for_obj(obj_path: str):
 # -- writing --------------------------------------------------------------------------
 
 def _number_text(value: float) -> str:
-    """The shortest text that reads back as the same float (an exact round trip)."""
-    text = repr(float(value))
-    return text[:-2] if text.endswith(".0") else text
+    """The shortest decimal that reads back as the same float32 (Blender's precision)."""
+    return np.format_float_positional(np.float32(value), unique=True, trim="-")
 
 
 def _value_text(value) -> str:

@@ -15,10 +15,10 @@ Pure python (no ``bpy``): the bake, the report and the headless command use it.
 from __future__ import annotations
 
 import os
+import platform
 import re
 import shutil
 import signal
-import socket
 import tempfile
 
 #: The extension's own folder (installed package or source tree): never an output.
@@ -28,7 +28,7 @@ _STALE = re.compile(r"^\.(%s)-[^.]*\.([A-Za-z0-9_-]+)\.(\d+)\." % "|".join(KINDS
 
 
 def _host() -> str:
-    return re.sub(r"[^A-Za-z0-9_-]", "_", socket.gethostname().split(".")[0]) or "host"
+    return re.sub(r"[^A-Za-z0-9_-]", "_", platform.node().split(".")[0]) or "host"
 
 
 def temp_prefix(kind: str, name: str) -> str:

@@ -302,15 +302,85 @@ def _fmt(x, spec):
     return "–" if x is None else format(x, spec)
 
 
-def _results(out_dir: str) -> list:
+def _metrics(out_dir: str, name: str):
+    """The metrics.json of the scene folder *name*: a dict, None when the folder is not
+    finished (no metrics.json), False when the file cannot be read."""
+    path = os.path.join(out_dir, name, "metrics.json")
+    if name.startswith(".") or not os.path.isfile(path):
+        return None
+    try:
+        with open(path, encoding="utf-8") as handle:
+            data = json.load(handle)
+    except (OSError, ValueError):
+        return False
+    return data if isinstance(data, dict) and isinstance(data.get("pairs"), dict) else False
+
+
+def results(out_dir: str) -> list:
     """The metrics.json of every finished scene folder of *out_dir*, by folder name."""
-    results = []
-    for name in sorted(os.listdir(out_dir)):
-        path = os.path.join(out_dir, name, "metrics.json")
-        if not name.startswith(".") and os.path.isfile(path):
-            with open(path, encoding="utf-8") as handle:
-                results.append(json.load(handle))
-    return results
+    found = (_metrics(out_dir, name) for name in sorted(os.listdir(out_dir)))
+    return [m for m in found if m]
+
+
+# -- completeness of a run --------------------------------------------------------------
+
+#: Written by every run (each shard the same) into its output folder: the scene folders
+#: the whole run makes, so a check can name those that are missing.
+RUN_FILE = "run.json"
+
+
+class RunError(Exception):
+    """A folder that cannot be checked (one line: the folder or file and why)."""
+
+
+def write_run(out_dir: str, folders, command: str) -> str:
+    """Record in *out_dir* the scene folders that the whole run (all shards) makes."""
+    data = {"command": command, "scenes": list(folders)}
+    return write_file(os.path.join(out_dir, RUN_FILE), json.dumps(data, indent=1) + "\n")
+
+
+def check_run(out_dir: str) -> dict:
+    """The state of the run in *out_dir*: ``expected`` (from run.json), ``finished`` (scene
+    folders with their metrics), ``missing`` (no finished folder: never run, killed, or its
+    bake failed), ``failed`` (an engine does not match, or metrics.json unreadable).
+    RunError when *out_dir* or its run.json cannot be read."""
+    path = os.path.join(out_dir, RUN_FILE)
+    if not os.path.isdir(out_dir):
+        raise RunError(f"{out_dir}: no such folder")
+    try:
+        with open(path, encoding="utf-8") as handle:
+            data = json.load(handle)
+    except FileNotFoundError:
+        raise RunError(f"{path}: missing: {out_dir} is not the output folder of a run of "
+                       "demo or compare (each writes it when it starts)") from None
+    except (OSError, ValueError) as error:
+        raise RunError(f"{path}: unreadable ({error})") from None
+    names = data.get("scenes") if isinstance(data, dict) else None
+    if not isinstance(names, list) or not all(isinstance(n, str) and n for n in names):
+        raise RunError(f"{path}: scenes: expected a list of scene folder names")
+    state = {"expected": names, "finished": [], "missing": [], "failed": []}
+    for name in names:
+        metrics = _metrics(out_dir, name)
+        if metrics is None:
+            state["missing"].append(name)
+        elif metrics is False or not metrics.get("ok"):
+            state["failed"].append(name)
+        else:
+            state["finished"].append(name)
+    return state
+
+
+def run_text(state: dict) -> str:
+    """One line for a check_run state."""
+    total, done = len(state["expected"]), len(state["finished"])
+    if not state["missing"] and not state["failed"]:
+        return f"complete: {done} of {total} scene(s), every engine matches the reference"
+    parts = [f"INCOMPLETE: {done} of {total} scene(s) finished and matching"]
+    if state["missing"]:
+        parts.append(f"missing {', '.join(state['missing'])}")
+    if state["failed"]:
+        parts.append(f"failed {', '.join(state['failed'])}")
+    return "; ".join(parts)
 
 
 def _rows(results: list) -> str:
@@ -358,9 +428,16 @@ def _section(out_dir: str, m: dict) -> str:
 
 def write_index(out_dir: str) -> str:
     """index.html over every finished scene folder of *out_dir* (shards merge)."""
-    results = _results(out_dir)
-    sections = "".join(_section(out_dir, m) for m in results)
-    ok = all(m["ok"] for m in results)
+    found = results(out_dir)
+    sections = "".join(_section(out_dir, m) for m in found)
+    try:
+        state = check_run(out_dir)
+    except RunError:
+        state = None
+    ok = all(m["ok"] for m in found)
+    whole = state is not None and not state["missing"] and not state["failed"]
+    run_line = "" if state is None else (f"<p class='{'ok' if whole else 'bad'}'>Run: "
+                                         f"{html.escape(run_text(state))}.</p>")
     page = f"""<!DOCTYPE html>
 <html lang="en"><head><meta charset="utf-8"><title>Phong Nodes: Eevee, Cycles and the formulas</title>
 <style>
@@ -371,15 +448,16 @@ td:first-child, td:nth-child(2) {{ text-align: left; }}
 img.sheet {{ max-width: 100%; }} .plots img {{ margin: 4px; border: 1px solid #ddd; }}
 </style></head><body>
 <h1>Phong Nodes: Eevee, Cycles and the numpy reference</h1>
-<p class="{'ok' if ok else 'bad'}">{len(results)} scene(s): {'every engine matches the reference' if ok else 'some engine does NOT match the reference'}
+<p class="{'ok' if ok else 'bad'}">{len(found)} scene(s): {'every engine matches the reference' if ok else 'some engine does NOT match the reference'}
 (Cycles: max |Δ| ≤ 1e-4; Eevee: ≥ 99.5% of pixels within 1/255).</p>
+{run_line}
 <p>Each picture is rendered with one sample at the pixel centres; the reference evaluates the seed formulas
 (node_groups/reference.py) for the scene's lights as Blender evaluates them (world matrices, colours, Phong settings,
 Light Linking, the World's ambient) on what each pixel's lights group sees, written by Cycles as AOVs (position, normal,
 incoming direction, the material's inputs).  The term images are Cycles' own term passes, each compared with the reference's term.
 Background pixels and pixels within 1e-5 of a discontinuity of the model (spot cone edge, terminator) are not compared.</p>
 <table><tr><th>scene</th><th>pair</th><th>max |Δ|</th><th>mean |Δ|</th><th>PSNR dB</th><th>&gt; 1/255</th><th>pixels</th></tr>
-{_rows(results)}</table>
+{_rows(found)}</table>
 {sections}
 </body></html>
 """

@@ -44,6 +44,9 @@ Schema (units: Blender world space, Z up; angles in degrees; colours are either
     name = "ball"                 # unique, required
     shape = "sphere"              # or "plane" (square, normal +Z before rotation)
     location = [0, 0, 0]; rotation = [0, 0, 0] (degrees); size = 1.0 (radius / half side)
+    segments = 64                 # sphere: segments around (rings: half as many), 3 to 256
+    bake = "vertex"               # optional: shown baked (Bake Phong Lighting, view camera):
+                                  # "vertex" (Gouraud shading) or "image"; not compared
     label = "..."                 # caption in the report (default: the name)
     lights = ["key"]              # lights that shine on this object (default: all)
     terms = ["irradiant", "ambient", "diffuse", "specular"]   # terms shown (default: all)
@@ -242,8 +245,9 @@ THREEJS_LIGHT_KEYS = {
     "spot": ("name", "type", "color", "intensity", "position", "direction", "distance",
              "decay", "half_angle", "penumbra"),
 }
-OBJECT_KEYS = ("name", "shape", "location", "rotation", "size", "label", "lights", "terms",
-               "material")
+OBJECT_KEYS = ("name", "shape", "location", "rotation", "size", "segments", "bake", "label",
+               "lights", "terms", "material")
+BAKES = ("vertex", "image")
 MATERIAL_KEYS = ("color", "specular_color", "exponent", "blinn", "irradiant", "texture")
 THREEJS_MATERIAL_KEYS = ("type", "color", "specular_color", "exponent", "irradiant", "texture")
 TEXTURE_KEYS = ("type", "color2", "scale")
@@ -379,7 +383,12 @@ def _objects(c: _Checker, raws: list, light_names: list, model: str = "seeds") -
             "location": c.vector(raw, "location", where, default=(0.0, 0.0, 0.0)),
             "rotation": c.vector(raw, "rotation", where, default=(0.0, 0.0, 0.0)),
             "size": c.number(raw, "size", where, default=1.0, minimum=0.0, exclusive_min=True),
+            "segments": c.number(raw, "segments", where, default=64, minimum=3, maximum=256),
         }
+        if obj["segments"] != int(obj["segments"]):
+            c.fail(f"{where}.segments", "a whole number from 3 to 256", obj["segments"])
+        obj["segments"] = int(obj["segments"])
+        obj["bake"] = c.string(raw, "bake", where, default="", choices=("",) + BAKES)
         obj["label"] = c.string(raw, "label", where, default=obj["name"])
         obj["lights"] = c.names(raw, "lights", where, light_names, light_names)
         obj["terms"] = c.names(raw, "terms", where, TERMS, TERMS)
@@ -480,12 +489,89 @@ def load_all(paths) -> list:
     return scenes
 
 
+def _shard_numbers(spec: str) -> tuple:
+    match = re.match(r"^(\d+)/(\d+)$", spec.strip())
+    if not match or not 1 <= int(match.group(1)) <= int(match.group(2)):
+        raise SceneError(f"--shard: expected i/n with 1 <= i <= n (e.g. 2/4) or auto, "
+                         f"got {spec!r}")
+    return int(match.group(1)), int(match.group(2))
+
+
 def shard(items: list, spec: str | None) -> list:
     """The part *i/n* (1-based) of *items*: every n-th item starting at i."""
     if not spec:
         return list(items)
-    match = re.match(r"^(\d+)/(\d+)$", spec.strip())
-    if not match or not 1 <= int(match.group(1)) <= int(match.group(2)):
-        raise SceneError(f"--shard: expected i/n with 1 <= i <= n (e.g. 2/4), got {spec!r}")
-    i, n = int(match.group(1)), int(match.group(2))
+    i, n = _shard_numbers(spec)
     return items[i - 1::n]
+
+
+#: The help of every command's ``--shard`` option (demo, compare, bake): parse it with
+#: :func:`resolve_shard`.
+SHARD_HELP = ("i/n: only every n-th scene starting at the i-th (1-based); auto (or auto/N): "
+              "i and n from a Slurm job array (SLURM_ARRAY_TASK_ID, SLURM_ARRAY_TASK_COUNT) or "
+              "a Kubernetes Indexed Job (JOB_COMPLETION_INDEX, with N)")
+
+
+def _env_int(environ, name: str, default: int | None = None) -> int:
+    value = environ.get(name, "")
+    if default is not None and not value.strip():
+        return default
+    try:
+        return int(value)
+    except ValueError:
+        raise SceneError(f"--shard auto: {name}={value!r} is not a whole number") from None
+
+
+def resolve_shard(spec: str | None, environ=None) -> tuple:
+    """The ``--shard`` value as ``(i/n or None, where it came from)``.
+
+    ``i/n`` is returned as given (validated).  ``auto`` reads the scheduler's variables:
+    a Slurm job array's ``SLURM_ARRAY_TASK_ID`` minus ``SLURM_ARRAY_TASK_MIN`` of
+    ``SLURM_ARRAY_TASK_COUNT`` tasks (a contiguous array such as ``--array=0-3``), or a
+    Kubernetes Indexed Job's ``JOB_COMPLETION_INDEX``, which needs the count: ``auto/N``.
+    With ``auto/N`` the index itself is the 0-based shard number (``SLURM_ARRAY_TASK_ID``
+    or ``JOB_COMPLETION_INDEX`` in 0..N-1), so one task resubmitted alone
+    (``sbatch --array=2``) still takes shard 3 of N.  SceneError when nothing is set or a
+    value does not fit."""
+    if not spec:
+        return None, ""
+    match = re.match(r"^auto(?:/(\d+))?$", spec.strip())
+    if not match:
+        _shard_numbers(spec)
+        return spec.strip(), ""
+    environ = os.environ if environ is None else environ
+    count = int(match.group(1)) if match.group(1) else None
+    if count == 0:
+        raise SceneError("--shard auto/N: N must be at least 1, got 0")
+    if "SLURM_ARRAY_TASK_ID" in environ:
+        task = _env_int(environ, "SLURM_ARRAY_TASK_ID")
+        if count is None:
+            count = _env_int(environ, "SLURM_ARRAY_TASK_COUNT")
+            low = _env_int(environ, "SLURM_ARRAY_TASK_MIN", 0)
+            high = _env_int(environ, "SLURM_ARRAY_TASK_MAX", low + count - 1)
+            if high - low + 1 != count:
+                raise SceneError(
+                    f"--shard auto: the Slurm array {low}-{high} has {count} task(s), not "
+                    f"{high - low + 1}: submit a contiguous array (--array=0-{count - 1}) "
+                    "or give the number of shards, --shard auto/N")
+            index, what = task - low, f"SLURM_ARRAY_TASK_ID={task}"
+            source = (f"SLURM_ARRAY_TASK_ID={task} of SLURM_ARRAY_TASK_COUNT={count}"
+                      f"{f' from SLURM_ARRAY_TASK_MIN={low}' if low else ''}")
+        else:
+            index, what = task, f"SLURM_ARRAY_TASK_ID={task}"
+            source = f"{what} of {count}"
+    elif "JOB_COMPLETION_INDEX" in environ:
+        index = _env_int(environ, "JOB_COMPLETION_INDEX")
+        what = f"JOB_COMPLETION_INDEX={index}"
+        if count is None:
+            raise SceneError(f"--shard auto: JOB_COMPLETION_INDEX={index} gives no count: "
+                             "use --shard auto/N with N the Indexed Job's completions")
+        source = f"{what} of {count}"
+    else:
+        raise SceneError("--shard auto: no scheduler index in the environment (Slurm's "
+                         "SLURM_ARRAY_TASK_ID in a job array, Kubernetes' "
+                         "JOB_COMPLETION_INDEX in an Indexed Job); give --shard i/n")
+    if not 0 <= index < count:
+        hint = " (with auto/N the index is the 0-based shard number)" if match.group(1) else ""
+        raise SceneError(f"--shard auto: {what} is outside 0..{count - 1}{hint}")
+    return f"{index + 1}/{count}", source

@@ -137,13 +137,19 @@ def unavailable() -> str | None:
     return None
 
 
+def capture_js() -> str:
+    """The script every page of ours runs first: the capture of errors and warnings
+    (``window.phongReport``) and ``window.phongWritePixels(renderer, width, height)``."""
+    return _CAPTURE_JS.strip()
+
+
 def page_html(scene: dict) -> str:
     """The page's text (it expects ``three.cjs`` beside it)."""
     title = html.escape(str(scene.get("title", "")))
     return (_PAGE.replace("@TITLE@", title)
             .replace("@VERSION@", THREE_VERSION)
             .replace("@SCENE@", scene_json(scene))
-            .replace("@CAPTURE@", _CAPTURE_JS.strip())
+            .replace("@CAPTURE@", capture_js())
             .replace("@RENDER@", _RENDER_JS.strip()))
 
 
@@ -225,6 +231,30 @@ _CAPTURE_JS = r"""
     list.push(line);
     shown.textContent = list.join("\n");
   }
+  // The canvas's pixels (8-bit sRGB RGBA, row 0 at the top) as base64 in phong-pixels.
+  window.phongWritePixels = function (renderer, expectWidth, expectHeight) {
+    var gl = renderer.getContext();
+    var width = gl.drawingBufferWidth, height = gl.drawingBufferHeight;
+    if (width !== expectWidth || height !== expectHeight) {
+      throw new Error("drawing buffer is " + width + " x " + height + ", not " + expectWidth +
+                      " x " + expectHeight);
+    }
+    var bytes = new Uint8Array(width * height * 4);
+    gl.bindFramebuffer(gl.FRAMEBUFFER, null);
+    gl.readPixels(0, 0, width, height, gl.RGBA, gl.UNSIGNED_BYTE, bytes);
+    var rows = new Uint8Array(bytes.length), stride = width * 4;
+    for (var y = 0; y < height; y++) {  // GL's row 0 is the bottom
+      rows.set(bytes.subarray((height - 1 - y) * stride, (height - y) * stride), y * stride);
+    }
+    var text = [];
+    for (var i = 0; i < rows.length; i += 0x8000) {
+      text.push(String.fromCharCode.apply(null, rows.subarray(i, i + 0x8000)));
+    }
+    var pixels = document.getElementById("phong-pixels");
+    pixels.setAttribute("data-width", String(width));
+    pixels.setAttribute("data-height", String(height));
+    pixels.textContent = btoa(text.join(""));
+  };
   window.phongErrors = list;
   window.phongReport = report;
   window.phongDescribe = describe;
@@ -435,26 +465,7 @@ _RENDER_JS = r"""
     document.getElementById("phong-view").appendChild(renderer.domElement);
     renderer.clear(true, true, true);
     built.scenes.forEach(function (scene) { renderer.render(scene, built.camera); });
-    var gl = renderer.getContext();
-    var width = gl.drawingBufferWidth, height = gl.drawingBufferHeight;
-    if (width !== built.width || height !== built.height) {
-      fail("drawing buffer is " + width + " x " + height + ", not " + built.width + " x " + built.height);
-    }
-    var bytes = new Uint8Array(width * height * 4);
-    gl.bindFramebuffer(gl.FRAMEBUFFER, null);
-    gl.readPixels(0, 0, width, height, gl.RGBA, gl.UNSIGNED_BYTE, bytes);
-    var rows = new Uint8Array(bytes.length), stride = width * 4;
-    for (var y = 0; y < height; y++) {  // GL's row 0 is the bottom
-      rows.set(bytes.subarray((height - 1 - y) * stride, (height - y) * stride), y * stride);
-    }
-    var text = [];
-    for (var i = 0; i < rows.length; i += 0x8000) {
-      text.push(String.fromCharCode.apply(null, rows.subarray(i, i + 0x8000)));
-    }
-    var pixels = document.getElementById("phong-pixels");
-    pixels.setAttribute("data-width", String(width));
-    pixels.setAttribute("data-height", String(height));
-    pixels.textContent = btoa(text.join(""));
+    window.phongWritePixels(renderer, built.width, built.height);
   }
 
   try {

@@ -47,6 +47,13 @@ def user_resources(create: bool = True) -> str | None:
     return _USER_RES[0] if _USER_RES else None
 
 
+def bpy_release() -> str:
+    """The release of the installed bpy wheel, e.g. "5.2.3" (what PHONG_BPY takes)."""
+    from importlib.metadata import version  # noqa: PLC0415
+
+    return version("bpy")
+
+
 def import_bpy():
     import bpy  # noqa: PLC0415  (lazy on purpose)
 

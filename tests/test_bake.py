@@ -43,6 +43,7 @@ def _reach(light):
 
 def test_every_scene_builds_as_an_artist_scene(bpy_clean):
     bpy = bpy_clean
+    from phong_nodes.addon.baking import lighting  # noqa: PLC0415
     from phong_nodes.addon.lighting import materials  # noqa: PLC0415
     from phong_nodes.core import scenes  # noqa: PLC0415
     mine = bpy.data.scenes[0]
@@ -74,7 +75,11 @@ def test_every_scene_builds_as_an_artist_scene(bpy_clean):
         # Phong materials made by Apply's code from a Principled original, one per object
         layouts = {}
         for obj_data in data["objects"]:
-            material = meshes[obj_data["name"]].active_material
+            obj = meshes[obj_data["name"]]
+            material = obj.active_material
+            if obj_data["bake"]:  # shown baked; its Phong material is kept
+                assert material.name == f"Phong Bake {obj.name}", name
+                material = lighting.phong_material(obj, 0)
             assert materials.is_phong_material(material), name
             assert materials.source_of(material) is not None, "the original is kept"
             nodes = material.node_tree.nodes

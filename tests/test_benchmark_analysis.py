@@ -107,3 +107,34 @@ def test_demo_figure_sums_each_repeat_and_states_the_verdict():
     slower = analyse.demo_figure([run(3.0, 1.0, 3.0, 1.0)], cfg)
     assert table.demo_rows(slower)[0][3].startswith("missed")
     assert table.demo_rows(None) == []
+
+
+def test_two_releases_side_by_side(tmp_path):
+    """benchmarks/releases.py puts each figure of two runs in one row, labelled by release."""
+    import copy  # noqa: PLC0415
+    import json  # noqa: PLC0415
+    import os  # noqa: PLC0415
+
+    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    with open(os.path.join(root, "benchmarks", "results.json")) as handle:
+        old = json.load(handle)
+    new = copy.deepcopy(old)
+    new["meta"]["bpy"] = "9.9.9"
+    new["figures"]["node_cost_cycles"]["ratio"] = {"median": 1.5, "min": 1.25, "max": 1.75}
+    paths = []
+    for name, data in (("old.json", old), ("new.json", new)):
+        paths.append(str(tmp_path / name))
+        with open(paths[-1], "w") as handle:
+            json.dump(data, handle)
+    result = subprocess.run([sys.executable, os.path.join(root, "benchmarks", "releases.py"),
+                             *paths], capture_output=True, text=True, timeout=60)
+    assert result.returncode == 0, result.stderr
+    lines = result.stdout.splitlines()
+    assert lines[0] == f"| figure | bpy {old['meta']['bpy']} | bpy 9.9.9 |"
+    (row,) = [line for line in lines if line.startswith("| 1. Node cost")]
+    ratio = old["figures"]["node_cost_cycles"]["ratio"]
+    assert f"{ratio['median']:.2f} ({ratio['min']:.2f}–{ratio['max']:.2f})×" in row
+    assert "| 1.50 (1.25–1.75)× (missed by 1.2×) |" in row
+    missing = subprocess.run([sys.executable, os.path.join(root, "benchmarks", "releases.py"),
+                              str(tmp_path / "nope.json")], capture_output=True, text=True)
+    assert missing.returncode == 2 and "nope.json" in missing.stderr

@@ -31,11 +31,33 @@ print("RESULT " + json.dumps({
     "asset_files": sorted(os.listdir(libraries[0])) if libraries else [],
     "groups": sorted(g.name for g in bpy.data.node_groups),
     "file": sys.modules[module].__file__ if module in sys.modules else None}))
-# bpy 4.x can crash in its own clean-up at interpreter exit (see addon/compat.exit_process,
-# which the extension's own headless commands use): leave as they do.
-sys.stdout.flush()
-if bpy.app.version < (5, 0, 0):
-    os._exit(0)
+"""
+
+# A user's own headless script: install and enable the zip, use the extension (a light's
+# Phong settings, Apply, the model switch, an Eevee and a Cycles render), then simply end.
+# Nothing of the project's internals is called: Python ends as it ends for any script.
+USER_SCRIPT = """
+import sys
+import bpy
+zip_path, out = sys.argv[1:3]
+bpy.ops.extensions.package_install_files(filepath=zip_path, repo="user_default",
+                                         enable_on_install=True)
+bpy.ops.wm.read_homefile(use_empty=False)
+scene = bpy.context.scene
+for obj in scene.objects:
+    obj.select_set(obj.type == "MESH")
+light = next(obj for obj in scene.objects if obj.type == "LIGHT")
+light.data.phong.intensity = 2.0
+scene.world.phong.ambient_intensity = 0.2
+assert bpy.ops.phong.apply_material() == {"FINISHED"}
+scene.phong.model = "threejs"
+scene.phong.model = "seeds"
+scene.render.resolution_x = scene.render.resolution_y = 16
+for engine in ("CYCLES", "BLENDER_EEVEE_NEXT" if bpy.app.version < (5, 0, 0) else "BLENDER_EEVEE"):
+    scene.render.engine = engine
+    scene.render.filepath = f"{out}/{engine}.png"
+    bpy.ops.render.render(write_still=True)
+print("USER SCRIPT DONE", bpy.app.version_string)
 """
 
 
@@ -43,7 +65,7 @@ if bpy.app.version < (5, 0, 0):
 def built(tmp_path_factory):
     """The zip that `bash tools/phong.sh build` makes, built and validated by Blender's tool."""
     out = tmp_path_factory.mktemp("dist")
-    env = {**os.environ, "PHONG_VENV": sys.prefix}
+    env = {**os.environ, "PHONG_VENV": sys.prefix, "PHONG_BPY": be.bpy_release()}
     result = subprocess.run(["bash", os.path.join(be.REPO_ROOT, "tools", "phong.sh"), "build",
                              str(out)], env=env, capture_output=True, text=True, timeout=300)
     assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
@@ -62,6 +84,47 @@ def test_zip_builds_validates_and_has_no_tests(built):
     for package in ("node_groups", "core", "addon", "addon/lighting", "addon/demos", "addon/ui",
                     "addon/interchange"):
         assert f"{package}/__init__.py" in names, f"{package} missing from the zip"
+
+
+NETWORK_MODULES = {"socket", "ssl", "http", "urllib", "ftplib", "smtplib", "requests", "urllib3",
+                   "asyncio", "xmlrpc", "websocket", "webbrowser"}
+
+
+def test_manifest_meets_the_extensions_platform_checklist():
+    """What the Extensions Platform asks of a manifest: a short tagline without a full stop,
+    tags and licence, every permission with its reason (files, since the extension writes
+    reports, exports and its asset library; never network), no maximum version."""
+    import tomllib  # noqa: PLC0415
+
+    with open(os.path.join(be.REPO_ROOT, "blender_manifest.toml"), "rb") as handle:
+        manifest = tomllib.load(handle)
+    assert len(manifest["tagline"]) <= 64 and not manifest["tagline"].endswith(".")
+    assert manifest["tags"] and manifest["license"] == ["SPDX:GPL-3.0-or-later"]
+    assert manifest["blender_version_min"] == "4.2.0"
+    assert "blender_version_max" not in manifest
+    assert set(manifest["permissions"]) == {"files"}, manifest["permissions"]
+    reason = manifest["permissions"]["files"]
+    assert 0 < len(reason) <= 64 and not reason.endswith("."), reason
+
+
+def test_the_zip_uses_no_network(built):
+    """No module of the zip imports a network library (the manifest asks for no network)."""
+    import ast  # noqa: PLC0415
+    import zipfile  # noqa: PLC0415
+
+    zip_path, _validate, names = built
+    found = []
+    with zipfile.ZipFile(zip_path) as archive:
+        for name in (n for n in names if n.endswith(".py")):
+            for node in ast.walk(ast.parse(archive.read(name), name)):
+                if isinstance(node, ast.Import):
+                    modules = [alias.name for alias in node.names]
+                elif isinstance(node, ast.ImportFrom) and not node.level:
+                    modules = [node.module or ""]
+                else:
+                    continue
+                found += [(name, m) for m in modules if m.split(".")[0] in NETWORK_MODULES]
+    assert not found, found
 
 
 def test_zip_installs_and_enables_as_a_user_would(built, tmp_path):
@@ -84,6 +147,19 @@ def test_zip_installs_and_enables_as_a_user_would(built, tmp_path):
     assert not library.startswith(os.path.dirname(got["file"]) + os.sep), library
     assert "blender_assets.cats.txt" in got["asset_files"]
     assert [n for n in got["asset_files"] if n.startswith("phong_nodes_") and n.endswith(".blend")]
+
+
+def test_a_users_script_with_the_extension_enabled_exits_0(built, tmp_path):
+    """bpy 4.2 crashed (signal 11, exit 139) at interpreter exit after any script that had
+    enabled the extension; the script must end with 0 on every supported release."""
+    zip_path, _validate, _names = built
+    env = {**os.environ, "BLENDER_USER_RESOURCES": str(tmp_path / "user")}
+    result = subprocess.run([sys.executable, "-c", USER_SCRIPT, zip_path, str(tmp_path)],
+                            env=env, capture_output=True, text=True, timeout=600)
+    assert "USER SCRIPT DONE" in result.stdout, result.stdout[-2000:] + result.stderr[-2000:]
+    assert result.returncode == 0, (result.returncode, result.stderr[-2000:])
+    eevee = "BLENDER_EEVEE_NEXT" if be.import_bpy().app.version < (5, 0, 0) else "BLENDER_EEVEE"
+    assert sorted(p.name for p in tmp_path.glob("*.png")) == sorted(["CYCLES.png", f"{eevee}.png"])
 
 
 def test_enabled_from_the_source_tree(extension):

@@ -16,6 +16,7 @@ from phong_scene import _light
 
 
 def _f32(values):
+    """As Blender stores them (and as an MTL written from them reads back, bit for bit)."""
     return tuple(float(np.float32(v)) for v in values)
 
 
@@ -68,18 +69,20 @@ def test_export_writes_the_controls_exactly(bpy_clean, tmp_path, capfd):
     logged = "".join(capfd.readouterr())
     text = out.read_text()
     by_name = {m.name: m for m in mtl.load(str(out))}
-    assert sorted(by_name) == ["Phong_Bricks", "Phong_Red_clay"]
-    clay = by_name["Phong_Red_clay"]
+    assert sorted(by_name) == ["Bricks", "Red_clay"], "the source materials' names"
+    clay = by_name["Red_clay"]
     colour = tuple(red.node_tree.nodes["phong_object_color"].outputs[0].default_value)[:3]
-    assert clay.colors["Kd"] == clay.colors["Ka"] == colour == _f32((0.7, 0.3, 0.1))
-    assert clay.colors["Ks"] == _f32((0.5, 0.6, 0.7))
-    assert clay.colors["Ke"] == _f32((0.01, 0.02, 0.03))
+    assert _f32(clay.colors["Kd"]) == _f32(clay.colors["Ka"]) == colour == _f32((0.7, 0.3, 0.1))
+    assert _f32(clay.colors["Ks"]) == _f32((0.5, 0.6, 0.7))
+    assert _f32(clay.colors["Ke"]) == _f32((0.01, 0.02, 0.03))
+    assert "Kd 0.7 0.3 0.1\n" in text and "Ke 0.01 0.02 0.03\n" in text, \
+        "the shortest decimals of the float32 values"
     assert clay.scalars == {"Ns": 12.5} and clay.illum == 2
     assert "# this material uses the Phong highlight (r·v)^Ns; MTL illum 2 is Blinn's" in text
     assert ("Phong Red clay: the Phong highlight (r·v)^Ns, written as MTL illum 2, which is "
             "Blinn's") in logged
-    bricks = by_name["Phong_Bricks"]
-    assert bricks.illum == 1 and bricks.colors["Kd"] == (1.0, 1.0, 1.0)
+    bricks = by_name["Bricks"]
+    assert bricks.illum == 1 and _f32(bricks.colors["Kd"]) == (1.0, 1.0, 1.0)
     assert bricks.maps["map_Kd"].path == os.path.join("..", "textures", "bricks.png")
     assert bricks.maps["map_Kd"].exists and bricks.maps["map_Ka"].exists
     assert "Phong Bricks:" not in logged, "nothing lost for the textured Blinn material"
@@ -103,7 +106,7 @@ def test_selection_only_and_bad_input_write_nothing(bpy_clean, tmp_path):
     assert not out.exists() and not (tmp_path / "missing").exists()
     bpy.data.objects["Clay ball"].select_set(True)
     assert bpy.ops.phong.export_mtl(filepath=str(out), selection_only=True) == {"FINISHED"}
-    assert [m.name for m in mtl.load(str(out))] == ["Phong_Red_clay"]
+    assert [m.name for m in mtl.load(str(out))] == ["Red_clay"]
     assert not [n for n in os.listdir(tmp_path) if n.endswith(".partial")]
 
 
@@ -116,9 +119,9 @@ def test_own_ambient_object_color_is_written_as_ka(bpy_clean, tmp_path):
     tree.links.new(ka.outputs[0], tree.nodes["phong_lights"].inputs["Ambient Object Color"])
     out = tmp_path / "ka.mtl"
     assert bpy.ops.phong.export_mtl(filepath=str(out)) == {"FINISHED"}
-    clay = {m.name: m for m in mtl.load(str(out))}["Phong_Red_clay"]
-    assert clay.colors["Ka"] == _f32((0.05, 0.1, 0.15))
-    assert clay.colors["Kd"] == _f32((0.7, 0.3, 0.1))
+    clay = {m.name: m for m in mtl.load(str(out))}["Red_clay"]
+    assert _f32(clay.colors["Ka"]) == _f32((0.05, 0.1, 0.15))
+    assert _f32(clay.colors["Kd"]) == _f32((0.7, 0.3, 0.1))
 
 
 def test_obj_export_option_writes_exact_phong_entries_and_keeps_the_others(bpy_clean,
@@ -133,11 +136,13 @@ def test_obj_export_option_writes_exact_phong_entries_and_keeps_the_others(bpy_c
     out = tmp_path / "scene.obj"
     assert bpy.ops.phong.export_obj(filepath=str(out)) == {"FINISHED"}
     text = out.read_text()
-    assert "mtllib scene.mtl" in text and "usemtl Phong_Red_clay" in text
+    assert "mtllib scene.mtl" in text and "usemtl Red_clay" in text
+    assert "usemtl Phong_" not in text
     by_name = {m.name: m for m in mtl.load(str(tmp_path / "scene.mtl"))}
-    assert {"Phong_Red_clay", "Phong_Bricks", "Plain_paint"} <= set(by_name)
-    clay = by_name["Phong_Red_clay"]
-    assert clay.colors["Kd"] == _f32((0.7, 0.3, 0.1)) and clay.colors["Ks"] == _f32((0.5, 0.6, 0.7))
+    assert set(by_name) == {"Red_clay", "Bricks", "Plain_paint"}
+    clay = by_name["Red_clay"]
+    assert _f32(clay.colors["Kd"]) == _f32((0.7, 0.3, 0.1))
+    assert _f32(clay.colors["Ks"]) == _f32((0.5, 0.6, 0.7))
     assert clay.scalars["Ns"] == 12.5 and clay.illum == 2
     assert by_name["Plain_paint"].colors["Kd"] == pytest.approx((0.25, 0.5, 0.75), abs=1e-6), \
         "Blender's own entry for a material that is not Phong"
@@ -146,7 +151,26 @@ def test_obj_export_option_writes_exact_phong_entries_and_keeps_the_others(bpy_c
     scene = be.new_scene("Back", 8, 8)
     bpy.context.window.scene = scene
     assert bpy.ops.phong.import_obj(filepath=str(out)) == {"FINISHED"}
-    back = bpy.data.materials["Phong Phong_Red_clay"].node_tree.nodes
+    back = bpy.data.materials["Phong Red_clay"].node_tree.nodes
     assert tuple(back["phong_object_color"].outputs[0].default_value)[:3] == \
         _f32((0.7, 0.3, 0.1))
     assert back["phong_exponent"].outputs[0].default_value == 12.5
+
+
+def test_a_source_name_taken_by_another_material_keeps_the_phong_name(bpy_clean, tmp_path):
+    """An object still using the source material "Red clay": Blender writes its own
+    Red_clay entry, so the Phong material keeps its own name in the OBJ and the MTL."""
+    bpy = bpy_clean
+    red, _bricks = _scene(bpy, tmp_path)
+    source = red["phong_source"]
+    be.add_uv_sphere(bpy.context.scene, "Still red clay", (4, 0, 0), 0.5, source)
+    out = tmp_path / "taken.obj"
+    assert bpy.ops.phong.export_obj(filepath=str(out)) == {"FINISHED"}
+    by_name = {m.name: m for m in mtl.load(str(tmp_path / "taken.mtl"))}
+    assert {"Red_clay", "Phong_Red_clay", "Bricks"} <= set(by_name)
+    assert by_name["Phong_Red_clay"].scalars["Ns"] == 12.5
+    text = out.read_text()
+    assert "usemtl Phong_Red_clay" in text and "usemtl Red_clay" in text
+    assert bpy.ops.phong.export_mtl(filepath=str(tmp_path / "only.mtl")) == {"FINISHED"}
+    assert sorted(m.name for m in mtl.load(str(tmp_path / "only.mtl"))) == ["Bricks",
+                                                                           "Red_clay"]

@@ -9,6 +9,9 @@ The three.js peer renderer (``core/threejs.py``, ``core/browser.py``) also needs
 render its pages and npm to install three.js; it is optional, so the check above ignores it.
 ``--browser-packages`` prints the Debian packages it lacks (one per line, nothing when all are
 there: CI installs them too), ``--browser`` says what is missing on stderr and exits 1 then.
+
+The Slurm test and benchmark start a one-node cluster (``tools/cluster.py``) from Debian's
+Slurm and MUNGE packages; ``--cluster-packages`` prints those it lacks (CI installs them).
 """
 
 from __future__ import annotations
@@ -66,12 +69,29 @@ def browser_hint() -> str | None:
             f"sudo apt-get install -y {' '.join(packages)} && bash tools/phong.sh setup")
 
 
+# The commands a one-node Slurm cluster needs (tools/cluster.py) -> Debian package.
+CLUSTER_COMMANDS = {"slurmctld": "slurmctld", "slurmd": "slurmd", "sbatch": "slurm-client",
+                    "scontrol": "slurm-client", "squeue": "slurm-client", "munged": "munge"}
+
+
+def cluster_packages() -> list:
+    """Debian packages that tools/cluster.py lacks, judged by the commands on PATH (daemons
+    live in /usr/sbin, which a user's PATH may lack)."""
+    path = os.pathsep.join([os.environ.get("PATH", ""), "/usr/sbin", "/sbin"])
+    return sorted({package for command, package in CLUSTER_COMMANDS.items()
+                   if shutil.which(command, path=path) is None})
+
+
 def main() -> int:
     if sys.argv[1:] == ["--packages"]:
         print("\n".join(all_packages()))
         return 0
     if sys.argv[1:] == ["--browser-packages"]:
         for package in browser_packages():
+            print(package)
+        return 0
+    if sys.argv[1:] == ["--cluster-packages"]:
+        for package in cluster_packages():
             print(package)
         return 0
     if sys.argv[1:] == ["--browser"]:

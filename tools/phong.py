@@ -6,6 +6,9 @@ rendered by Eevee and Cycles and checked against the numpy reference of the form
                           [--out DIR] [--shard i/n] [--save-blend]
     python tools/phong.py compare FILE.blend [--scenes a,b] [--engines cycles,eevee]
                           [--resolution N] [--out DIR] [--shard i/n]
+    python tools/phong.py report DIR
+
+    python tools/phong.py bake FILE.blend --target image|vertex [options]   (phong_bake.py)
 
 The first form builds every demo scene of ``scenes/*.toml`` (or those named; a path to a
 .toml file also works) as an ordinary Blender scene (real lights, Light Linking, materials
@@ -14,7 +17,11 @@ as ``DIR/<scene>/<scene>.blend``.  ``compare`` opens a .blend and compares every
 that has objects with Phong materials (or those named), at the scene's own resolution unless
 ``--resolution`` is given.  Each comparison goes into ``DIR/<scene>/`` (pictures, term
 passes, heatmaps, sheet.png, metrics.json); ``DIR/index.html`` covers every scene folder in
-DIR (so shards writing into one DIR merge); a summary table is printed.
+DIR (so shards writing into one DIR merge); a summary table is printed.  ``--shard auto``
+takes the shard from a scheduler's job array (Slurm, Kubernetes Indexed Jobs; see
+``core.scenes.resolve_shard``).  Each run records the scene folders of the whole run in
+``DIR/run.json``; ``report DIR`` rebuilds the index from the finished folders and says which
+of those are missing or failed (exit 0 when the run is whole, 1 otherwise).
 
 Exit codes: 0 every engine matches the reference (Cycles max |error| <= 1e-4, Eevee within
 1/255 on >= 99.5% of pixels); 1 some engine does not match, or a render failed; 2 bad
@@ -34,6 +41,8 @@ sys.dont_write_bytecode = True  # write nothing outside --out (no __pycache__ in
 
 # The extension's pure packages (no bpy): `tools/phong.sh setup` makes the source tree
 # importable as `phong_nodes` in the virtual environment.
+from cli_input import (BadInput, open_blend, parse_peers, parse_shard,  # noqa: E402
+                       peer_problem)
 from phong_nodes.core import compare, outputs, report, scenes  # noqa: E402
 
 DEFAULT_RESOLUTION = 256
@@ -88,8 +97,7 @@ def parse_args(argv):
                         help=resolution_help)
     parser.add_argument("--out", default=default_out,
                         help=f"output folder (default: {default_out})")
-    parser.add_argument("--shard", default=None,
-                        help="i/n: bake only every n-th scene starting at the i-th (1-based)")
+    parser.add_argument("--shard", default=None, help=scenes.SHARD_HELP)
     parser.add_argument("--peers", default="",
                         help="other renderers to compare: threejs (exports each scene as a "
                              "three.js page and renders it in headless Chromium)")
@@ -103,22 +111,36 @@ def parse_args(argv):
     if args.resolution is not None and not 8 <= args.resolution <= 4096:
         parser.error(f"--resolution must be between 8 and 4096, got {args.resolution}")
     args.engines = engines
-    peers = [p.strip().lower() for p in args.peers.split(",") if p.strip()]
-    unknown = sorted(set(peers) - {"threejs"})
-    if unknown:
-        parser.error(f"--peers: unknown peer(s) {', '.join(unknown)}; expected threejs")
-    args.peers = peers
+    args.peers = parse_peers(parser, args.peers)
+    parse_shard(parser, args)
     return args
 
 
-def peer_problem(peers) -> str | None:
-    """Why a peer cannot run on this machine (what to install), or None."""
-    if "threejs" not in peers:
-        return None
-    from phong_nodes.core import threejs  # noqa: PLC0415
+def parse_report_args(argv):
+    parser = argparse.ArgumentParser(
+        prog="phong report", description="Rebuild DIR/index.html from the finished scene "
+        "folders and check the run: exit 0 when every scene of DIR/run.json is there and "
+        "matches, 1 naming those missing or failed, 2 when DIR is not a run's folder.")
+    parser.add_argument("dir", help="the output folder of a run (its --out)")
+    return parser.parse_args(argv)
 
-    problem = threejs.unavailable()
-    return None if problem is None else f"--peers threejs: {problem}"
+
+def report_main(argv) -> int:
+    """``report DIR``: the completeness check of a (sharded) run."""
+    args = parse_report_args(argv)
+    out = os.path.abspath(args.dir)
+    try:
+        state = report.check_run(out)
+    except report.RunError as error:
+        print(f"phong report: {error}", file=sys.stderr)
+        return 2
+    outputs.clean_stale(out)  # temporary entries of killed tasks of this host
+    index = report.write_index(out)
+    results = report.results(out)
+    if results:
+        print(*summary_table(results), "", sep="\n")
+    print(f"phong report: {report.run_text(state)}; report: {index}")
+    return 0 if not state["missing"] and not state["failed"] else 1
 
 
 def main(argv=None) -> int:
@@ -138,26 +160,42 @@ def main(argv=None) -> int:
             signal.signal(sig, handler)
 
 
-class BadInput(Exception):
-    """Exit 2 with this one-line reason; nothing has been written."""
-
-
 def _main(argv, state) -> int:
-    args = parse_args(sys.argv[1:] if argv is None else argv)
+    argv = sys.argv[1:] if argv is None else argv
+    if argv and argv[0] == "report":
+        return report_main(argv[1:])
+    if argv and argv[0] == "bake":  # Bake Phong Lighting and glTF: tools/phong_bake.py
+        import phong_bake  # noqa: PLC0415  (beside this file)
+
+        return phong_bake.run(argv[1:], check_interrupt, state, _terminal)
+    args = parse_args(argv)
     problem = peer_problem(args.peers)
     if problem is not None:
         print(f"phong: {problem}", file=sys.stderr)
         return 2
+    registered = []
+    try:
+        return _run(args, state, registered)
+    finally:
+        # unregistered on every path: bpy 4.2 crashes at interpreter exit while classes that
+        # were registered without an add-on (here: by hand) are still registered
+        if registered:
+            registered[0].unregister()
+
+
+def _run(args, state, registered) -> int:
     try:
         if args.compare:
             # bpy must read the .blend before anything is written
             import phong_nodes  # noqa: PLC0415
 
             phong_nodes.register()
-            jobs, total = _blend_jobs(args)
+            registered.append(phong_nodes)
+            jobs, every = _blend_jobs(args)
         else:
             selected = scenes.load_all(scenes.resolve(args.scenes))
-            jobs, total = _demo_jobs(scenes.shard(selected, args.shard), args), len(selected)
+            jobs, every = _demo_jobs(scenes.shard(selected, args.shard), args), [
+                d["name"] for d in selected]
     except (scenes.SceneError, BadInput) as error:
         print(f"phong: {error}", file=sys.stderr)
         return 2
@@ -168,23 +206,23 @@ def _main(argv, state) -> int:
         print(f"phong: {problem}", file=sys.stderr)
         return 2
     outputs.clean_stale(out)  # what a killed run left behind
+    report.write_run(out, every, "compare" if args.compare else "demo")
     check_interrupt()
 
     say = _terminal()
     start = time.perf_counter()
-    what = f"of {args.file}" if args.compare else f"of {total}"
-    print(f"phong: {len(jobs)} scene(s) {what}"
-          f"{f' (shard {args.shard})' if args.shard else ''}, engines {', '.join(args.engines)}, "
+    what = f"of {len(every)} in {args.file}" if args.compare else f"of {len(every)}"
+    shard = (f" (shard {args.shard}{f' from {args.shard_source}' if args.shard_source else ''})"
+             if args.shard else "")
+    print(f"phong: {len(jobs)} scene(s) {what}{shard}, engines {', '.join(args.engines)}, "
           f"{f'{args.resolution} px high' if args.resolution else 'own resolution'} -> {out}",
           file=say)
     import phong_nodes  # noqa: PLC0415  (after the checks: importing bpy takes a second)
 
-    if not args.compare:
+    if not registered:
         phong_nodes.register()
-    try:
-        results, failed = _bake_scenes(jobs, args, out, say, state)
-    finally:
-        phong_nodes.unregister()
+        registered.append(phong_nodes)
+    results, failed = _bake_scenes(jobs, args, out, say, state)
     index = report.write_index(out)
     print("", *summary_table(results), sep="\n", file=say)
     ok = not failed and all(m["ok"] for m in results)
@@ -226,22 +264,8 @@ def _blend_jobs(args):
 
     from phong_nodes.addon.demos import bake, evaluate  # noqa: PLC0415
 
-    path = os.path.abspath(args.file)
-    if not os.path.isfile(path):
-        raise BadInput(f"{args.file}: no such file")
-    try:
-        bpy.ops.wm.open_mainfile(filepath=path, load_ui=False)
-    except RuntimeError as error:
-        reason = str(error).strip().splitlines()[-1] if str(error).strip() else "unreadable"
-        raise BadInput(f"{args.file}: cannot open as a .blend file ({reason})") from None
-    names = [scene.name for scene in bpy.data.scenes]
-    if args.scenes:
-        wanted = [n.strip() for n in args.scenes.split(",") if n.strip()]
-        unknown = [n for n in wanted if n not in names]
-        if unknown or not wanted:
-            raise BadInput(f"--scenes: no scene {', '.join(map(repr, unknown)) or '(none given)'} "
-                           f"in {args.file}; it has {', '.join(map(repr, names))}")
-    else:
+    names, wanted = open_blend(args.file, args.scenes)
+    if wanted is None:
         wanted = [n for n in names
                   if evaluate.phong_objects(bpy.data.scenes[n],
                                             evaluate.view_layer_of(bpy.data.scenes[n]))]
@@ -253,18 +277,18 @@ def _blend_jobs(args):
             bake.check(bpy.data.scenes[name])
         except bake.BakeError as error:
             raise BadInput(f"{args.file}: {error}") from None
-    try:
-        mine = scenes.shard(wanted, args.shard)
-    except scenes.SceneError as error:
-        raise BadInput(str(error)) from None
-    jobs, folders = [], set()
-    for name in mine:
+    folders = []  # of every scene, so that each shard names the same folder for a scene
+    for name in wanted:
         folder = evaluate.folder_name(bpy.data.scenes[name])
         while folder in folders:
             folder += "_"
-        folders.add(folder)
-        jobs.append(Job(folder, lambda n=name: bpy.data.scenes[n]))
-    return jobs, len(wanted)
+        folders.append(folder)
+    try:
+        mine = scenes.shard(list(zip(wanted, folders)), args.shard)
+    except scenes.SceneError as error:
+        raise BadInput(str(error)) from None
+    jobs = [Job(folder, lambda n=name: bpy.data.scenes[n]) for name, folder in mine]
+    return jobs, folders
 
 
 def _terminal():
@@ -315,28 +339,31 @@ def _bake_scenes(jobs, args, out, say, state):
 
 
 def summary_table(results) -> list:
-    """The terminal table: one line per scene and pair of pictures."""
-    header = (f"{'scene':<18}{'pair':<19}{'max |d|':>10}{'mean |d|':>10}{'PSNR':>8}"
-              f"{'>1/255':>9}  verdict")
+    """The terminal table: one line per scene and pair of pictures; the first two columns
+    are as wide as their longest entry."""
+    rows = [(m, pair, p) for m in results for pair, p in m["pairs"].items()]
+    scene_w = max([16] + [len(m["scene"]) for m, _, _ in rows]) + 2
+    pair_w = max([17] + [len(pair) for _, pair, _ in rows]) + 2
+    header = (f"{'scene':<{scene_w}}{'pair':<{pair_w}}{'max |d|':>10}{'mean |d|':>10}"
+              f"{'PSNR':>8}{'>1/255':>9}  verdict")
     lines = [header, "-" * len(header)]
-    for m in results:
-        for pair, p in m["pairs"].items():
-            engine = pair.split("-")[0]
-            v = (m["verdict"].get(engine) if pair.endswith("reference") or pair == "threejs-cycles"
-                 else None)
-            mark = "" if v is None else ("OK" if v["ok"] else "FAIL")
-            psnr = "inf" if p["psnr_db"] is None else f"{p['psnr_db']:.1f}"
-            lines.append(f"{m['scene']:<18}{pair:<19}{p['max_abs']:>10.2e}"
-                         f"{p['mean_abs']:>10.2e}{psnr:>8}{p['share_over_1_255']:>9.3%}  {mark}")
+    for m, pair, p in rows:
+        engine = pair.split("-")[0]
+        v = (m["verdict"].get(engine) if pair.endswith("reference") or pair == "threejs-cycles"
+             else None)
+        mark = "" if v is None else ("OK" if v["ok"] else "FAIL")
+        psnr = "inf" if p["psnr_db"] is None else f"{p['psnr_db']:.1f}"
+        lines.append(f"{m['scene']:<{scene_w}}{pair:<{pair_w}}{p['max_abs']:>10.2e}"
+                     f"{p['mean_abs']:>10.2e}{psnr:>8}{p['share_over_1_255']:>9.3%}  {mark}")
     return lines
 
 
 def exit_process(code: int) -> None:
-    """Exit with *code* (through the Blender layer once bpy is loaded: see compat)."""
+    """Exit with *code*, without bpy's clean-up where it would crash (compat)."""
     if "bpy" in sys.modules:
         from phong_nodes.addon import compat  # noqa: PLC0415
 
-        compat.exit_process(code)
+        compat.leave_if_exit_crashes(code)
     sys.exit(code)
 
 

@@ -2,54 +2,106 @@
 # Phong Nodes developer entry point.
 #   bash tools/phong.sh demo [options]   build the demo scenes and compare them (see: demo --help)
 #   bash tools/phong.sh compare FILE.blend [options]   compare the scenes of a .blend (compare --help)
+#   bash tools/phong.sh report DIR       rebuild DIR/index.html, exit 1 naming scenes missing or failed
+#   bash tools/phong.sh slurm [--tasks N] [sbatch options] -- demo|compare ...   a Slurm job array
+#   bash tools/phong.sh bake FILE.blend --target image|vertex [options]   bake Phong lighting, write glTF (bake --help)
 #   bash tools/phong.sh test [pytest options]
 #   bash tools/phong.sh build [DIR]      DIR/<id>-<version>.zip (DIR: dist), validated by Blender's own tool
 #   bash tools/phong.sh setup            only create/refresh the virtual environment
-# The virtual environment lives in .venv (or $PHONG_VENV) and is rebuilt when
-# requirements.txt changes.  PHONG_BPY=4.2.23 (or 4.5.15, ...) uses that bpy release
-# instead, in its own .venv-bpy<version>: how CI checks the older LTS releases.
+#   bash tools/phong.sh which            print the bpy release and Python it would use, change nothing
+# Which Blender: bpy 5.2.3 (Blender 5.2 LTS) on Python 3.13 where a Python 3.13 exists (on PATH,
+# or one of pyenv's interpreters), else bpy 5.0.1 on Python 3.11; the pins per Python are
+# requirements/python3.13.txt and requirements/python3.11.txt.  PHONG_BPY=4.2.23 (4.5.15,
+# 5.0.1, 5.1.2, 5.2.3, ...) uses that release instead, on the Python its wheels are built for,
+# in its own .venv-bpy<version>; PHONG_PYTHON=/path/to/python picks the interpreter.  The
+# default environment is .venv (or $PHONG_VENV), rebuilt when its pins or interpreter change.
 set -euo pipefail
 
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
-requirements=$root/requirements.txt
-venv=${PHONG_VENV:-$root/.venv}
-if [ -n "${PHONG_BPY:-}" ]; then
-  venv=${PHONG_VENV:-$root/.venv-bpy$PHONG_BPY}
-  mkdir -p "$venv"
-  requirements=$venv/requirements.txt
-  sed "s/^bpy==.*/bpy==$PHONG_BPY/" "$root/requirements.txt" > "$requirements"
-fi
 command=${1:-demo}
 [ $# -gt 0 ] && shift
 
+# The Python a.b that bpy release $1 is built for: 5.1 and later need 3.13, 4.2 to 5.0 need 3.11.
+python_for_bpy() {
+  case "$1" in
+    4.*|5.0|5.0.*) echo 3.11 ;;
+    5.*|[6-9].*) echo 3.13 ;;
+    *) echo "PHONG_BPY=$1: not a bpy release (expected e.g. 4.2.23, 4.5.15, 5.0.1 or 5.2.3)" >&2
+       return 1 ;;
+  esac
+}
+
+# An interpreter of Python $1 (e.g. 3.13) that runs: python$1 on PATH, then pyenv's (its shims
+# refuse a version that is not selected, so its versions folder is searched too), then python3.
 find_python() {
-  for candidate in python3.11 python3; do
+  local want=$1 candidate
+  local candidates=("python$want")
+  candidates+=($(ls -d "${PYENV_ROOT:-$HOME/.pyenv}"/versions/"$want"*/bin/python"$want" 2>/dev/null | sort -V -r))
+  candidates+=(python3)
+  for candidate in "${candidates[@]}"; do
     if command -v "$candidate" >/dev/null 2>&1 &&
-       "$candidate" -c 'import sys; sys.exit(sys.version_info[:2] != (3, 11))' 2>/dev/null; then
-      echo "$candidate"; return 0
+       "$candidate" -c "import sys; sys.exit(sys.version_info[:2] != tuple(map(int, '$want'.split('.'))))" \
+         >/dev/null 2>&1; then
+      command -v "$candidate"; return 0
     fi
   done
-  echo "Phong Nodes needs Python 3.11 (the bpy 5.0.1 wheel is built for it)." >&2
-  echo "On Debian/Ubuntu: install python3.11 and python3.11-venv." >&2
   return 1
 }
+
+# Choose the release, its Python and its environment.
+if [ -n "${PHONG_BPY:-}" ]; then
+  pyver=$(python_for_bpy "$PHONG_BPY") || exit 2
+  venv=${PHONG_VENV:-$root/.venv-bpy$PHONG_BPY}
+  python=${PHONG_PYTHON:-$(find_python "$pyver" || true)}
+  if [ -z "$python" ]; then
+    echo "bpy $PHONG_BPY needs Python $pyver, which this machine lacks: install python$pyver and python$pyver-venv (or pyenv install $pyver)" >&2
+    exit 2
+  fi
+  pins=$(sed "s/^bpy==.*/bpy==$PHONG_BPY/" "$root/requirements/python$pyver.txt")
+  reason="PHONG_BPY"
+else
+  venv=${PHONG_VENV:-$root/.venv}
+  if [ -n "${PHONG_PYTHON:-}" ]; then
+    python=$PHONG_PYTHON
+    pyver=$("$python" -c 'import sys; print("%d.%d" % sys.version_info[:2])') || exit 2
+    reason="PHONG_PYTHON"
+  elif python=$(find_python 3.13); then
+    pyver=3.13; reason="Python 3.13 found"
+  elif python=$(find_python 3.11); then
+    pyver=3.11; reason="no Python 3.13 found"
+  else
+    echo "Phong Nodes needs Python 3.13 (bpy 5.2 LTS) or Python 3.11 (bpy 5.0.1): install python3.13 and python3.13-venv (Debian 13; elsewhere pyenv install 3.13)" >&2
+    exit 2
+  fi
+  if [ ! -f "$root/requirements/python$pyver.txt" ]; then
+    echo "PHONG_PYTHON=$python is Python $pyver; Phong Nodes runs on Python 3.13 (bpy 5.2) or 3.11 (bpy 5.0.1)" >&2
+    exit 2
+  fi
+  pins=$(cat "$root/requirements/python$pyver.txt")
+fi
+bpy_pin=$(sed -n 's/^bpy==//p' <<<"$pins")
+choice="bpy $bpy_pin on Python $pyver ($python; $reason)"
+if [ "$command" = which ]; then
+  echo "$choice"
+  exit 0
+fi
+echo "Phong Nodes: $choice" >&2
 
 setup() {
   local stamp="$venv/.requirements.sha256"
   local want
-  want=$(sha256sum "$requirements" | cut -d' ' -f1)
+  want=$(printf '%s\n%s\n' "$pins" "$python" | sha256sum | cut -d' ' -f1)
   if [ -x "$venv/bin/python" ] && [ "$(cat "$stamp" 2>/dev/null)" = "$want" ]; then
     return 0
   fi
-  local python
-  python=$(find_python)
-  echo "Setting up $venv (Python packages from requirements.txt)..." >&2
-  if ! "$python" -m venv "$venv"; then
-    echo "Could not create a virtual environment: on Debian/Ubuntu install python3.11-venv." >&2
+  echo "Setting up $venv (bpy $bpy_pin and the pins of requirements/python$pyver.txt)..." >&2
+  if ! "$python" -m venv --clear "$venv" >&2; then
+    echo "Could not create a virtual environment with $python: on Debian/Ubuntu install python$pyver-venv." >&2
     exit 1
   fi
   "$venv/bin/python" -m pip install --quiet --upgrade pip >&2
-  "$venv/bin/python" -m pip install --quiet -r "$requirements" >&2
+  printf '%s\n' "$pins" > "$venv/requirements.txt"
+  "$venv/bin/python" -m pip install --quiet -r "$venv/requirements.txt" >&2
   echo "$want" > "$stamp"
 }
 
@@ -109,7 +161,10 @@ case "$command" in
   setup) ;;
   demo) exec "$venv/bin/python" "$root/tools/phong.py" "$@" ;;
   compare) exec "$venv/bin/python" "$root/tools/phong.py" compare "$@" ;;
+  report) exec "$venv/bin/python" "$root/tools/phong.py" report "$@" ;;
+  slurm) exec "$venv/bin/python" "$root/tools/slurm.py" "$@" ;;
+  bake) exec "$venv/bin/python" "$root/tools/phong.py" bake "$@" ;;
   test) cd "$root" && exec "$venv/bin/python" -m pytest "$@" ;;
   build) build "$@" ;;
-  *) echo "unknown command '$command' (expected demo, compare, test, build or setup)" >&2; exit 2 ;;
+  *) echo "unknown command '$command' (expected demo, compare, bake, report, slurm, test, build, setup or which)" >&2; exit 2 ;;
 esac

@@ -12,7 +12,13 @@
   material table (brass, jade, ruby, chrome: Ka, Kd, Ks, Ns), written here and imported by
   `bpy.ops.phong.import_obj()`, lit by a point light and the ambient light.
 
-Run: .venv/bin/python tools/readme_pictures.py  (only the three.js sheet: ... threejs)
+* docs/phong_vs_gouraud.png: the demo scene phong_vs_gouraud (its right sphere baked to
+  vertex colours by Bake Phong Lighting), Eevee;
+* docs/gltf_check.png: that scene exported by `bpy.ops.phong.export_gltf()` (the left sphere
+  baked to a 256 px image, the right one keeping its vertex bake) and checked: three.js's GLTFLoader in headless Chromium beside Cycles rendering the bake.
+
+Run: .venv/bin/python tools/readme_pictures.py  (only the three.js sheet: ... threejs; only
+the baking pictures: ... baking)
 """
 
 import math
@@ -186,14 +192,49 @@ def sheets(names=(("two_lights", set()), ("exponents", set()),
     shutil.rmtree(folder)
 
 
+def baking_pictures():
+    import shutil
+    import tempfile
+
+    import bpy
+
+    from phong_nodes.addon.baking import check
+
+    bpy.ops.wm.read_homefile(use_empty=True)
+    assert bpy.ops.phong.build_demo_scene(name="phong_vs_gouraud", resolution=320) == {"FINISHED"}
+    scene = bpy.data.scenes["phong_vs_gouraud"]
+    bpy.context.window.scene = scene
+    render_png(scene, "phong_vs_gouraud.png", 640, 320)
+    folder = tempfile.mkdtemp(prefix="phong_gltf_")
+    glb = os.path.join(folder, "phong_vs_gouraud.glb")
+    bpy.ops.object.select_all(action="DESELECT")
+    # the left sphere baked to an image, the right one keeps its vertex bake (Gouraud)
+    assert bpy.ops.phong.export_gltf(filepath=glb, target="IMAGE", resolution=256,
+                                     rebake=False) == {"FINISHED"}
+    objects = [o for o in scene.objects if o.type == "MESH"]
+    result = check.check(scene, objects, glb, os.path.join(folder, "check"), 256)
+    out = os.path.join(ROOT, "docs", "gltf_check.png")
+    shutil.copyfile(os.path.join(folder, "check", "sheet.png"), out)
+    print(out, result["verdict"])
+    shutil.rmtree(folder)
+
+
 if __name__ == "__main__":
-    if sys.argv[1:] == ["threejs"]:
-        phong_nodes.register()
-        sheets((("threejs_phong_lab", {"THREEJS"}),))
-    else:
-        main()
-        obj_import_picture()
-        sheets()
+    try:
+        if sys.argv[1:] == ["baking"]:
+            phong_nodes.register()
+            baking_pictures()
+        elif sys.argv[1:] == ["threejs"]:
+            phong_nodes.register()
+            sheets((("threejs_phong_lab", {"THREEJS"}),))
+        else:
+            main()
+            obj_import_picture()
+            sheets()
+            baking_pictures()
+    finally:
+        # registered by hand, not as an add-on: bpy 4.2 crashes at exit while it stays so
+        phong_nodes.unregister()
     from phong_nodes.addon import compat
 
-    compat.exit_process(0)
+    compat.leave_if_exit_crashes(0)  # the glTF pictures: bpy 4.2's exit would crash

@@ -36,50 +36,11 @@ from ..lighting import materials, rig
 from ..lighting import sync as sync_mod
 from ..interchange import threejs_export
 from . import evaluate, render
+from .render import Overrides
 
 
 class BakeError(ValueError):
     """A scene that cannot be compared; the message says why."""
-
-
-class Overrides:
-    """Settings changed for a bake and put back in reverse order by :meth:`restore`."""
-
-    def __init__(self):
-        self._undo = []
-
-    def set(self, owner, attr: str, value) -> None:
-        if not hasattr(owner, attr):
-            return
-        old = getattr(owner, attr)
-        if hasattr(old, "__len__") and not isinstance(old, str):
-            old = tuple(old)
-        if old == value:
-            return
-        setattr(owner, attr, value)
-        self._undo.append(lambda: setattr(owner, attr, old))
-
-    def later(self, function) -> None:
-        """Call *function* on restore (after the settings made after it are put back)."""
-        self._undo.append(function)
-
-    def restore(self) -> None:
-        """Put everything back; an enum that must wait for another (an EXR colour depth
-        for a PNG) gets a second pass."""
-        failed = []
-        for undo in reversed(self._undo):
-            try:
-                undo()
-            except (TypeError, ValueError, RuntimeError):
-                failed.append(undo)
-            except ReferenceError:  # its data block was deleted meanwhile
-                pass
-        for undo in failed:
-            try:
-                undo()
-            except (TypeError, ValueError, RuntimeError, ReferenceError):
-                pass
-        self._undo.clear()
 
 
 # -- what is compared ----------------------------------------------------------------

@@ -28,6 +28,7 @@ import bpy
 from mathutils import Vector
 
 from .. import compat
+from ..baking import lighting, show
 from ..lighting import materials, properties, rig
 from ..lighting import sync as sync_mod
 from . import meshes, render
@@ -35,8 +36,6 @@ from . import meshes, render
 #: Custom property on a built scene: the scene file's dict (JSON) it was built from; the
 #: comparison takes its title, source and description from it.
 SCENE_KEY = "phong_demo"
-#: UV sphere resolution (segments, rings).
-SPHERE_SEGMENTS = (64, 32)
 BLACK = (0.0, 0.0, 0.0)
 LIGHT_TYPES = {"point": "POINT", "directional": "SUN", "spot": "SPOT"}
 
@@ -69,7 +68,16 @@ def build(data: dict, resolution: int = 256) -> bpy.types.Scene:
         _controls(material, obj_data)
     sync.finish()
     sync_mod.remember(scene, scene.view_layers[0])
+    for obj_data in data["objects"]:
+        if obj_data.get("bake"):
+            _bake(scene, objects[obj_data["name"]], obj_data["bake"])
     return scene
+
+
+def _bake(scene, obj, target: str) -> None:
+    """*obj* baked (Bake Phong Lighting, its image packed) and showing its bake."""
+    settings = lighting.Settings(target=target.upper(), resolution=256, pack=True)
+    show.bake_objects(scene, [obj], settings, display=True)
 
 
 def scene_file(scene) -> dict | None:
@@ -87,7 +95,9 @@ def _object(scene, obj_data, scene_name):
     name = obj_data["name"]
     size = obj_data["size"]
     if obj_data["shape"] == "sphere":
-        mesh = meshes.uv_sphere(f"{scene_name}.{name}", size, *SPHERE_SEGMENTS)
+        segments = obj_data.get("segments", 64)
+        mesh = meshes.uv_sphere(f"{scene_name}.{name}", size, segments, max(2, segments // 2),
+                                uvs=True)
     else:
         mesh = bpy.data.meshes.new(f"{scene_name}.{name}")
         verts = [(-size, -size, 0.0), (size, -size, 0.0), (size, size, 0.0), (-size, size, 0.0)]

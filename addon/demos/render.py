@@ -5,9 +5,52 @@ Cycles: one sample, no denoiser, a box filter narrower than a pixel, so each pix
 the shader evaluated at its centre.  Eevee: one TAA sample (its first sample sits at
 the pixel centre), no filter, nothing that adds light, and high-quality GPU normals
 (with the default ones narrow highlights differ from Cycles by up to 1e-2).
+:class:`Overrides` changes settings for a while and puts them back (the comparison bake,
+Bake Phong Lighting).
 """
 
 from .. import compat
+
+
+class Overrides:
+    """Settings changed for a bake and put back in reverse order by :meth:`restore`."""
+
+    def __init__(self):
+        self._undo = []
+
+    def set(self, owner, attr: str, value) -> None:
+        if not hasattr(owner, attr):
+            return
+        old = getattr(owner, attr)
+        if hasattr(old, "__len__") and not isinstance(old, str):
+            old = tuple(old)
+        if old == value:
+            return
+        setattr(owner, attr, value)
+        self._undo.append(lambda: setattr(owner, attr, old))
+
+    def later(self, function) -> None:
+        """Call *function* on restore (after the settings made after it are put back)."""
+        self._undo.append(function)
+
+    def restore(self) -> None:
+        """Put everything back; an enum that must wait for another (an EXR colour depth
+        for a PNG) gets a second pass."""
+        failed = []
+        for undo in reversed(self._undo):
+            try:
+                undo()
+            except (TypeError, ValueError, RuntimeError):
+                failed.append(undo)
+            except ReferenceError:  # its data block was deleted meanwhile
+                pass
+        for undo in failed:
+            try:
+                undo()
+            except (TypeError, ValueError, RuntimeError, ReferenceError):
+                pass
+        self._undo.clear()
+
 
 _EEVEE_OFF = ("use_shadows", "use_raytracing", "use_gtao", "use_bloom", "use_volumetric_shadows")
 

@@ -6,14 +6,18 @@ i_a·Cl_a ⊗ Object Color (docs/model.md §Ambient), so a Phong material is wri
 
     Kd = Object Color        Ka = Ambient Object Color (= Kd unless the material links its own)
     Ks = Specular Color      Ns = Exponent     Ke = Irradiant Color
-    illum 2 (1 when Specular Color is black)
+    illum 2 (1 when Specular Color is black, unless the material was imported from illum 2)
+    illum 0 with Kd = Irradiant Color when that is the only colour (as an MTL illum 0
+            material is imported), unless the material was imported from illum 1 or 2
 
 MTL's highlight is Blinn's (h·n)^Ns: a material whose Blinn control is below 1 (the seeds'
 (r·v)^e, or a mix) gets a comment in the file and the export one warning naming it.  An
 image texture feeding Object Color (or Ambient Object Color) is written as ``map_Kd`` (or
 ``map_Ka``) with colour 1, since MTL multiplies a map by its colour, its path relative to the
-MTL file; other node chains cannot be written and are named in a warning.  Material names have their spaces
-replaced by underscores, as Blender's OBJ exporter writes them in ``usemtl``.
+MTL file; other node chains cannot be written and are named in a warning.  A material is
+written with the name of the material it was made from (so import ▸ export keeps the names
+of the file), spaces replaced by underscores, as Blender's OBJ exporter writes them in
+``usemtl``; numbers as the shortest decimal that reads back as the same float32.
 """
 
 from __future__ import annotations
@@ -24,13 +28,31 @@ import bpy
 
 from ...core import mtl, outputs
 from ..lighting import materials as recipe
+from .obj_import import ILLUM_KEY
 
 HEADER = "Phong materials written by Phong Nodes (docs/model.md: MTL illum 2 with Ka = Kd)"
 
 
 def mtl_name(material) -> str:
-    """The name of *material* in an MTL file, as Blender's OBJ exporter writes it in usemtl."""
-    return material.name.replace(" ", "_")
+    """The name of *material* in an MTL file: the name of the material it was made from (its
+    source, so that import ▸ export keeps the file's names), spaces replaced by underscores as
+    Blender's OBJ exporter writes them in usemtl."""
+    source = recipe.source_of(material)
+    return (source.name if source is not None else material.name).replace(" ", "_")
+
+
+def mtl_names(phong_materials, taken=()) -> dict:
+    """{material: its name in the MTL}: :func:`mtl_name`, or the Phong material's own name
+    (spaces → ``_``) where that is *taken* by another material or an earlier Phong one (two
+    light sets of one source)."""
+    used, out = set(taken), {}
+    for material in phong_materials:
+        name = mtl_name(material)
+        if name in used:
+            name = material.name.replace(" ", "_")
+        used.add(name)
+        out[material] = name
+    return out
 
 
 def _input(material, name):
@@ -102,10 +124,19 @@ def _colour_times_map(node):
     return tuple(rgb.outputs[0].default_value), texture.image
 
 
-def to_mtl(material, mtl_folder):
-    """(mtl.Material, warnings) for the Phong material *material*."""
-    out = mtl.Material(mtl_name(material), "", 0)
+def to_mtl(material, mtl_folder, name=None):
+    """(mtl.Material, warnings) for the Phong material *material* (named *name* in the MTL,
+    :func:`mtl_name` by default)."""
+    out = mtl.Material(name or mtl_name(material), "", 0)
     warnings = []
+    read_as = material.get(ILLUM_KEY)      # the model an imported material was read as
+    only = _colour_only(material, mtl_folder) if read_as in (None, 0) else None
+    if only is not None:      # MTL illum 0: Kd is the colour, lights play no part
+        out.colors["Kd"], image = only
+        if image is not None:
+            out.maps["map_Kd"] = mtl.TextureMap(image, "", {}, 0)
+        out.illum = 0
+        return out, warnings
     color, image = _map_or_value(material, "Object Color", "phong_object_color", mtl_folder,
                                  warnings)
     out.colors["Kd"] = _rgb(color)
@@ -138,7 +169,7 @@ def to_mtl(material, mtl_folder):
     out.colors["Ks"] = _rgb(specular)
     out.colors["Ke"] = _rgb(irradiant)
     out.scalars["Ns"] = float(exponent)
-    out.illum = 2 if any(out.colors["Ks"]) else 1
+    out.illum = 2 if any(out.colors["Ks"]) or read_as == 2 else 1
     if out.illum == 2 and float(blinn) < 1.0:
         kind = "the Phong highlight (r·v)^Ns" if float(blinn) == 0.0 else \
             f"a mix of Phong and Blinn highlights (Blinn {float(blinn):g})"
@@ -147,12 +178,41 @@ def to_mtl(material, mtl_folder):
     return out, warnings
 
 
+def _colour_only(material, mtl_folder):
+    """(colour, image path or None) of the Irradiant Color when it is the material's only
+    colour (Object, Ambient Object and Specular Color black and fed by their controls or
+    by nothing): MTL's illum 0, which the importer reads into Irradiant Color alone; else
+    None."""
+    for input_name, control in (("Object Color", "phong_object_color"),
+                                (recipe.AMBIENT_INPUT, recipe.AMBIENT_CONTROL),
+                                ("Specular Color", "phong_specular_color")):
+        socket = _input(material, input_name)
+        if socket is None:
+            return None
+        if socket.is_linked:
+            upstream = socket.links[0].from_node
+            if upstream.bl_idname != "ShaderNodeRGB":
+                return None
+            value = upstream.outputs[0].default_value
+        else:
+            value = socket.default_value
+        if any(float(v) != 0.0 for v in tuple(value)[:3]):
+            return None
+    notes = []
+    color, image = _map_or_value(material, "Irradiant Color", "phong_irradiant_color",
+                                 mtl_folder, notes)
+    if notes or (image is None and not any(float(v) for v in tuple(color)[:3])):
+        return None
+    return _rgb(color), image
+
+
 def export(phong_materials, filepath) -> list:
     """Write *phong_materials* to *filepath* (atomically); returns the warnings."""
     folder = os.path.dirname(os.path.abspath(filepath))
     written, warnings = [], []
+    names = mtl_names(phong_materials)
     for material in phong_materials:
-        entry, notes = to_mtl(material, folder)
+        entry, notes = to_mtl(material, folder, names[material])
         written.append(entry)
         warnings += notes
     outputs.write_file(filepath, mtl.dumps(written, header=HEADER))
@@ -162,7 +222,8 @@ def export(phong_materials, filepath) -> list:
 def export_obj(phong_by_name, filepath, selection_only=False) -> list:
     """Blender's own OBJ export of the scene (geometry, ``usemtl`` names, its MTL), whose MTL
     then gets the exact entry of every Phong material (*phong_by_name*: material name ->
-    material); the other materials keep Blender's entries.  Returns the warnings."""
+    material), named as :func:`mtl_names` (the OBJ's ``usemtl`` lines renamed to match);
+    the other materials keep Blender's entries.  Returns the warnings."""
     result = bpy.ops.wm.obj_export(filepath=filepath, export_materials=True,
                                    export_selected_objects=selection_only)
     if result != {"FINISHED"}:
@@ -171,16 +232,35 @@ def export_obj(phong_by_name, filepath, selection_only=False) -> list:
     if not os.path.isfile(mtl_path):   # no material at all: nothing to replace
         return []
     folder = os.path.dirname(os.path.abspath(mtl_path))
-    by_mtl_name = {mtl_name(m): m for m in phong_by_name.values()}
-    entries, warnings = [], []
-    for entry in mtl.load(mtl_path):
-        material = by_mtl_name.get(entry.name)
+    by_written_name = {m.name.replace(" ", "_"): m for m in phong_by_name.values()}
+    entries = mtl.load(mtl_path)
+    phong = [by_written_name[e.name] for e in entries if e.name in by_written_name]
+    names = mtl_names(phong, taken={e.name for e in entries if e.name not in by_written_name})
+    out, warnings, renamed = [], [], {}
+    for entry in entries:
+        material = by_written_name.get(entry.name)
         if material is None:
-            entries.append(entry)
+            out.append(entry)
             continue
-        exact, notes = to_mtl(material, folder)
-        entries.append(exact)
+        exact, notes = to_mtl(material, folder, names[material])
+        out.append(exact)
         warnings += notes
+        if exact.name != entry.name:
+            renamed[entry.name] = exact.name
+    if renamed:
+        _rename_usemtl(filepath, renamed)
     outputs.write_file(mtl_path, mtl.dumps(
-        entries, header=HEADER + "; other materials as Blender wrote them"))
+        out, header=HEADER + "; other materials as Blender wrote them"))
     return warnings
+
+
+def _rename_usemtl(obj_path, renamed) -> None:
+    """Rewrite the ``usemtl`` lines of Blender's OBJ file with the names of *renamed*."""
+    with open(obj_path, "rb") as fh:
+        lines = fh.read().split(b"\n")
+    for index, line in enumerate(lines):
+        if line.startswith(b"usemtl "):
+            name = line[7:].decode("utf-8").rstrip("\r")
+            if name in renamed:
+                lines[index] = b"usemtl " + renamed[name].encode("utf-8")
+    outputs.write_file(obj_path, b"\n".join(lines))

@@ -2,7 +2,7 @@
 """Wavefront OBJ imported with its MTL materials as exact Phong materials.
 
 Blender's own OBJ importer reads the geometry (and makes Principled approximations of the
-materials); the MTL libraries are read first by ``core/mtl.py``, so a bad library refuses the
+materials); the MTL libraries are read first by ``core/mtl.py``, so a missing library refuses the
 import before anything is added.  Every imported material is then converted by the same path
 as Apply Phong Material (``lighting/sync.py``: the Principled material is kept as the source,
 Restore Original Materials puts it back) and given the MTL's values, term by term:
@@ -15,8 +15,11 @@ Restore Original Materials puts it back) and given the MTL's values, term by ter
 A colour missing from the MTL is black (MTL's formula has no other default); a missing Ns
 keeps the recipe's 30.  ``map_Ka``, ``map_Kd``, ``map_Ks`` and ``map_Ke`` multiply their colour
 (MTL: "the map value is multiplied by the K value"), ``bump``/``map_Bump`` goes through a Bump
-node (strength ``-bm``) into Normal.  What the model cannot represent (``MtlMaterial.unsupported``)
-is reported once per material; a missing texture file is named in a warning and left out.
+node (strength ``-bm``) into Normal.  What the model cannot show (``Material.unsupported``:
+transparency, other illumination models, other maps, map options not applied) is reported once
+per material; a missing texture file is named in one warning, with every material it is left
+out of.  Only an unreadable library refuses the import (``core/mtl.py`` reads the rest as other
+readers do, with a warning for what it leaves out or changes).
 """
 
 from __future__ import annotations
@@ -40,6 +43,10 @@ MAP_NODE = "phong_mtl_map:"        # + input name: the Image Texture of a map
 MULTIPLY_NODE = "phong_mtl_mul:"   # + input name: colour x map
 BUMP_NODE = "phong_mtl_bump"
 BLACK = (0.0, 0.0, 0.0)
+NON_COLOR = "Non-Color"
+#: Custom property of an imported Phong material: the MTL illumination model it was read as
+#: (0, 1 or 2), so that export writes it back (``mtl_export.to_mtl``).
+ILLUM_KEY = "phong_mtl_illum"
 
 
 def _mtl_name(material, by_name):
@@ -68,12 +75,36 @@ def values(source: mtl.Material) -> dict:
             "blinn": 1.0, "illum": illum}
 
 
-def _image(texture, warnings, where):
+def _image(texture, missing, where, non_color=False):
+    """The image of *texture*, or None when its file is missing (recorded in *missing*: one
+    warning per file, naming every material that uses it).  A file used both as a colour
+    map and as a bump map gets one image of each colour space, so that neither changes the
+    other."""
     if not texture.exists:
-        warnings.append(f"{where}: texture {texture.path} not found ({texture.resolved}); "
-                        "left out")
+        missing.setdefault(texture.resolved, (texture, []))[1].append(where)
         return None
-    return bpy.data.images.load(texture.resolved, check_existing=True)
+    path = os.path.normpath(texture.resolved)
+    for image in bpy.data.images:
+        if image.source == "FILE" and image.library is None and \
+                os.path.normpath(bpy.path.abspath(image.filepath)) == path and \
+                (image.colorspace_settings.name == NON_COLOR) == non_color:
+            return image
+    image = bpy.data.images.load(path, check_existing=False)
+    if non_color:
+        image.colorspace_settings.name = NON_COLOR
+    return image
+
+
+def missing_warnings(missing) -> list:
+    """One warning per missing texture file: where it is first named, the places looked at
+    and the materials it is left out of."""
+    out = []
+    for texture, users in missing.values():
+        looked = " and ".join(texture.looked_at or (texture.resolved,))
+        names = sorted({name for _where, name in users})
+        out.append(f"{users[0][0]}: texture {texture.path} not found (looked for {looked}); "
+                   f"left out of {', '.join(names)}")
+    return out
 
 
 def _prune(tree, keep) -> None:
@@ -88,13 +119,15 @@ def _prune(tree, keep) -> None:
             tree.nodes.remove(node)
 
 
-def apply_mtl(material, source: mtl.Material, warnings: list) -> None:
-    """Give the Phong material *material* the values and maps of *source*."""
+def apply_mtl(material, source: mtl.Material, warnings: list, missing: dict) -> None:
+    """Give the Phong material *material* the values and maps of *source* (missing texture
+    files are recorded in *missing*, see :func:`missing_warnings`)."""
     tree = material.node_tree
     lights = tree.nodes[recipe.LIGHTS_NODE]
     wanted = values(source)
     keep = set(recipe.CONTROLS) | {recipe.LIGHTS_NODE, recipe.OUTPUT}
     where = f"{source.path}:{source.line} ({source.name})"
+    user = (where, source.name)
     for index, (name, (_key, _map_key, control)) in enumerate(COLOR_INPUTS.items()):
         color = wanted["colors"][name]
         if control in recipe.CONTROLS:
@@ -105,7 +138,7 @@ def apply_mtl(material, source: mtl.Material, warnings: list) -> None:
         keep.add(control)
         socket = node.outputs[0]
         texture = wanted["maps"][name]
-        image = _image(texture, warnings, where) if texture is not None else None
+        image = _image(texture, missing, user) if texture is not None else None
         if image is not None:
             socket = _multiplied(tree, name, socket, image, index)
             keep |= {MAP_NODE + name, MULTIPLY_NODE + name}
@@ -113,8 +146,9 @@ def apply_mtl(material, source: mtl.Material, warnings: list) -> None:
     tree.nodes["phong_exponent"].outputs[0].default_value = (
         30.0 if wanted["exponent"] is None else wanted["exponent"])
     tree.nodes["phong_blinn"].outputs[0].default_value = wanted["blinn"]
+    material[ILLUM_KEY] = min(wanted["illum"], 2)
     bump = source.maps.get("bump")
-    image = _image(bump, warnings, where) if bump is not None else None
+    image = _image(bump, missing, user, non_color=True) if bump is not None else None
     if image is not None:
         keep |= _bump(tree, lights, image, bump.options.get("-bm", (1.0,))[0])
     elif lights.inputs["Normal"].is_linked:
@@ -144,7 +178,6 @@ def _multiplied(tree, name, color_socket, image, index):
 
 
 def _bump(tree, lights, image, strength) -> set:
-    image.colorspace_settings.name = "Non-Color"
     texture = tree.nodes.get(MAP_NODE + "bump") or tree.nodes.new("ShaderNodeTexImage")
     texture.name = MAP_NODE + "bump"
     texture.image = image
@@ -160,7 +193,7 @@ def _bump(tree, lights, image, strength) -> set:
 
 def import_obj(context, filepath):
     """Import *filepath*; returns (new objects, Phong materials, warnings, the Sync run).  Raises
-    ``mtl.MtlError`` (nothing imported) for a missing or unreadable file or a bad library,
+    ``mtl.MtlError`` (nothing imported) for a missing or unreadable OBJ file or library,
     RuntimeError when Blender's importer fails."""
     if not os.path.isfile(filepath):
         raise mtl.MtlError(filepath, 0, "file not found")
@@ -172,14 +205,15 @@ def import_obj(context, filepath):
     new = [o for o in bpy.data.objects if o not in before and o.type == "MESH"]
     sync = sync_mod.Sync(context.scene, context.view_layer)
     sync.rebuild_groups()
-    done = {}
+    done, missing = {}, {}
     for obj in new:
         sources = [_mtl_name(slot.material, by_name) if slot.material else None
                    for slot in obj.material_slots]
         for phong, source in zip(sync.apply(obj), sources):
             if source is not None and phong.name not in done:
-                apply_mtl(phong, source, warnings)
+                apply_mtl(phong, source, warnings, missing)
                 done[phong.name] = phong
+    warnings += missing_warnings(missing)
     sync.relink(context.scene.objects)
     sync.finish()
     sync_mod.remember(context.scene, context.view_layer)

@@ -128,6 +128,20 @@ def _light_dict(light) -> dict:
     return out
 
 
+def camera_dict(scene, depsgraph, width: int, height: int, world=None) -> dict:
+    """The scene camera for a page: its type, world matrix (column-major; *world(rows)*
+    converts it, e.g. to glTF's Y-up world) and Blender's own projection matrix at
+    width × height (``calc_matrix_camera``: lens, sensor fit, shift, orthographic)."""
+    camera = scene.camera.evaluated_get(depsgraph)
+    projection = camera.calc_matrix_camera(depsgraph, x=width, y=height,
+                                           scale_x=scene.render.pixel_aspect_x,
+                                           scale_y=scene.render.pixel_aspect_y)
+    rows = [list(row) for row in camera.matrix_world]
+    return {"type": "orthographic" if camera.data.type == "ORTHO" else "perspective",
+            "matrix_world": world(rows) if world else _column_major(rows),
+            "projection": _column_major(projection)}
+
+
 def scene_dict(scene, view_layer, width: int, height: int, objects=None,
                described=None) -> tuple:
     """(the page's scene dict (``core/threejs.py``), warnings) of *scene* at width × height.
@@ -146,10 +160,6 @@ def scene_dict(scene, view_layer, width: int, height: int, objects=None,
     if data["model"] != "threejs":
         warnings.append(f"scene {scene.name!r} uses the seeds' model: the page shows three.js's "
                         "(set the scene's Lighting Model to three.js to see the same in Blender)")
-    camera = scene.camera.evaluated_get(depsgraph)
-    projection = camera.calc_matrix_camera(depsgraph, x=width, y=height,
-                                           scale_x=scene.render.pixel_aspect_x,
-                                           scale_y=scene.render.pixel_aspect_y)
     mats, index, meshes = [], {}, []
     for obj, entry in zip(objects, data["objects"]):
         points, normals, slots = _mesh_arrays(obj, depsgraph)
@@ -171,9 +181,7 @@ def scene_dict(scene, view_layer, width: int, height: int, objects=None,
     return {
         "format": "phong-nodes-threejs", "version": 1,
         "title": data["title"], "width": int(width), "height": int(height),
-        "camera": {"type": "orthographic" if camera.data.type == "ORTHO" else "perspective",
-                   "matrix_world": _column_major(camera.matrix_world),
-                   "projection": _column_major(projection)},
+        "camera": camera_dict(scene, depsgraph, width, height),
         "ambient": {"color": data["ambient"]["color"], "intensity": data["ambient"]["intensity"]},
         "lights": [_light_dict(light) for light in data["lights"]],
         "materials": mats,

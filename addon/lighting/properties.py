@@ -6,11 +6,14 @@ The values are stored as plain ID custom properties (``light["phong_intensity"]`
 Phong materials read those custom properties, and custom properties survive in a .blend
 opened without the extension.  ``light.phong`` and ``world.phong`` are thin PropertyGroups
 whose getters/setters forward to the custom properties, so the panels and scripts get
-named, typed, range-checked properties with the documented defaults.
+named, typed, range-checked properties with the documented defaults.  Their getters and
+setters live in ``forwarding``, a module that holds no ``bpy`` (see there why).
 """
 
 import bpy
 from bpy.props import FloatProperty, FloatVectorProperty, PointerProperty
+
+from . import forwarding
 
 #: (attribute, custom property key, label, default, min, soft max, description)
 LIGHT_SETTINGS = (
@@ -49,29 +52,12 @@ AMBIENT_COLOR = ("phong_ambient_color", (1.0, 1.0, 1.0))
 LIGHT_KEYS = {attr: (key, default) for attr, key, _l, default, *_ in LIGHT_SETTINGS}
 
 
-def _float_getter(key, default):
-    def get(self):
-        value = self.id_data.get(key, default)
-        try:
-            return float(value)
-        except (TypeError, ValueError):
-            return default
-    return get
-
-
-def _float_setter(key):
-    def set_(self, value):
-        self.id_data[key] = float(value)
-        self.id_data.update_tag()  # drivers read the evaluated copy: tag it
-    return set_
-
-
 def _light_annotations():
     ann = {}
     for attr, key, label, default, vmin, soft_max, desc in LIGHT_SETTINGS:
         ann[attr] = FloatProperty(
             name=label, description=desc, default=default, min=vmin, soft_max=soft_max,
-            get=_float_getter(key, default), set=_float_setter(key))
+            get=forwarding.float_getter(key, default), set=forwarding.float_setter(key))
     return ann
 
 
@@ -81,31 +67,18 @@ PhongLightSettings = type("PhongLightSettings", (bpy.types.PropertyGroup,), {
 })
 
 
-def _get_ambient_color(self):
-    key, default = AMBIENT_COLOR
-    value = self.id_data.get(key, default)
-    try:
-        return tuple(float(c) for c in value[:3])
-    except (TypeError, ValueError):
-        return default
-
-
-def _set_ambient_color(self, value):
-    self.id_data[AMBIENT_COLOR[0]] = [float(c) for c in value[:3]]
-    self.id_data.update_tag()
-
-
 class PhongWorldSettings(bpy.types.PropertyGroup):
     """Phong ambient light of a world (stored as custom properties of the world)"""
 
     ambient_intensity: FloatProperty(
         name="Ambient Intensity", description="Intensity of the Phong ambient light (seed 000 §3.3)",
         default=AMBIENT_INTENSITY[1], min=0.0, soft_max=1.0,
-        get=_float_getter(*AMBIENT_INTENSITY), set=_float_setter(AMBIENT_INTENSITY[0]))
+        get=forwarding.float_getter(*AMBIENT_INTENSITY),
+        set=forwarding.float_setter(AMBIENT_INTENSITY[0]))
     ambient_color: FloatVectorProperty(
         name="Ambient Color", description="Colour of the Phong ambient light", subtype="COLOR",
         size=3, default=AMBIENT_COLOR[1], min=0.0, soft_max=1.0,
-        get=_get_ambient_color, set=_set_ambient_color)
+        get=forwarding.color_getter(*AMBIENT_COLOR), set=forwarding.color_setter(AMBIENT_COLOR[0]))
 
 
 #: (identifier, label, description) of the lighting models; identifiers are the values of
@@ -119,28 +92,16 @@ MODEL_ITEMS = (
 )
 MODEL_KEY = "phong_model"
 
-
-def _get_model(self):
-    value = self.id_data.get(MODEL_KEY, MODEL_ITEMS[0][0])
-    names = [item[0] for item in MODEL_ITEMS]
-    return names.index(value) if value in names else 0
-
-
-def _set_model(self, value):
-    scene = self.id_data
-    new = MODEL_ITEMS[value][0]
-    if scene.get(MODEL_KEY, MODEL_ITEMS[0][0]) == new:
-        return
-    scene[MODEL_KEY] = new
-    from . import sync  # noqa: PLC0415  (sync imports this module)
-    sync.relink_scene(scene)
+_MODEL_NAMES = tuple(item[0] for item in MODEL_ITEMS)
 
 
 class PhongSceneSettings(bpy.types.PropertyGroup):
     """Phong settings of a scene (stored as custom properties of the scene)"""
 
     model: bpy.props.EnumProperty(
-        name="Lighting Model", items=MODEL_ITEMS, get=_get_model, set=_set_model,
+        name="Lighting Model", items=MODEL_ITEMS,
+        get=forwarding.enum_getter(MODEL_KEY, _MODEL_NAMES),
+        set=forwarding.model_setter(MODEL_KEY, _MODEL_NAMES),
         description="The lighting model of the scene's Phong materials (changing it "
                     "rebuilds the scene's lights groups; the materials keep their values)")
 
@@ -204,7 +165,9 @@ classes = (PhongLightSettings, PhongWorldSettings, PhongSceneSettings)
 _register_classes, _unregister_classes = bpy.utils.register_classes_factory(classes)
 
 
-def register():
+def register(on_model_change=None):
+    """*on_model_change(scene)* runs after a scene's Lighting Model changed."""
+    forwarding.set_model_callback(on_model_change)
     _register_classes()
     bpy.types.Light.phong = PointerProperty(type=PhongLightSettings)
     bpy.types.World.phong = PointerProperty(type=PhongWorldSettings)
@@ -216,3 +179,4 @@ def unregister():
     del bpy.types.World.phong
     del bpy.types.Light.phong
     _unregister_classes()
+    forwarding.set_model_callback(None)

@@ -1,0 +1,80 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""The getters and setters behind ``light.phong``, ``world.phong`` and ``scene.phong``: each
+forwards to an ID custom property (see ``properties``).
+
+This module must never hold ``bpy``, directly or through another module or function: Blender
+4.2 keeps the Python callbacks of a registered PropertyGroup's properties alive for ever
+(unregistering the class does not free them), and when their globals lead to the ``bpy``
+module, that module is never freed at interpreter exit, so Blender's own clean-up runs from a
+C destructor after Python has gone and crashes: a user's script that enabled the extension and
+ended normally exited with signal 11 (139).  Globals free of ``bpy`` break that chain; the
+callback handed down for the model switch is held by a weak reference for the same reason.
+"""
+
+import weakref
+
+
+def float_getter(key, default):
+    def get(self):
+        value = self.id_data.get(key, default)
+        try:
+            return float(value)
+        except (TypeError, ValueError):
+            return default
+    return get
+
+
+def float_setter(key):
+    def set_(self, value):
+        self.id_data[key] = float(value)
+        self.id_data.update_tag()  # drivers read the evaluated copy: tag it
+    return set_
+
+
+def color_getter(key, default):
+    def get(self):
+        value = self.id_data.get(key, default)
+        try:
+            return tuple(float(c) for c in value[:3])
+        except (TypeError, ValueError):
+            return default
+    return get
+
+
+def color_setter(key):
+    def set_(self, value):
+        self.id_data[key] = [float(c) for c in value[:3]]
+        self.id_data.update_tag()
+    return set_
+
+
+#: A weak reference to the function called with the scene after its model changed.
+_on_model_change = None
+
+
+def set_model_callback(callback) -> None:
+    """*callback(scene)* runs after a scene's Lighting Model changed (None: nothing runs)."""
+    global _on_model_change
+    _on_model_change = None if callback is None else weakref.ref(callback)
+
+
+def enum_getter(key, names):
+    """The index in *names* of the custom property *key* (its first name when unset)."""
+    def get(self):
+        value = self.id_data.get(key, names[0])
+        return names.index(value) if value in names else 0
+    return get
+
+
+def model_setter(key, names):
+    """Set the model name; a change runs the callback of ``set_model_callback``."""
+    def set_(self, value):
+        scene = self.id_data
+        new = names[value]
+        if scene.get(key, names[0]) == new:
+            return
+        scene[key] = new
+        callback = _on_model_change() if _on_model_change is not None else None
+        if callback is not None:
+            callback(scene)
+    return set_
