@@ -8,6 +8,12 @@ written the picture as base64 RGBA into ``<pre id="phong-pixels">``.  One render
 page (256 x 128, a few triangles) takes 1.3 to 1.6 s of wall time, nearly all of it Chromium
 starting up (measured with Chromium 150 on a 16-core machine; a fresh profile every time).
 
+A page that draws after the load event (the glTF check's: GLTFLoader decodes textures off the
+main thread) is read with ``until_done``: Chromium is driven over its DevTools pipe and the DOM
+taken once the page's title says it has finished, in real time.  (A virtual time budget was
+tried first: Chromium's virtual clock runs on while a decode is pending off the main thread,
+and CI once caught the page still loading.)
+
 Errors are the page's own capture (``window.onerror``, unhandled rejections, ``console.error``
 and ``console.warn``) plus the ``CONSOLE`` lines of level ERROR in Chromium's log; the rest of
 the log (D-Bus, EGL_BAD_MATCH and other GPU-process noise) is not the page's and is ignored.
@@ -16,14 +22,18 @@ the log (D-Bus, EGL_BAD_MATCH and other GPU-process noise) is not the page's and
 from __future__ import annotations
 
 import base64
+import fcntl
 import html
+import json
 import os
 import re
+import select
 import shutil
 import signal
 import subprocess
 import tempfile
 import time
+import urllib.parse
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -132,12 +142,18 @@ def _command(browser: str, html_path: str, profile: str, extra=()) -> list:
     return command + ["--dump-dom", url]
 
 
-def render_page(html_path: str, timeout: float = 180, extra_flags=()) -> PageResult:
+def render_page(html_path: str, timeout: float = 180, extra_flags=(),
+                until_done: bool = False) -> PageResult:
     """Render the page in headless Chromium (a fresh profile, removed afterwards) and return its
     pixels, errors and the wall time.  :class:`BrowserError` on a timeout, a Chromium that
     failed without printing a DOM, or a page that left no pixels (its errors in the message).
-    *extra_flags*: more Chromium flags (``--virtual-time-budget=MS`` for a page that draws
-    after the load event)."""
+
+    By default the DOM is the one Chromium prints after the load event (``--dump-dom``), for
+    pages that draw synchronously.  *until_done*: for a page that draws later (GLTFLoader
+    decodes its textures off the main thread, after the load event), Chromium is driven over
+    its DevTools pipe instead and the DOM is taken once the page's title says it has finished
+    (``phong: done`` or ``phong: error``), in real time, up to *timeout*.  *extra_flags*: more
+    Chromium flags."""
     browser = find_browser()
     if browser is None:
         raise BrowserError(missing_message())
@@ -146,24 +162,18 @@ def render_page(html_path: str, timeout: float = 180, extra_flags=()) -> PageRes
     profile = tempfile.mkdtemp(prefix="phong-chromium-")
     start = time.monotonic()
     try:
-        process = subprocess.Popen(_command(browser, html_path, profile, extra_flags),
-                                   stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
-                                   stderr=subprocess.PIPE, start_new_session=True)
-        try:
-            out, err = process.communicate(timeout=timeout)
-        except subprocess.TimeoutExpired:
-            _kill_group(process)
-            process.communicate()
-            raise BrowserError(f"Chromium did not finish {html_path} in {timeout:g} s") from None
-        finally:
-            _kill_group(process)  # helpers that outlived the browser process
+        if until_done:
+            dom, log, returncode = _run_until_done(browser, html_path, profile, extra_flags,
+                                                   timeout)
+        else:
+            dom, log, returncode = _run_dump_dom(browser, html_path, profile, extra_flags,
+                                                 timeout)
     finally:
         shutil.rmtree(profile, ignore_errors=True)
     seconds = time.monotonic() - start
-    dom, log = out.decode("utf-8", "replace"), err.decode("utf-8", "replace")
     if "<html" not in dom:
         last = [line for line in log.splitlines() if line.strip()][-3:]
-        raise BrowserError(f"Chromium ({browser}) exited with {process.returncode} and no page "
+        raise BrowserError(f"Chromium ({browser}) exited with {returncode} and no page "
                            f"for {html_path}: " + " / ".join(last))
     title, errors, rgba = parse_dom(dom)
     errors += console_errors(log)
@@ -171,6 +181,176 @@ def render_page(html_path: str, timeout: float = 180, extra_flags=()) -> PageRes
         raise BrowserError(f"{html_path} left no pixels (title {title!r}): "
                            + ("; ".join(errors) or "no error reported"), errors, title)
     return PageResult(rgba=rgba, errors=errors, seconds=seconds, title=title)
+
+
+def _run_dump_dom(browser, html_path, profile, extra_flags, timeout) -> tuple:
+    """(DOM, log, exit code) of ``chromium --dump-dom``."""
+    process = subprocess.Popen(_command(browser, html_path, profile, extra_flags),
+                               stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
+                               stderr=subprocess.PIPE, start_new_session=True)
+    try:
+        out, err = process.communicate(timeout=timeout)
+    except subprocess.TimeoutExpired:
+        _kill_group(process)
+        process.communicate()
+        raise BrowserError(f"Chromium did not finish {html_path} in {timeout:g} s") from None
+    finally:
+        _kill_group(process)  # helpers that outlived the browser process
+    return out.decode("utf-8", "replace"), err.decode("utf-8", "replace"), process.returncode
+
+
+#: The page's titles once it has finished (see ``threejs.capture_js``).
+DONE_TITLES = ("phong: done", "phong: error")
+OUTER_HTML = "document.documentElement.outerHTML"
+_POLL_S = 0.05
+
+
+def _run_until_done(browser, html_path, profile, extra_flags, timeout) -> tuple:
+    """(DOM, log, exit code): Chromium opens the page under ``--remote-debugging-pipe`` (the
+    DevTools protocol as NUL-ended JSON on its file descriptors 3 and 4) and the page's title
+    is read until it is one of :data:`DONE_TITLES`; then the DOM is read and Chromium closed.
+    Chromium's log goes to a temporary file, read afterwards."""
+    to_child, from_parent = os.pipe()    # Chromium reads commands on its fd 3
+    to_parent, from_child = os.pipe()    # and writes answers on its fd 4
+    command = [browser, *FLAGS, *extra_flags, f"--user-data-dir={profile}",
+               "--remote-debugging-pipe"]
+    if hasattr(os, "geteuid") and os.geteuid() == 0:
+        command.append("--no-sandbox")
+    command.append("file://" + os.path.abspath(html_path))
+
+    def child_fds():  # in the child: its pipe ends as fds 3 and 4 (dup2 makes them inheritable)
+        read_end = fcntl.fcntl(to_child, fcntl.F_DUPFD, 10)
+        write_end = fcntl.fcntl(from_child, fcntl.F_DUPFD, 10)
+        os.dup2(read_end, 3)
+        os.dup2(write_end, 4)
+
+    with tempfile.TemporaryFile() as log_file:
+        process = subprocess.Popen(command, stdin=subprocess.DEVNULL,
+                                   stdout=subprocess.DEVNULL, stderr=log_file,
+                                   start_new_session=True, close_fds=False,
+                                   preexec_fn=child_fds)
+        os.close(to_child)
+        os.close(from_child)
+        pipe = _DevTools(from_parent, to_parent, time.monotonic() + timeout, html_path)
+        try:
+            dom = pipe.dom_when_done(os.path.abspath(html_path))
+            pipe.send("Browser.close")
+            try:
+                process.wait(timeout=10)
+            except subprocess.TimeoutExpired:
+                pass
+        except _Late:
+            raise BrowserError(f"Chromium did not open {html_path} in {timeout:g} s") from None
+        except _PipeClosed:
+            dom = ""
+            try:
+                process.wait(timeout=10)
+            except subprocess.TimeoutExpired:
+                pass
+        finally:
+            pipe.close()
+            _kill_group(process)
+            process.wait()
+        log_file.seek(0)
+        log = log_file.read().decode("utf-8", "replace")
+    return dom, log, process.returncode
+
+
+class _PipeClosed(Exception):
+    """Chromium closed its DevTools pipe (it ended)."""
+
+
+class _Late(Exception):
+    """The deadline passed."""
+
+
+class _DevTools:
+    """The few DevTools protocol calls :func:`_run_until_done` needs, over Chromium's pipe."""
+
+    def __init__(self, write_fd: int, read_fd: int, deadline: float, html_path: str):
+        self.write_fd, self.read_fd = write_fd, read_fd
+        self.deadline, self.html_path = deadline, html_path
+        self.buffer = b""
+        self.next_id = 0
+
+    def close(self) -> None:
+        for fd in (self.write_fd, self.read_fd):
+            try:
+                os.close(fd)
+            except OSError:
+                pass
+
+    def send(self, method: str, session: str | None = None, **params) -> int:
+        self.next_id += 1
+        message = {"id": self.next_id, "method": method, "params": params}
+        if session:
+            message["sessionId"] = session
+        try:
+            os.write(self.write_fd, json.dumps(message).encode("utf-8") + b"\0")
+        except (BrokenPipeError, OSError):
+            raise _PipeClosed() from None
+        return self.next_id
+
+    def call(self, method: str, session: str | None = None, **params) -> dict:
+        """The result of one call (events read meanwhile are dropped)."""
+        wanted = self.send(method, session, **params)
+        while True:
+            message = self._read()
+            if message.get("id") == wanted:
+                if "error" in message:
+                    raise BrowserError(f"Chromium's DevTools refused {method}: "
+                                       f"{message['error'].get('message', message['error'])}")
+                return message.get("result", {})
+
+    def _read(self) -> dict:
+        while b"\0" not in self.buffer:
+            left = self.deadline - time.monotonic()
+            if left <= 0:
+                raise _Late()
+            ready, _, _ = select.select([self.read_fd], [], [], min(left, 1.0))
+            if ready:
+                chunk = os.read(self.read_fd, 1 << 16)
+                if not chunk:
+                    raise _PipeClosed()
+                self.buffer += chunk
+        message, self.buffer = self.buffer.split(b"\0", 1)
+        return json.loads(message.decode("utf-8", "replace"))
+
+    def dom_when_done(self, path: str) -> str:
+        """The page's DOM once its title is one of :data:`DONE_TITLES`; BrowserError naming
+        the page's title and the errors it reported when that has not happened by the
+        deadline."""
+        name = os.path.basename(path)
+        session = None
+        while session is None:
+            for target in self.call("Target.getTargets").get("targetInfos", []):
+                if target.get("type") == "page" and name in urllib.parse.unquote(
+                        target.get("url", "")):
+                    session = self.call("Target.attachToTarget", targetId=target["targetId"],
+                                        flatten=True)["sessionId"]
+                    break
+            else:
+                self._sleep()
+        try:
+            while self._evaluate(session, "document.title") not in DONE_TITLES:
+                self._sleep()
+        except _Late:
+            self.deadline = time.monotonic() + 10   # time to read what the page left
+            title, errors, _ = parse_dom(self._evaluate(session, OUTER_HTML) or "")
+            raise BrowserError(f"{self.html_path} did not finish in the time given (title "
+                               f"{title!r}): " + ("; ".join(errors) or "no error reported"),
+                               errors, title) from None
+        return self._evaluate(session, OUTER_HTML) or ""
+
+    def _evaluate(self, session: str, expression: str):
+        result = self.call("Runtime.evaluate", session, expression=expression,
+                           returnByValue=True)
+        return result.get("result", {}).get("value")
+
+    def _sleep(self) -> None:
+        if time.monotonic() + _POLL_S > self.deadline:
+            raise _Late()
+        time.sleep(_POLL_S)
 
 
 def _kill_group(process: subprocess.Popen) -> None:

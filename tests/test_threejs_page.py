@@ -422,3 +422,57 @@ def test_three_is_pinned():
     assert not os.path.exists(os.path.join(folder, "node_modules"))
     with open(os.path.join(ROOT, "tools", "phong.sh")) as stream:
         assert f"version={threejs.THREE_VERSION}" in stream.read()
+
+
+# --- pages that finish after the load event (the glTF check's GLTFLoader page) ------------
+
+_LATE_PAGE = """<!DOCTYPE html>
+<html><head><meta charset="utf-8"><title>phong: loading</title></head><body>
+<pre id="phong-errors"></pre>
+<pre id="phong-pixels" data-width="0" data-height="0"></pre>
+<script>
+@LATE@
+</script></body></html>
+"""
+# Two pixels, (10, 20, 30, 255) and (40, 50, 60, 128), written 1.5 s of real time after the
+# load event: nothing is drawn synchronously.
+_FINISH_LATE = """
+const t0 = performance.now();
+setTimeout(() => {
+  const pixels = document.getElementById("phong-pixels");
+  pixels.setAttribute("data-width", "2");
+  pixels.setAttribute("data-height", "1");
+  pixels.textContent = btoa(String.fromCharCode(10, 20, 30, 255, 40, 50, 60, 128));
+  document.title = "phong: done";
+}, 1500);
+"""
+_NEVER_FINISH = """
+document.getElementById("phong-errors").textContent = "texture 3 could not be decoded";
+"""
+
+
+def _late_page(tmp_path, script):
+    path = tmp_path / "late.html"
+    path.write_text(_LATE_PAGE.replace("@LATE@", script))
+    return str(path)
+
+
+def test_a_page_that_finishes_after_the_load_event_is_read_when_it_says_so(tmp_path):
+    if browser.find_browser() is None:
+        _missing(browser.missing_message())
+    result = browser.render_page(_late_page(tmp_path, _FINISH_LATE), timeout=60,
+                                 until_done=True)
+    assert result.title == "phong: done" and result.errors == []
+    assert result.rgba.tolist() == [[[10, 20, 30, 255], [40, 50, 60, 128]]]
+    assert result.seconds >= 1.5
+
+
+def test_a_page_that_never_finishes_names_its_title_and_errors(tmp_path):
+    if browser.find_browser() is None:
+        _missing(browser.missing_message())
+    with pytest.raises(browser.BrowserError) as caught:
+        browser.render_page(_late_page(tmp_path, _NEVER_FINISH), timeout=8, until_done=True)
+    message = str(caught.value)
+    assert "did not finish" in message and "'phong: loading'" in message
+    assert "texture 3 could not be decoded" in message
+    assert caught.value.title == "phong: loading"

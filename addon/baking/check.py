@@ -24,10 +24,6 @@ from ..demos.render import Overrides
 from ..interchange import threejs_export
 from . import show
 
-#: Virtual milliseconds Chromium gives the page before it prints the DOM.
-BUDGET_MS = 60000
-
-
 def _cycles(scene, objects, width, height, folder) -> np.ndarray:
     """Cycles' RGBA (linear, row 0 at the top) of *scene* with only *objects* showing their
     bakes."""
@@ -76,9 +72,9 @@ def check(scene, objects, glb_path: str, folder: str, height: int) -> dict:
                                             gltf_page.y_up)
         page = gltf_page.write_page(os.path.join(scratch, "page"), glb_path, camera, width,
                                     height)
-        # GLTFLoader decodes textures after the load event, where --dump-dom would print the
-        # page: a virtual time budget lets the page finish first
-        result = browser.render_page(page, extra_flags=(f"--virtual-time-budget={BUDGET_MS}",))
+        # GLTFLoader decodes textures off the main thread after the load event: the DOM is
+        # taken when the page says it has finished (a virtual time budget raced the decoding)
+        result = browser.render_page(page, until_done=True)
     finally:
         shutil.rmtree(scratch, ignore_errors=True)
     if result.errors:
