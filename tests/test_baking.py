@@ -4,6 +4,7 @@ centres; showing the bake and putting the Phong material back; glTF export."""
 
 import math
 import os
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -283,6 +284,40 @@ def test_show_restore_and_baking_again_replaces(bpy_clean, tmp_path):
     assert ball.material_slots[0].material.name == phong
     assert f"Phong Bake {ball.name}" not in bpy.data.materials
     assert not show.is_shown(ball)
+
+
+def test_objects_whose_names_clean_alike_never_share_an_image_file(bpy_clean, tmp_path):
+    """"ball 1" and "ball/1" both clean to "ball_1": baked one after the other into one
+    folder, each keeps its own file."""
+    bpy = bpy_clean
+    from phong_nodes.addon.baking import lighting  # noqa: PLC0415
+
+    scene = _build(bpy, "phong_vs_gouraud")
+    first, second = scene.objects["phong"], scene.objects["gouraud"]
+    first.name, second.name = "ball 1", "ball/1"
+    folder = tmp_path / "bakes"
+    results = {}
+    for obj in (first, second):
+        (result,), _ = _bake(scene, [obj], target="IMAGE", resolution=32,
+                             directory=str(folder))
+        results[obj.name] = result["path"]
+        if obj is first:
+            with open(result["path"], "rb") as stream:
+                first_bytes = stream.read()
+    assert len(set(results.values())) == 2 and len(os.listdir(folder)) == 2
+    for obj in (first, second):
+        image = obj[lighting.IMAGE_KEY]
+        assert os.path.samefile(bpy.path.abspath(image.filepath_raw), results[obj.name])
+    with open(results["ball 1"], "rb") as stream:
+        assert stream.read() == first_bytes  # the second bake left the first's file alone
+    # a plain name stays as it is; names equal but for case get their hash (one file on
+    # Windows and macOS)
+    names = lighting.file_names([SimpleNamespace(name=n) for n in ("Cube", "cube", "Sphere")],
+                                "PNG")
+    assert names["Sphere"] == "Sphere_phong_bake.png"
+    assert len({names["Cube"].lower(), names["cube"].lower()}) == 2
+    assert lighting.file_names([SimpleNamespace(name="Cube")], "EXR") == {
+        "Cube": "Cube_phong_bake.exr"}
 
 
 def test_bad_input_names_the_problem_and_changes_nothing(bpy_clean):

@@ -39,6 +39,7 @@ Baking one kind removes the object's bake of the other kind.
 
 from __future__ import annotations
 
+import hashlib
 import os
 import re
 import shutil
@@ -94,9 +95,24 @@ def image_name(obj) -> str:
     return f"Phong Bake {obj.name}"
 
 
-def file_name(obj, file_format: str) -> str:
-    stem = re.sub(r"[^A-Za-z0-9_.-]+", "_", obj.name).strip("._") or "object"
-    return f"{stem}_phong_bake.{'exr' if file_format == 'EXR' else 'png'}"
+def file_names(objects, file_format: str) -> dict:
+    """{object name: file name} of the bakes of *objects*: each name made file-safe.  A name
+    that had to change, or that matches another of *objects* but for case (one file on
+    Windows and macOS), gets 6 hex digits of its exact name's SHA-1: two objects never
+    write one file ("Cube 1" and "Cube/1" both clean to "Cube_1")."""
+    ext = "exr" if file_format == "EXR" else "png"
+    stems = {}
+    for obj in objects:
+        stems[obj.name] = re.sub(r"[^A-Za-z0-9_.-]+", "_", obj.name).strip("._") or "object"
+    folded = {}
+    for stem in stems.values():
+        folded[stem.lower()] = folded.get(stem.lower(), 0) + 1
+    names = {}
+    for name, stem in stems.items():
+        if stem != name or folded[stem.lower()] > 1:
+            stem += "-" + hashlib.sha1(name.encode("utf-8")).hexdigest()[:6]
+        names[name] = f"{stem}_phong_bake.{ext}"
+    return names
 
 
 # -- which objects and materials -----------------------------------------------------
@@ -354,13 +370,14 @@ def _file_settings(scene, file_format: str, o: Overrides) -> None:
     o.set(scene.render, "dither_intensity", 0.0)
 
 
-def _save(scene, image, obj, settings: Settings, scratch: str) -> str | None:
-    """Write the baked *image* as a file (``outputs.write_file``: never half-written) and
-    make *image* that file, or pack it; returns the file, or None when packed."""
+def _save(scene, image, settings: Settings, scratch: str, name: str) -> str | None:
+    """Write the baked *image* as the file *name* (``outputs.write_file``: never
+    half-written) and make *image* that file, or pack it; returns the file, or None when
+    packed."""
     ext = "exr" if settings.file_format == "EXR" else "png"
     folder = scratch if settings.pack else image_folder(settings.directory)
     os.makedirs(folder, exist_ok=True)
-    path = os.path.join(folder, file_name(obj, settings.file_format))
+    path = os.path.join(folder, name)
     rendered = os.path.join(scratch, f"render.{ext}")
     if hasattr(image, "use_half_precision"):
         image.use_half_precision = False  # bpy 4.2 writes half floats otherwise
@@ -434,7 +451,7 @@ def _stage():
 
 
 def _bake_chunk(scene, stage, chunk, settings: Settings, camera, scratch, temps,
-                matrix=None) -> list:
+                matrix, names) -> list:
     """Bake the objects of *chunk* in one call of Cycles' bake, in the scene *stage*, their
     slots holding bake copies of their materials meanwhile (added to *temps*, for the
     caller to remove in one go); returns what was made, per object."""
@@ -479,7 +496,8 @@ def _bake_chunk(scene, stage, chunk, settings: Settings, camera, scratch, temps,
         colors = obj.data.color_attributes
         if previous is not None and previous != ATTRIBUTE and colors.get(previous) is not None:
             colors.active_color = colors.get(previous)
-        path = _save(stage, image, obj, settings, scratch) if image is not None else None
+        path = (_save(stage, image, settings, scratch, names[obj.name]) if image is not None
+                else None)
         obj[INFO_KEY] = {"target": settings.target, "term": settings.term, "view": settings.view}
         results.append({"object": obj.name, "target": settings.target, "image": image,
                         "path": path, "attribute": ATTRIBUTE if image is None else None})
@@ -513,9 +531,11 @@ def bake(scene, objects, settings: Settings, progress=None) -> tuple:
         stage = _stage()
         temps.append(stage)
         _file_settings(stage, settings.file_format, Overrides())  # the stage goes later
+        names = file_names(objects, settings.file_format)
         for chunk in chunks(objects, CHUNK):
             t0 = time.perf_counter()
-            done = _bake_chunk(scene, stage, chunk, settings, camera, scratch, temps, matrix)
+            done = _bake_chunk(scene, stage, chunk, settings, camera, scratch, temps, matrix,
+                               names)
             seconds = (time.perf_counter() - t0) / len(chunk)
             for result in done:
                 result["seconds"] = seconds
