@@ -51,10 +51,11 @@ def _control(material, name, channels=3):
     return np.array(value[:channels], np.float64) if channels > 1 else float(value)
 
 
-def reference_at(bpy, scene, obj, P, N, view):
+def reference_at(bpy, scene, obj, P, N, view, color=None):
     """The numpy reference (core.compare.reference_image: node_groups/reference.py) of
     *obj*'s Phong material at world points P with unit normals N, seen along *view*
-    (zero rows: no viewer).  Returns {"Color", "Irradiant", ...}: (n, 3)."""
+    (zero rows: no viewer); *color*: the object (and ambient object) colour per point, (n, 3),
+    where a texture gives it.  Returns {"Color", "Irradiant", ...}: (n, 3)."""
     from phong_nodes.addon.demos import evaluate  # noqa: PLC0415
     from phong_nodes.core import compare  # noqa: PLC0415
 
@@ -65,10 +66,10 @@ def reference_at(bpy, scene, obj, P, N, view):
     material = lighting.phong_material(obj, 0)  # also while the bake is shown
     n = len(P)
     row = lambda v: np.broadcast_to(np.asarray(v, np.float64), (n, len(v)))[None]  # noqa: E731
-    color = _control(material, "phong_object_color")
+    color = row(_control(material, "phong_object_color")) if color is None else color[None]
     aovs = {compare.probe_name(k): v for k, v in {
         "P": P[None], "N": N[None], "I": N[None], "normal": np.zeros((1, n, 3)),
-        "view": view[None], "color": row(color), "ambient": row(color),
+        "view": view[None], "color": color, "ambient": color,
         "specular": row(_control(material, "phong_specular_color")),
         "irradiant": row(_control(material, "phong_irradiant_color")),
         "params": row((_control(material, "phong_exponent", 1),
@@ -110,9 +111,9 @@ def _attribute(obj, name="Phong Bake"):
     return values.reshape(-1, 4)[:, :3].astype(np.float64)
 
 
-def _expected(bpy, scene, obj, P, N, term="Color", view="CAMERA"):
+def _expected(bpy, scene, obj, P, N, term="Color", view="CAMERA", color=None):
     toward = _toward_camera(scene, P) if view == "CAMERA" else np.zeros_like(P)
-    out = reference_at(bpy, scene, obj, P, N, toward)
+    out = reference_at(bpy, scene, obj, P, N, toward, color)
     if view == "NONE" and term == "Color":
         return np.minimum(out["Irradiant"] + out["Ambient"] + out["Diffuse"], 1.0)
     return out[term]
@@ -138,7 +139,60 @@ def test_vertex_bake_matches_the_reference_at_every_vertex(bpy_clean, term, view
         assert want.max() > 0.05  # something lit was compared
 
 
-def _normal_slack(bpy, scene, obj, P, N, want, term, view):
+def _checker(co, node):
+    """Blender's Checker Texture (Cycles' svm_checker) at object coordinates *co*: (colours,
+    a mask of the points at least 1e-3 away from a square's edge, where the colour is
+    unambiguous)."""
+    color1 = np.array(node.inputs["Color1"].default_value[:3], np.float64)
+    color2 = np.array(node.inputs["Color2"].default_value[:3], np.float64)
+    p = (co * node.inputs["Scale"].default_value + 1e-6) * 0.999999
+    frac = p - np.floor(p)
+    clear = (np.minimum(frac, 1.0 - frac) > 1e-3).all(axis=1)
+    odd = np.abs(np.floor(p)).astype(np.int64) % 2
+    first = (odd[:, 0] == odd[:, 1]).astype(np.int64) == odd[:, 2]
+    return np.where(first[:, None], color1, color2), clear
+
+
+def test_vertex_bake_of_a_checker_texture_on_object_color(bpy_clean):
+    """The textured demo scene: a checker texture (object coordinates) feeds Object Color
+    (and the ambient object colour); the bake at each vertex is the reference with the
+    checker's colour there, worked out here from Blender's checker formula."""
+    bpy = bpy_clean
+    from phong_nodes.addon.baking import lighting  # noqa: PLC0415
+    from phong_nodes.addon.lighting import materials  # noqa: PLC0415
+
+    scene = _build(bpy, "textured")
+    objects = _meshes(scene)
+    _bake(scene, objects, target="VERTEX", term="COLOR", view="CAMERA")
+    seen, compared = set(), 0
+    for obj in objects:
+        tree = lighting.phong_material(obj, 0).node_tree
+        checker = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeTexChecker")
+        lights = tree.nodes[materials.LIGHTS_NODE]
+        for name in ("Object Color", materials.AMBIENT_INPUT):
+            assert lights.inputs[name].links[0].from_node == checker, name
+        co = np.array([v.co for v in obj.data.vertices], np.float64)
+        color, clear = _checker(co, checker)
+        P, N = _vertices(obj)
+        want = _expected(bpy, scene, obj, P, N, color=color)
+        got = _attribute(obj)
+        slack = _normal_slack(bpy, scene, obj, P, N, want, "Color", "CAMERA", color)
+        if not clear.any():
+            continue  # a floor whose vertices all lie on the squares' edges
+        err = np.abs(got - want)[clear].max(axis=1)
+        share = float((err <= FLOAT_TOL + slack).mean())
+        be.report(f"vertex bake, checker on Object Color, {obj.name}: {clear.sum()} of "
+                  f"{len(P)} vertices clear of the squares' edges, {share:.2%} within "
+                  f"{FLOAT_TOL:.0e} + {slack:.1e}, max |Δ| {err.max():.2e}")
+        # the 64-segment ball's highlight (exponent 40) and float32 sample placement: the
+        # image bake's rule (see FLOAT_TOL)
+        assert share >= FLOAT_SHARE and err.max() <= FLOAT_MAX, (obj.name, share, err.max())
+        seen |= {tuple(c) for c in color[clear]}
+        compared += int(clear.sum())
+    assert compared >= 100 and len(seen) >= 2  # both colours of a checker were compared
+
+
+def _normal_slack(bpy, scene, obj, P, N, want, term, view, color=None):
     """Cycles 5.1 and later keep shading normals with 16 bits per component: a face normal
     (0, 0, 1) renders as (1.5e-5, 1.5e-5, 1) (measured, see test_obj_import).  The largest
     change of the reference when each component of N moves by 2e-5, which a high exponent
@@ -151,8 +205,8 @@ def _normal_slack(bpy, scene, obj, P, N, want, term, view):
             moved = N.copy()
             moved[:, axis] += sign * 2e-5
             moved /= np.linalg.norm(moved, axis=1, keepdims=True)
-            worst = max(worst, float(np.abs(_expected(bpy, scene, obj, P, moved, term, view)
-                                            - want).max()))
+            worst = max(worst, float(np.abs(_expected(bpy, scene, obj, P, moved, term, view,
+                                                      color) - want).max()))
     return worst
 
 
