@@ -10,10 +10,13 @@ Pure python (no ``bpy``): the bake, the report and the headless command use it.
   SIGINT / SIGTERM held back, so no signal leaves the destination missing.
 * :func:`clean_stale` removes the hidden entries of killed runs (this host, process gone),
   so the next run starts clean; entries of live runs (other shards) are left alone.
+* :func:`safe_name` / :func:`safe_names`: a Blender name as a file or folder name that no
+  other name of the run shares.
 """
 
 from __future__ import annotations
 
+import hashlib
 import os
 import platform
 import re
@@ -25,6 +28,34 @@ import tempfile
 PACKAGE_DIR = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 KINDS = ("partial", "old", "index")
 _STALE = re.compile(r"^\.(%s)-[^.]*\.([A-Za-z0-9_-]+)\.(\d+)\." % "|".join(KINDS))
+
+
+_UNSAFE = re.compile(r"[^A-Za-z0-9_.-]+")
+
+
+def safe_name(name: str, default: str = "object") -> str:
+    """*name* as a file or folder name: characters other than letters, digits, ``_``, ``.``
+    and ``-`` become ``_``; a name so changed gets ``-`` and the first 6 hex digits of the
+    SHA-1 of its exact UTF-8 text, so two names never give one file ("Cube 1" and "Cube/1"
+    both clean to "Cube_1")."""
+    stem = _UNSAFE.sub("_", name).strip("._") or default
+    if stem != name:
+        stem += "-" + hashlib.sha1(name.encode("utf-8")).hexdigest()[:6]
+    return stem
+
+
+def safe_names(names, default: str = "object") -> dict:
+    """{name: :func:`safe_name`} for *names*, where names equal but for case (one file on
+    Windows and macOS) also get the hash."""
+    names = list(names)
+    stems = {name: safe_name(name, default) for name in names}
+    folded = {}
+    for stem in stems.values():
+        folded[stem.lower()] = folded.get(stem.lower(), 0) + 1
+    for name, stem in stems.items():
+        if folded[stem.lower()] > 1 and stem == name:
+            stems[name] = stem + "-" + hashlib.sha1(name.encode("utf-8")).hexdigest()[:6]
+    return stems
 
 
 def _host() -> str:

@@ -302,9 +302,10 @@ def _fmt(x, spec):
     return "–" if x is None else format(x, spec)
 
 
-def _metrics(out_dir: str, name: str):
+def _metrics(out_dir: str, name: str, kind: str = "comparison"):
     """The metrics.json of the scene folder *name*: a dict, None when the folder is not
-    finished (no metrics.json), False when the file cannot be read."""
+    finished (no metrics.json), False when the file cannot be read or the folder lacks what
+    it names.  *kind* "comparison" (demo, compare: the engine pairs) or "bake" (the .glb)."""
     path = os.path.join(out_dir, name, "metrics.json")
     if name.startswith(".") or not os.path.isfile(path):
         return None
@@ -313,7 +314,13 @@ def _metrics(out_dir: str, name: str):
             data = json.load(handle)
     except (OSError, ValueError):
         return False
-    return data if isinstance(data, dict) and isinstance(data.get("pairs"), dict) else False
+    if not isinstance(data, dict):
+        return False
+    if kind == "bake":
+        glb = data.get("glb")
+        whole = isinstance(glb, str) and os.path.isfile(os.path.join(out_dir, name, glb))
+        return data if whole else False
+    return data if isinstance(data.get("pairs"), dict) else False
 
 
 def results(out_dir: str) -> list:
@@ -334,7 +341,8 @@ class RunError(Exception):
 
 
 def write_run(out_dir: str, folders, command: str) -> str:
-    """Record in *out_dir* the scene folders that the whole run (all shards) makes."""
+    """Record in *out_dir* the scene folders that the whole run (all shards) makes;
+    *command*: demo, compare or bake."""
     data = {"command": command, "scenes": list(folders)}
     return write_file(os.path.join(out_dir, RUN_FILE), json.dumps(data, indent=1) + "\n")
 
@@ -342,7 +350,8 @@ def write_run(out_dir: str, folders, command: str) -> str:
 def check_run(out_dir: str) -> dict:
     """The state of the run in *out_dir*: ``expected`` (from run.json), ``finished`` (scene
     folders with their metrics), ``missing`` (no finished folder: never run, killed, or its
-    bake failed), ``failed`` (an engine does not match, or metrics.json unreadable).
+    bake failed), ``failed`` (an engine does not match, a bake's glTF check failed, or
+    metrics.json unreadable), ``kind`` ("bake" for a run of ``bake``, else "comparison").
     RunError when *out_dir* or its run.json cannot be read."""
     path = os.path.join(out_dir, RUN_FILE)
     if not os.path.isdir(out_dir):
@@ -352,15 +361,16 @@ def check_run(out_dir: str) -> dict:
             data = json.load(handle)
     except FileNotFoundError:
         raise RunError(f"{path}: missing: {out_dir} is not the output folder of a run of "
-                       "demo or compare (each writes it when it starts)") from None
+                       "demo, compare or bake (each writes it when it starts)") from None
     except (OSError, ValueError) as error:
         raise RunError(f"{path}: unreadable ({error})") from None
     names = data.get("scenes") if isinstance(data, dict) else None
     if not isinstance(names, list) or not all(isinstance(n, str) and n for n in names):
         raise RunError(f"{path}: scenes: expected a list of scene folder names")
-    state = {"expected": names, "finished": [], "missing": [], "failed": []}
+    kind = "bake" if data.get("command") == "bake" else "comparison"
+    state = {"expected": names, "finished": [], "missing": [], "failed": [], "kind": kind}
     for name in names:
-        metrics = _metrics(out_dir, name)
+        metrics = _metrics(out_dir, name, kind)
         if metrics is None:
             state["missing"].append(name)
         elif metrics is False or not metrics.get("ok"):
@@ -373,9 +383,12 @@ def check_run(out_dir: str) -> dict:
 def run_text(state: dict) -> str:
     """One line for a check_run state."""
     total, done = len(state["expected"]), len(state["finished"])
+    bake = state.get("kind") == "bake"
     if not state["missing"] and not state["failed"]:
-        return f"complete: {done} of {total} scene(s), every engine matches the reference"
-    parts = [f"INCOMPLETE: {done} of {total} scene(s) finished and matching"]
+        return f"complete: {done} of {total} scene(s), " + (
+            "every one baked and exported" if bake else "every engine matches the reference")
+    parts = [f"INCOMPLETE: {done} of {total} scene(s) "
+             + ("baked and exported" if bake else "finished and matching")]
     if state["missing"]:
         parts.append(f"missing {', '.join(state['missing'])}")
     if state["failed"]:

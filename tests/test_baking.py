@@ -2,8 +2,10 @@
 """Bake Phong Lighting: baked values against the numpy reference at vertices and at texel
 centres; showing the bake and putting the Phong material back; glTF export."""
 
+import json
 import math
 import os
+import shutil
 from types import SimpleNamespace
 
 import numpy as np
@@ -396,7 +398,6 @@ def test_bad_input_names_the_problem_and_changes_nothing(bpy_clean):
 
 
 def _glb_json(path):
-    import json  # noqa: PLC0415
     import struct  # noqa: PLC0415
 
     with open(path, "rb") as stream:
@@ -490,6 +491,31 @@ def test_bake_command_writes_glb_per_scene_and_a_line_per_object(bpy_clean, tmp_
         run = _cli(tmp_path, *args, "--out", str(tmp_path / "bad"))
         assert run.returncode == 2 and words in run.stderr, run.stderr
         assert not (tmp_path / "bad").exists()
+
+
+def test_bake_shards_into_one_folder_and_report_checks_the_run(bpy_clean, tmp_path):
+    """Two scenes (one named with a space) baked by two shards into one folder; report says
+    the run is whole, then names the scene whose folder was deleted."""
+    bpy = bpy_clean
+    first = _build(bpy, "phong_vs_gouraud")
+    second = _build(bpy, "textured")
+    second.name = "textured copy"
+    blend = str(tmp_path / "two.blend")
+    bpy.data.libraries.write(blend, {first, second}, path_remap="NONE", fake_user=False)
+    out = tmp_path / "out"
+    for part in ("1/2", "2/2"):
+        run = _cli(tmp_path, "bake", blend, "--target", "vertex", "--shard", part,
+                   "--out", str(out))
+        assert run.returncode == 0, run.stderr
+    folders = json.loads((out / "run.json").read_text())["scenes"]
+    assert folders[0] == "phong_vs_gouraud" and folders[1].startswith("textured_copy-")
+    assert sorted(p.name for p in out.iterdir() if p.is_dir()) == sorted(folders)
+    check = _cli(tmp_path, "report", str(out))
+    assert check.returncode == 0 and "complete: 2 of 2 scene(s)" in check.stdout, \
+        check.stdout + check.stderr
+    shutil.rmtree(out / folders[1])
+    check = _cli(tmp_path, "report", str(out))
+    assert check.returncode == 1 and f"missing {folders[1]}" in check.stdout
 
 
 def test_operators_bake_show_restore_and_refuse_bad_input(bpy_clean):

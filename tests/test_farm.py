@@ -157,6 +157,31 @@ def test_report_finds_a_deleted_scene_folder_and_an_empty_shard(tmp_path):
     assert "Traceback" not in check.stderr
 
 
+def test_report_of_a_bake_run_names_scenes_without_their_glb_or_with_a_failed_check(tmp_path):
+    """A bake run's folders (run.json "command": "bake"): whole with metrics.json and the
+    .glb it names; the check's verdict decides ok."""
+    out = tmp_path / "bake"
+    out.mkdir()
+    (out / "run.json").write_text(json.dumps({"command": "bake",
+                                              "scenes": ["a", "b", "c", "d"]}))
+    for name, ok, glb in (("a", True, True), ("b", False, True), ("c", True, False)):
+        (out / name).mkdir()
+        (out / name / "metrics.json").write_text(json.dumps({"glb": f"{name}.glb", "ok": ok}))
+        if glb:
+            (out / name / f"{name}.glb").write_bytes(b"glTF")
+    result = run(tmp_path, "report", str(out))
+    assert result.returncode == 1, result.stdout + result.stderr
+    assert ("INCOMPLETE: 1 of 4 scene(s) baked and exported; missing d; failed b, c"
+            in result.stdout), result.stdout
+    assert not (out / "index.html").exists()  # no comparison index for a bake run
+    for name in ("b", "c", "d"):
+        shutil.rmtree(out / name, ignore_errors=True)
+    (out / "run.json").write_text(json.dumps({"command": "bake", "scenes": ["a"]}))
+    result = run(tmp_path, "report", str(out))
+    assert result.returncode == 0 and "complete: 1 of 1 scene(s), every one baked" in \
+        result.stdout
+
+
 @pytest.mark.parametrize("case", ["no-folder", "no-run", "bad-run"])
 def test_report_of_a_folder_that_is_no_run_exits_2(tmp_path, case):
     folder = tmp_path / "x"
@@ -180,6 +205,9 @@ def test_report_of_a_folder_that_is_no_run_exits_2(tmp_path, case):
     (["--tasks", "0", "--", "demo"], "--tasks must be at least 1"),
     (["--", "demo", "--scenes", "nope"], "unknown scene 'nope'"),
     (["--", "compare", "missing.blend"], "missing.blend: no such file"),
+    (["--", "bake", "missing.blend", "--target", "vertex"], "missing.blend: no such file"),
+    (["--", "bake", "missing.blend"], "the following arguments are required: --target"),
+    (["--", "bake", "x.blend", "--target", "vertex", "--shard", "auto"], "leave out --shard"),
 ])
 def test_slurm_refuses_bad_commands_before_submitting(tmp_path, args, message):
     result = run(tmp_path, *args, tool=SLURM, env={"PATH": "/nonexistent"})

@@ -119,8 +119,9 @@ def parse_args(argv):
 def parse_report_args(argv):
     parser = argparse.ArgumentParser(
         prog="phong report", description="Rebuild DIR/index.html from the finished scene "
-        "folders and check the run: exit 0 when every scene of DIR/run.json is there and "
-        "matches, 1 naming those missing or failed, 2 when DIR is not a run's folder.")
+        "folders and check the run (demo, compare or bake): exit 0 when every scene of "
+        "DIR/run.json is there and matches (bake: is baked and exported, and its glTF check "
+        "passed), 1 naming those missing or failed, 2 when DIR is not a run's folder.")
     parser.add_argument("dir", help="the output folder of a run (its --out)")
     return parser.parse_args(argv)
 
@@ -135,11 +136,14 @@ def report_main(argv) -> int:
         print(f"phong report: {error}", file=sys.stderr)
         return 2
     outputs.clean_stale(out)  # temporary entries of killed tasks of this host
-    index = report.write_index(out)
-    results = report.results(out)
-    if results:
-        print(*summary_table(results), "", sep="\n")
-    print(f"phong report: {report.run_text(state)}; report: {index}")
+    if state["kind"] == "bake":  # scene folders with a .glb each: no comparison index
+        print(f"phong report: {report.run_text(state)}")
+    else:
+        index = report.write_index(out)
+        results = report.results(out)
+        if results:
+            print(*summary_table(results), "", sep="\n")
+        print(f"phong report: {report.run_text(state)}; report: {index}")
     return 0 if not state["missing"] and not state["failed"] else 1
 
 

@@ -7,7 +7,7 @@ form of Export glTF with Baked Phong Lighting), called by ``tools/phong.py bake`
 
 Per scene, into ``DIR/<scene>/``: ``<scene>.glb`` (KHR_materials_unlit with the baked
 texture or COLOR_0), the baked images (``textures/``, target image), ``metrics.json``
-(what was baked, seconds per object, the check) and, with ``--peers threejs``, the check:
+(what was baked, seconds per object, the check, ``ok``) and, with ``--peers threejs``, the check:
 the .glb rendered by three.js's GLTFLoader in headless Chromium against Cycles rendering the
 baked scene (``check/sheet.png``).  One line per object is printed as it is baked.  The
 .blend itself is not changed.
@@ -28,7 +28,7 @@ import tempfile
 import time
 
 import cli_input  # beside this file: --shard, --peers and the .blend, read as compare reads them
-from phong_nodes.core import outputs, scenes
+from phong_nodes.core import outputs, report, scenes
 
 TARGETS = ("image", "vertex")
 TERMS = ("color", "irradiant", "ambient", "diffuse", "specular")
@@ -79,7 +79,8 @@ def parse_args(argv):
 
 
 def _scenes(args):
-    """The scene names of args.file to bake (BadInput: exit 2)."""
+    """(the scene names of args.file this shard bakes, those of the whole run, objects_of);
+    BadInput: exit 2."""
     import bpy  # noqa: PLC0415
 
     from phong_nodes.addon.baking import lighting  # noqa: PLC0415
@@ -108,7 +109,7 @@ def _scenes(args):
         except lighting.BakeError as error:
             raise BadInput(f"{args.file}: scene {name!r}: {error}") from None
     try:
-        return scenes.shard(wanted, args.shard), objects_of
+        return scenes.shard(wanted, args.shard), wanted, objects_of
     except scenes.SceneError as error:
         raise BadInput(str(error)) from None
 
@@ -136,7 +137,7 @@ def run(argv, check_interrupt, state, terminal) -> int:
     phong_nodes.register()
     try:
         try:
-            mine, objects_of = _scenes(args)
+            mine, every, objects_of = _scenes(args)
         except BadInput as error:
             print(f"phong: {error}", file=sys.stderr)
             return 2
@@ -146,6 +147,8 @@ def run(argv, check_interrupt, state, terminal) -> int:
             print(f"phong: {problem}", file=sys.stderr)
             return 2
         outputs.clean_stale(out)
+        folders = outputs.safe_names(every, "scene")
+        report.write_run(out, [folders[name] for name in every], "bake")  # for report DIR
         state["total"] = len(mine)
         say = terminal()
         source = f" from {args.shard_source}" if args.shard_source else ""
@@ -158,7 +161,8 @@ def run(argv, check_interrupt, state, terminal) -> int:
             check_interrupt()
             print(f"[{number}/{len(mine)}] {name}", file=say)
             try:
-                metrics = _bake_scene(name, objects_of(name), args, out, say, check_interrupt)
+                metrics = _bake_scene(name, folders[name], objects_of(name), args, out, say,
+                                      check_interrupt)
             except KeyboardInterrupt:
                 raise
             except Exception as error:  # noqa: BLE001  (one bad scene must not hide the others)
@@ -183,13 +187,7 @@ def run(argv, check_interrupt, state, terminal) -> int:
         phong_nodes.unregister()
 
 
-def _folder(name) -> str:
-    import re  # noqa: PLC0415
-
-    return re.sub(r"[^A-Za-z0-9_.-]+", "_", name).strip("._") or "scene"
-
-
-def _bake_scene(name, objects, args, out, say, check_interrupt) -> dict:
+def _bake_scene(name, folder, objects, args, out, say, check_interrupt) -> dict:
     """Bake, export (and check) one scene into out/<scene>/ (whole or not at all)."""
     import bpy  # noqa: PLC0415
 
@@ -197,7 +195,6 @@ def _bake_scene(name, objects, args, out, say, check_interrupt) -> dict:
 
     scene = bpy.data.scenes[name]
     bpy.context.window.scene = scene
-    folder = _folder(name)
     os.makedirs(out, exist_ok=True)
     tmp = tempfile.mkdtemp(prefix=outputs.temp_prefix("partial", folder), dir=out)
     try:
@@ -228,6 +225,7 @@ def _bake_scene(name, objects, args, out, say, check_interrupt) -> dict:
             check_interrupt()
             metrics["check"] = check.check(scene, objects, glb, os.path.join(tmp, "check"),
                                            args.check_height)
+        metrics["ok"] = metrics.get("check", {}).get("verdict", {}).get("ok", True)
         with open(os.path.join(tmp, "metrics.json"), "w", encoding="utf-8") as handle:
             json.dump(metrics, handle, indent=2, ensure_ascii=False)
         outputs.replace_dir(tmp, os.path.join(out, folder))

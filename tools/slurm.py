@@ -3,6 +3,7 @@
 
     bash tools/phong.sh slurm [--tasks N] [--wait] [sbatch options] -- demo [options]
     bash tools/phong.sh slurm [--tasks N] [--wait] [sbatch options] -- compare FILE.blend [options]
+    bash tools/phong.sh slurm [--tasks N] [--wait] [sbatch options] -- bake FILE.blend --target T [options]
 
 Submits (1) an array of N tasks (``--array=0-<N-1>``, default 4), each running the command
 with ``--shard auto``: task i bakes every N-th scene from the (i+1)-th into the one output
@@ -33,11 +34,12 @@ import sys
 sys.dont_write_bytecode = True
 
 import phong  # noqa: E402  (tools/phong.py, beside this file)
+import phong_bake  # noqa: E402
 from phong_nodes.core import outputs, scenes  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 PHONG = os.path.join(HERE, "phong.py")
-USAGE = ("phong slurm [--tasks N] [--wait] [sbatch options] -- demo|compare ... "
+USAGE = ("phong slurm [--tasks N] [--wait] [sbatch options] -- demo|compare|bake ... "
          "(see bash tools/phong.sh slurm --help)")
 
 
@@ -71,15 +73,22 @@ def parse(argv):
         raise SubmitError("leave out --shard: each task takes its shard from the array "
                           "(--shard auto)")
     if command and command[0] == "report":
-        raise SubmitError("the command is demo or compare; the check job runs report itself")
-    args = phong.parse_args(command)  # argparse: exit 2 with its message on bad options
+        raise SubmitError("the command is demo, compare or bake; the check job runs report "
+                          "itself")
+    # argparse: exit 2 with its message on bad options
+    if command and command[0] == "bake":
+        args = phong_bake.parse_args(command[1:])
+        args.compare, args.bake = False, True
+    else:
+        args = phong.parse_args(command)
+        args.bake = False
     return own, flags, command, args
 
 
 def check_command(args, tasks: int) -> int:
     """The number of scenes of a demo run (SubmitError for a bad scene file); None for
-    compare (its scenes are known once Blender reads the file)."""
-    if args.compare:
+    compare and bake (their scenes are known once Blender reads the file)."""
+    if args.compare or args.bake:
         if not os.path.isfile(args.file):
             raise SubmitError(f"{args.file}: no such file")
         return None

@@ -39,9 +39,7 @@ Baking one kind removes the object's bake of the other kind.
 
 from __future__ import annotations
 
-import hashlib
 import os
-import re
 import shutil
 import tempfile
 import time
@@ -96,23 +94,11 @@ def image_name(obj) -> str:
 
 
 def file_names(objects, file_format: str) -> dict:
-    """{object name: file name} of the bakes of *objects*: each name made file-safe.  A name
-    that had to change, or that matches another of *objects* but for case (one file on
-    Windows and macOS), gets 6 hex digits of its exact name's SHA-1: two objects never
-    write one file ("Cube 1" and "Cube/1" both clean to "Cube_1")."""
+    """{object name: file name} of the bakes of *objects* (``outputs.safe_names``: no two
+    objects write one file)."""
     ext = "exr" if file_format == "EXR" else "png"
-    stems = {}
-    for obj in objects:
-        stems[obj.name] = re.sub(r"[^A-Za-z0-9_.-]+", "_", obj.name).strip("._") or "object"
-    folded = {}
-    for stem in stems.values():
-        folded[stem.lower()] = folded.get(stem.lower(), 0) + 1
-    names = {}
-    for name, stem in stems.items():
-        if stem != name or folded[stem.lower()] > 1:
-            stem += "-" + hashlib.sha1(name.encode("utf-8")).hexdigest()[:6]
-        names[name] = f"{stem}_phong_bake.{ext}"
-    return names
+    names = outputs.safe_names((obj.name for obj in objects), "object")
+    return {name: f"{stem}_phong_bake.{ext}" for name, stem in names.items()}
 
 
 # -- which objects and materials -----------------------------------------------------

@@ -12,8 +12,8 @@ World's Phong ambient light.
 from __future__ import annotations
 
 import math
-import re
 
+from ...core import outputs
 from ..lighting import lights as lights_mod
 from ..lighting import materials, properties, rig
 from . import builder
@@ -38,11 +38,12 @@ def phong_objects(scene, view_layer) -> list:
 
 
 def folder_name(scene) -> str:
-    """The report folder of *scene*: its scene file's name, else its own name made safe."""
+    """The report folder of *scene*: its scene file's name, else its own name made safe
+    (``outputs.safe_name``: two scenes never share a folder)."""
     data = builder.scene_file(scene)
     if data and isinstance(data.get("name"), str):
         return data["name"]
-    return re.sub(r"[^A-Za-z0-9_.-]+", "_", scene.name).strip("._") or "scene"
+    return outputs.safe_name(scene.name, "scene")
 
 
 def describe(scene, view_layer, objects) -> dict:
