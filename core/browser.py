@@ -33,7 +33,6 @@ import signal
 import subprocess
 import tempfile
 import time
-import urllib.parse
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -233,7 +232,7 @@ def _run_until_done(browser, html_path, profile, extra_flags, timeout) -> tuple:
         os.close(from_child)
         pipe = _DevTools(from_parent, to_parent, time.monotonic() + timeout, html_path)
         try:
-            dom = pipe.dom_when_done(os.path.abspath(html_path))
+            dom = pipe.dom_when_done()
             pipe.send("Browser.close")
             try:
                 process.wait(timeout=10)
@@ -316,16 +315,14 @@ class _DevTools:
         message, self.buffer = self.buffer.split(b"\0", 1)
         return json.loads(message.decode("utf-8", "replace"))
 
-    def dom_when_done(self, path: str) -> str:
+    def dom_when_done(self) -> str:
         """The page's DOM once its title is one of :data:`DONE_TITLES`; BrowserError naming
         the page's title and the errors it reported when that has not happened by the
         deadline."""
-        name = os.path.basename(path)
         session = None
-        while session is None:
+        while session is None:  # the one page Chromium opened, once it has its file:// URL
             for target in self.call("Target.getTargets").get("targetInfos", []):
-                if target.get("type") == "page" and name in urllib.parse.unquote(
-                        target.get("url", "")):
+                if target.get("type") == "page" and target.get("url", "").startswith("file:"):
                     session = self.call("Target.attachToTarget", targetId=target["targetId"],
                                         flatten=True)["sessionId"]
                     break
