@@ -55,6 +55,8 @@ NEUTRAL_OPTIONS = {"-o": (0.0, 0.0, 0.0), "-s": (1.0, 1.0, 1.0), "-t": (0.0, 0.0
 #: Options that change no pixel of a render (mip-mapping and resolution hints), and
 #: colour spaces that are Blender's own for colour maps.
 UNSEEN_OPTIONS = {"-boost", "-texres", "-type", "-imfchan"}
+#: Options the importer applies: -bm (bump strength), -o and -s (the map's placement).
+APPLIED_OPTIONS = {"-bm", "-o", "-s"}
 SRGB_NAMES = {"srgb", "srgb_texture", "srgb texture", "default"}
 #: Maps the Phong model has an input for.
 PHONG_MAPS = ("map_Ka", "map_Kd", "map_Ks", "map_Ke", "bump")
@@ -83,12 +85,24 @@ class TextureMap:
     def exists(self) -> bool:
         return os.path.isfile(self.resolved)
 
+    def placement(self):
+        """(offset, scale) of ``-o`` and ``-s`` (u, v, w, the file format's defaults filled
+        in), which the importer applies to the map's UV coordinates (uv × scale + offset, as
+        Blender's own OBJ importer and three.js's MTLLoader do); None when both are
+        neutral."""
+        offset = _padded("-o", self.options.get("-o", ()))
+        scale = _padded("-s", self.options.get("-s", ()))
+        if offset == NEUTRAL_OPTIONS["-o"] and scale == NEUTRAL_OPTIONS["-s"]:
+            return None
+        return offset, scale
+
     def unapplied_options(self, keyword: str) -> list:
         """The options that change the picture and that the importer does not apply."""
         out = []
         for option, values in self.options.items():
-            # -bm: applied to a bump map, meaningless for the others (File Formats 4.2)
-            if option in UNSEEN_OPTIONS or option == "-bm" or \
+            # -bm: applied to a bump map, meaningless for the others (File Formats 4.2);
+            # -o and -s: applied (placement)
+            if option in UNSEEN_OPTIONS or option in APPLIED_OPTIONS or \
                     NEUTRAL_OPTIONS.get(option) == _padded(option, values):
                 continue
             if option == "-colorspace" and (keyword == "bump" or

@@ -167,8 +167,10 @@ def test_map_options_by_arity_and_after_the_file_name(tmp_path):
     assert (ks.path, ks.options) == ("s.png", {"-colorspace": ("linear",), "-cc": ("on",),
                                                "-t": (0.1,)})
     assert (bump.path, bump.options) == ("b.png", {"-bm": (0.5,)})
-    assert material.unsupported() == ["map_Kd -o 0.1 0.2 (not applied)",
-                                      "map_Ks -colorspace linear (not applied)",
+    # -o and -s are applied (the map's placement: see placement()), -bm to bump maps
+    assert kd.placement() == ((0.1, 0.2, 0.0), (1.0, 1.0, 1.0))
+    assert ks.placement() is None and bump.placement() is None
+    assert material.unsupported() == ["map_Ks -colorspace linear (not applied)",
                                       "map_Ks -cc on (not applied)",
                                       "map_Ks -t 0.1 (not applied)"]
 
@@ -305,9 +307,7 @@ REAL = os.path.join(os.path.dirname(os.path.abspath(__file__)), "data", "obj", "
     # tinyobjloader's texture options: -o with 1 to 3 values, -blendu/-blendv, -bm after
     # the file name; Kt (tinyobjloader's transmittance) is Tf
     ("texture-options-issue-85.mtl", {
-        "default": ({"Kd": (0.0,) * 3}, None, None, ["map_Kd -o 0.1 (not applied)",
-                                                   "map_Ks -o 0.1 0.2 (not applied)",
-                                                   "map_Ns specular_highlight.jpg"]),
+        "default": ({"Kd": (0.0,) * 3}, None, None, ["map_Ns specular_highlight.jpg"]),
         "bm2": ({"Kd": (0.0,) * 3}, None, None, ["map_Ks -blendv off (not applied)"])}),
 ])
 def test_files_of_other_programs(file_name, expected):

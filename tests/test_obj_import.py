@@ -423,3 +423,50 @@ def test_files_of_other_programs_round_trip(bpy_clean, tmp_path, library):
     assert _import(bpy, obj) == {"FINISHED"}
     assert {m.name: _controls(m) for m in bpy.data.materials
             if m.name.startswith("Phong ")} == first
+
+
+@pytest.mark.cycles
+def test_map_offset_and_scale_place_the_texture_and_are_written_back(bpy_clean, blender_tmp,
+                                                                     tmp_path, capfd):
+    """``map_Kd -s 2 1 1 -o 0.25 0 0``: the map is sampled at uv × s + o (File Formats 4.2;
+    Blender's own importer and three.js's MTLLoader read it so), checked on rendered pixels
+    against a texture of a red and a blue half; export writes the options back."""
+    bpy = bpy_clean
+    scene, _sun = _lit_scene(bpy, "Placed")
+    image = bpy.data.images.new("stripes", 8, 2)
+    row = [(1.0, 0.0, 0.0, 1.0)] * 4 + [(0.0, 0.0, 1.0, 1.0)] * 4
+    image.pixels = [c for pixel in row * 2 for c in pixel]
+    image.filepath_raw = str(tmp_path / "stripes.png")
+    image.file_format = "PNG"
+    image.save()
+    (tmp_path / "placed.mtl").write_text(
+        "newmtl placed\nKa 0 0 0\nKd 1 1 1\nmap_Kd -s 2 1 1 -o 0.25 0 0 stripes.png\nillum 1\n")
+    (tmp_path / "placed.obj").write_text(
+        "mtllib placed.mtl\nvn 0 1 0\nv -3 0 1\nv 3 0 1\nv 3 0 -1\nv -3 0 -1\n"
+        "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\no tile\nusemtl placed\nf 1/1/1 2/2/1 3/3/1 4/4/1\n")
+    capfd.readouterr()
+    assert _import(bpy, str(tmp_path / "placed.obj")) == {"FINISHED"}
+    assert "not applied" not in "".join(capfd.readouterr())
+    assert bpy.ops.phong.add_term_passes() == {"FINISHED"}
+    passes, _seconds = render(bpy, scene, str(blender_tmp / "placed.exr"))
+    red, blue = expected({"Kd": (1, 0, 0), "illum": 1}), expected({"Kd": (0, 0, 1), "illum": 1})
+    checked = {"red": 0, "blue": 0}
+    for column in range(4, 62):
+        u = (-3.3 + (column + 0.5) * 0.1 + 3.0) / 6.0      # the tile spans x = -3..3
+        placed = (u * 2.0 + 0.25) % 1.0
+        # bilinear filtering of 8 texels: pure colours 1/16 away from the halves' edges
+        if 1 / 16 + 0.01 <= placed <= 7 / 16 - 0.01:
+            want, key = red, "red"
+        elif 9 / 16 + 0.01 <= placed <= 15 / 16 - 0.01:
+            want, key = blue, "blue"
+        else:
+            continue
+        np.testing.assert_allclose(passes["Phong Color"][10, column, :3], want, atol=ATOL,
+                                   err_msg=f"column {column}, u {u:.3f} -> {placed:.3f}")
+        checked[key] += 1
+    assert min(checked.values()) >= 10, checked
+    out = tmp_path / "again.mtl"
+    assert bpy.ops.phong.export_mtl(filepath=str(out)) == {"FINISHED"}
+    assert "map_Kd -o 0.25 0 0 -s 2 1 1 stripes.png" in out.read_text()
+    assert {m.name: m for m in mtl.load(str(out))}["placed"].maps["map_Kd"].placement() == (
+        (0.25, 0.0, 0.0), (2.0, 1.0, 1.0))

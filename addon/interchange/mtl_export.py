@@ -90,28 +90,56 @@ def _image_path(image, mtl_folder) -> str:
 
 
 def _map_or_value(material, input_name, control, mtl_folder, warnings):
-    """(colour, image path or None) of a colour input: its control's value, or an image
-    texture's file (colour 1: MTL multiplies a map by its colour)."""
+    """(colour, image path or None, map options) of a colour input: its control's value, or
+    an image texture's file (colour 1: MTL multiplies a map by its colour) with the
+    ``-o`` / ``-s`` of its placement (:func:`_placement`)."""
     color, feeder = _source(material, input_name, control)
     if feeder is None:
-        return color, None
+        return color, None, {}
     if feeder.bl_idname == "ShaderNodeTexImage" and feeder.image and not feeder.image.packed_file:
-        return (1.0, 1.0, 1.0), _image_path(feeder.image, mtl_folder)
+        return ((1.0, 1.0, 1.0), _image_path(feeder.image, mtl_folder),
+                _placement(material, feeder, warnings))
     multiplied = _colour_times_map(feeder)
-    if multiplied is not None and not multiplied[1].packed_file:
-        return multiplied[0], _image_path(multiplied[1], mtl_folder)
+    if multiplied is not None and not multiplied[1].image.packed_file:
+        return (multiplied[0], _image_path(multiplied[1].image, mtl_folder),
+                _placement(material, multiplied[1], warnings))
     if feeder.bl_idname == "ShaderNodeRGB":
-        return tuple(feeder.outputs[0].default_value), None
+        return tuple(feeder.outputs[0].default_value), None, {}
     what = (f"packed image {feeder.image.name!r} (unpack it to write a map)"
             if getattr(feeder, "image", None) is not None else f"node {feeder.name!r}")
     warnings.append(f"{material.name}: {input_name} comes from {what}; the control's value "
                     "is written")
-    return color, None
+    return color, None, {}
+
+
+def _placement(material, texture, warnings) -> dict:
+    """The map options ``-o`` / ``-s`` of the Image Texture *texture*: a Point Mapping node
+    without rotation in front of it (what the importer and Blender's own OBJ importer make);
+    {} when its Vector input is free.  Other placements are named in a warning."""
+    socket = texture.inputs["Vector"]
+    if not socket.is_linked:
+        return {}
+    mapping = socket.links[0].from_node
+    if mapping.bl_idname != "ShaderNodeMapping" or mapping.vector_type != "POINT" or \
+            any(float(v) for v in mapping.inputs["Rotation"].default_value) or \
+            any(mapping.inputs[k].is_linked for k in ("Location", "Rotation", "Scale")):
+        warnings.append(f"{material.name}: the map {texture.image.name!r} is placed by node "
+                        f"{mapping.name!r}, which MTL cannot write (only a Point Mapping's "
+                        "Location and Scale: -o, -s); the map is written unplaced")
+        return {}
+    options = {}
+    offset = tuple(float(v) for v in mapping.inputs["Location"].default_value)
+    scale = tuple(float(v) for v in mapping.inputs["Scale"].default_value)
+    if offset != (0.0, 0.0, 0.0):
+        options["-o"] = offset
+    if scale != (1.0, 1.0, 1.0):
+        options["-s"] = scale
+    return options
 
 
 def _colour_times_map(node):
-    """(colour, image) when *node* is the OBJ importer's colour x map (a Vector Math Multiply
-    of an RGB node and an Image Texture), else None."""
+    """(colour, Image Texture node) when *node* is the OBJ importer's colour x map (a Vector
+    Math Multiply of an RGB node and an Image Texture), else None."""
     if node.bl_idname != "ShaderNodeVectorMath" or node.operation != "MULTIPLY":
         return None
     a, b = node.inputs[0], node.inputs[1]
@@ -121,7 +149,7 @@ def _colour_times_map(node):
     if rgb.bl_idname != "ShaderNodeRGB" or texture.bl_idname != "ShaderNodeTexImage" \
             or texture.image is None:
         return None
-    return tuple(rgb.outputs[0].default_value), texture.image
+    return tuple(rgb.outputs[0].default_value), texture
 
 
 def to_mtl(material, mtl_folder, name=None):
@@ -132,16 +160,16 @@ def to_mtl(material, mtl_folder, name=None):
     read_as = material.get(ILLUM_KEY)      # the model an imported material was read as
     only = _colour_only(material, mtl_folder) if read_as in (None, 0) else None
     if only is not None:      # MTL illum 0: Kd is the colour, lights play no part
-        out.colors["Kd"], image = only
+        out.colors["Kd"], image, options = only
         if image is not None:
-            out.maps["map_Kd"] = mtl.TextureMap(image, "", {}, 0)
+            out.maps["map_Kd"] = mtl.TextureMap(image, "", options, 0)
         out.illum = 0
         return out, warnings
-    color, image = _map_or_value(material, "Object Color", "phong_object_color", mtl_folder,
-                                 warnings)
+    color, image, options = _map_or_value(material, "Object Color", "phong_object_color",
+                                          mtl_folder, warnings)
     out.colors["Kd"] = _rgb(color)
     if image is not None:
-        out.maps["map_Kd"] = mtl.TextureMap(image, "", {}, 0)
+        out.maps["map_Kd"] = mtl.TextureMap(image, "", options, 0)
     ambient = _input(material, recipe.AMBIENT_INPUT)
     object_color = _input(material, "Object Color")
     if ambient is not None and not ambient.is_linked:
@@ -150,13 +178,13 @@ def to_mtl(material, mtl_folder, name=None):
                              ambient.links[0].from_socket == object_color.links[0].from_socket):
         out.colors["Ka"] = out.colors["Kd"]          # the seeds' model: Ka = Kd
         if image is not None:
-            out.maps["map_Ka"] = mtl.TextureMap(image, "", {}, 0)
+            out.maps["map_Ka"] = mtl.TextureMap(image, "", dict(options), 0)
     else:
-        ka, ka_image = _map_or_value(material, recipe.AMBIENT_INPUT, "phong_object_color",
-                                     mtl_folder, warnings)
+        ka, ka_image, ka_options = _map_or_value(material, recipe.AMBIENT_INPUT,
+                                                 "phong_object_color", mtl_folder, warnings)
         out.colors["Ka"] = _rgb(ka)
         if ka_image is not None:
-            out.maps["map_Ka"] = mtl.TextureMap(ka_image, "", {}, 0)
+            out.maps["map_Ka"] = mtl.TextureMap(ka_image, "", ka_options, 0)
     specular, feeder_s = _source(material, "Specular Color", "phong_specular_color")
     exponent, feeder_e = _source(material, "Exponent", "phong_exponent")
     blinn, feeder_b = _source(material, "Blinn", "phong_blinn")
@@ -199,11 +227,11 @@ def _colour_only(material, mtl_folder):
         if any(float(v) != 0.0 for v in tuple(value)[:3]):
             return None
     notes = []
-    color, image = _map_or_value(material, "Irradiant Color", "phong_irradiant_color",
-                                 mtl_folder, notes)
+    color, image, options = _map_or_value(material, "Irradiant Color", "phong_irradiant_color",
+                                          mtl_folder, notes)
     if notes or (image is None and not any(float(v) for v in tuple(color)[:3])):
         return None
-    return _rgb(color), image
+    return _rgb(color), image, options
 
 
 def export(phong_materials, filepath) -> list:

@@ -15,7 +15,8 @@ Restore Original Materials puts it back) and given the MTL's values, term by ter
 A colour missing from the MTL is black (MTL's formula has no other default); a missing Ns
 keeps the recipe's 30.  ``map_Ka``, ``map_Kd``, ``map_Ks`` and ``map_Ke`` multiply their colour
 (MTL: "the map value is multiplied by the K value"), ``bump``/``map_Bump`` goes through a Bump
-node (strength ``-bm``) into Normal.  What the model cannot show (``Material.unsupported``:
+node (strength ``-bm``) into Normal; a map's ``-o`` / ``-s`` place it on the UV coordinates
+through a Mapping node (uv × s + o), as Blender's own importer does.  What the model cannot show (``Material.unsupported``:
 transparency, other illumination models, other maps, map options not applied) is reported once
 per material; a missing texture file is named in one warning, with every material it is left
 out of.  Only an unreadable library refuses the import (``core/mtl.py`` reads the rest as other
@@ -42,6 +43,8 @@ COLOR_INPUTS = {
 MAP_NODE = "phong_mtl_map:"        # + input name: the Image Texture of a map
 MULTIPLY_NODE = "phong_mtl_mul:"   # + input name: colour x map
 BUMP_NODE = "phong_mtl_bump"
+MAPPING_NODE = "phong_mtl_place:"  # + input name: the map's -o / -s (a Mapping node)
+UV_NODE = "phong_mtl_uv"           # the UV coordinates the Mapping nodes read
 BLACK = (0.0, 0.0, 0.0)
 NON_COLOR = "Non-Color"
 #: Custom property of an imported Phong material: the MTL illumination model it was read as
@@ -142,6 +145,7 @@ def apply_mtl(material, source: mtl.Material, warnings: list, missing: dict) -> 
         if image is not None:
             socket = _multiplied(tree, name, socket, image, index)
             keep |= {MAP_NODE + name, MULTIPLY_NODE + name}
+            keep |= _placed(tree, name, texture.placement())
         tree.links.new(socket, lights.inputs[name])
     tree.nodes["phong_exponent"].outputs[0].default_value = (
         30.0 if wanted["exponent"] is None else wanted["exponent"])
@@ -151,6 +155,7 @@ def apply_mtl(material, source: mtl.Material, warnings: list, missing: dict) -> 
     image = _image(bump, missing, user, non_color=True) if bump is not None else None
     if image is not None:
         keep |= _bump(tree, lights, image, bump.options.get("-bm", (1.0,))[0])
+        keep |= _placed(tree, "bump", bump.placement())
     elif lights.inputs["Normal"].is_linked:
         tree.links.remove(lights.inputs["Normal"].links[0])
     _prune(tree, keep)
@@ -175,6 +180,32 @@ def _multiplied(tree, name, color_socket, image, index):
     tree.links.new(color_socket, multiply.inputs[0])
     tree.links.new(texture.outputs["Color"], multiply.inputs[1])
     return multiply.outputs["Vector"]
+
+
+def _placed(tree, name, placement) -> set:
+    """The map *name*'s ``-o`` / ``-s`` (*placement*: (offset, scale), or None) as a Mapping
+    node (Point: Location, Scale) on the UV coordinates in front of its Image Texture, as
+    Blender's own OBJ importer places a map; returns the names of the nodes to keep."""
+    texture = tree.nodes[MAP_NODE + name]
+    if placement is None:
+        for link in list(texture.inputs["Vector"].links):
+            tree.links.remove(link)
+        return set()
+    offset, scale = placement
+    uv = tree.nodes.get(UV_NODE) or tree.nodes.new("ShaderNodeTexCoord")
+    uv.name = UV_NODE
+    uv.location = (-1750.0, 200.0)
+    mapping = tree.nodes.get(MAPPING_NODE + name) or tree.nodes.new("ShaderNodeMapping")
+    mapping.name = MAPPING_NODE + name
+    mapping.label = f"{name} map: -o / -s"
+    mapping.vector_type = "POINT"
+    mapping.location = (texture.location.x - 300.0, texture.location.y)
+    mapping.inputs["Location"].default_value = offset
+    mapping.inputs["Rotation"].default_value = (0.0, 0.0, 0.0)
+    mapping.inputs["Scale"].default_value = scale
+    tree.links.new(uv.outputs["UV"], mapping.inputs["Vector"])
+    tree.links.new(mapping.outputs["Vector"], texture.inputs["Vector"])
+    return {UV_NODE, MAPPING_NODE + name}
 
 
 def _bump(tree, lights, image, strength) -> set:
