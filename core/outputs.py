@@ -10,8 +10,9 @@ Pure python (no ``bpy``): the bake, the report and the headless command use it.
   SIGINT / SIGTERM held back, so no signal leaves the destination missing.
 * :func:`clean_stale` removes the hidden entries of killed runs (this host, process gone),
   so the next run starts clean; entries of live runs (other shards) are left alone.
-* :func:`safe_name` / :func:`safe_names`: a Blender name as a file or folder name that no
-  other name of the run shares.
+* :func:`clean_name`, :func:`distinct` (a run's scene folders), :func:`safe_name` /
+  :func:`safe_names` (files that pile up in one folder): Blender names as file names that
+  no other name shares.
 """
 
 from __future__ import annotations
@@ -33,20 +34,37 @@ _STALE = re.compile(r"^\.(%s)-[^.]*\.([A-Za-z0-9_-]+)\.(\d+)\." % "|".join(KINDS
 _UNSAFE = re.compile(r"[^A-Za-z0-9_.-]+")
 
 
-def safe_name(name: str, default: str = "object") -> str:
+def clean_name(name: str, default: str) -> str:
     """*name* as a file or folder name: characters other than letters, digits, ``_``, ``.``
-    and ``-`` become ``_``; a name so changed gets ``-`` and the first 6 hex digits of the
-    SHA-1 of its exact UTF-8 text, so two names never give one file ("Cube 1" and "Cube/1"
-    both clean to "Cube_1")."""
-    stem = _UNSAFE.sub("_", name).strip("._") or default
+    and ``-`` become ``_`` (*default* when nothing is left)."""
+    return _UNSAFE.sub("_", name).strip("._") or default
+
+
+def distinct(stems) -> list:
+    """*stems* in order, a later one equal to an earlier one (but for case: one folder on
+    Windows and macOS) followed by ``_`` until it is free: the scene folders of a run."""
+    taken, out = set(), []
+    for stem in stems:
+        while stem.lower() in taken:
+            stem += "_"
+        taken.add(stem.lower())
+        out.append(stem)
+    return out
+
+
+def safe_name(name: str, default: str = "object") -> str:
+    """:func:`clean_name`, and a name so changed gets ``-`` and the first 6 hex digits of
+    the SHA-1 of its exact UTF-8 text, so names never share a file across runs either
+    ("Cube 1" and "Cube/1" both clean to "Cube_1")."""
+    stem = clean_name(name, default)
     if stem != name:
         stem += "-" + hashlib.sha1(name.encode("utf-8")).hexdigest()[:6]
     return stem
 
 
 def safe_names(names, default: str = "object") -> dict:
-    """{name: :func:`safe_name`} for *names*, where names equal but for case (one file on
-    Windows and macOS) also get the hash."""
+    """{name: :func:`safe_name`} for *names*, where names equal but for case also get the
+    hash (files that pile up in one folder: the bake's images)."""
     names = list(names)
     stems = {name: safe_name(name, default) for name in names}
     folded = {}

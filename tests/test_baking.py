@@ -494,24 +494,28 @@ def test_bake_command_writes_glb_per_scene_and_a_line_per_object(bpy_clean, tmp_
 
 
 def test_bake_shards_into_one_folder_and_report_checks_the_run(bpy_clean, tmp_path):
-    """Two scenes (one named with a space) baked by two shards into one folder; report says
-    the run is whole, then names the scene whose folder was deleted."""
+    """Three scenes ("textured copy" and "textured_copy" clean alike) baked by two shards
+    into one folder; report says the run is whole, then names the scene whose folder was
+    deleted."""
     bpy = bpy_clean
     first = _build(bpy, "phong_vs_gouraud")
     second = _build(bpy, "textured")
     second.name = "textured copy"
-    blend = str(tmp_path / "two.blend")
-    bpy.data.libraries.write(blend, {first, second}, path_remap="NONE", fake_user=False)
+    third = _build(bpy, "textured")
+    third.name = "textured_copy"
+    blend = str(tmp_path / "three.blend")
+    bpy.data.libraries.write(blend, {first, second, third}, path_remap="NONE",
+                             fake_user=False)
     out = tmp_path / "out"
     for part in ("1/2", "2/2"):
         run = _cli(tmp_path, "bake", blend, "--target", "vertex", "--shard", part,
                    "--out", str(out))
         assert run.returncode == 0, run.stderr
     folders = json.loads((out / "run.json").read_text())["scenes"]
-    assert folders[0] == "phong_vs_gouraud" and folders[1].startswith("textured_copy-")
+    assert sorted(folders) == ["phong_vs_gouraud", "textured_copy", "textured_copy_"]
     assert sorted(p.name for p in out.iterdir() if p.is_dir()) == sorted(folders)
     check = _cli(tmp_path, "report", str(out))
-    assert check.returncode == 0 and "complete: 2 of 2 scene(s)" in check.stdout, \
+    assert check.returncode == 0 and "complete: 3 of 3 scene(s)" in check.stdout, \
         check.stdout + check.stderr
     shutil.rmtree(out / folders[1])
     check = _cli(tmp_path, "report", str(out))

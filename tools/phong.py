@@ -281,12 +281,8 @@ def _blend_jobs(args):
             bake.check(bpy.data.scenes[name])
         except bake.BakeError as error:
             raise BadInput(f"{args.file}: {error}") from None
-    folders = []  # of every scene, so that each shard names the same folder for a scene
-    for name in wanted:
-        folder = evaluate.folder_name(bpy.data.scenes[name])
-        while folder in folders:
-            folder += "_"
-        folders.append(folder)
+    # of every scene, so that each shard names the same folder for a scene
+    folders = outputs.distinct(evaluate.folder_name(bpy.data.scenes[name]) for name in wanted)
     try:
         mine = scenes.shard(list(zip(wanted, folders)), args.shard)
     except scenes.SceneError as error:

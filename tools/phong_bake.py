@@ -147,7 +147,9 @@ def run(argv, check_interrupt, state, terminal) -> int:
             print(f"phong: {problem}", file=sys.stderr)
             return 2
         outputs.clean_stale(out)
-        folders = outputs.safe_names(every, "scene")
+        # of every scene, so that each shard names the same folder for a scene
+        folders = dict(zip(every, outputs.distinct(outputs.clean_name(n, "scene")
+                                                   for n in every)))
         report.write_run(out, [folders[name] for name in every], "bake")  # for report DIR
         state["total"] = len(mine)
         say = terminal()

@@ -39,11 +39,11 @@ def phong_objects(scene, view_layer) -> list:
 
 def folder_name(scene) -> str:
     """The report folder of *scene*: its scene file's name, else its own name made safe
-    (``outputs.safe_name``: two scenes never share a folder)."""
+    (``outputs.clean_name``; a run keeps its scenes' folders apart with ``outputs.distinct``)."""
     data = builder.scene_file(scene)
     if data and isinstance(data.get("name"), str):
         return data["name"]
-    return outputs.safe_name(scene.name, "scene")
+    return outputs.clean_name(scene.name, "scene")
 
 
 def describe(scene, view_layer, objects) -> dict:
