@@ -161,14 +161,16 @@ def main(argv=None):
     parser.add_argument("--quick", action="store_true", help="tiny sizes (smoke test)")
     parser.add_argument("--repeats", type=int, help="repeats per figure (default 3)")
     parser.add_argument("--out", default=os.path.join(HERE, "results.json"))
-    parser.add_argument("--md", default=None, help="Markdown file (default: next to --out)")
+    parser.add_argument("--md", default=None,
+                        help="Markdown file (default: --out with .md for .json)")
     args = parser.parse_args(argv)
     cfg = dict(QUICK if args.quick else FULL)
     if args.repeats:
         cfg["repeats"] = args.repeats
     if cfg["repeats"] < 1:
         parser.error("--repeats must be at least 1")
-    md_path = args.md or os.path.join(os.path.dirname(os.path.abspath(args.out)), "results.md")
+    # the table beside the figures, named after them (results.json -> results.md)
+    md_path = args.md or os.path.splitext(os.path.abspath(args.out))[0] + ".md"
 
     raw = collect(cfg, log=lambda m: print(m, file=sys.stderr, flush=True))
     meta = {"schema": SCHEMA, "date": time.strftime("%Y-%m-%d %H:%M:%S"),

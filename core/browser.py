@@ -340,8 +340,13 @@ class _DevTools:
         return self._evaluate(session, OUTER_HTML) or ""
 
     def _evaluate(self, session: str, expression: str):
-        result = self.call("Runtime.evaluate", session, expression=expression,
-                           returnByValue=True)
+        """The value of *expression* in the page; None while the page has no context to
+        evaluate it in (it is being navigated or replaced: the next poll asks again)."""
+        try:
+            result = self.call("Runtime.evaluate", session, expression=expression,
+                               returnByValue=True)
+        except BrowserError:
+            return None
         return result.get("result", {}).get("value")
 
     def _sleep(self) -> None:
