@@ -133,12 +133,15 @@ def parse_dom(dom: str) -> tuple:
     return title, errors, rgba
 
 
-def _command(browser: str, html_path: str, profile: str, extra=()) -> list:
+def _command(browser: str, html_path: str, profile: str, extra=(),
+             mode: str = "--dump-dom") -> list:
+    """Chromium's command line for the page; *mode*: ``--dump-dom`` (print the DOM after the
+    load event) or ``--remote-debugging-pipe`` (:func:`_run_until_done`)."""
     command = [browser, *FLAGS, *extra, f"--user-data-dir={profile}"]
     if hasattr(os, "geteuid") and os.geteuid() == 0:
         command.append("--no-sandbox")  # Chromium refuses to run as root with its sandbox
     url = "file://" + os.path.abspath(html_path)
-    return command + ["--dump-dom", url]
+    return command + [mode, url]
 
 
 def render_page(html_path: str, timeout: float = 180, extra_flags=(),
@@ -211,11 +214,7 @@ def _run_until_done(browser, html_path, profile, extra_flags, timeout) -> tuple:
     Chromium's log goes to a temporary file, read afterwards."""
     to_child, from_parent = os.pipe()    # Chromium reads commands on its fd 3
     to_parent, from_child = os.pipe()    # and writes answers on its fd 4
-    command = [browser, *FLAGS, *extra_flags, f"--user-data-dir={profile}",
-               "--remote-debugging-pipe"]
-    if hasattr(os, "geteuid") and os.geteuid() == 0:
-        command.append("--no-sandbox")
-    command.append("file://" + os.path.abspath(html_path))
+    command = _command(browser, html_path, profile, extra_flags, "--remote-debugging-pipe")
 
     def child_fds():  # in the child: its pipe ends as fds 3 and 4 (dup2 makes them inheritable)
         read_end = fcntl.fcntl(to_child, fcntl.F_DUPFD, 10)
@@ -231,23 +230,26 @@ def _run_until_done(browser, html_path, profile, extra_flags, timeout) -> tuple:
         os.close(to_child)
         os.close(from_child)
         pipe = _DevTools(from_parent, to_parent, time.monotonic() + timeout, html_path)
+        ending = False  # Chromium was asked to close, or has closed: give it time to exit
         try:
             dom = pipe.dom_when_done()
-            pipe.send("Browser.close")
-            try:
-                process.wait(timeout=10)
-            except subprocess.TimeoutExpired:
-                pass
         except _Late:
             raise BrowserError(f"Chromium did not open {html_path} in {timeout:g} s") from None
         except _PipeClosed:
-            dom = ""
+            dom, ending = "", True
+        else:
             try:
-                process.wait(timeout=10)
-            except subprocess.TimeoutExpired:
-                pass
+                pipe.send("Browser.close")
+            except _PipeClosed:
+                pass  # it ended by itself: the DOM read before stands
+            ending = True
         finally:
             pipe.close()
+            if ending:
+                try:
+                    process.wait(timeout=10)
+                except subprocess.TimeoutExpired:
+                    pass
             _kill_group(process)
             process.wait()
         log_file.seek(0)

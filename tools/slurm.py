@@ -77,18 +77,14 @@ def parse(argv):
                           "itself")
     # argparse: exit 2 with its message on bad options
     if command and command[0] == "bake":
-        args = phong_bake.parse_args(command[1:])
-        args.compare, args.bake = False, True
-    else:
-        args = phong.parse_args(command)
-        args.bake = False
-    return own, flags, command, args
+        return own, flags, command, phong_bake.parse_args(command[1:])
+    return own, flags, command, phong.parse_args(command)
 
 
-def check_command(args, tasks: int) -> int:
+def check_command(command, args) -> int:
     """The number of scenes of a demo run (SubmitError for a bad scene file); None for
     compare and bake (their scenes are known once Blender reads the file)."""
-    if args.compare or args.bake:
+    if command and command[0] in ("compare", "bake"):
         if not os.path.isfile(args.file):
             raise SubmitError(f"{args.file}: no such file")
         return None
@@ -120,7 +116,7 @@ def script(*words) -> str:
 def main(argv) -> int:
     try:
         own, flags, command, args = parse(argv)
-        count = check_command(args, own.tasks)
+        count = check_command(command, args)
         if shutil.which("sbatch") is None:
             raise SubmitError("sbatch not found: run this where Slurm's commands work (a "
                               "login node), or start a one-node cluster with tools/cluster.py")
