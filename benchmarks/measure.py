@@ -43,7 +43,7 @@ def worker_setup():
 
 
 def uv_sphere(name, segments):
-    from phong_nodes.addon.demos import meshes  # noqa: PLC0415
+    from phong_nodes.addon.scene import meshes  # noqa: PLC0415
 
     return meshes.uv_sphere(name, 1.0, segments, max(segments // 2, 3))
 

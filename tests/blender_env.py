@@ -129,7 +129,7 @@ def compat():
 
 
 def _render():
-    from phong_nodes.addon.demos import render  # noqa: PLC0415  (needs bpy)
+    from phong_nodes.addon.scene import render  # noqa: PLC0415  (needs bpy)
 
     return render
 
@@ -211,7 +211,7 @@ def add_uv_plane(scene, name, x0, y0, size, material):
 def add_uv_sphere(scene, name, location, radius, material, segments=48, rings=24):
     """Smooth-shaded UV sphere (the add-on's mesh helper, no operator context needed)."""
     bpy = import_bpy()
-    from phong_nodes.addon.demos import meshes  # noqa: PLC0415  (needs bpy)
+    from phong_nodes.addon.scene import meshes  # noqa: PLC0415  (needs bpy)
 
     mesh = meshes.uv_sphere(name, radius, segments, rings)
     mesh.materials.append(material)
@@ -245,12 +245,6 @@ def add_aov(scene, name: str, kind: str = "COLOR"):
     return aov
 
 
-def _bake():
-    from phong_nodes.addon.demos import bake  # noqa: PLC0415  (needs bpy)
-
-    return bake
-
-
 def switch_to_eevee(scene, eevee_mats, aov: str = "eout") -> None:
     """Swap in the Eevee materials (one output in the single AOV *aov* each: Eevee's compile
     time grows fast with the number of AOVs) and Eevee's exact-check settings."""
@@ -264,8 +258,10 @@ def switch_to_eevee(scene, eevee_mats, aov: str = "eout") -> None:
 
 
 def render_exr(scene, path: str) -> None:
-    """Render *scene* into the file *path* (the add-on's bake does the same)."""
-    _bake().render_exr(scene, path)
+    """Render *scene* into the file *path* (the add-on's comparison does the same)."""
+    from phong_nodes.addon.scene.render import render_exr as render  # noqa: PLC0415  (needs bpy)
+
+    render(scene, path)
 
 
 def read_multilayer_exr(path: str) -> dict[str, np.ndarray]:

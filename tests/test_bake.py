@@ -129,14 +129,14 @@ def _read_png(path):
 @pytest.mark.cycles
 def test_moving_a_light_of_a_demo_changes_the_picture_and_still_matches(bpy_clean, tmp_path):
     bpy = bpy_clean
-    from phong_nodes.addon.demos import bake  # noqa: PLC0415
+    from phong_nodes.addon.comparison import engine  # noqa: PLC0415
     bpy.ops.phong.build_demo_scene(name="two_lights", resolution=24)
     scene = bpy.data.scenes["two_lights"]
-    first = bake.bake(scene, str(tmp_path / "before"), engines=("cycles",))
+    first = engine.run(scene, str(tmp_path / "before"), engines=("cycles",))
     assert first["ok"], first["verdict"]
     scene.objects["green"].location = (-1.0, -4.0, 2.5)
     scene.objects["green"].data.color = (0.2, 0.4, 1.0)
-    second = bake.bake(scene, str(tmp_path / "after"), engines=("cycles",))
+    second = engine.run(scene, str(tmp_path / "after"), engines=("cycles",))
     assert second["ok"], second["verdict"]
     before = _read_png(tmp_path / "before" / "cycles.png")
     after = _read_png(tmp_path / "after" / "cycles.png")
@@ -266,7 +266,7 @@ def test_a_stale_lights_group_is_a_mismatch(bpy_clean, tmp_path):
     """The reference reads the lights, not the lights groups: a group that does not follow
     its light (its intensity driver muted) shows as a mismatch, so the bake checks the recipe."""
     bpy = bpy_clean
-    from phong_nodes.addon.demos import bake  # noqa: PLC0415
+    from phong_nodes.addon.comparison import engine  # noqa: PLC0415
     from phong_nodes.addon.lighting import rig  # noqa: PLC0415
     bpy.ops.phong.build_demo_scene(name="lambert_vs_phong", resolution=16)
     scene = bpy.data.scenes["lambert_vs_phong"]
@@ -277,7 +277,7 @@ def test_a_stale_lights_group_is_a_mismatch(bpy_clean, tmp_path):
     light = fcurve.driver.variables[0].targets[0].id
     fcurve.mute = True
     light.phong.intensity = 3.0 * light.phong.intensity + 0.5
-    metrics = bake.bake(scene, str(tmp_path / "stale"), engines=("cycles",))
+    metrics = engine.run(scene, str(tmp_path / "stale"), engines=("cycles",))
     assert not metrics["ok"]
     assert metrics["pairs"]["cycles-reference"]["max_abs"] > 1e-2
 
@@ -286,7 +286,8 @@ def test_a_stale_lights_group_is_a_mismatch(bpy_clean, tmp_path):
 def test_interrupted_bake_leaves_nothing_and_puts_the_scene_back(bpy_clean, tmp_path,
                                                                    monkeypatch):
     bpy = bpy_clean
-    from phong_nodes.addon.demos import bake, builder  # noqa: PLC0415
+    from phong_nodes.addon.comparison import engine
+    from phong_nodes.addon.demos import builder  # noqa: PLC0415
     from phong_nodes.core import report, scenes  # noqa: PLC0415
     data = scenes.load(os.path.join(scenes.SCENES_DIR, "lambert_vs_phong.toml"))
     scene = builder.build(data, 12)
@@ -299,7 +300,7 @@ def test_interrupted_bake_leaves_nothing_and_puts_the_scene_back(bpy_clean, tmp_
     (tmp_path / "lambert_vs_phong").mkdir()
     (tmp_path / "lambert_vs_phong" / "metrics.json").write_text("{}")  # an older bake
     with pytest.raises(KeyboardInterrupt):
-        bake.bake(scene, str(tmp_path / "lambert_vs_phong"), engines=("cycles",))
+        engine.run(scene, str(tmp_path / "lambert_vs_phong"), engines=("cycles",))
     assert sorted(os.listdir(tmp_path)) == ["lambert_vs_phong"]
     assert os.listdir(tmp_path / "lambert_vs_phong") == ["metrics.json"], "old bake kept whole"
     assert sorted(g.name for g in bpy.data.node_groups) == groups, "probe groups removed"

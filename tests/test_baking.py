@@ -58,11 +58,11 @@ def reference_at(bpy, scene, obj, P, N, view, color=None):
     *obj*'s Phong material at world points P with unit normals N, seen along *view*
     (zero rows: no viewer); *color*: the object (and ambient object) colour per point, (n, 3),
     where a texture gives it.  Returns {"Color", "Irradiant", ...}: (n, 3)."""
-    from phong_nodes.addon.demos import evaluate  # noqa: PLC0415
+    from phong_nodes.addon.scene import describe  # noqa: PLC0415
     from phong_nodes.core import compare  # noqa: PLC0415
 
     layer = scene.view_layers[0]
-    data = evaluate.describe(scene, layer, [obj])
+    data = describe.describe(scene, layer, [obj])
     from phong_nodes.addon.baking import lighting  # noqa: PLC0415
 
     material = lighting.phong_material(obj, 0)  # also while the bake is shown

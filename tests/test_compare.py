@@ -10,7 +10,7 @@ import pytest
 
 from phong_nodes.core import compare
 
-# The scene as Blender evaluates it (addon/demos/evaluate.py): a sun and a spot (intensity 0,
+# The scene as Blender evaluates it (addon/scene/describe.py): a sun and a spot (intensity 0,
 # so only its cone edge matters); object 1 is reached by both, object 2 by none.
 SCENE = {
     "name": "synthetic", "title": "synthetic",

@@ -204,10 +204,11 @@ def test_threejs_matches_cycles_in_the_threejs_model(bpy_clean, tmp_path, name):
     """three.js r181 in Chromium against Cycles in the three.js model: ≥ 99 % of the pixels
     both cover within 2/255 (display values)."""
     need_browser()
-    from phong_nodes.addon.demos import bake, builder
+    from phong_nodes.addon.comparison import engine
+    from phong_nodes.addon.demos import builder
 
     scene = builder.build(scenes.load(os.path.join(scenes.SCENES_DIR, f"{name}.toml")), 96)
-    metrics = bake.bake(scene, str(tmp_path / name), engines=("cycles",), peers=("threejs",))
+    metrics = engine.run(scene, str(tmp_path / name), engines=("cycles",), peers=("threejs",))
     pair = metrics["pairs"]["threejs-cycles"]
     assert pair["pixels"] > 0.1 * metrics["pixels"]["object"]
     assert pair["share_within_2_255"] >= 0.99, pair
@@ -224,12 +225,13 @@ def test_threejs_matches_cycles_in_the_threejs_model(bpy_clean, tmp_path, name):
 def test_three_js_differs_from_the_seeds_model_and_is_not_judged_there(bpy_clean, tmp_path):
     """The comparison can fail: the same lab in the seeds' model is far from three.js."""
     need_browser()
-    from phong_nodes.addon.demos import bake, builder
+    from phong_nodes.addon.comparison import engine
+    from phong_nodes.addon.demos import builder
 
     data = scenes.load(os.path.join(scenes.SCENES_DIR, "threejs_phong_lab.toml"))
     data["model"] = "seeds"
     scene = builder.build(data, 64)
-    metrics = bake.bake(scene, str(tmp_path / "seeds"), engines=("cycles",),
+    metrics = engine.run(scene, str(tmp_path / "seeds"), engines=("cycles",),
                         peers=("threejs",))
     assert metrics["pairs"]["threejs-cycles"]["share_within_2_255"] < 0.5
     assert "threejs" not in metrics["verdict"] and metrics["ok"]

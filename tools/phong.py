@@ -266,23 +266,24 @@ def _blend_jobs(args):
     """The jobs of the scenes of args.file with Phong materials (BadInput: exit 2)."""
     import bpy  # noqa: PLC0415
 
-    from phong_nodes.addon.demos import bake, evaluate  # noqa: PLC0415
+    from phong_nodes.addon.comparison import engine
+    from phong_nodes.addon.scene import describe  # noqa: PLC0415
 
     names, wanted = open_blend(args.file, args.scenes)
     if wanted is None:
         wanted = [n for n in names
-                  if evaluate.phong_objects(bpy.data.scenes[n],
-                                            evaluate.view_layer_of(bpy.data.scenes[n]))]
+                  if describe.phong_objects(bpy.data.scenes[n],
+                                            describe.view_layer_of(bpy.data.scenes[n]))]
         if not wanted:
             raise BadInput(f"{args.file}: no scene has an object with a Phong material "
                            "(Apply Phong Material first)")
     for name in wanted:
         try:
-            bake.check(bpy.data.scenes[name])
-        except bake.BakeError as error:
+            engine.check(bpy.data.scenes[name])
+        except engine.ComparisonError as error:
             raise BadInput(f"{args.file}: {error}") from None
     # of every scene, so that each shard names the same folder for a scene
-    folders = outputs.distinct(evaluate.folder_name(bpy.data.scenes[name]) for name in wanted)
+    folders = outputs.distinct(describe.folder_name(bpy.data.scenes[name]) for name in wanted)
     try:
         mine = scenes.shard(list(zip(wanted, folders)), args.shard)
     except scenes.SceneError as error:
@@ -305,7 +306,8 @@ def _terminal():
 
 def _bake_scenes(jobs, args, out, say, state):
     """Make and bake each job's scene into out/<name>; returns (metrics list, failed names)."""
-    from phong_nodes.addon.demos import bake, builder  # noqa: PLC0415
+    from phong_nodes.addon.comparison import engine
+    from phong_nodes.addon.demos import builder  # noqa: PLC0415
 
     check_interrupt()
     results, failed = [], []
@@ -320,7 +322,7 @@ def _bake_scenes(jobs, args, out, say, state):
 
         try:
             scene = job.make()
-            metrics = bake.bake(scene, os.path.join(out, job.name), engines=args.engines,
+            metrics = engine.run(scene, os.path.join(out, job.name), engines=args.engines,
                                 progress=progress, resolution=args.resolution,
                                 peers=args.peers,
                                 on_folder=None if job.done is None

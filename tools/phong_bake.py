@@ -84,7 +84,7 @@ def _scenes(args):
     import bpy  # noqa: PLC0415
 
     from phong_nodes.addon.baking import lighting  # noqa: PLC0415
-    from phong_nodes.addon.demos import evaluate  # noqa: PLC0415
+    from phong_nodes.addon.scene import describe  # noqa: PLC0415
 
     try:
         names, wanted = cli_input.open_blend(args.file, args.scenes)
@@ -93,7 +93,7 @@ def _scenes(args):
 
     def objects_of(name):
         scene = bpy.data.scenes[name]
-        layer = evaluate.view_layer_of(scene)
+        layer = describe.view_layer_of(scene)
         return [o for o in layer.objects if lighting.has_phong(o) and not o.hide_render]
 
     if wanted is None:

@@ -37,7 +37,7 @@ def main():
 
     phong_nodes.register()
     from phong_nodes.addon import compat
-    from phong_nodes.addon.demos import meshes
+    from phong_nodes.addon.scene import meshes
 
     scene = bpy.context.scene
     for obj in list(scene.objects):

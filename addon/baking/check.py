@@ -18,9 +18,8 @@ import numpy as np
 
 from ...core import browser, compare, gltf_page, report, threejs
 from .. import compat
-from ..demos import render
-from ..demos.bake import render_exr
-from ..demos.render import Overrides
+from ..scene import render
+from ..scene.render import Overrides, render_exr
 from ..interchange import threejs_export
 from . import show
 

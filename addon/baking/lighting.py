@@ -48,8 +48,8 @@ from dataclasses import dataclass
 import bpy
 
 from ...core import outputs
-from ..demos import render
-from ..demos.render import Overrides
+from ..scene import render
+from ..scene.render import Overrides
 from ..lighting import materials
 
 TARGETS = ("IMAGE", "VERTEX")

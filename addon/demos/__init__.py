@@ -1,2 +1,2 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""Demo scenes from scene files, exact render settings, the comparison bake."""
+"""Demo scenes built from the scene files ``scenes/*.toml`` as ordinary live scenes (``builder``)."""

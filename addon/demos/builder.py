@@ -31,13 +31,10 @@ from .. import compat
 from ..baking import lighting, show
 from ..lighting import materials, properties, rig
 from ..lighting import sync as sync_mod
-from . import meshes, render
+from ..scene import meshes, render
+from ..scene.describe import SCENE_FILE_LIGHTS, SCENE_KEY, scene_file
 
-#: Custom property on a built scene: the scene file's dict (JSON) it was built from; the
-#: comparison takes its title, source and description from it.
-SCENE_KEY = "phong_demo"
 BLACK = (0.0, 0.0, 0.0)
-LIGHT_TYPES = {"point": "POINT", "directional": "SUN", "spot": "SPOT"}
 
 
 def build(data: dict, resolution: int = 256) -> bpy.types.Scene:
@@ -78,15 +75,6 @@ def _bake(scene, obj, target: str) -> None:
     """*obj* baked (Bake Phong Lighting, its image packed) and showing its bake."""
     settings = lighting.Settings(target=target.upper(), resolution=256, pack=True)
     show.bake_objects(scene, [obj], settings, display=True)
-
-
-def scene_file(scene) -> dict | None:
-    """The scene file's dict a scene was built from, or None."""
-    text = scene.get(SCENE_KEY)
-    try:
-        return json.loads(text) if isinstance(text, str) else None
-    except ValueError:
-        return None
 
 
 # -- scene parts -----------------------------------------------------------------------
@@ -183,7 +171,7 @@ def _link(light, reached, everyone) -> None:
 
 
 def _light(scene, light_data):
-    kind = LIGHT_TYPES[light_data["type"]]
+    kind = SCENE_FILE_LIGHTS[light_data["type"]]
     light = bpy.data.lights.new(light_data["name"], kind)
     light.color = light_data["color"]
     if hasattr(light, "use_shadow"):

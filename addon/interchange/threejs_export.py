@@ -9,7 +9,7 @@ lights (docs/threejs.md, "The exported page"):
   in world space, one three.js mesh per object and material slot;
 * the scene camera: its world matrix and Blender's own projection matrix
   (``calc_matrix_camera`` at the page's size: lens, sensor fit, shift, orthographic);
-* the lights as Blender evaluates them (``demos/evaluate.describe``) with their three.js
+* the lights as Blender evaluates them (``demos/describe.describe``) with their three.js
   settings (intensity, distance, decay, angle = half the spot size, penumbra), and the
   World's Phong ambient light as an AmbientLight; Light Linking as light sets (the page
   renders each set's objects with its lights);
@@ -29,7 +29,7 @@ import math
 import numpy as np
 
 from ...core import threejs
-from ..demos import evaluate
+from ..scene import describe
 from ..lighting import materials
 
 #: The control that feeds each three.js material field (by the lights group's input).
@@ -146,16 +146,16 @@ def scene_dict(scene, view_layer, width: int, height: int, objects=None,
                described=None) -> tuple:
     """(the page's scene dict (``core/threejs.py``), warnings) of *scene* at width × height.
     *objects*: the Phong objects to export (default: those of the view layer); *described*:
-    ``evaluate.describe`` of them when the caller has it already."""
+    ``describe.describe`` of them when the caller has it already."""
     if scene.camera is None:
         raise ValueError(f"scene {scene.name!r} has no camera")
     if objects is None:
-        objects = evaluate.phong_objects(scene, view_layer)
+        objects = describe.phong_objects(scene, view_layer)
     if not objects:
         raise ValueError(f"scene {scene.name!r} has no object with a Phong material in view "
                          f"layer {view_layer.name!r} (Apply Phong Material first)")
     depsgraph = view_layer.depsgraph
-    data = described or evaluate.describe(scene, view_layer, objects)
+    data = described or describe.describe(scene, view_layer, objects)
     warnings = []
     if data["model"] != "threejs":
         warnings.append(f"scene {scene.name!r} uses the seeds' model: the page shows three.js's "

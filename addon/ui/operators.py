@@ -15,7 +15,9 @@ from bpy_extras.io_utils import ExportHelper, ImportHelper
 from ...core import compare, outputs, scenes
 from ...node_groups.library import GROUPS
 from .. import loader
-from ..demos import bake, builder, evaluate
+from ..comparison import engine
+from ..demos import builder
+from ..scene import describe
 from ...core import mtl
 from ...core import threejs
 from ..interchange import mtl_export, obj_import, threejs_export
@@ -316,9 +318,9 @@ heatmaps, a sheet and metrics.json"""
         scene = context.scene
         peers = [p.lower() for p in self.peers]
         try:
-            bake.check(scene, self._layer(context))
-            bake.check_peers(peers)
-        except bake.BakeError as error:
+            engine.check(scene, self._layer(context))
+            engine.check_peers(peers)
+        except engine.ComparisonError as error:
             self.report({"ERROR"}, f"Bake Phong Comparison: {error}")
             return {"CANCELLED"}
         folder = bpy.path.abspath(self.directory) if self.directory.startswith("//") \
@@ -329,15 +331,15 @@ heatmaps, a sheet and metrics.json"""
         if problem is not None:
             self.report({"ERROR"}, f"Bake Phong Comparison: {problem}")
             return {"CANCELLED"}
-        name = evaluate.folder_name(scene)
+        name = describe.folder_name(scene)
         wm = context.window_manager
         wm.progress_begin(0, 100)
         try:
-            metrics = bake.bake(scene, os.path.join(folder, name),
+            metrics = engine.run(scene, os.path.join(folder, name),
                                 engines=[e.lower() for e in self.engines],
                                 progress=lambda f, _t: wm.progress_update(int(100 * f)),
                                 view_layer=self._layer(context), peers=peers)
-        except (RuntimeError, OSError, bake.BakeError) as error:
+        except (RuntimeError, OSError, engine.ComparisonError) as error:
             self.report({"ERROR"}, f"Bake Phong Comparison: bake failed: {error}")
             return {"CANCELLED"}
         finally:

@@ -11,15 +11,29 @@ World's Phong ambient light.
 
 from __future__ import annotations
 
+import json
 import math
 
 from ...core import outputs
 from ..lighting import lights as lights_mod
 from ..lighting import materials, properties, rig
-from . import builder
 
+#: Custom property on a scene built from a scene file (``demos/builder.py``): the file's dict
+#: (JSON); the comparison takes its title, source and description from it.
+SCENE_KEY = "phong_demo"
+#: The scene files' (and the reference's) light type -> Blender light type.
+SCENE_FILE_LIGHTS = {"point": "POINT", "directional": "SUN", "spot": "SPOT"}
 #: Blender light type -> the scene files' (and the reference's) light type.
-LIGHT_TYPES = {kind: name for name, kind in builder.LIGHT_TYPES.items()}
+LIGHT_TYPES = {kind: name for name, kind in SCENE_FILE_LIGHTS.items()}
+
+
+def scene_file(scene) -> dict | None:
+    """The scene file's dict a scene was built from, or None."""
+    text = scene.get(SCENE_KEY)
+    try:
+        return json.loads(text) if isinstance(text, str) else None
+    except ValueError:
+        return None
 
 
 def view_layer_of(scene, name: str | None = None):
@@ -40,7 +54,7 @@ def phong_objects(scene, view_layer) -> list:
 def folder_name(scene) -> str:
     """The report folder of *scene*: its scene file's name, else its own name made safe
     (``outputs.clean_name``; a run keeps its scenes' folders apart with ``outputs.distinct``)."""
-    data = builder.scene_file(scene)
+    data = scene_file(scene)
     if data and isinstance(data.get("name"), str):
         return data["name"]
     return outputs.clean_name(scene.name, "scene")
@@ -53,7 +67,7 @@ def describe(scene, view_layer, objects) -> dict:
     depsgraph.update()
     lights, _unsupported = lights_mod.scene_lights(scene, view_layer)
     rules = [lights_mod.receivers(obj) for obj in lights]
-    data = builder.scene_file(scene) or {}
+    data = scene_file(scene) or {}
     width, height = scene.render.resolution_x, scene.render.resolution_y
     return {
         "name": folder_name(scene),

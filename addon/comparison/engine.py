@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""The comparison bake: Eevee, Cycles and the numpy reference of any scene with Phong
+"""The comparison: Eevee, Cycles and the numpy reference of any scene with Phong
 materials (a demo scene, an artist's scene, a production file).
 
 * Cycles renders the picture, the materials' term passes ("Phong Irradiant" ...) and the
@@ -10,14 +10,14 @@ materials (a demo scene, an artist's scene, a production file).
   0.01.
 * Eevee renders the picture: 1 TAA sample, filter size 0: its first sample sits at the
   pixel centre too.
-* ``evaluate.describe`` reads the lights, Light Linking and World ambient as Blender
+* ``describe.describe`` reads the lights, Light Linking and World ambient as Blender
   evaluates them; ``core.compare`` computes the reference from them and the probes, and the
   metrics; ``core.report`` writes the pictures, the sheet and metrics.json.
 
-Every setting the bake changes (render settings, view layers, passes, object pass
+Every setting the comparison changes (render settings, view layers, passes, object pass
 indices, lights groups) is put back afterwards, also after an error.  Everything is
 written into a hidden temporary folder beside the destination and renamed into place at
-the end, so an interrupted bake leaves no folder that looks finished.
+the end, so an interrupted comparison leaves no folder that looks finished.
 """
 
 from __future__ import annotations
@@ -35,39 +35,29 @@ from .. import compat
 from ..lighting import materials, rig
 from ..lighting import sync as sync_mod
 from ..interchange import threejs_export
-from . import evaluate, render
-from .render import Overrides
+from ..scene import describe, render
+from ..scene.render import Overrides, render_exr
 
 
-class BakeError(ValueError):
+class ComparisonError(ValueError):
     """A scene that cannot be compared; the message says why."""
 
 
 # -- what is compared ----------------------------------------------------------------
 
 def check(scene, view_layer=None):
-    """(view layer, Phong objects) of *scene*, or BakeError saying why it cannot be baked."""
-    layer = evaluate.view_layer_of(scene, view_layer)
-    objects = evaluate.phong_objects(scene, layer)
+    """(view layer, Phong objects) of *scene*, or ComparisonError saying why it cannot be compared."""
+    layer = describe.view_layer_of(scene, view_layer)
+    objects = describe.phong_objects(scene, layer)
     if not objects:
-        raise BakeError(f"scene {scene.name!r} has no object with a Phong material in view "
+        raise ComparisonError(f"scene {scene.name!r} has no object with a Phong material in view "
                         f"layer {layer.name!r} (Apply Phong Material first)")
     if scene.camera is None:
-        raise BakeError(f"scene {scene.name!r} has no camera")
+        raise ComparisonError(f"scene {scene.name!r} has no camera")
     return layer, objects
 
 
 # -- rendering ------------------------------------------------------------------------
-
-def render_exr(scene, path: str, set_=setattr) -> None:
-    """Render *scene* into the file *path* with its output settings."""
-    set_(scene.render, "filepath", path)
-    set_(scene.render, "use_file_extension", False)
-    with bpy.context.temp_override(scene=scene):
-        bpy.ops.render.render(write_still=True, scene=scene.name)
-    if not os.path.exists(path):
-        raise RuntimeError(f"the render did not write {path}")
-
 
 def _render(scene, engine, folder, o: Overrides) -> dict:
     render.exact(scene, engine, o.set)
@@ -177,17 +167,17 @@ def render_all(scene, layer, objects, engines, folder, resolution=None, progress
     return images, passes, terms
 
 
-# -- the bake ---------------------------------------------------------------------------
+# -- the comparison -----------------------------------------------------------------------
 
 def check_peers(peers) -> None:
-    """BakeError naming what to install when a peer cannot run here (before anything is
+    """ComparisonError naming what to install when a peer cannot run here (before anything is
     written)."""
     unknown = [p for p in peers if p not in compare.PEERS]
     if unknown:
-        raise BakeError(f"unknown peer {unknown[0]!r}; expected one of {', '.join(compare.PEERS)}")
+        raise ComparisonError(f"unknown peer {unknown[0]!r}; expected one of {', '.join(compare.PEERS)}")
     problem = threejs.unavailable() if "threejs" in peers else None
     if problem is not None:
-        raise BakeError(problem)
+        raise ComparisonError(problem)
 
 
 def _threejs_peer(scene, layer, objects, data, width, height, folder) -> tuple:
@@ -206,7 +196,7 @@ def _threejs_peer(scene, layer, objects, data, width, height, folder) -> tuple:
     return result.rgba, result.seconds, warnings
 
 
-def bake(scene, out_dir: str, engines=compare.ENGINES, progress=None, view_layer=None,
+def run(scene, out_dir: str, engines=compare.ENGINES, progress=None, view_layer=None,
          resolution=None, on_folder=None, peers=()) -> dict:
     """Render and compare *scene* into *out_dir* (replaced whole).
 
@@ -214,7 +204,7 @@ def bake(scene, out_dir: str, engines=compare.ENGINES, progress=None, view_layer
     *resolution*: the picture height in pixels (default: the scene's own size).
     *progress(fraction, text)* is called between steps; *on_folder(folder)* may add files
     to the report folder before it is put in place.  Returns the metrics dict (also
-    written as metrics.json).  BakeError when the scene cannot be compared.
+    written as metrics.json).  ComparisonError when the scene cannot be compared.
     """
     layer, objects = check(scene, view_layer)
     check_peers(peers)
@@ -227,7 +217,7 @@ def bake(scene, out_dir: str, engines=compare.ENGINES, progress=None, view_layer
     try:
         t0 = time.perf_counter()
         with sync_mod.paused():
-            data = evaluate.describe(scene, layer, objects)
+            data = describe.describe(scene, layer, objects)
             images, passes, terms = render_all(scene, layer, objects, engines, tmp,
                                                resolution, progress)
         timings = {"renders_s": time.perf_counter() - t0}

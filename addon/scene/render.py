@@ -9,6 +9,10 @@ the pixel centre), no filter, nothing that adds light, and high-quality GPU norm
 Bake Phong Lighting).
 """
 
+import os
+
+import bpy
+
 from .. import compat
 
 
@@ -92,3 +96,13 @@ def exact(scene, engine: str, set_=setattr) -> None:
         _set_all(scene.eevee, {attr: False for attr in _EEVEE_OFF}, set_)
     else:
         raise ValueError(f"unknown engine {engine!r}: expected 'cycles' or 'eevee'")
+
+
+def render_exr(scene, path: str, set_=setattr) -> None:
+    """Render *scene* into the file *path* with its output settings."""
+    set_(scene.render, "filepath", path)
+    set_(scene.render, "use_file_extension", False)
+    with bpy.context.temp_override(scene=scene):
+        bpy.ops.render.render(write_still=True, scene=scene.name)
+    if not os.path.exists(path):
+        raise RuntimeError(f"the render did not write {path}")
