@@ -15,9 +15,11 @@ Register and unregister are symmetric.
 
 from . import loader
 from .lighting import properties, sync
+from .shading import properties as shading_properties
 from .ui import assets, baking, menus, operators, panels
 
-_modules = (operators, menus, properties, panels, baking, loader, sync, assets)
+_modules = (operators, menus, properties, shading_properties, panels, baking, loader, sync,
+            assets)
 
 
 def register():

@@ -16,6 +16,7 @@ import contextlib
 import bpy
 from bpy.app.handlers import persistent
 
+from ..shading import modes as shading_modes
 from . import lights as lights_mod
 from . import materials, rig
 
@@ -178,6 +179,7 @@ def relink_scene(scene, view_layer=None) -> Sync:
     sync.rebuild_groups()
     sync.relink(scene.objects)
     sync.finish()
+    shading_modes.refresh(scene)  # Per Vertex / Per Face materials follow the lights too
     remember(scene, view_layer)
     return sync
 

@@ -1,0 +1,43 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""``material.phong.shading``: Per Pixel, Per Vertex, Per Face (stored as the material's
+custom property ``phong_shading``, so a file keeps it without the extension)."""
+
+import bpy
+from bpy.props import EnumProperty, PointerProperty
+
+from . import forwarding, modes
+
+SHADING_ITEMS = (
+    ("PIXEL", "Per Pixel", "The model evaluated at every pixel (Phong shading)"),
+    ("VERTEX", "Per Vertex", "The model evaluated at every vertex and the colour interpolated "
+     "across each face (Gouraud shading); live, by a Geometry Nodes modifier"),
+    ("FACE", "Per Face", "The model evaluated once per face, at its centre with its normal "
+     "(flat shading); live, by a Geometry Nodes modifier"),
+)
+
+
+class PhongMaterialSettings(bpy.types.PropertyGroup):
+    """Phong settings of a material (stored as custom properties of the material)"""
+
+    shading: EnumProperty(
+        name="Shading", items=SHADING_ITEMS,
+        get=forwarding.getter(modes.SHADING_KEY, modes.MODES),
+        set=forwarding.setter(modes.SHADING_KEY, modes.MODES),
+        description="Where the Phong model is evaluated: at every pixel, at every vertex "
+                    "(interpolated across faces) or once per face")
+
+
+def _changed(material):
+    modes.update(material)
+
+
+def register():
+    forwarding.set_callback(_changed)
+    bpy.utils.register_class(PhongMaterialSettings)
+    bpy.types.Material.phong = PointerProperty(type=PhongMaterialSettings)
+
+
+def unregister():
+    del bpy.types.Material.phong
+    bpy.utils.unregister_class(PhongMaterialSettings)
+    forwarding.set_callback(None)
