@@ -2,7 +2,7 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """The demo run on a Slurm job array (issue 21): one task against two concurrent tasks, and
 what the scheduler costs per task.  Needs root and Debian's Slurm packages: it starts its own
-one-node cluster (tools/cluster.py) in a temporary folder and stops it at the end.
+one-node cluster (phong cluster, cli/cluster.py) in a temporary folder and stops it at the end.
 
     .venv/bin/python benchmarks/farm.py              # ~4 min on a 2-core CPU
     .venv/bin/python benchmarks/farm.py --repeats 1 --resolution 32
@@ -26,7 +26,6 @@ Writes ``benchmarks/farm_results.json`` and prints a Markdown table.
 from __future__ import annotations
 
 import argparse
-import importlib.util
 import importlib.metadata
 import json
 import os
@@ -40,17 +39,10 @@ import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
-PHONG = os.path.join(ROOT, "tools", "phong.py")
+#: The `phong` command of this environment.
+PHONG = [sys.executable, "-m", "phong_nodes.cli"]
 SCENES = ("color_product", "exponents", "four_terms", "lambert_vs_phong", "point_falloff",
           "spot_edges", "textured", "two_lights")
-
-
-def _cluster_tool():
-    spec = importlib.util.spec_from_file_location("cluster", os.path.join(ROOT, "tools",
-                                                                          "cluster.py"))
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
 
 
 def _env(cluster, tmp):
@@ -61,7 +53,7 @@ def _env(cluster, tmp):
 
 
 def phong_command(args, out, shard):
-    return [sys.executable, PHONG, "--scenes", ",".join(SCENES), "--resolution",
+    return [*PHONG, "demo", "--scenes", ",".join(SCENES), "--resolution",
             str(args.resolution), "--engines", "cycles,eevee", "--out", out, "--shard", shard]
 
 
@@ -95,7 +87,7 @@ def direct_run(env, commands) -> float:
 
 
 def measure(args) -> dict:
-    tool = _cluster_tool()
+    from phong_nodes.cli import cluster as tool  # noqa: PLC0415
     problem = tool.unavailable()
     if problem:
         sys.exit(f"farm benchmark: {problem}")
@@ -127,7 +119,7 @@ def measure(args) -> dict:
                     n = int(name.split()[1])
                     seconds = direct_run(env, [phong_command(args, out, f"{i}/{n}")
                                                for i in range(1, n + 1)])
-                check = subprocess.run([sys.executable, PHONG, "report", out],
+                check = subprocess.run([*PHONG, "report", out],
                                        capture_output=True, text=True, env=env, check=False)
                 if check.returncode != 0:
                     raise RuntimeError(f"{name}: the run is not whole: {check.stdout[-500:]}")

@@ -462,9 +462,8 @@ def _cli(tmp_path, *args):
     import subprocess  # noqa: PLC0415
     import sys  # noqa: PLC0415
 
-    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
     env = dict(os.environ, PHONG_VERBOSE="0", BLENDER_USER_RESOURCES=str(tmp_path / "user"))
-    return subprocess.run([sys.executable, os.path.join(root, "tools", "phong.py"), *args],
+    return subprocess.run([sys.executable, "-m", "phong_nodes.cli", *args],
                           capture_output=True, text=True, env=env, timeout=600, check=False)
 
 

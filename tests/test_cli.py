@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""The headless command (tools/phong.py): scene CLI, report, exit codes, bad input."""
+"""The headless command (`phong`, cli/): scene CLI, report, exit codes, bad input."""
 
 import json
 import os
@@ -9,7 +9,8 @@ import sys
 import pytest
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-CLI = os.path.join(ROOT, "tools", "phong.py")
+#: The `phong` command of this environment (what tools/phong.sh runs).
+CLI = [sys.executable, "-m", "phong_nodes.cli"]
 
 GOOD = """
 title = "t"
@@ -26,7 +27,7 @@ material = { exponent = 10 }
 
 def run_cli(tmp_path, *args):
     env = dict(os.environ, BLENDER_USER_RESOURCES=str(tmp_path / "user"))
-    return subprocess.run([sys.executable, CLI, *args], capture_output=True, text=True,
+    return subprocess.run([*CLI, *args], capture_output=True, text=True,
                           env=env, timeout=300)
 
 
@@ -35,7 +36,7 @@ def run_cli(tmp_path, *args):
 @pytest.mark.cycles
 def test_one_scene_end_to_end(tmp_path):
     out = tmp_path / "report"
-    result = run_cli(tmp_path, "--out", str(out), "--scenes", "point_falloff",
+    result = run_cli(tmp_path, "demo", "--out", str(out), "--scenes", "point_falloff",
                      "--resolution", "24")
     assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
     assert "[1/1] point_falloff" in result.stdout
@@ -60,7 +61,7 @@ def test_broken_scene_file_exits_2_and_writes_nothing(tmp_path, old, new, messag
     bad = tmp_path / "bad.toml"
     bad.write_text(GOOD.replace(old, new, 1))
     out = tmp_path / "out"
-    result = run_cli(tmp_path, "--out", str(out), "--scenes", f"lambert_vs_phong,{bad}")
+    result = run_cli(tmp_path, "demo", "--out", str(out), "--scenes", f"lambert_vs_phong,{bad}")
     assert result.returncode == 2, result.stderr
     assert f"{bad}: {message}" in result.stderr
     assert "Traceback" not in result.stderr
@@ -75,7 +76,7 @@ def test_broken_scene_file_exits_2_and_writes_nothing(tmp_path, old, new, messag
 ])
 def test_bad_arguments_exit_2_with_a_clear_line(tmp_path, args, message):
     out = tmp_path / "x"
-    result = run_cli(tmp_path, "--out", str(out), *args)
+    result = run_cli(tmp_path, "demo", "--out", str(out), *args)
     assert result.returncode == 2
     assert message in result.stderr
     assert "Traceback" not in result.stderr
@@ -85,7 +86,7 @@ def test_bad_arguments_exit_2_with_a_clear_line(tmp_path, args, message):
 def test_unwritable_output_folder_exits_2(tmp_path):
     blocker = tmp_path / "file"
     blocker.write_text("not a folder")
-    result = run_cli(tmp_path, "--out", str(blocker / "sub"))
+    result = run_cli(tmp_path, "demo", "--out", str(blocker / "sub"))
     assert result.returncode == 2
     assert "cannot write to output folder" in result.stderr
     assert "Traceback" not in result.stderr
@@ -131,7 +132,7 @@ def test_compare_bad_input_exits_2_with_one_line_and_writes_nothing(tmp_path, pl
 @pytest.mark.cycles
 def test_save_blend_keeps_a_demo_scene_that_compare_checks(tmp_path):
     out = tmp_path / "demo"
-    result = run_cli(tmp_path, "--scenes", "lambert_vs_phong", "--resolution", "16",
+    result = run_cli(tmp_path, "demo", "--scenes", "lambert_vs_phong", "--resolution", "16",
                      "--engines", "cycles", "--save-blend", "--out", str(out))
     assert result.returncode == 0, result.stderr[-3000:]
     blend = out / "lambert_vs_phong" / "lambert_vs_phong.blend"

@@ -1,14 +1,13 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Render farms: ``--shard auto`` from a scheduler's variables, the completeness check
 (``report DIR``), the summary table, ``phong slurm``'s own checks, and a run on a real
-one-node Slurm cluster (tools/cluster.py) with one task killed mid-scene and requeued.
+one-node Slurm cluster (phong cluster, cli/cluster.py) with one task killed mid-scene and requeued.
 
 The Slurm test needs root and Debian's ``slurmctld slurmd slurm-client munge``: it skips
 with its reason elsewhere, except under CI (``CI`` set), where it fails: CI must run it.  It
 runs once per CI run, with the default bpy: it skips when ``PHONG_BPY`` picks another release
 (the farm code is the same Python on every release)."""
 
-import importlib.util
 import json
 import os
 import re
@@ -24,29 +23,19 @@ import blender_env as be
 from phong_nodes.core import scenes
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-CLI = os.path.join(ROOT, "tools", "phong.py")
-SLURM = os.path.join(ROOT, "tools", "slurm.py")
+#: The `phong` command of this environment (what tools/phong.sh runs).
+PHONG = [sys.executable, "-m", "phong_nodes.cli"]
 #: Four scenes for four tasks; the longest scene name of the shipped ones among them.
 FARM_SCENES = ("threejs_point_cutoff", "lambert_vs_phong", "two_lights", "color_product")
 
 
-def run(tmp_path, *args, tool=CLI, env=None, timeout=300):
+def run(tmp_path, *args, env=None, timeout=300):
     env = {**os.environ, "BLENDER_USER_RESOURCES": str(tmp_path / "user"), **(env or {})}
     for name in [k for k in env if k.startswith("SLURM_") and k != "SLURM_CONF"]:
         del env[name]  # the test itself may run inside a Slurm job
     env.pop("JOB_COMPLETION_INDEX", None)
-    return subprocess.run([sys.executable, tool, *args], capture_output=True, text=True,
-                          env=env, timeout=timeout)
-
-
-def _tool(name):
-    tools = os.path.join(ROOT, "tools")
-    if tools not in sys.path:  # the tools import their neighbours (cli_input) as scripts do
-        sys.path.insert(0, tools)
-    spec = importlib.util.spec_from_file_location(name, os.path.join(tools, f"{name}.py"))
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return subprocess.run([*PHONG, *args], capture_output=True, text=True, env=env,
+                          timeout=timeout)
 
 
 # -- --shard auto -----------------------------------------------------------------------
@@ -96,7 +85,7 @@ def test_shard_auto_refuses_with_one_clear_line(spec, environ, message):
 
 def test_cli_shard_auto_without_a_scheduler_exits_2_and_writes_nothing(tmp_path):
     out = tmp_path / "out"
-    result = run(tmp_path, "--shard", "auto", "--out", str(out))
+    result = run(tmp_path, "demo", "--shard", "auto", "--out", str(out))
     assert result.returncode == 2
     assert "--shard auto: no scheduler index" in result.stderr
     assert "Traceback" not in result.stderr and not out.exists()
@@ -105,7 +94,7 @@ def test_cli_shard_auto_without_a_scheduler_exits_2_and_writes_nothing(tmp_path)
 # -- the summary table --------------------------------------------------------------------
 
 def test_summary_table_keeps_its_columns_for_long_scene_names():
-    phong = _tool("phong")
+    from phong_nodes.cli import runs as phong  # noqa: PLC0415
     pair = {"max_abs": 1e-6, "mean_abs": 1e-8, "psnr_db": 140.0, "share_over_1_255": 0.0}
     ok = {"ok": True}
     results = [{"scene": name, "verdict": {"cycles": ok, "eevee": ok, "threejs": ok},
@@ -129,7 +118,7 @@ def test_report_finds_a_deleted_scene_folder_and_an_empty_shard(tmp_path):
     out = tmp_path / "run"
     names = "lambert_vs_phong,two_lights"
     # shard 3/3 of two scenes has nothing to bake: it still records the run
-    empty = run(tmp_path, "--scenes", names, "--engines", "cycles", "--resolution", "16",
+    empty = run(tmp_path, "demo", "--scenes", names, "--engines", "cycles", "--resolution", "16",
                 "--shard", "3/3", "--out", str(out))
     assert empty.returncode == 0, empty.stderr[-2000:]
     assert json.loads((out / "run.json").read_text())["scenes"] == names.split(",")
@@ -137,7 +126,7 @@ def test_report_finds_a_deleted_scene_folder_and_an_empty_shard(tmp_path):
     assert check.returncode == 1
     assert "missing lambert_vs_phong, two_lights" in check.stdout
     for part in ("1/3", "2/3"):
-        result = run(tmp_path, "--scenes", names, "--engines", "cycles", "--resolution", "16",
+        result = run(tmp_path, "demo", "--scenes", names, "--engines", "cycles", "--resolution", "16",
                      "--shard", part, "--out", str(out))
         assert result.returncode == 0, result.stderr[-2000:]
     check = run(tmp_path, "report", str(out))
@@ -210,7 +199,7 @@ def test_report_of_a_folder_that_is_no_run_exits_2(tmp_path, case):
     (["--", "bake", "x.blend", "--target", "vertex", "--shard", "auto"], "leave out --shard"),
 ])
 def test_slurm_refuses_bad_commands_before_submitting(tmp_path, args, message):
-    result = run(tmp_path, *args, tool=SLURM, env={"PATH": "/nonexistent"})
+    result = run(tmp_path, "slurm", *args, env={"PATH": "/nonexistent"})
     assert result.returncode == 2, result.stderr
     assert message in result.stderr and "Traceback" not in result.stderr
 
@@ -223,7 +212,7 @@ def cluster(tmp_path_factory):
     if os.environ.get("PHONG_BPY"):
         pytest.skip("the Slurm test runs once per CI run, with the default bpy "
                     f"(PHONG_BPY={os.environ['PHONG_BPY']} is set)")
-    tool = _tool("cluster")
+    from phong_nodes.cli import cluster as tool  # noqa: PLC0415
     problem = tool.unavailable()
     if problem:
         if os.environ.get("CI"):
@@ -254,13 +243,13 @@ def wait_for(condition, timeout, what):
 def test_slurm_array_killed_task_requeued_completes_the_run(tmp_path, cluster):
     common = ["--scenes", ",".join(FARM_SCENES), "--engines", "cycles", "--resolution", "32"]
     # the same run on one machine, for the metrics
-    single = run(tmp_path, *common, "--out", str(tmp_path / "single"))
+    single = run(tmp_path, "demo", *common, "--out", str(tmp_path / "single"))
     assert single.returncode == 0, single.stderr[-2000:]
 
     out = tmp_path / "farm"
     t0 = time.monotonic()
-    submit = run(tmp_path, "--tasks", "4", "--", "demo", *common, "--out", str(out),
-                 tool=SLURM, env={"SLURM_CONF": cluster.conf})
+    submit = run(tmp_path, "slurm", "--tasks", "4", "--", "demo", *common, "--out", str(out),
+                 env={"SLURM_CONF": cluster.conf})
     assert submit.returncode == 0, submit.stdout + submit.stderr
     array = re.search(r"array job (\d+)", submit.stdout).group(1)
     check = re.search(r"check job (\d+)", submit.stdout).group(1)
@@ -340,9 +329,9 @@ def test_slurm_array_killed_task_requeued_completes_the_run(tmp_path, cluster):
 
 
 def test_ci_installs_the_cluster_packages_that_check_system_names(tmp_path):
-    """.ci/run installs (as root) what ``check_system.py --cluster-packages`` prints: it runs
+    """.ci/run installs (as root) what ``cli/system.py --cluster-packages`` prints: it runs
     with a bare python3 and names the package of every command the cluster needs."""
-    tool = os.path.join(ROOT, "tools", "check_system.py")
+    tool = os.path.join(ROOT, "cli", "system.py")
     empty = tmp_path / "empty"
     empty.mkdir()
     # a PATH without Slurm's client commands: at least slurm-client is named
@@ -352,14 +341,13 @@ def test_ci_installs_the_cluster_packages_that_check_system_names(tmp_path):
     assert "slurm-client" in named and set(named) <= {"slurmctld", "slurmd", "slurm-client",
                                                       "munge"}
     with open(os.path.join(ROOT, ".ci", "run"), encoding="utf-8") as handle:
-        assert "check_system.py --cluster-packages" in handle.read()
+        assert "cli/system.py --cluster-packages" in handle.read()
 
 
 def test_cluster_says_why_it_cannot_start(monkeypatch):
     """What the Slurm test skips with (or fails with under CI): one line naming the fix."""
-    tool = _tool("cluster")
-    check = tool._check_system()
-    monkeypatch.setattr(tool, "_check_system", lambda: check)
+    from phong_nodes.cli import cluster as tool  # noqa: PLC0415
+    check = tool.system
     monkeypatch.setattr(check, "cluster_packages", lambda: ["munge", "slurmd"])
     assert tool.unavailable().endswith("apt-get install -y munge slurmd (as root)")
     monkeypatch.setattr(check, "cluster_packages", lambda: [])

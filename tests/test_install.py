@@ -78,11 +78,11 @@ def test_zip_builds_validates_and_has_no_tests(built):
     zip_path, validate, names = built
     assert validate.returncode == 0, validate.stdout + validate.stderr
     assert "blender_manifest.toml" in names and "__init__.py" in names
-    for folder in ("tests/", "tools/", "benchmarks/", "docs/", ".ci/"):
+    for folder in ("tests/", "tools/", "cli/", "benchmarks/", "docs/", ".ci/"):
         assert not [n for n in names if n.startswith(folder)], f"the zip ships {folder}"
     assert not [n for n in names if n.endswith(".pyc") or "__pycache__" in n]
     for package in ("node_groups", "core", "addon", "addon/lighting", "addon/demos", "addon/ui",
-                    "addon/interchange"):
+                    "addon/interchange", "addon/scene", "addon/comparison", "addon/baking"):
         assert f"{package}/__init__.py" in names, f"{package} missing from the zip"
 
 
@@ -257,19 +257,19 @@ def test_spec_defaults(bpy_clean, key):
 
 
 def test_ci_package_list_covers_every_library_named():
-    """`.ci/run` installs (as root) what `check_system.py --packages` prints: it must run with a
-    bare Python (no bpy) and name the package of every library that check_system can report."""
-    tool = os.path.join(be.REPO_ROOT, "tools", "check_system.py")
+    """`.ci/run` installs (as root) what `cli/system.py --packages` prints: it must run with a
+    bare Python (no bpy) and name the package of every library that it can report."""
+    tool = os.path.join(be.REPO_ROOT, "cli", "system.py")
     result = subprocess.run(["python3", "-I", tool, "--packages"], capture_output=True,
                             text=True, timeout=60)
     assert result.returncode == 0, result.stderr
     listed = set(result.stdout.split())
     message = " ".join(f"{lib}: cannot open shared object file" for lib in
                        ("libXi.so.6", "libEGL_mesa.so.0", "libxkbcommon.so.0"))
-    named = subprocess.run(["python3", "-c", "import sys, check_system as c; print(' '.join("
+    named = subprocess.run(["python3", "-c", "import sys, system as c; print(' '.join("
                             "c.PACKAGES[lib] for lib in c.missing_from_message(sys.argv[1])))",
                             message], cwd=os.path.dirname(tool), capture_output=True, text=True)
     assert set(named.stdout.split()) == {"libxi6", "libegl-mesa0", "libxkbcommon0"}, named.stderr
     assert set(named.stdout.split()) <= listed and "libgl1-mesa-dri" in listed
     with open(os.path.join(be.REPO_ROOT, ".ci", "run")) as handle:
-        assert "check_system.py --packages" in handle.read()
+        assert "cli/system.py --packages" in handle.read()

@@ -4,8 +4,10 @@
 
 import ast
 import os
+import re
 import subprocess
 import sys
+import tomllib
 
 import phong_nodes
 
@@ -73,7 +75,7 @@ def test_no_pure_module_imports_blender_or_the_blender_layer():
 def test_extension_modules_use_relative_imports_only():
     """Blender's extension rules: the package must not import itself by an absolute name."""
     bad = []
-    for package in PURE + ("addon",):
+    for package in PURE + ("addon", "cli"):
         for folder, _dirs, files in os.walk(os.path.join(ROOT, package)):
             for name in (f for f in files if f.endswith(".py")):
                 path = os.path.join(folder, name)
@@ -81,3 +83,52 @@ def test_extension_modules_use_relative_imports_only():
                         _imports(path) if level == 0 and module.split(".")[0] in
                         ("phong_nodes", "addon", "core", "node_groups")]
     assert not bad, bad
+
+
+def _python_files():
+    skip = {".git", "__pycache__", "node_modules"}
+    for folder, dirs, files in os.walk(ROOT):
+        dirs[:] = [d for d in dirs if d not in skip and not d.startswith(".venv")]
+        yield from (os.path.join(folder, f) for f in files if f.endswith(".py"))
+
+
+def test_nothing_edits_sys_path_or_loads_a_module_by_path():
+    """Every module is imported by its package name (``pip install -e .``): no ``sys.path``
+    edit, no ``spec_from_file_location`` / ``SourceFileLoader`` / ``runpy.run_path``."""
+    pattern = re.compile(r"sys\.path\.(insert|append|extend)|sys\.path\s*[+]?=|"
+                         r"spec_from_file_location|SourceFileLoader|run_path\(")
+    bad = [f"{os.path.relpath(path, ROOT)}:{number}" for path in _python_files()
+           if os.path.abspath(path) != os.path.abspath(__file__)  # the pattern itself
+           for number, line in enumerate(open(path, encoding="utf-8"), 1)
+           if pattern.search(line)]
+    assert not bad, bad
+
+
+def test_one_package_one_command_one_version():
+    """pyproject.toml makes the tree the package ``phong_nodes`` with the ``phong`` command;
+    its version is the extension's, and every sub-package of the tree is in its list."""
+    with open(os.path.join(ROOT, "pyproject.toml"), "rb") as handle:
+        project = tomllib.load(handle)
+    with open(os.path.join(ROOT, "blender_manifest.toml"), "rb") as handle:
+        manifest = tomllib.load(handle)
+    assert project["project"]["version"] == manifest["version"]
+    assert project["project"]["scripts"]["phong"] == "phong_nodes.cli:console"
+    listed = set(project["tool"]["setuptools"]["packages"])
+    found = {"phong_nodes" + ("." + os.path.relpath(folder, ROOT).replace(os.sep, ".")
+                              if folder != ROOT else "")
+             for folder, _dirs, files in os.walk(ROOT) if "__init__.py" in files
+             and not os.path.relpath(folder, ROOT).split(os.sep)[0] in ("tests", "benchmarks",
+                                                                       "tools")
+             and ".venv" not in folder and "node_modules" not in folder}
+    assert found == listed, (sorted(found - listed), sorted(listed - found))
+
+
+def test_the_phong_command_lists_its_subcommands():
+    """The installed command (``.venv/bin/phong``) answers --help, naming every subcommand."""
+    phong = os.path.join(os.path.dirname(sys.executable), "phong")
+    result = subprocess.run([phong, "--help"], capture_output=True, text=True, timeout=60)
+    assert result.returncode == 0, result.stderr
+    for command in ("demo", "compare", "bake", "report", "slurm", "cluster", "which"):
+        assert re.search(rf"^\s+{command}\s", result.stdout, re.M), result.stdout
+    which = subprocess.run([phong, "which"], capture_output=True, text=True, timeout=60)
+    assert which.returncode == 0 and which.stdout.startswith("bpy "), which.stdout

@@ -22,7 +22,8 @@ import blender_env as be
 import phong_nodes
 
 ROOT = be.REPO_ROOT
-CLI = os.path.join(ROOT, "tools", "phong.py")
+#: The `phong` command of this environment (what tools/phong.sh runs).
+CLI = [sys.executable, "-m", "phong_nodes.cli"]
 SCENES = ["point_falloff", "lambert_vs_phong", "four_terms", "color_product"]
 CODE = "__import__('os').system('touch {marker}')"
 
@@ -32,7 +33,7 @@ def _cli_env(tmp_path, **extra):
 
 
 def run_cli(tmp_path, *args, **kwargs):
-    return subprocess.run([sys.executable, CLI, *args], capture_output=True, text=True,
+    return subprocess.run([*CLI, *args], capture_output=True, text=True,
                           env=_cli_env(tmp_path), timeout=300, **kwargs)
 
 
@@ -56,7 +57,7 @@ def test_cli_scene_file_that_is_not_toml(tmp_path):
     bad = tmp_path / "notes.toml"
     bad.write_text("this is not TOML\n")
     out = tmp_path / "out"
-    result = run_cli(tmp_path, "--scenes", str(bad), "--out", str(out))
+    result = run_cli(tmp_path, "demo", "--scenes", str(bad), "--out", str(out))
     assert result.returncode == 2
     line = _one_line(result.stderr)
     assert re.fullmatch(rf"phong: {re.escape(str(bad))}: not valid TOML: .+ "
@@ -66,7 +67,7 @@ def test_cli_scene_file_that_is_not_toml(tmp_path):
 
 def test_cli_unknown_scene_name(tmp_path):
     out = tmp_path / "out"
-    result = run_cli(tmp_path, "--scenes", "point_falloff,nope", "--out", str(out))
+    result = run_cli(tmp_path, "demo", "--scenes", "point_falloff,nope", "--out", str(out))
     assert result.returncode == 2
     line = _one_line(result.stderr)
     assert re.fullmatch(r"phong: --scenes: unknown scene 'nope'; expected one of "
@@ -77,7 +78,7 @@ def test_cli_unknown_scene_name(tmp_path):
 def test_cli_unwritable_output_folder(tmp_path):
     blocker = tmp_path / "file"
     blocker.write_text("not a folder")
-    result = run_cli(tmp_path, "--scenes", "point_falloff", "--out", str(blocker / "sub"))
+    result = run_cli(tmp_path, "demo", "--scenes", "point_falloff", "--out", str(blocker / "sub"))
     assert result.returncode == 2
     line = _one_line(result.stderr)
     assert line == f"phong: cannot write to output folder {blocker / 'sub'}: Not a directory"
@@ -123,7 +124,7 @@ def _snapshot_pycache():
 @pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGINT], ids=["SIGTERM", "SIGINT"])
 def test_cli_interrupted_then_run_again(tmp_path, sig):
     out = tmp_path / "out"
-    args = [sys.executable, CLI, "--scenes", ",".join(SCENES), "--engines", "cycles",
+    args = [*CLI, "demo", "--scenes", ",".join(SCENES), "--engines", "cycles",
             "--resolution", "16", "--out", str(out)]
     proc = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                             env=_cli_env(tmp_path))
@@ -229,7 +230,7 @@ def test_scene_strings_are_never_executed(tmp_path):
 def test_no_python_evaluation_in_the_sources():
     pattern = re.compile(r"(?<![\w.])(eval|exec|compile|__import__)\s*\(|pickle|marshal")
     offenders = []
-    for folder in ("addon", "node_groups", "tools"):
+    for folder in ("addon", "node_groups", "core", "cli", "tools"):
         for name in os.listdir(os.path.join(ROOT, folder)):
             if name.endswith(".py"):
                 with open(os.path.join(ROOT, folder, name), encoding="utf-8") as handle:

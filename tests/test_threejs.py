@@ -17,7 +17,8 @@ import blender_env as be
 from phong_nodes.core import browser, compare, scenes, threejs
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-CLI = os.path.join(ROOT, "tools", "phong.py")
+#: The `phong` command of this environment (what tools/phong.sh runs).
+CLI = [sys.executable, "-m", "phong_nodes.cli"]
 #: The seeds' three labs and the two scenes of three.js's light settings.
 THREEJS_SCENES = ("threejs_lab05", "threejs_lab06", "threejs_phong_lab",
                   "threejs_spot_penumbra", "threejs_point_cutoff")
@@ -33,7 +34,7 @@ def need_browser():
 
 def run_cli(tmp_path, *args, env=None):
     env = dict(os.environ, BLENDER_USER_RESOURCES=str(tmp_path / "user"), **(env or {}))
-    return subprocess.run([sys.executable, CLI, *args], capture_output=True, text=True,
+    return subprocess.run([*CLI, *args], capture_output=True, text=True,
                           env=env, timeout=600)
 
 
@@ -93,7 +94,7 @@ def test_wrong_model_in_a_scene_file_exits_2_naming_file_and_key(tmp_path):
     bad.write_text('title = "t"\nmodel = "webgl"\n[camera]\nlocation = [0, -5, 0]\n'
                    '[[objects]]\nname = "a"\n')
     out = tmp_path / "out"
-    result = run_cli(tmp_path, "--scenes", str(bad), "--out", str(out))
+    result = run_cli(tmp_path, "demo", "--scenes", str(bad), "--out", str(out))
     assert result.returncode == 2
     assert f"{bad}: model: expected one of 'seeds', 'threejs', got 'webgl'" in result.stderr
     assert not out.exists()
@@ -101,7 +102,7 @@ def test_wrong_model_in_a_scene_file_exits_2_naming_file_and_key(tmp_path):
 
 def test_peers_threejs_without_a_browser_exits_2_naming_what_to_install(tmp_path):
     out = tmp_path / "out"
-    result = run_cli(tmp_path, "--scenes", "threejs_lab05", "--peers", "threejs", "--out",
+    result = run_cli(tmp_path, "demo", "--scenes", "threejs_lab05", "--peers", "threejs", "--out",
                      str(out), env={"PHONG_CHROMIUM": str(tmp_path / "no-such-browser")})
     assert result.returncode == 2, result.stderr
     line = result.stderr.strip()

@@ -10,7 +10,6 @@ three.js with npm), except under CI (``CI`` set), where they fail: CI must run t
 
 from __future__ import annotations
 
-import importlib.util
 import json
 import math
 import os
@@ -381,11 +380,9 @@ def test_browser_log_and_dom_parsing():
 
 
 def _check_system():
-    spec = importlib.util.spec_from_file_location(
-        "check_system", os.path.join(ROOT, "tools", "check_system.py"))
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    from phong_nodes.cli import system  # noqa: PLC0415
+
+    return system
 
 
 def test_browser_packages(monkeypatch, tmp_path):

@@ -1,10 +1,7 @@
 #!/usr/bin/env bash
-# Phong Nodes developer entry point.
-#   bash tools/phong.sh demo [options]   build the demo scenes and compare them (see: demo --help)
-#   bash tools/phong.sh compare FILE.blend [options]   compare the scenes of a .blend (compare --help)
-#   bash tools/phong.sh report DIR       rebuild DIR/index.html, exit 1 naming scenes missing or failed
-#   bash tools/phong.sh slurm [--tasks N] [sbatch options] -- demo|compare ...   a Slurm job array
-#   bash tools/phong.sh bake FILE.blend --target image|vertex [options]   bake Phong lighting, write glTF (bake --help)
+# Phong Nodes: set up the project's environment, then run a command in it.
+#   bash tools/phong.sh demo|compare|bake|report|slurm|cluster ...   the `phong` command of the
+#                                        environment (phong --help; phong demo --help ...)
 #   bash tools/phong.sh test [pytest options]
 #   bash tools/phong.sh build [DIR]      DIR/<id>-<version>.zip (DIR: dist), validated by Blender's own tool
 #   bash tools/phong.sh setup            only create/refresh the virtual environment
@@ -105,14 +102,23 @@ setup() {
   echo "$want" > "$stamp"
 }
 
-# The source tree is the package `phong_nodes` in the environment (a link in site-packages),
-# so the CLI, the tests, the benchmarks and tools import it by name.
-link_package() {
+# The source tree is the package `phong_nodes` in the environment (`pip install -e .`, which
+# also installs the `phong` command), so the CLI, the tests, the benchmarks and tools import it
+# by name.  Done again when the environment's package is another checkout's.
+install_package() {
+  if [ -x "$venv/bin/phong" ] && "$venv/bin/python" - "$root" <<'PY' 2>/dev/null
+import os, sys
+import phong_nodes
+sys.exit(os.path.dirname(os.path.realpath(phong_nodes.__file__)) != os.path.realpath(sys.argv[1]))
+PY
+  then
+    return 0
+  fi
+  # an environment made by an earlier version holds the tree as a link in site-packages
   local site
   site=$("$venv/bin/python" -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])')
-  if [ "$(readlink "$site/phong_nodes" 2>/dev/null)" != "$root" ]; then
-    ln -sfn "$root" "$site/phong_nodes"
-  fi
+  [ -L "$site/phong_nodes" ] && rm -f "$site/phong_nodes"
+  "$venv/bin/python" -m pip install --quiet --no-deps -e "$root" >&2
 }
 
 build() {
@@ -153,18 +159,14 @@ ensure_three() {
 }
 
 setup
-link_package
+install_package
 ensure_three
-"$venv/bin/python" "$root/tools/check_system.py"
+"$venv/bin/python" "$root/cli/system.py"
 
 case "$command" in
   setup) ;;
-  demo) exec "$venv/bin/python" "$root/tools/phong.py" "$@" ;;
-  compare) exec "$venv/bin/python" "$root/tools/phong.py" compare "$@" ;;
-  report) exec "$venv/bin/python" "$root/tools/phong.py" report "$@" ;;
-  slurm) exec "$venv/bin/python" "$root/tools/slurm.py" "$@" ;;
-  bake) exec "$venv/bin/python" "$root/tools/phong.py" bake "$@" ;;
+  demo|compare|bake|report|slurm|cluster) exec "$venv/bin/phong" "$command" "$@" ;;
   test) cd "$root" && exec "$venv/bin/python" -m pytest "$@" ;;
   build) build "$@" ;;
-  *) echo "unknown command '$command' (expected demo, compare, bake, report, slurm, test, build, setup or which)" >&2; exit 2 ;;
+  *) echo "unknown command '$command' (expected demo, compare, bake, report, slurm, cluster, test, build, setup or which)" >&2; exit 2 ;;
 esac

@@ -1,9 +1,6 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """``phong bake``: Bake Phong Lighting on every scene of a .blend and write glTF (the headless
-form of Export glTF with Baked Phong Lighting), called by ``tools/phong.py bake``.
-
-    python tools/phong.py bake FILE.blend --target image|vertex [--term color|irradiant|
-        ambient|diffuse|specular] [--view camera|none] [--scenes a,b] [--resolution N]
-        [--format png|exr] [--out DIR] [--shard i/n] [--peers threejs] [--check-height N]
+form of Export glTF with Baked Phong Lighting); its options are in ``args.py``.
 
 Per scene, into ``DIR/<scene>/``: ``<scene>.glb`` (KHR_materials_unlit with the baked
 texture or COLOR_0), the baked images (``textures/``, target image), ``metrics.json``
@@ -19,7 +16,6 @@ export or check failed; 2 bad arguments, a missing or unreadable .blend, no Phon
 
 from __future__ import annotations
 
-import argparse
 import json
 import os
 import shutil
@@ -27,55 +23,10 @@ import sys
 import tempfile
 import time
 
-import cli_input  # beside this file: --shard, --peers and the .blend, read as compare reads them
-from phong_nodes.core import outputs, report, scenes
-
-TARGETS = ("image", "vertex")
-TERMS = ("color", "irradiant", "ambient", "diffuse", "specular")
-VIEWS = ("camera", "none")
-
-
-class BadInput(Exception):
-    """Exit 2 with this one-line reason; nothing has been written."""
-
-
-def parse_args(argv):
-    parser = argparse.ArgumentParser(
-        prog="phong bake", description="Bake Phong Lighting on every scene of a .blend with "
-        "Phong materials and write glTF with the bake (KHR_materials_unlit).")
-    parser.add_argument("file", help="the .blend file")
-    parser.add_argument("--target", required=True, choices=TARGETS,
-                        help="image: an image per object (UV map needed); vertex: a colour "
-                             "attribute per vertex (Gouraud shading)")
-    parser.add_argument("--term", default="color", choices=TERMS,
-                        help="the Phong colour (default) or one term")
-    parser.add_argument("--view", default="camera", choices=VIEWS,
-                        help="camera: the specular as the scene camera sees it (default); "
-                             "none: without specular")
-    parser.add_argument("--scenes", default=None,
-                        help="comma-separated scene names (default: every scene with Phong "
-                             "materials)")
-    parser.add_argument("--resolution", type=int, default=1024,
-                        help="image width and height in pixels (target image; default 1024)")
-    parser.add_argument("--format", default="png", choices=("png", "exr"),
-                        help="png: 8-bit sRGB (default); exr: 32-bit float linear")
-    parser.add_argument("--smart-uv", action="store_true",
-                        help="give objects without a UV map a Smart UV Project")
-    parser.add_argument("--out", default="out/bake", help="output folder (default: out/bake)")
-    parser.add_argument("--shard", default=None, help=scenes.SHARD_HELP)
-    parser.add_argument("--peers", default="",
-                        help="threejs: check the .glb in three.js's GLTFLoader (headless "
-                             "Chromium) against Cycles rendering the baked scene")
-    parser.add_argument("--check-height", type=int, default=256,
-                        help="picture height of the check in pixels (default 256)")
-    args = parser.parse_args(argv)
-    if not 8 <= args.resolution <= 16384:
-        parser.error(f"--resolution must be between 8 and 16384, got {args.resolution}")
-    if not 8 <= args.check_height <= 4096:
-        parser.error(f"--check-height must be between 8 and 4096, got {args.check_height}")
-    args.peers = cli_input.parse_peers(parser, args.peers)
-    cli_input.parse_shard(parser, args)
-    return args
+from ..core import outputs, report, scenes
+from .inputs import BadInput, open_scene_file, peer_problem
+from .runs import Registered
+from .terminal import check_interrupt, terminal
 
 
 def _scenes(args):
@@ -83,13 +34,10 @@ def _scenes(args):
     BadInput: exit 2."""
     import bpy  # noqa: PLC0415
 
-    from phong_nodes.addon.baking import lighting  # noqa: PLC0415
-    from phong_nodes.addon.scene import describe  # noqa: PLC0415
+    from ..addon.baking import lighting  # noqa: PLC0415
+    from ..addon.scene import describe  # noqa: PLC0415
 
-    try:
-        names, wanted = cli_input.open_blend(args.file, args.scenes)
-    except cli_input.BadInput as error:
-        raise BadInput(str(error)) from None
+    names, wanted = open_scene_file(args.file, args.scenes, importers=False)
 
     def objects_of(name):
         scene = bpy.data.scenes[name]
@@ -115,7 +63,7 @@ def _scenes(args):
 
 
 def _settings(args, directory, pack=None):
-    from phong_nodes.addon.baking import lighting  # noqa: PLC0415
+    from ..addon.baking import lighting  # noqa: PLC0415
 
     return lighting.Settings(target=args.target.upper(), term=args.term.upper(),
                              view=args.view.upper(), resolution=args.resolution,
@@ -124,18 +72,15 @@ def _settings(args, directory, pack=None):
                              smart_uv=args.smart_uv, refuse_package=False)
 
 
-def run(argv, check_interrupt, state, terminal) -> int:
-    """The bake command; *check_interrupt()* raises at the next step after Ctrl+C / SIGTERM;
-    *state* counts done / total scenes for the interrupt message."""
-    args = parse_args(argv)
-    problem = cli_input.peer_problem(args.peers)
+def run(args, state) -> int:
+    """The bake command with the parsed *args*; *state* counts done / total scenes for the
+    interrupt message."""
+    problem = peer_problem(args.peers)
     if problem is not None:
         print(f"phong: {problem}", file=sys.stderr)
         return 2
-    import phong_nodes  # noqa: PLC0415
-
-    phong_nodes.register()
-    try:
+    with Registered() as registered:
+        registered.ensure()
         try:
             mine, every, objects_of = _scenes(args)
         except BadInput as error:
@@ -163,8 +108,7 @@ def run(argv, check_interrupt, state, terminal) -> int:
             check_interrupt()
             print(f"[{number}/{len(mine)}] {name}", file=say)
             try:
-                metrics = _bake_scene(name, folders[name], objects_of(name), args, out, say,
-                                      check_interrupt)
+                metrics = _bake_scene(name, folders[name], objects_of(name), args, out, say)
             except KeyboardInterrupt:
                 raise
             except Exception as error:  # noqa: BLE001  (one bad scene must not hide the others)
@@ -185,15 +129,13 @@ def run(argv, check_interrupt, state, terminal) -> int:
               f"{time.perf_counter() - start:.1f} s -> {out}", file=say)
         say.flush()
         return 0 if ok else 1
-    finally:
-        phong_nodes.unregister()
 
 
-def _bake_scene(name, folder, objects, args, out, say, check_interrupt) -> dict:
+def _bake_scene(name, folder, objects, args, out, say) -> dict:
     """Bake, export (and check) one scene into out/<scene>/ (whole or not at all)."""
     import bpy  # noqa: PLC0415
 
-    from phong_nodes.addon.baking import gltf  # noqa: PLC0415
+    from ..addon.baking import gltf  # noqa: PLC0415
 
     scene = bpy.data.scenes[name]
     bpy.context.window.scene = scene
@@ -222,7 +164,7 @@ def _bake_scene(name, folder, objects, args, out, say, check_interrupt) -> dict:
         for warning in result["warnings"]:
             print(f"      warning: {warning}", file=say)
         if args.peers:
-            from phong_nodes.addon.baking import check  # noqa: PLC0415
+            from ..addon.baking import check  # noqa: PLC0415
 
             check_interrupt()
             metrics["check"] = check.check(scene, objects, glb, os.path.join(tmp, "check"),

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Check that bpy can load, and name the Debian/Ubuntu package that is missing if not.
 
 bpy links against X11 and OpenGL/EGL libraries that a minimal machine lacks;
@@ -10,7 +11,7 @@ render its pages and npm to install three.js; it is optional, so the check above
 ``--browser-packages`` prints the Debian packages it lacks (one per line, nothing when all are
 there: CI installs them too), ``--browser`` says what is missing on stderr and exits 1 then.
 
-The Slurm test and benchmark start a one-node cluster (``tools/cluster.py``) from Debian's
+The Slurm test and benchmark start a one-node cluster (``phong cluster``, ``cli/cluster.py``) from Debian's
 Slurm and MUNGE packages; ``--cluster-packages`` prints those it lacks (CI installs them).
 """
 
@@ -69,13 +70,13 @@ def browser_hint() -> str | None:
             f"sudo apt-get install -y {' '.join(packages)} && bash tools/phong.sh setup")
 
 
-# The commands a one-node Slurm cluster needs (tools/cluster.py) -> Debian package.
+# The commands a one-node Slurm cluster needs (cli/cluster.py) -> Debian package.
 CLUSTER_COMMANDS = {"slurmctld": "slurmctld", "slurmd": "slurmd", "sbatch": "slurm-client",
                     "scontrol": "slurm-client", "squeue": "slurm-client", "munged": "munge"}
 
 
 def cluster_packages() -> list:
-    """Debian packages that tools/cluster.py lacks, judged by the commands on PATH (daemons
+    """Debian packages that cli/cluster.py lacks, judged by the commands on PATH (daemons
     live in /usr/sbin, which a user's PATH may lack)."""
     path = os.pathsep.join([os.environ.get("PATH", ""), "/usr/sbin", "/sbin"])
     return sorted({package for command, package in CLUSTER_COMMANDS.items()

@@ -1,9 +1,9 @@
-#!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """A throwaway one-node Slurm cluster on this machine: to try the farm commands of the README,
-and for the Slurm test and benchmark.  Standard library only (runs with a bare python3).
+and for the Slurm test and benchmark.  Standard library only.
 
-    python3 tools/cluster.py start DIR   # prints DIR/slurm.conf: export SLURM_CONF=$(...)
-    python3 tools/cluster.py stop DIR    # cancels its jobs, stops its daemons
+    phong cluster start DIR   # prints DIR/slurm.conf: export SLURM_CONF=$(...)
+    phong cluster stop DIR    # cancels its jobs, stops its daemons
 
 It needs root (the daemons and the jobs run as root) and Debian's packages ``slurmctld
 slurmd slurm-client munge`` (Slurm 22.05 on Debian 12).  Everything lives in DIR: its own
@@ -17,7 +17,6 @@ requeued task start again after about 6 s (Slurm's defaults wait 120 s, then up 
 
 from __future__ import annotations
 
-import importlib.util
 import json
 import os
 import secrets
@@ -28,6 +27,8 @@ import subprocess
 import sys
 import time
 
+from . import system
+
 SBIN = os.pathsep.join([os.environ.get("PATH", ""), "/usr/sbin", "/sbin"])
 DAEMONS = ("munged", "slurmctld", "slurmd")
 
@@ -36,20 +37,11 @@ class ClusterError(Exception):
     """The cluster could not start (one line, with the end of the daemon's log)."""
 
 
-def _check_system():
-    spec = importlib.util.spec_from_file_location(
-        "check_system", os.path.join(os.path.dirname(os.path.abspath(__file__)),
-                                     "check_system.py"))
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
 def unavailable() -> str | None:
     """Why no one-node cluster can start here (what to do about it), or None."""
     if not sys.platform.startswith("linux"):
         return "a one-node Slurm cluster needs Linux"
-    packages = _check_system().cluster_packages()
+    packages = system.cluster_packages()
     if packages:
         return ("a one-node Slurm cluster needs Debian's Slurm and MUNGE: "
                 f"apt-get install -y {' '.join(packages)} (as root)")
@@ -140,7 +132,7 @@ class Cluster:
     def _write_conf(self) -> None:
         host = socket.gethostname().split(".")[0]
         lines = [
-            "# A one-node cluster written by tools/cluster.py",
+            "# A one-node cluster written by phong cluster (cli/cluster.py)",
             "ClusterName=phong",
             f"SlurmctldHost={host}(127.0.0.1)",
             f"SlurmctldPort={_free_port()}",
@@ -270,7 +262,7 @@ class Cluster:
 
 def main(argv) -> int:
     if len(argv) != 2 or argv[0] not in ("start", "stop"):
-        print("usage: python3 tools/cluster.py start|stop DIR", file=sys.stderr)
+        print("usage: phong cluster start|stop DIR", file=sys.stderr)
         return 2
     cluster = Cluster(argv[1])
     if argv[0] == "stop":
@@ -284,6 +276,3 @@ def main(argv) -> int:
     print(cluster.conf)
     return 0
 
-
-if __name__ == "__main__":
-    sys.exit(main(sys.argv[1:]))

@@ -1,9 +1,9 @@
-#!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Submit a comparison run to Slurm as a job array and a final check.
 
-    bash tools/phong.sh slurm [--tasks N] [--wait] [sbatch options] -- demo [options]
-    bash tools/phong.sh slurm [--tasks N] [--wait] [sbatch options] -- compare FILE.blend [options]
-    bash tools/phong.sh slurm [--tasks N] [--wait] [sbatch options] -- bake FILE.blend --target T [options]
+    phong slurm [--tasks N] [--wait] [sbatch options] -- demo [options]
+    phong slurm [--tasks N] [--wait] [sbatch options] -- compare FILE.blend [options]
+    phong slurm [--tasks N] [--wait] [sbatch options] -- bake FILE.blend --target T [options]
 
 Submits (1) an array of N tasks (``--array=0-<N-1>``, default 4), each running the command
 with ``--shard auto``: task i bakes every N-th scene from the (i+1)-th into the one output
@@ -15,7 +15,7 @@ go to both sbatch calls as given.  Task logs go to DIR/slurm-logs/ unless ``--ou
 ``--wait`` waits for the check and exits with its code (0: the run is whole).
 
 The command is checked before anything is submitted (bad options, scene files: exit 2).  The
-tasks run this environment's Python (the submitting one) on tools/phong.py: on a cluster the
+tasks run this environment's Python (the submitting one) as ``-m phong_nodes.cli``: on a cluster the
 checkout and its environment must be on a filesystem every node sees, and so must DIR.
 A task killed or lost is run again with ``scontrol requeue <job>_<index>`` (or
 ``sbatch --array=<index>`` of the same command with ``--shard auto/N``); a requeued task
@@ -24,64 +24,20 @@ removes what the killed one left (same host) and skips nothing: then run ``repor
 
 from __future__ import annotations
 
-import argparse
 import os
 import shlex
 import shutil
 import subprocess
 import sys
 
-sys.dont_write_bytecode = True
+from ..core import outputs, scenes
+from .args import SubmitError
 
-import phong  # noqa: E402  (tools/phong.py, beside this file)
-import phong_bake  # noqa: E402
-from phong_nodes.core import outputs, scenes  # noqa: E402
-
-HERE = os.path.dirname(os.path.abspath(__file__))
-PHONG = os.path.join(HERE, "phong.py")
-USAGE = ("phong slurm [--tasks N] [--wait] [sbatch options] -- demo|compare|bake ... "
-         "(see bash tools/phong.sh slurm --help)")
+#: How a task runs phong: this environment's Python on the package (no path to a script).
+PHONG = ("-m", "phong_nodes.cli")
 
 
-class SubmitError(Exception):
-    """Exit 2 with this one line; nothing was submitted."""
-
-
-def parse(argv):
-    """(own options, sbatch flags, the phong command line, its parsed options)."""
-    if "--" not in argv:
-        if any(a in ("-h", "--help") for a in argv):
-            print(__doc__)
-            sys.exit(0)
-        raise SubmitError(f"expected the command after '--': {USAGE}")
-    cut = argv.index("--")
-    parser = argparse.ArgumentParser(prog="phong slurm", allow_abbrev=False, usage=USAGE)
-    parser.add_argument("--tasks", type=int, default=4,
-                        help="number of array tasks (shards), default 4")
-    parser.add_argument("--wait", action="store_true",
-                        help="wait for the check job and exit with its code")
-    own, flags = parser.parse_known_args(argv[:cut])
-    if own.tasks < 1:
-        raise SubmitError(f"--tasks must be at least 1, got {own.tasks}")
-    for flag in flags:
-        if flag.split("=")[0] in ("-a", "--array", "-d", "--dependency", "-W"):
-            raise SubmitError(f"{flag}: set by phong slurm itself (--tasks N gives the array)")
-    command = argv[cut + 1:]
-    if command and command[0] == "demo":
-        command = command[1:]
-    if any(a == "--shard" or a.startswith("--shard=") for a in command):
-        raise SubmitError("leave out --shard: each task takes its shard from the array "
-                          "(--shard auto)")
-    if command and command[0] == "report":
-        raise SubmitError("the command is demo, compare or bake; the check job runs report "
-                          "itself")
-    # argparse: exit 2 with its message on bad options
-    if command and command[0] == "bake":
-        return own, flags, command, phong_bake.parse_args(command[1:])
-    return own, flags, command, phong.parse_args(command)
-
-
-def check_command(command, args) -> int:
+def check_command(command, args) -> int | None:
     """The number of scenes of a demo run (SubmitError for a bad scene file); None for
     compare and bake (their scenes are known once Blender reads the file)."""
     if command and command[0] in ("compare", "bake"):
@@ -113,13 +69,15 @@ def script(*words) -> str:
     return "#!/bin/bash\n# submitted by phong slurm\nexec " + shlex.join(words) + "\n"
 
 
-def main(argv) -> int:
+def main(own) -> int:
+    """``phong slurm`` with its parsed options (``args.parse_slurm``)."""
+    flags, command, args = own.flags, own.farm, own.farm_args
     try:
-        own, flags, command, args = parse(argv)
         count = check_command(command, args)
         if shutil.which("sbatch") is None:
             raise SubmitError("sbatch not found: run this where Slurm's commands work (a "
-                              "login node), or start a one-node cluster with tools/cluster.py")
+                              "login node), or start a one-node cluster with phong cluster "
+                              "start DIR")
         out = os.path.abspath(args.out)
         problem = outputs.output_problem(out, refuse_package=False)
         if problem:
@@ -133,7 +91,7 @@ def main(argv) -> int:
         if not _given(flags, "-o", "--output"):
             task_flags.append(f"--output={os.path.join(logs, '%x-%A_%a.log')}")
         array, _ = sbatch([f"--array=0-{own.tasks - 1}", *task_flags],
-                          script(python, PHONG, *command, "--out", out, "--shard", "auto"))
+                          script(python, *PHONG, *command, "--out", out, "--shard", "auto"))
         check_flags = [f for f in flags if f.split("=")[0] not in ("-o", "--output")]
         check_flags += [f"--dependency=afterany:{array}", "--job-name=phong-check",
                         f"--output={os.path.join(logs, '%x-%j.log')}"]
@@ -146,10 +104,10 @@ def main(argv) -> int:
         if own.wait:
             print("phong slurm: waiting for the check job (report after every task)...",
                   flush=True)
-        check, done = sbatch(check_flags, script(python, PHONG, "report", out), wait=own.wait)
+        check, done = sbatch(check_flags, script(python, *PHONG, "report", out), wait=own.wait)
         print(f"phong slurm: check job {check}: report {out} once every task has ended; "
               f"a task killed or lost: scontrol requeue {array}_<index>, then "
-              f"bash tools/phong.sh report {out}", flush=True)
+              f"phong report {out}", flush=True)
     except SubmitError as error:
         print(f"phong slurm: {error}", file=sys.stderr)
         return 2
@@ -161,6 +119,3 @@ def main(argv) -> int:
             print(handle.read().rstrip())
     return done.returncode
 
-
-if __name__ == "__main__":
-    sys.exit(main(sys.argv[1:]))

@@ -1,0 +1,130 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""What the headless commands (demo, compare, bake) read alike: a scene file and its
+``--scenes``, and whether a ``--peers`` renderer can run here; ``BadInput`` is a one-line
+reason for exit 2 with nothing written.
+
+A scene file is a .blend, opened as it is, or a file of another program imported as Phong
+into an empty scene by the extension's own importer (``IMPORTERS``: the same code as File ▸
+Import).  An imported file that brings no camera gets one that frames its objects, and one
+that brings no light a sun at the camera (a headlight), each named on stderr."""
+
+from __future__ import annotations
+
+import math
+import os
+import sys
+
+
+class BadInput(Exception):
+    """Exit 2 with this one-line reason; nothing has been written."""
+
+
+def peer_problem(peers) -> str | None:
+    """Why a peer cannot run on this machine (what to install), or None."""
+    if "threejs" not in peers:
+        return None
+    from ..core import threejs  # noqa: PLC0415
+
+    problem = threejs.unavailable()
+    return None if problem is None else f"--peers threejs: {problem}"
+
+
+def _import_obj(context, path) -> list:
+    from ..addon.interchange import obj_import  # noqa: PLC0415
+    from ..core import mtl  # noqa: PLC0415
+
+    try:
+        objects, _materials, warnings, _sync = obj_import.import_obj(context, path)
+    except mtl.MtlError as error:
+        raise BadInput(f"{path}: {error}") from None
+    if not objects:
+        raise BadInput(f"{path}: no mesh in the file")
+    return warnings
+
+
+#: file extension -> the importer of that format: (context, path) -> warnings; BadInput when
+#: nothing could be imported.
+IMPORTERS = {".obj": _import_obj}
+
+
+def open_scene_file(file: str, scenes_arg, importers: bool = True) -> tuple:
+    """Open *file*: (its scene names, the names *scenes_arg* ("a,b") gives, or None without
+    it); BadInput (exit 2) for a missing or unreadable file or an unknown scene.  Without
+    *importers* only .blend files are read."""
+    import bpy  # noqa: PLC0415
+
+    path = os.path.abspath(file)
+    if not os.path.isfile(path):
+        raise BadInput(f"{file}: no such file")
+    suffix = os.path.splitext(path)[1].lower()
+    if importers and suffix in IMPORTERS:
+        _import_into_empty_file(path, IMPORTERS[suffix])
+    else:
+        if suffix != ".blend" and importers:
+            known = ", ".join([".blend", *IMPORTERS])
+            raise BadInput(f"{file}: not a file this command reads ({known})")
+        try:
+            bpy.ops.wm.open_mainfile(filepath=path, load_ui=False)
+        except RuntimeError as error:
+            reason = str(error).strip().splitlines()[-1] if str(error).strip() else "unreadable"
+            raise BadInput(f"{file}: cannot open as a .blend file ({reason})") from None
+    names = [scene.name for scene in bpy.data.scenes]
+    if not scenes_arg:
+        return names, None
+    wanted = [n.strip() for n in scenes_arg.split(",") if n.strip()]
+    unknown = [n for n in wanted if n not in names]
+    if unknown or not wanted:
+        raise BadInput(f"--scenes: no scene {', '.join(map(repr, unknown)) or '(none given)'} "
+                       f"in {file}; it has {', '.join(map(repr, names))}")
+    return names, wanted
+
+
+def _import_into_empty_file(path, importer) -> None:
+    import bpy  # noqa: PLC0415
+
+    bpy.ops.wm.read_homefile(use_empty=True)
+    context = bpy.context
+    scene = context.scene
+    scene.name = os.path.splitext(os.path.basename(path))[0] or "Imported"
+    for warning in importer(context, path):
+        print(f"phong: {os.path.basename(path)}: {warning}", file=sys.stderr)
+    if scene.camera is None:
+        _frame_camera(scene)
+        print(f"phong: {os.path.basename(path)} has no camera: added one that frames its "
+              "objects", file=sys.stderr)
+    if not any(obj.type == "LIGHT" for obj in scene.objects):
+        _headlight(scene)
+        print(f"phong: {os.path.basename(path)} has no light: added a sun at the camera",
+              file=sys.stderr)
+
+
+def _frame_camera(scene) -> None:
+    """A perspective camera looking down -Y at every mesh's bounding box, from far enough
+    that the whole box is in view."""
+    import bpy  # noqa: PLC0415
+    from mathutils import Vector  # noqa: PLC0415
+
+    points = [obj.matrix_world @ Vector(corner) for obj in scene.objects if obj.type == "MESH"
+              for corner in obj.bound_box]
+    low = Vector([min(p[i] for p in points) for i in range(3)]) if points else Vector()
+    high = Vector([max(p[i] for p in points) for i in range(3)]) if points else Vector()
+    centre, radius = (low + high) / 2, max((high - low).length / 2, 1e-3)
+    data = bpy.data.cameras.new("Camera")
+    camera = bpy.data.objects.new("Camera", data)
+    scene.collection.objects.link(camera)
+    distance = radius / math.sin(data.angle / 2) * 1.05
+    camera.location = centre + Vector((0.0, -distance, 0.0))
+    camera.rotation_euler = (math.pi / 2, 0.0, 0.0)
+    data.clip_end = max(data.clip_end, distance + 2 * radius)
+    scene.camera = camera
+
+
+def _headlight(scene) -> None:
+    import bpy  # noqa: PLC0415
+
+    light = bpy.data.objects.new("Headlight", bpy.data.lights.new("Headlight", "SUN"))
+    scene.collection.objects.link(light)
+    light.matrix_world = scene.camera.matrix_world.copy()
+    from ..addon.lighting import sync  # noqa: PLC0415
+
+    sync.relink_scene(scene)

@@ -1,0 +1,243 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""``phong demo``, ``phong compare`` and ``phong report``: scenes with Phong materials rendered by
+Eevee and Cycles (headless, the ``bpy`` module) and checked against the numpy reference.
+
+``demo`` builds every demo scene of ``scenes/*.toml`` (or those named; a path to a .toml file
+also works) as an ordinary Blender scene (real lights, Light Linking, materials made by Apply
+Phong Material's code) and compares it; ``--save-blend`` keeps each built scene as
+``DIR/<scene>/<scene>.blend``.  ``compare`` opens a .blend (or imports an .obj) and compares
+every scene of it that has objects with Phong materials (or those named), at the scene's own
+resolution unless ``--resolution`` is given.  Each comparison goes into ``DIR/<scene>/``
+(pictures, term passes, heatmaps, sheet.png, metrics.json); ``DIR/index.html`` covers every
+scene folder in DIR (so shards writing into one DIR merge); a summary table is printed.
+``--shard auto`` takes the shard from a scheduler's job array (Slurm, Kubernetes Indexed Jobs;
+see ``core.scenes.resolve_shard``).  Each run records the scene folders of the whole run in
+``DIR/run.json``; ``report DIR`` rebuilds the index from the finished folders and says which of
+those are missing or failed (exit 0 when the run is whole, 1 otherwise).
+
+Exit codes: 0 every engine matches the reference (Cycles max |error| <= 1e-4, Eevee within
+1/255 on >= 99.5% of pixels); 1 some engine does not match, or a render failed; 2 bad
+arguments, a bad scene file, a missing or unreadable file, or no Phong material (nothing is
+written then).
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+import time
+
+from ..core import compare, outputs, report, scenes
+from .inputs import BadInput, open_scene_file, peer_problem
+from .terminal import check_interrupt, terminal
+
+
+
+def report_main(args) -> int:
+    """``report DIR``: the completeness check of a (sharded) run."""
+    out = os.path.abspath(args.dir)
+    try:
+        state = report.check_run(out)
+    except report.RunError as error:
+        print(f"phong report: {error}", file=sys.stderr)
+        return 2
+    outputs.clean_stale(out)  # temporary entries of killed tasks of this host
+    if state["kind"] == "bake":  # scene folders with a .glb each: no comparison index
+        print(f"phong report: {report.run_text(state)}")
+    else:
+        index = report.write_index(out)
+        results = report.results(out)
+        if results:
+            print(*summary_table(results), "", sep="\n")
+        print(f"phong report: {report.run_text(state)}; report: {index}")
+    return 0 if not state["missing"] and not state["failed"] else 1
+
+
+def run(args, state) -> int:
+    """``demo`` or ``compare`` with the parsed *args*; *state* counts done / total scenes."""
+    problem = peer_problem(args.peers)
+    if problem is not None:
+        print(f"phong: {problem}", file=sys.stderr)
+        return 2
+    with Registered() as registered:
+        return _run(args, state, registered)
+
+
+class Registered:
+    """The extension registered (from the first ``ensure()``: importing bpy takes a second)
+    until the block ends, on every path: bpy 4.2 crashes at interpreter exit while classes
+    registered without an add-on (here: by hand) are still registered."""
+
+    def __init__(self):
+        self.done = False
+
+    def ensure(self) -> None:
+        if not self.done:
+            from .. import register  # noqa: PLC0415
+
+            register()
+            self.done = True
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *_exc):
+        if self.done:
+            from .. import unregister  # noqa: PLC0415
+
+            unregister()
+
+
+def _run(args, state, registered) -> int:
+    comparing = args.command == "compare"
+    try:
+        if comparing:
+            # bpy must read the file before anything is written
+            registered.ensure()
+            jobs, every = _file_jobs(args)
+        else:
+            selected = scenes.load_all(scenes.resolve(args.scenes))
+            jobs, every = _demo_jobs(scenes.shard(selected, args.shard), args), [
+                d["name"] for d in selected]
+    except (scenes.SceneError, BadInput) as error:
+        print(f"phong: {error}", file=sys.stderr)
+        return 2
+    state["total"] = len(jobs)
+    out = os.path.abspath(args.out)
+    problem = outputs.output_problem(out, refuse_package=False)
+    if problem is not None:
+        print(f"phong: {problem}", file=sys.stderr)
+        return 2
+    outputs.clean_stale(out)  # what a killed run left behind
+    report.write_run(out, every, args.command)
+    check_interrupt()
+
+    say = terminal()
+    start = time.perf_counter()
+    what = f"of {len(every)} in {args.file}" if comparing else f"of {len(every)}"
+    shard = (f" (shard {args.shard}{f' from {args.shard_source}' if args.shard_source else ''})"
+             if args.shard else "")
+    print(f"phong: {len(jobs)} scene(s) {what}{shard}, engines {', '.join(args.engines)}, "
+          f"{f'{args.resolution} px high' if args.resolution else 'own resolution'} -> {out}",
+          file=say)
+    registered.ensure()
+    results, failed = _bake_scenes(jobs, args, out, say, state)
+    index = report.write_index(out)
+    print("", *summary_table(results), sep="\n", file=say)
+    ok = not failed and all(m["ok"] for m in results)
+    status = "every engine matches the reference" if ok else (
+        f"MISMATCH or failure ({', '.join(failed + [m['scene'] for m in results if not m['ok']])})")
+    print(f"\n{status}; {len(results)} scene(s) in {time.perf_counter() - start:.1f} s; "
+          f"report: {index}", file=say)
+    say.flush()
+    return 0 if ok else 1
+
+
+class Job:
+    """One scene to compare: *make()* returns the Blender scene; *done(scene, folder, name)*
+    runs before its report folder is put in place."""
+
+    def __init__(self, name, make, done=None, drop=False):
+        self.name, self.make, self.done, self.drop = name, make, done, drop
+
+
+def _demo_jobs(mine, args) -> list:
+    def make(data):
+        from ..addon.demos import builder  # noqa: PLC0415
+
+        return builder.build(data, args.resolution)
+
+    def save(scene, folder, name):
+        import bpy  # noqa: PLC0415
+
+        bpy.data.libraries.write(os.path.join(folder, f"{name}.blend"), {scene},
+                                 path_remap="NONE", fake_user=False)
+
+    return [Job(d["name"], lambda d=d: make(d), save if args.save_blend else None, drop=True)
+            for d in mine]
+
+
+def _file_jobs(args):
+    """The jobs of the scenes of args.file with Phong materials (BadInput: exit 2)."""
+    import bpy  # noqa: PLC0415
+
+    from ..addon.comparison import engine  # noqa: PLC0415
+    from ..addon.scene import describe  # noqa: PLC0415
+
+    names, wanted = open_scene_file(args.file, args.scenes)
+    if wanted is None:
+        wanted = [n for n in names
+                  if describe.phong_objects(bpy.data.scenes[n],
+                                            describe.view_layer_of(bpy.data.scenes[n]))]
+        if not wanted:
+            raise BadInput(f"{args.file}: no scene has an object with a Phong material "
+                           "(Apply Phong Material first)")
+    for name in wanted:
+        try:
+            engine.check(bpy.data.scenes[name])
+        except engine.ComparisonError as error:
+            raise BadInput(f"{args.file}: {error}") from None
+    # of every scene, so that each shard names the same folder for a scene
+    folders = outputs.distinct(describe.folder_name(bpy.data.scenes[name]) for name in wanted)
+    try:
+        mine = scenes.shard(list(zip(wanted, folders)), args.shard)
+    except scenes.SceneError as error:
+        raise BadInput(str(error)) from None
+    jobs = [Job(folder, lambda n=name: bpy.data.scenes[n]) for name, folder in mine]
+    return jobs, folders
+
+
+def _bake_scenes(jobs, args, out, say, state):
+    """Make and bake each job's scene into out/<name>; returns (metrics list, failed names)."""
+    from ..addon.comparison import engine  # noqa: PLC0415
+    from ..addon.demos import builder  # noqa: PLC0415
+
+    check_interrupt()
+    results, failed = [], []
+    for number, job in enumerate(jobs, start=1):
+        t0 = time.perf_counter()
+        print(f"[{number}/{len(jobs)}] {job.name}: build", end="", file=say)
+
+        def progress(fraction, text, t0=t0):
+            if fraction < 1.0:  # at 1.0 the scene folder is already in place
+                check_interrupt()
+            print(f" | {time.perf_counter() - t0:.1f} s: {text}", end="", file=say)
+
+        try:
+            scene = job.make()
+            metrics = engine.run(scene, os.path.join(out, job.name), engines=args.engines,
+                                progress=progress, resolution=args.resolution,
+                                peers=args.peers,
+                                on_folder=None if job.done is None
+                                else lambda folder, s=scene: job.done(s, folder, job.name))
+            if job.drop:
+                builder.remove(scene)
+        except Exception as error:  # noqa: BLE001  (one bad scene must not hide the others)
+            print(f"\nphong: {job.name}: bake failed: {error}", file=sys.stderr)
+            failed.append(job.name)
+            continue
+        print(f"\n      {compare.verdict_text(metrics['verdict'])}", file=say)
+        results.append(metrics)
+        state["done"] += 1
+        check_interrupt()
+    return results, failed
+
+
+def summary_table(results) -> list:
+    """The terminal table: one line per scene and pair of pictures; the first two columns
+    are as wide as their longest entry."""
+    rows = [(m, pair, p) for m in results for pair, p in m["pairs"].items()]
+    scene_w = max([16] + [len(m["scene"]) for m, _, _ in rows]) + 2
+    pair_w = max([17] + [len(pair) for _, pair, _ in rows]) + 2
+    header = (f"{'scene':<{scene_w}}{'pair':<{pair_w}}{'max |d|':>10}{'mean |d|':>10}"
+              f"{'PSNR':>8}{'>1/255':>9}  verdict")
+    lines = [header, "-" * len(header)]
+    for m, pair, p in rows:
+        engine = pair.split("-")[0]
+        v = (m["verdict"].get(engine) if pair.endswith("reference") or pair == "threejs-cycles"
+             else None)
+        mark = "" if v is None else ("OK" if v["ok"] else "FAIL")
+        psnr = "inf" if p["psnr_db"] is None else f"{p['psnr_db']:.1f}"
+        lines.append(f"{m['scene']:<{scene_w}}{pair:<{pair_w}}{p['max_abs']:>10.2e}"
+                     f"{p['mean_abs']:>10.2e}{psnr:>8}{p['share_over_1_255']:>9.3%}  {mark}")
+    return lines
