@@ -1,0 +1,240 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""The scene written as COLLADA 1.4.1 (``core/collada.dumps``): metres, Z up.
+
+Objects are nodes (their parent-relative matrices), meshes ``<polylist>`` with corner
+normals, UV maps and colour attributes, Phong materials ``profile_COMMON`` with their
+controls (the inverse of ``collada_import``: Irradiant Color → emission, Ambient Object
+Color → ambient, Object Color → diffuse, Specular Color → specular, Exponent → shininess,
+Blinn → blinn; an image texture feeding an input → its ``<texture>``), lights with their
+Phong attenuation and cone (``falloff_angle`` the full cone), the World's Phong ambient as
+an ambient light, cameras.  Other materials are written as lambert with their base colour
+(one warning).  The file is written to a temporary name and renamed: never half-written.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+
+import bpy
+import numpy as np
+
+from ...core import collada
+from ..lighting import materials as recipe
+from ..lighting import properties
+from . import collada_import as imp
+
+
+def _color(socket):
+    return tuple(float(c) for c in socket.default_value[:3])
+
+
+def _feed(lights, name):
+    """(colour, image texture node or None) feeding the lights-group input *name*."""
+    socket = lights.inputs[name]
+    if not socket.is_linked:
+        return _color(socket), None
+    node = socket.links[0].from_node
+    if node.bl_idname == "ShaderNodeTexImage" and node.image is not None:
+        return (1.0, 1.0, 1.0), node
+    if node.bl_idname == "ShaderNodeRGB":
+        return tuple(float(c) for c in node.outputs[0].default_value[:3]), None
+    return (0.0, 0.0, 0.0), None
+
+
+def material_of(material, warnings) -> collada.Material:
+    out = collada.Material(material.name, material.name)
+    if not recipe.is_phong_material(material):
+        color = recipe.base_color(material) or (0.8, 0.8, 0.8)
+        out.technique = "lambert"
+        out.colors["diffuse"] = (*color[:3], 1.0)
+        warnings.append(f"material {material.name} is not a Phong material: written as "
+                        "lambert with its base colour")
+        return out
+    tree = material.node_tree
+    lights = tree.nodes[recipe.LIGHTS_NODE]
+    blinn = float(tree.nodes["phong_blinn"].outputs[0].default_value)
+    technique = material.get(imp.TECHNIQUE_KEY)
+    if technique not in collada.TECHNIQUES:
+        technique = "blinn" if blinn >= 0.5 else "phong"
+    elif technique in ("phong", "blinn"):
+        technique = "blinn" if blinn >= 0.5 else "phong"
+    if 0.0 < blinn < 1.0:
+        warnings.append(f"material {material.name}: Blinn {blinn:g} between Phong and Blinn "
+                        f"written as {technique}")
+    out.technique = technique
+    for socket_name, (element, _control) in imp.INPUTS.items():
+        color, texture = _feed(lights, socket_name)
+        out.colors[element] = (*color, 1.0)
+        if texture is not None:
+            path = bpy.path.abspath(texture.image.filepath) or texture.image.name
+            uv = texture.inputs["Vector"].links[0].from_node \
+                if texture.inputs["Vector"].is_linked else None
+            texcoord = uv.uv_map if uv is not None and uv.bl_idname == "ShaderNodeUVMap" \
+                else "UVMap"
+            out.textures[element] = collada.Texture(path, path, texcoord, texture.image.name)
+    out.shininess = float(tree.nodes["phong_exponent"].outputs[0].default_value)
+    mode = material.get(imp.OPAQUE_KEY)
+    if mode in collada.OPAQUE_MODES and imp.TRANSPARENT_KEY in material.keys():
+        out.opaque = mode
+        out.transparent = tuple(float(c) for c in material[imp.TRANSPARENT_KEY])
+        if imp.TRANSPARENCY_KEY in material.keys():
+            out.transparency = float(material[imp.TRANSPARENCY_KEY])
+    else:
+        node = tree.nodes.get(imp.OPACITY_NODE)
+        opacity = float(node.outputs[0].default_value) if node is not None else 1.0
+        if opacity < 1.0:
+            out.opaque, out.transparent, out.transparency = "A_ONE", (1, 1, 1, 1), opacity
+    return out
+
+
+def export(context, filepath, use_selection=False) -> list:
+    """Write *context*'s scene to *filepath*; returns the warnings."""
+    warnings: list = []
+    doc = document(context, use_selection, warnings)
+    text = collada.dumps(doc)
+    temp = filepath + ".part"
+    try:
+        with open(temp, "w", encoding="utf-8") as handle:
+            handle.write(text)
+        os.replace(temp, filepath)
+    finally:
+        if os.path.exists(temp):
+            os.remove(temp)
+    return warnings
+
+
+def document(context, use_selection, warnings) -> collada.Document:
+    scene = context.scene
+    doc = collada.Document(filepath_or(scene), meter=1.0, up_axis="Z_UP")
+    doc.scene_name = scene.name
+    chosen = [o for o in scene.objects
+              if o.type in ("MESH", "LIGHT", "CAMERA", "EMPTY")
+              and (not use_selection or o.select_get())]
+    keep = set(chosen)
+    roots = [o for o in chosen if o.parent not in keep]
+    for obj in sorted(roots, key=lambda o: o.name):
+        doc.nodes.append(_node(obj, keep, doc, warnings, root=True))
+    world = scene.world
+    if world is not None and properties.AMBIENT_COLOR[0] in world.keys():
+        intensity = float(world.get(properties.AMBIENT_INTENSITY[0],
+                                    properties.AMBIENT_INTENSITY[1]))
+        color = tuple(intensity * float(c) for c in world[properties.AMBIENT_COLOR[0]])
+        if any(color):
+            name = "Ambient"
+            doc.lights[name] = collada.Light(name, name, "ambient", color)
+            doc.nodes.append(collada.Node(name, name, np.eye(4),
+                                          instances=[collada.Instance("light", name)]))
+    return doc
+
+
+def filepath_or(scene) -> str:
+    return bpy.data.filepath or scene.name
+
+
+def _node(obj, keep, doc, warnings, root):
+    matrix = np.array(obj.matrix_world if root else obj.matrix_local, dtype=np.float64)
+    node = collada.Node(obj.name, obj.name, matrix)
+    if obj.type == "MESH":
+        key = obj.data.name
+        if key not in doc.meshes:
+            doc.meshes[key] = _mesh(obj.data)
+        if obj.modifiers:
+            warnings.append(f"object {obj.name}: modifiers not applied")
+        inst = collada.Instance("geometry", key)
+        for slot in obj.material_slots:
+            material = slot.material
+            if material is None:
+                continue
+            if material.name not in doc.materials:
+                doc.materials[material.name] = material_of(material, warnings)
+            inst.bindings[material.name] = material.name
+            uv = {t.texcoord: _uv_set(obj.data, t.texcoord)
+                  for t in doc.materials[material.name].textures.values()}
+            inst.uv_bindings[material.name] = uv
+        node.instances.append(inst)
+    elif obj.type == "LIGHT":
+        light = obj.data
+        if light.type in ("SUN", "POINT", "SPOT") and light.name not in doc.lights:
+            doc.lights[light.name] = _light(light)
+        if light.type in ("SUN", "POINT", "SPOT"):
+            node.instances.append(collada.Instance("light", light.name))
+        else:
+            warnings.append(f"light {light.name}: {light.type} lights have no COLLADA kind; "
+                            "left out")
+    elif obj.type == "CAMERA":
+        if obj.data.name not in doc.cameras:
+            doc.cameras[obj.data.name] = _camera(obj.data)
+        node.instances.append(collada.Instance("camera", obj.data.name))
+    for child in sorted(obj.children, key=lambda o: o.name):
+        if child in keep:
+            node.children.append(_node(child, keep, doc, warnings, root=False))
+    return node
+
+
+def _uv_set(mesh, name):
+    names = [layer.name for layer in mesh.uv_layers]
+    return names.index(name) if name in names else 0
+
+
+def _mesh(mesh) -> collada.Mesh:
+    n = len(mesh.vertices)
+    positions = np.zeros(n * 3, dtype=np.float32)
+    mesh.vertices.foreach_get("co", positions)
+    faces = len(mesh.polygons)
+    sizes = np.zeros(faces, dtype=np.int32)
+    mesh.polygons.foreach_get("loop_total", sizes)
+    material_index = np.zeros(faces, dtype=np.int32)
+    mesh.polygons.foreach_get("material_index", material_index)
+    loops = len(mesh.loops)
+    corners = np.zeros(loops, dtype=np.int32)
+    mesh.loops.foreach_get("vertex_index", corners)
+    normals = np.zeros(loops * 3, dtype=np.float32)
+    if hasattr(mesh, "corner_normals"):
+        mesh.corner_normals.foreach_get("vector", normals)
+    else:
+        mesh.calc_normals_split()
+        mesh.loops.foreach_get("normal", normals)
+    symbols = [m.name if m is not None else "" for m in mesh.materials] or [""]
+    out = collada.Mesh(mesh.name, mesh.name, positions.reshape(-1, 3).astype(np.float64),
+                       sizes.astype(np.int64), [min(int(i), len(symbols) - 1)
+                                                for i in material_index],
+                       symbols, corners.astype(np.int64), normals.reshape(-1, 3))
+    for index, layer in enumerate(mesh.uv_layers):
+        uv = np.zeros(loops * 2, dtype=np.float32)
+        layer.data.foreach_get("uv", uv)
+        out.uvs[index] = uv.reshape(-1, 2)
+    for index, attribute in enumerate(a for a in mesh.color_attributes if a.domain == "CORNER"):
+        color = np.zeros(loops * 4, dtype=np.float32)
+        attribute.data.foreach_get("color", color)
+        out.colors[index] = color.reshape(-1, 4)
+    return out
+
+
+def _light(light) -> collada.Light:
+    kind = {"SUN": "directional", "POINT": "point", "SPOT": "spot"}[light.type]
+    intensity = float(light.get("phong_intensity", 1.0))
+    out = collada.Light(light.name, light.name, kind,
+                        tuple(intensity * float(c) for c in light.color))
+    if kind in ("point", "spot"):
+        out.constant = float(light.get("phong_constant", 0.0))
+        out.linear = float(light.get("phong_linear", 0.0))
+        out.quadratic = float(light.get("phong_quadratic", 1.0))
+    if kind == "spot":
+        out.falloff_angle = math.degrees(light.spot_size)
+        out.falloff_exponent = float(light.get("phong_edge_exponent", 0.0))
+    return out
+
+
+def _camera(camera) -> collada.Camera:
+    out = collada.Camera(camera.name, camera.name,
+                         "orthographic" if camera.type == "ORTHO" else "perspective")
+    vertical = camera.sensor_fit == "VERTICAL"
+    if camera.type == "ORTHO":
+        half = camera.ortho_scale / 2.0
+        out.ymag, out.xmag = (half, None) if vertical else (None, half)
+    else:
+        angle = math.degrees(camera.angle)
+        out.yfov, out.xfov = (angle, None) if vertical else (None, angle)
+    out.znear, out.zfar = camera.clip_start, camera.clip_end
+    return out

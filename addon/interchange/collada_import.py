@@ -1,0 +1,467 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""COLLADA (.dae) imported as exact Phong materials, Phong lights and the file's scene.
+
+``core/collada.py`` reads the whole file first (nothing is added when it cannot be read);
+this module builds the Blender side:
+
+* every node an object (an Empty when it holds several instances or none), its transform
+  the file's matrix with the translation in metres and, at the roots, the up axis turned to
+  Blender's Z; ``instance_node`` copies the node tree it names;
+* meshes (triangles, polylist, polygons, tristrips, trifans) with their normals (custom
+  split normals), texture coordinates ("UVMap", "UVMap1" ... by set) and vertex colours,
+  positions times ``<unit meter>``; each ``bind_material`` symbol its material slot;
+* every material a Phong material with the file's values (the table of
+  ``docs/interchange.md``): emission → Irradiant Color, ambient → Ambient Object Color (Ka),
+  diffuse → Object Color, specular → Specular Color, shininess → Exponent, blinn → Blinn 1;
+  a term the effect leaves out is black; a texture feeds its input instead of the colour;
+  opacity from the spec's transparency formulas (``phong_opacity``);
+* lights: ambient → the World's Phong ambient (the sum of the file's ambient lights),
+  directional → Sun, point → Point with 1/(c + l·d + q·d²) rescaled to metres, spot → Spot
+  with ``spot_size`` = ``falloff_angle`` (the full cone) and Edge Exponent =
+  ``falloff_exponent``; Phong Intensity 1 and the light colour the file's;
+* cameras, the first one the scene's camera when the scene has none.
+
+:func:`import_file` is the plain entry point (``phong compare FILE.dae``); it raises
+:class:`ColladaImportError` and leaves the scene as it was when the import fails.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+
+import bpy
+import numpy as np
+from mathutils import Matrix
+
+from ...core import collada
+from ..lighting import materials as recipe
+from ..lighting import properties
+from ..lighting import sync as sync_mod
+
+#: Custom properties of an imported material, so that export writes the file's technique
+#: and transparency back.
+TECHNIQUE_KEY = "phong_collada_technique"
+OPAQUE_KEY = "phong_collada_opaque"
+TRANSPARENT_KEY = "phong_collada_transparent"
+TRANSPARENCY_KEY = "phong_collada_transparency"
+OPACITY_NODE = "phong_opacity"
+TEXTURE_NODE = "phong_dae_map:"   # + lights-group input
+UVMAP_NODE = "phong_dae_uv:"      # + lights-group input
+#: lights-group input -> (COLLADA element, control node)
+INPUTS = {"Irradiant Color": ("emission", "phong_irradiant_color"),
+          recipe.AMBIENT_INPUT: ("ambient", recipe.AMBIENT_CONTROL),
+          "Object Color": ("diffuse", "phong_object_color"),
+          "Specular Color": ("specular", "phong_specular_color")}
+MAX_NODES = 100_000
+
+
+class ColladaImportError(RuntimeError):
+    """The import failed; nothing was added to the file."""
+
+
+def set_opacity(material, value: float) -> None:
+    """The material's Opacity control (``phong_opacity``), through the recipe's setter
+    once it has one; a no-op for a material without the control."""
+    setter = getattr(recipe, "set_opacity", None)
+    if setter is not None:
+        setter(material, value)
+        return
+    node = material.node_tree.nodes.get(OPACITY_NODE) if material.node_tree else None
+    if node is not None:
+        node.outputs[0].default_value = float(value)
+
+
+def import_file(filepath, context=None, literal_transparency=False) -> list:
+    """Import the COLLADA file *filepath* into *context*'s scene; returns the warnings.
+    Raises ColladaImportError (the scene unchanged) when it cannot be imported."""
+    context = context or bpy.context
+    _objects, _materials, warnings, _sync = import_collada(context, filepath,
+                                                           literal_transparency)
+    return warnings
+
+
+def import_collada(context, filepath, literal_transparency=False):
+    """(objects, Phong materials, warnings, the Sync run) of importing *filepath*."""
+    try:
+        doc = collada.load(filepath)
+    except collada.ColladaError as error:
+        raise ColladaImportError(str(error)) from None
+    builder = _Builder(context, doc, literal_transparency)
+    try:
+        builder.build()
+    except Exception as error:   # leave the file as it was
+        builder.undo()
+        raise ColladaImportError(f"{filepath}: import failed ({type(error).__name__}: "
+                                 f"{error}); nothing imported") from error
+    return builder.objects, list(builder.materials.values()), doc.warnings, builder.sync
+
+
+class _Builder:
+    def __init__(self, context, doc, literal):
+        self.context = context
+        self.scene = context.scene
+        self.doc = doc
+        self.literal = literal
+        self.created = []          # (collection of bpy.data, ID) to remove on failure
+        self.objects = []
+        self.meshes = {}           # geometry id -> mesh
+        self.lights = {}           # light id -> light data
+        self.cameras = {}
+        self.materials = {}        # material id -> Phong material
+        self.uses = []             # (object, instance, mesh)
+        self.images = {}
+        self.sync = None
+        self.world_before = None
+        self.camera_before = self.scene.camera
+        self.count = 0
+
+    def _new(self, collection, *args):
+        block = collection.new(*args)
+        self.created.append((collection, block))
+        return block
+
+    def undo(self):
+        for collection, block in reversed(self.created):
+            try:
+                collection.remove(block)
+            except (ReferenceError, RuntimeError):
+                pass
+        if self.world_before is not None:
+            world, values = self.world_before
+            for key, value in values.items():
+                if value is None:
+                    if key in world.keys():
+                        del world[key]
+                else:
+                    world[key] = value
+        self.scene.camera = self.camera_before
+
+    # -- the scene ----------------------------------------------------------------------
+    def build(self):
+        doc = self.doc
+        by_id = dict(doc.library_nodes)
+        stack = list(doc.nodes)
+        while stack:
+            node = stack.pop()
+            if node.id:
+                by_id.setdefault(node.id, node)
+            stack.extend(node.children)
+        self.by_id = by_id
+        target = self.context.collection or self.scene.collection
+        self.collection = target
+        for node in doc.nodes:
+            self.node(node, None, True, ())
+        self.ambient()
+        self.sync = sync_mod.Sync(self.scene, self.context.view_layer)
+        self.sync.rebuild_groups()
+        self.bind_materials()
+        self.sync.relink(self.scene.objects)
+        self.sync.finish()
+        sync_mod.remember(self.scene, self.context.view_layer)
+        camera = next((o for o in self.objects if o.type == "CAMERA"), None)
+        if camera is not None and self.scene.camera is None:
+            self.scene.camera = camera
+
+    def node(self, node, parent, root, seen):
+        self.count += 1
+        if self.count > MAX_NODES:
+            self.doc.warn(f"more than {MAX_NODES} nodes; the rest left out")
+            return
+        shown = [i for i in node.instances if i.kind != "node"]
+        data_of = [self.data(i, node) for i in shown]
+        pairs = [(i, d) for i, d in zip(shown, data_of) if d is not None]
+        own = pairs[0] if len(pairs) == 1 else None
+        data = own[1] if own is not None else None
+        obj = self._new(bpy.data.objects, node.name, data)
+        self.collection.objects.link(obj)
+        self.objects.append(obj)
+        if parent is not None:
+            obj.parent = parent
+        local = collada.to_blender(self.doc, node.matrix, root)
+        self.set_matrix(obj, local, node.name)
+        if own is not None and own[0].kind == "geometry":
+            self.uses.append((obj, own[0]))
+        if own is None:
+            for inst, data in pairs:
+                child = self._new(bpy.data.objects, f"{node.name} {inst.url}", data)
+                self.collection.objects.link(child)
+                self.objects.append(child)
+                child.parent = obj
+                if inst.kind == "geometry":
+                    self.uses.append((child, inst))
+        for child in node.children:
+            self.node(child, obj, False, seen)
+        for inst in node.instances:
+            if inst.kind != "node":
+                continue
+            target = self.by_id.get(inst.url)
+            if target is None:
+                self.doc.warn(f"node {node.name}: <instance_node url=\"#{inst.url}\"> not "
+                              "found; left out")
+            elif inst.url in seen:
+                self.doc.warn(f"node {node.name}: <instance_node url=\"#{inst.url}\"> "
+                              "instantiates itself; left out")
+            else:
+                self.node(target, obj, False, seen + (inst.url,))
+
+    def set_matrix(self, obj, matrix, name):
+        blender = Matrix([list(map(float, row)) for row in matrix])
+        obj.matrix_basis = blender
+        back = np.array(obj.matrix_basis, dtype=np.float64)
+        if not np.allclose(back, matrix, atol=1e-5 * max(1.0, float(np.abs(matrix).max()))):
+            self.doc.warn(f"node {name}: its transform has a shear (<skew> or a sheared "
+                          "<matrix>), which an object cannot hold; imported without it")
+
+    def data(self, inst, node):
+        if inst.kind == "geometry":
+            source = self.doc.meshes.get(inst.url)
+            if source is None:
+                self.doc.warn(f"node {node.name}: geometry #{inst.url} not found or not a "
+                              "mesh; left out")
+                return None
+            if inst.url not in self.meshes:
+                self.meshes[inst.url] = self.mesh(source)
+            return self.meshes[inst.url]
+        if inst.kind == "light":
+            source = self.doc.lights.get(inst.url)
+            if source is None:
+                self.doc.warn(f"node {node.name}: light #{inst.url} not found; left out")
+                return None
+            if source.kind == "ambient":
+                return None
+            if inst.url not in self.lights:
+                self.lights[inst.url] = self.light(source)
+            return self.lights[inst.url]
+        if inst.kind == "camera":
+            source = self.doc.cameras.get(inst.url)
+            if source is None:
+                self.doc.warn(f"node {node.name}: camera #{inst.url} not found; left out")
+                return None
+            if inst.url not in self.cameras:
+                self.cameras[inst.url] = self.camera(source)
+            return self.cameras[inst.url]
+        return None
+
+    # -- meshes -------------------------------------------------------------------------
+    def mesh(self, source: collada.Mesh):
+        mesh = self._new(bpy.data.meshes, source.name)
+        m = self.doc.meter
+        positions = np.asarray(source.positions, dtype=np.float64) * m
+        mesh.vertices.add(len(positions))
+        mesh.vertices.foreach_set("co", positions.astype(np.float32).reshape(-1))
+        sizes = np.asarray(source.face_sizes, dtype=np.int64)
+        if len(sizes):
+            mesh.loops.add(int(sizes.sum()))
+            mesh.loops.foreach_set("vertex_index", source.corners.astype(np.int32))
+            mesh.polygons.add(len(sizes))
+            starts = np.concatenate([[0], np.cumsum(sizes)[:-1]]).astype(np.int32)
+            mesh.polygons.foreach_set("loop_start", starts)
+            mesh.polygons.foreach_set("material_index",
+                                      np.asarray(source.face_symbols, dtype=np.int32))
+        for index, channel in enumerate(sorted(source.uvs)):
+            layer = mesh.uv_layers.new(name="UVMap" if index == 0 else f"UVMap{channel}")
+            if layer is not None:
+                layer.data.foreach_set("uv", source.uvs[channel].astype(np.float32).reshape(-1))
+        for index, channel in enumerate(sorted(source.colors)):
+            name = "Col" if index == 0 else f"Col{channel}"
+            attribute = mesh.color_attributes.new(name, "FLOAT_COLOR", "CORNER")
+            attribute.data.foreach_set("color",
+                                       source.colors[channel].astype(np.float32).reshape(-1))
+        mesh.update()
+        if source.normals is not None and len(sizes):
+            normals = np.asarray(source.normals, dtype=np.float64)
+            length = np.linalg.norm(normals, axis=1, keepdims=True)
+            normals = np.where(length > 0, normals / np.where(length > 0, length, 1), 0.0)
+            mesh.polygons.foreach_set("use_smooth", np.ones(len(sizes), dtype=bool))
+            mesh.normals_split_custom_set([tuple(n) for n in normals])
+        if mesh.validate(verbose=False):
+            self.doc.warn(f"geometry {source.name}: invalid faces (repeated corners or "
+                          "edges) repaired by Blender")
+        mesh["phong_collada_symbols"] = list(source.symbols)
+        return mesh
+
+    # -- lights and cameras -----------------------------------------------------------------
+    def light(self, source: collada.Light):
+        kind = {"directional": "SUN", "point": "POINT", "spot": "SPOT"}[source.kind]
+        light = self._new(bpy.data.lights, source.name, kind)
+        light.color = tuple(max(0.0, c) for c in source.color)
+        values = {"intensity": 1.0}
+        if source.kind in ("point", "spot"):
+            constant, linear, quadratic = collada.attenuation(self.doc, source)
+            values.update(constant=constant, linear=linear, quadratic=quadratic)
+        if source.kind == "spot":
+            angle = source.falloff_angle
+            if not 1.0 <= angle <= 180.0:
+                self.doc.warn(f"light {source.name}: falloff_angle {angle:g}° outside Blender's "
+                              "1°-180°; clamped")
+                angle = min(max(angle, 1.0), 180.0)
+            light.spot_size = math.radians(angle)
+            light.spot_blend = 0.0
+            values["edge_exponent"] = max(source.falloff_exponent, 0.0)
+        properties.write_light(light, values)
+        return light
+
+    def camera(self, source: collada.Camera):
+        camera = self._new(bpy.data.cameras, source.name)
+        m = self.doc.meter
+        if source.kind == "orthographic":
+            camera.type = "ORTHO"
+            if source.xmag is not None:
+                camera.sensor_fit = "HORIZONTAL"
+                camera.ortho_scale = 2.0 * source.xmag * m
+            elif source.ymag is not None:
+                camera.sensor_fit = "VERTICAL"
+                camera.ortho_scale = 2.0 * source.ymag * m
+        else:
+            camera.type = "PERSP"
+            if source.xfov is not None:
+                camera.sensor_fit = "HORIZONTAL"
+                camera.angle = math.radians(min(max(source.xfov, 0.37), 175.0))
+            elif source.yfov is not None:
+                camera.sensor_fit = "VERTICAL"
+                camera.angle = math.radians(min(max(source.yfov, 0.37), 175.0))
+        camera.clip_start = max(source.znear * m, 1e-6)
+        camera.clip_end = max(source.zfar * m, camera.clip_start * 1.001)
+        return camera
+
+    def ambient(self):
+        used = set()
+        stack = list(self.doc.nodes) + list(self.doc.library_nodes.values())
+        while stack:
+            node = stack.pop()
+            stack.extend(node.children)
+            used |= {i.url for i in node.instances if i.kind == "light"}
+        ambients = [light for key, light in self.doc.lights.items()
+                    if light.kind == "ambient" and key in used]
+        if not ambients:
+            return
+        world = self.scene.world
+        if world is None:
+            world = self._new(bpy.data.worlds, "World")
+            self.scene.world = world
+        keys = (properties.AMBIENT_INTENSITY[0], properties.AMBIENT_COLOR[0])
+        self.world_before = (world, {k: (world[k] if k in world.keys() else None) for k in keys})
+        total = np.sum([light.color for light in ambients], axis=0)
+        properties.write_world(world, 1.0, tuple(float(c) for c in total))
+
+    # -- materials ------------------------------------------------------------------------
+    def bind_materials(self):
+        for obj, inst in self.uses:
+            mesh = obj.data
+            symbols = list(mesh.get("phong_collada_symbols", []))
+            key, reach = self.sync.light_set(obj)
+            group = self.sync.group(key, reach)
+            wanted = []
+            for symbol in symbols:
+                target = inst.bindings.get(symbol)
+                source = self.doc.materials.get(target) if target else None
+                if source is None:   # liberal: an unbound symbol naming a material
+                    source = self.doc.materials.get(symbol) or next(
+                        (m for m in self.doc.materials.values() if m.name == symbol), None)
+                    if source is None and symbol:
+                        self.doc.warn(f"geometry {mesh.name}: material symbol {symbol!r} "
+                                      "bound to no material; a default Phong material used")
+                wanted.append(self.material(source, group, inst.uv_bindings.get(symbol, {})))
+            if not symbols:
+                wanted.append(self.material(None, group, {}))
+            if len(mesh.materials) == 0:
+                for material in wanted:
+                    mesh.materials.append(material)
+            if [s.material for s in obj.material_slots] != wanted:
+                for slot, material in zip(obj.material_slots, wanted):
+                    slot.link = "OBJECT"
+                    slot.material = material
+            self.sync.apply(obj)
+
+    def material(self, source, group, uv_binding):
+        key = source.id if source is not None else None
+        if key in self.materials:
+            return self.materials[key]
+        name = source.name if source is not None else "COLLADA default"
+        material = recipe.new_material(name, group)
+        self.created.append((bpy.data.materials, material))
+        if source is not None:
+            self.values(material, source, uv_binding)
+        self.materials[key] = material
+        return material
+
+    def values(self, material, source: collada.Material, uv_binding):
+        tree = material.node_tree
+        lights = tree.nodes[recipe.LIGHTS_NODE]
+        for index, (socket_name, (element, control)) in enumerate(INPUTS.items()):
+            color = source.color(element)
+            if control in recipe.CONTROLS:
+                node = tree.nodes[control]
+                recipe.set_quietly(node.outputs[0], (*color, 1.0))
+            else:
+                node = recipe.control_node(tree, control, "Ambient Color (Ka)", color)
+            output = node.outputs[0]
+            texture = source.texture(element)
+            if texture is not None:
+                image = self.image(texture, source)
+                if image is not None:
+                    output = self.texture_node(tree, socket_name, image, texture, uv_binding,
+                                               index)
+            tree.links.new(output, lights.inputs[socket_name])
+        tree.nodes["phong_exponent"].outputs[0].default_value = (
+            source.shininess if source.shininess is not None and source.technique in
+            ("phong", "blinn") else 0.0)
+        tree.nodes["phong_blinn"].outputs[0].default_value = \
+            1.0 if source.technique == "blinn" else 0.0
+        strength = tree.nodes.get("phong_specular_strength")
+        if strength is not None:
+            strength.outputs[0].default_value = \
+                1.0 if source.technique in ("phong", "blinn") else 0.0
+        if source.shininess is not None and source.shininess < 0.0:
+            self.doc.warn(f"material {source.name}: shininess {source.shininess:g} read as 0")
+            tree.nodes["phong_exponent"].outputs[0].default_value = 0.0
+        material[TECHNIQUE_KEY] = source.technique
+        material[OPAQUE_KEY] = source.opaque
+        if source.transparent is not None:
+            material[TRANSPARENT_KEY] = [float(c) for c in source.transparent]
+        if source.transparency is not None:
+            material[TRANSPARENCY_KEY] = float(source.transparency)
+        opacity = source.opacity()
+        channels = source.opacity_channels()
+        if max(channels) - min(channels) > 1e-6:
+            self.doc.warn(f"material {source.name}: {source.opaque} opacity differs per "
+                          f"channel {tuple(round(c, 4) for c in channels)}; their mean "
+                          f"{opacity:.4g} used")
+        if opacity <= 0.0 and not self.literal:
+            self.doc.warn(f"material {source.name}: its transparency makes it wholly "
+                          f"invisible ({source.opaque}, transparency "
+                          f"{1.0 if source.transparency is None else source.transparency:g}); "
+                          "imported opaque, as its exporter most likely meant")
+            opacity = 1.0
+        set_opacity(material, min(max(opacity, 0.0), 1.0))
+
+    def image(self, texture, source):
+        if texture.resolved in self.images:
+            return self.images[texture.resolved]
+        image = None
+        if texture.exists:
+            try:
+                image = bpy.data.images.load(texture.resolved, check_existing=True)
+            except RuntimeError:
+                image = None
+        if image is None:
+            self.doc.warn(f"material {source.name}: texture {texture.path} not found or not "
+                          f"readable (looked for {texture.resolved}); left out")
+        self.images[texture.resolved] = image
+        return image
+
+    def texture_node(self, tree, socket_name, image, texture, uv_binding, index):
+        node = tree.nodes.new("ShaderNodeTexImage")
+        node.name = TEXTURE_NODE + socket_name
+        node.label = f"{socket_name} texture"
+        node.image = image
+        node.location = (-1150.0, 200.0 - 300.0 * index)
+        channel = uv_binding.get(texture.texcoord)
+        if channel:   # a set other than the first: its own UV map
+            uv = tree.nodes.new("ShaderNodeUVMap")
+            uv.name = UVMAP_NODE + socket_name
+            uv.uv_map = f"UVMap{channel}"
+            uv.location = (-1450.0, 200.0 - 300.0 * index)
+            tree.links.new(uv.outputs["UV"], node.inputs["Vector"])
+        return node.outputs["Color"]
