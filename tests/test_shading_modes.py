@@ -1,0 +1,400 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Per Vertex (Gouraud) and Per Face (flat) shading of Phong materials (docs/shading_modes.md).
+
+The expectations come from the numpy reference (node_groups/reference.py, through
+phong_scene.reference_color), evaluated at the vertices / face centres read from the
+evaluated mesh and at positions computed here from the objects' matrices; rendered pixels are
+compared with the barycentric interpolation of those reference values, computed here from
+the rendered world position (an AOV) and the mesh's triangles."""
+
+from __future__ import annotations
+
+import math
+import os
+import subprocess
+import sys
+import textwrap
+
+import numpy as np
+import pytest
+
+import blender_env as be
+from phong_scene import AOVS, _add_probe_aovs, _controls, _light, reference_color
+
+SIZE = 48
+#: Cycles and the GN evaluation compute in float32; the reference in float64.
+VERTEX_TOL = 1e-5
+#: A pixel: Cycles interpolates the stored float32 colours at a float32 hit point.
+PIXEL_TOL = 1e-4
+#: How far from a triangle's edges (smallest barycentric weight) a pixel counts as interior.
+INTERIOR = 0.03
+SPHERE_ID = 2
+
+
+def _principled(bpy, name, color):
+    material = bpy.data.materials.new(name)
+    be.compat().new_material_tree(material)
+    material.node_tree.nodes["Principled BSDF"].inputs["Base Color"].default_value = color
+    return material
+
+
+def _scene(bpy, mode, light_types=("POINT", "SUN", "SPOT"), model="seeds", segments=12,
+           rings=6, before=None):
+    """A coarse sphere in *mode* under lights of *light_types*, a perspective camera;
+    *before*: a modifier type the sphere has before Phong's (the lit mesh is the modified one)."""
+    scene = be.new_scene("Shading modes", SIZE, SIZE, "cycles")
+    bpy.context.window.scene = scene
+    scene["phong_model"] = model
+    scene.world.phong.ambient_intensity = 0.08
+    scene.world.phong.ambient_color = (1.0, 0.9, 0.8)
+    for name, kind in AOVS:
+        be.add_aov(scene, name, kind)
+    camera = be.add_persp_camera(scene, (0.6, -5.0, 2.2), (0.0, 0.0, 0.0))
+    sphere = be.add_uv_sphere(scene, "Sphere", (0.1, 0.2, -0.1), 1.25,
+                              _principled(bpy, "Old", (0.2, 0.5, 0.8, 1.0)), segments, rings)
+    sphere.rotation_euler = (0.2, -0.1, 0.4)
+    sphere.scale = (1.0, 1.1, 0.9)  # the normals need the inverse transpose
+    if before is not None:
+        modifier = sphere.modifiers.new("Before", before)
+        if before == "SUBSURF":
+            modifier.levels = modifier.render_levels = 1
+    lights = []
+    if "POINT" in light_types:
+        point = _light(bpy, scene, "Point", "POINT", (1.5, -2.5, 2.5))
+        point.data.color = (1.0, 0.8, 0.6)
+        point.data.phong.intensity = 8.0
+        point.data.phong.quadratic, point.data.phong.linear = 0.6, 0.2
+        point.data.phong.constant = 0.1
+        lights.append(point)
+    if "SUN" in light_types:
+        sun = _light(bpy, scene, "Sun", "SUN", (0.0, 0.0, 5.0), (0.6, 0.3, 0.2))
+        sun.data.color = (0.6, 0.7, 1.0)
+        sun.data.phong.intensity = 0.5
+        sun.data.phong.specular = 0.6
+        lights.append(sun)
+    if "SPOT" in light_types:
+        spot = _light(bpy, scene, "Spot", "SPOT", (-1.5, -2.0, 3.0), (0.6, 0.0, -0.6))
+        spot.data.color = (1.0, 1.0, 0.5)
+        spot.data.spot_size = math.radians(60.0)
+        spot.data.phong.intensity = 10.0
+        spot.data.phong.edge_exponent = 2.0
+        spot.data.phong.diffuse = 0.9
+        lights.append(spot)
+    for obj in scene.objects:
+        obj.select_set(obj is sphere)
+    bpy.context.view_layer.objects.active = sphere
+    assert bpy.ops.phong.apply_material() == {"FINISHED"}
+    material = sphere.active_material
+    nodes = material.node_tree.nodes
+    nodes["phong_exponent"].outputs[0].default_value = 18.0
+    nodes["phong_blinn"].outputs[0].default_value = 0.3
+    nodes["phong_specular_color"].outputs[0].default_value = (0.9, 0.8, 1.0, 1.0)
+    nodes["phong_irradiant_color"].outputs[0].default_value = (0.02, 0.0, 0.03, 1.0)
+    material.phong.shading = mode
+    _add_probe_aovs(bpy, material, SPHERE_ID)
+    return scene, sphere, camera, sorted(lights, key=lambda o: o.name)
+
+
+def _evaluated(bpy, obj):
+    return obj.evaluated_get(bpy.context.evaluated_depsgraph_get()).data
+
+
+def _attribute(bpy, obj):
+    """(domain, colours) of the material's colour attribute on the evaluated mesh."""
+    from phong_nodes.addon.shading import modes  # noqa: PLC0415
+
+    mesh = _evaluated(bpy, obj)
+    attribute = mesh.attributes[modes.attribute_name(obj.active_material)]
+    colors = np.empty(len(attribute.data) * 4, dtype=np.float32)
+    attribute.data.foreach_get("color", colors)
+    return attribute.domain, colors.reshape(-1, 4)[:, :3].astype(np.float64)
+
+
+def _world(obj, co, normals):
+    """World positions and unit normals from object-space ones (inverse transpose)."""
+    mw = np.array(obj.matrix_world, dtype=np.float64)
+    P = co @ mw[:3, :3].T + mw[:3, 3]
+    N = normals @ np.linalg.inv(mw[:3, :3])
+    return P, N / np.linalg.norm(N, axis=1)[:, None]
+
+
+def _vertices(bpy, obj):
+    mesh = _evaluated(bpy, obj)
+    co = np.array([v.co for v in mesh.vertices], dtype=np.float64)
+    normals = np.array([v.normal for v in mesh.vertices], dtype=np.float64)
+    return _world(obj, co, normals)
+
+
+def _face_centres(bpy, obj):
+    """Each face's centre (the mean of its corners' positions) and its face normal."""
+    mesh = _evaluated(bpy, obj)
+    co = np.array([v.co for v in mesh.vertices], dtype=np.float64)
+    centres = np.array([co[list(p.vertices)].mean(axis=0) for p in mesh.polygons])
+    normals = np.array([p.normal for p in mesh.polygons], dtype=np.float64)
+    return _world(obj, centres, normals)
+
+
+def _reference(scene, obj, camera, lights, P, N):
+    eye = np.array(camera.matrix_world, dtype=np.float64)[:3, 3]
+    I = eye - P
+    I /= np.linalg.norm(I, axis=1)[:, None]
+    return reference_color(scene.world, lights, _controls(obj.active_material), P, N, I)
+
+
+def _render(bpy, scene, path):
+    be.render_exr(scene, str(path))
+    return {k: v[::-1] for k, v in be.read_multilayer_exr(str(path)).items()}  # row 0 = bottom
+
+
+def _barycentric(bpy, obj, points):
+    """For world points on the mesh: (triangle index, barycentric weights (n, 3), the
+    triangles' vertex indices (t, 3), their face indices)."""
+    mesh = _evaluated(bpy, obj)
+    mesh.calc_loop_triangles()
+    tris = np.array([t.vertices[:] for t in mesh.loop_triangles])
+    faces = np.array([t.polygon_index for t in mesh.loop_triangles])
+    co = np.array([v.co for v in mesh.vertices], dtype=np.float64)
+    V, _ = _world(obj, co, np.tile((0.0, 0.0, 1.0), (len(co), 1)))
+    a, b, c = V[tris[:, 0]], V[tris[:, 1]], V[tris[:, 2]]
+    e1, e2 = b - a, c - a
+    d00, d01, d11 = (e1 * e1).sum(1), (e1 * e2).sum(1), (e2 * e2).sum(1)
+    normal = np.cross(e1, e2)
+    normal /= np.linalg.norm(normal, axis=1)[:, None]
+    best, weights = np.full(len(points), -1), np.zeros((len(points), 3))
+    for i, p in enumerate(points):
+        d = p - a
+        distance = np.abs((d * normal).sum(1))
+        d20, d21 = (d * e1).sum(1), (d * e2).sum(1)
+        denom = d00 * d11 - d01 * d01
+        v = (d11 * d20 - d01 * d21) / denom
+        w = (d00 * d21 - d01 * d20) / denom
+        u = 1.0 - v - w
+        inside = (np.minimum(np.minimum(u, v), w) > -1e-4) & (distance < 1e-3)
+        if inside.any():
+            k = np.flatnonzero(inside)[np.argmin(distance[inside])]
+            best[i], weights[i] = k, (u[k], v[k], w[k])
+    return best, weights, tris, faces
+
+
+def _pixels(bpy, obj, passes):
+    """(mask of the sphere's interior pixels, their triangles, weights, tris, faces)."""
+    ident = np.rint(passes["id"][..., 0]).astype(int)
+    P = passes["P"][..., :3].astype(np.float64)
+    mask = ident == SPHERE_ID
+    tri, weights, tris, faces = _barycentric(bpy, obj, P[mask])
+    interior = (tri >= 0) & (weights.min(axis=1) > INTERIOR)
+    return mask, tri, weights, tris, faces, interior
+
+
+def _check_vertex_pixels(bpy, scene, obj, camera, lights, passes, label):
+    """Interior pixels against the barycentric interpolation of the reference's vertex values."""
+    P, N = _vertices(bpy, obj)
+    want_vertex, near = _reference(scene, obj, camera, lights, P, N)
+    mask, tri, weights, tris, _faces, interior = _pixels(bpy, obj, passes)
+    ok = interior & ~near[tris[np.maximum(tri, 0)]].any(axis=1)
+    corners = want_vertex[tris[tri[ok]]]  # (n, 3 corners, rgb)
+    want = (weights[ok][..., None] * corners).sum(axis=1)
+    got = passes["Combined"][..., :3][mask][ok].astype(np.float64)
+    err = np.abs(got - want).max()
+    be.report(f"[shading {label}] {int(ok.sum())} interior pixels of {int(mask.sum())}: "
+              f"max |pixel - interpolated reference| {err:.2e}")
+    assert ok.sum() > 150, "enough interior pixels compared"
+    assert want.std() > 0.02, "lit, not flat"
+    assert err <= PIXEL_TOL, (label, err)
+    return err
+
+
+# -- the model as one expression (no Blender) ----------------------------------------------
+
+def test_the_composed_model_equals_the_reference_on_every_light_type():
+    from phong_nodes.node_groups import reference as ref  # noqa: PLC0415
+    from phong_nodes.node_groups import shading_modes as sm  # noqa: PLC0415
+    from phong_nodes.node_groups.expr import evaluate  # noqa: PLC0415
+
+    rng = np.random.default_rng(3)
+    P = rng.normal(size=(400, 3))
+    N = rng.normal(size=(400, 3))
+    camera = np.array([0.5, -7.0, 2.0])
+    lights = [("POINT", "Phong Point Light", {"Position": np.array([1.0, -3.0, 2.0]),
+                                              "Intensity": 6.0, "Quadratic": 0.5,
+                                              "Linear": 0.3, "Constant": 0.2}),
+              ("SUN", "Phong Directional Light", {"Direction": np.array([0.2, 0.5, -1.0]),
+                                                  "Intensity": 0.7}),
+              ("SPOT", "Phong Spot Light", {"Position": np.array([-1.0, -2.0, 3.0]),
+                                            "Direction": np.array([0.3, 0.6, -1.0]),
+                                            "Half Angle": 0.6, "Edge Exponent": 3.0,
+                                            "Intensity": 9.0, "Quadratic": 1.0,
+                                            "Linear": 0.0, "Constant": 0.0})]
+    controls = {"Object Color": np.array([0.2, 0.5, 0.8]), "Specular Color": np.array([0.9, 0.8, 1.0]),
+                "Exponent": 25.0, "Blinn": 0.4, "Irradiant Color": np.array([0.03, 0.0, 0.02]),
+                "Ambient Object Color": np.array([0.2, 0.5, 0.8]), "Specular Strength": 1.0,
+                "Ambient Intensity": 0.1, "Ambient Color": np.array([1.0, 0.9, 0.8])}
+    n = N / np.linalg.norm(N, axis=1)[:, None]
+    v = (camera - P) / np.linalg.norm(camera - P, axis=1)[:, None]
+    geo = {"Position": P, "Normal": n, "Incoming": v}
+    for count in range(len(lights) + 1):
+        used = lights[:count]
+        values = {"P": P, "N": N, "Camera": camera, **controls}
+        want = ref.ambient(0.1, (1.0, 0.9, 0.8), controls["Object Color"])["Color"] * np.ones((400, 1))
+        for index, (kind, group, inputs) in enumerate(used):
+            values.update({sm.light_input(index, k): x for k, x in inputs.items()})
+            color = np.array([1.0, 0.9 - 0.1 * index, 0.7])
+            values.update({sm.light_input(index, "Color"): color,
+                           sm.light_input(index, "Diffuse"): 0.9,
+                           sm.light_input(index, "Specular"): 0.7})
+            out = ref.GROUPS[group](inputs, geo)
+            shading = ref.phong_shading(
+                out["Light Vector"], out["Intensity"], color, controls["Object Color"],
+                controls["Irradiant Color"] if index == 0 else (0.0, 0.0, 0.0), 0.0, (1, 1, 1),
+                0.9, 0.7, controls["Specular Color"], 25.0, 0.4, geometry_normal=n, incoming=v)
+            want = np.minimum(want + shading["Color"], 1.0)
+        if not used:
+            want = np.minimum(want + controls["Irradiant Color"], 1.0)
+        got = evaluate(sm.model_color([k for k, _g, _i in used]), values, {})
+        assert np.abs(got - want).max() < 1e-12, count
+        assert want.std() > 0.01 or not used
+
+
+def test_modes_are_validated():
+    from phong_nodes.node_groups import shading_modes as sm  # noqa: PLC0415
+
+    assert sm.MODES == ("PIXEL", "VERTEX", "FACE")
+    with pytest.raises(ValueError, match="unknown lighting model"):
+        sm.model_color(["POINT"], "pbr")
+
+
+# -- in Blender -------------------------------------------------------------------------
+
+@pytest.mark.parametrize("light_types", [("POINT",), ("SUN",), ("SPOT",), ("POINT", "SUN", "SPOT")])
+def test_per_vertex_colours_equal_the_reference_at_every_vertex(bpy_clean, light_types):
+    bpy = bpy_clean
+    scene, sphere, camera, lights = _scene(bpy, "VERTEX", light_types)
+    domain, got = _attribute(bpy, sphere)
+    P, N = _vertices(bpy, sphere)
+    want, near = _reference(scene, sphere, camera, lights, P, N)
+    assert domain == "POINT" and got.shape == want.shape
+    err = np.abs(got - want)[~near].max()
+    be.report(f"[shading vertex {'+'.join(light_types)}] {len(P)} vertices "
+              f"({int(near.sum())} at the spot edge skipped): max |Δ| {err:.2e}")
+    assert err <= VERTEX_TOL
+    assert near.sum() <= 2 and want.std() > 0.02
+
+
+def test_per_face_colours_equal_the_reference_at_every_face_centre(bpy_clean, tmp_path):
+    bpy = bpy_clean
+    scene, sphere, camera, lights = _scene(bpy, "FACE")
+    domain, got = _attribute(bpy, sphere)
+    P, N = _face_centres(bpy, sphere)
+    want, near = _reference(scene, sphere, camera, lights, P, N)
+    assert domain == "FACE" and got.shape == want.shape
+    err = np.abs(got - want)[~near].max()
+    be.report(f"[shading face] {len(P)} faces: max |Δ| {err:.2e}")
+    assert err <= VERTEX_TOL and want.std() > 0.02
+    # every pixel of a face shows the face's one colour
+    passes = _render(bpy, scene, tmp_path / "face.exr")
+    mask, tri, _weights, _tris, faces, interior = _pixels(bpy, sphere, passes)
+    ok = interior & ~near[faces[np.maximum(tri, 0)]]
+    pixels = passes["Combined"][..., :3][mask][ok].astype(np.float64)
+    err = np.abs(pixels - want[faces[tri[ok]]]).max()
+    be.report(f"[shading face] {int(ok.sum())} interior pixels: max |pixel - face value| {err:.2e}")
+    assert ok.sum() > 150 and err <= PIXEL_TOL
+
+
+def test_pixels_interpolate_the_vertex_values_and_follow_light_and_camera(bpy_clean, tmp_path):
+    """Two renders with only a light and the camera moved between them (no call of ours);
+    then Eevee within 1/255 of Cycles."""
+    bpy = bpy_clean
+    scene, sphere, camera, lights = _scene(bpy, "VERTEX")
+    first = _render(bpy, scene, tmp_path / "first.exr")
+    _check_vertex_pixels(bpy, scene, sphere, camera, lights, first, "vertex, first")
+    point = bpy.data.objects["Point"]
+    point.location = (-2.0, -2.0, 1.0)
+    camera.location = (-1.5, -4.5, 1.0)
+    second = _render(bpy, scene, tmp_path / "second.exr")
+    _check_vertex_pixels(bpy, scene, sphere, camera, lights, second, "vertex, moved")
+    assert np.abs(second["Combined"] - first["Combined"]).max() > 0.05, "the picture changed"
+    # Eevee
+    be.configure_engine(scene, "eevee")
+    eevee = _render(bpy, scene, tmp_path / "eevee.exr")
+    mask, _tri, _weights, _tris, _faces, interior = _pixels(bpy, sphere, second)
+    both = mask & (np.rint(eevee["id"][..., 0]) == SPHERE_ID)
+    inner = np.zeros_like(mask)
+    inner[mask] = interior
+    inner &= both
+    diff = np.abs(eevee["Combined"][..., :3] - second["Combined"][..., :3])[inner].max()
+    be.report(f"[shading eevee] {int(inner.sum())} pixels: max |Eevee - Cycles| {diff:.2e}")
+    assert inner.sum() > 150 and diff <= 1.0 / 255.0
+
+
+def test_a_saved_file_renders_the_same_without_the_extension(bpy_clean, tmp_path):
+    bpy = bpy_clean
+    scene, sphere, _camera, _lights = _scene(bpy, "VERTEX")
+    here = _render(bpy, scene, tmp_path / "here.exr")
+    blend = tmp_path / "vertex.blend"
+    bpy.ops.wm.save_as_mainfile(filepath=str(blend), copy=True)
+    out = tmp_path / "there.exr"
+    script = textwrap.dedent(f"""
+        import bpy
+        assert "phong_nodes" not in bpy.context.preferences.addons
+        bpy.ops.wm.open_mainfile(filepath={str(blend)!r})
+        assert not hasattr(bpy.types.Material, "phong")
+        scene = bpy.data.scenes[{scene.name!r}]
+        bpy.data.objects["Point"].location = (-2.0, -2.0, 1.0)
+        scene.render.filepath = {str(out)!r}
+        scene.render.use_file_extension = False
+        bpy.ops.render.render(write_still=True, scene=scene.name)
+    """)
+    resources = tmp_path / "resources"
+    resources.mkdir()
+    env = {k: v for k, v in os.environ.items() if not k.startswith("BLENDER_USER")}
+    env["BLENDER_USER_RESOURCES"] = str(resources)
+    result = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
+                            timeout=300, env=env, cwd=str(tmp_path))
+    assert result.returncode == 0, result.stderr[-3000:]
+    there = {k: v[::-1] for k, v in be.read_multilayer_exr(str(out)).items()}
+    # the same light moved here: the fresh process must show what this one shows
+    bpy.data.objects["Point"].location = (-2.0, -2.0, 1.0)
+    moved = _render(bpy, scene, tmp_path / "moved.exr")
+    diff = np.abs(there["Combined"] - moved["Combined"]).max()
+    be.report(f"[shading fresh process] max |fresh - here| {diff:.2e}")
+    assert diff <= 1e-6
+    assert np.abs(there["Combined"] - here["Combined"]).max() > 0.05, "the light moved there"
+
+
+def test_modifiers_come_first_and_pixel_mode_leaves_nothing_behind(bpy_clean):
+    bpy = bpy_clean
+    from phong_nodes.addon.shading import modes  # noqa: PLC0415
+
+    scene, sphere, camera, lights = _scene(bpy, "VERTEX", ("POINT",), before="SUBSURF")
+    assert [m.type for m in sphere.modifiers] == ["SUBSURF", "NODES"]
+    _domain, got = _attribute(bpy, sphere)
+    P, N = _vertices(bpy, sphere)
+    assert len(P) > len(sphere.data.vertices)  # the subdivided mesh is the lit one
+    want, _near = _reference(scene, sphere, camera, lights, P, N)
+    assert np.abs(got - want).max() <= VERTEX_TOL
+    material = sphere.active_material
+    groups_before = {t.name for t in bpy.data.node_groups}
+    material.phong.shading = "PIXEL"
+    assert material["phong_shading"] == "PIXEL"
+    assert [m.type for m in sphere.modifiers] == ["SUBSURF"]
+    assert modes.tree_of(material) is None
+    assert not {t.name for t in bpy.data.node_groups} - groups_before
+    nodes = material.node_tree.nodes
+    assert modes.ATTRIBUTE_NODE not in nodes and modes.EMISSION_NODE not in nodes
+    surface = nodes["phong_output"].inputs["Surface"].links[0]
+    assert surface.from_node.name == "phong_lights" and surface.from_socket.name == "Shader"
+    with pytest.raises(ValueError, match="unknown shading"):
+        modes.set_mode(material, "SMOOTH")
+
+
+def test_a_light_added_is_followed(bpy_clean):
+    bpy = bpy_clean
+    scene, sphere, camera, lights = _scene(bpy, "VERTEX", ("POINT",))
+    sun = _light(bpy, scene, "Sun", "SUN", (0.0, 0.0, 5.0), (0.6, 0.3, 0.2))
+    sun.data.phong.intensity = 0.5
+    bpy.context.view_layer.update()  # the depsgraph handler relinks (as after a click)
+    _domain, got = _attribute(bpy, sphere)
+    P, N = _vertices(bpy, sphere)
+    want, _near = _reference(scene, sphere, camera, sorted([*lights, sun], key=lambda o: o.name),
+                             P, N)
+    assert np.abs(got - want).max() <= VERTEX_TOL
