@@ -4,6 +4,7 @@
 import bpy
 
 from ..lighting.lights import SUPPORTED
+from ..lighting.materials import is_phong_material
 from .operators import (PHONG_OT_add_term_passes, PHONG_OT_apply_material,
                         PHONG_OT_relink_lights, PHONG_OT_restore_materials)
 
@@ -80,6 +81,28 @@ class WORLD_PT_phong(bpy.types.Panel):
         layout.operator(PHONG_OT_relink_lights.bl_idname, icon="FILE_REFRESH")
 
 
+class MATERIAL_PT_phong(bpy.types.Panel):
+    """Phong settings of the material (docs/shading_modes.md)"""
+
+    bl_idname = "MATERIAL_PT_phong"
+    bl_label = "Phong"
+    bl_space_type = "PROPERTIES"
+    bl_region_type = "WINDOW"
+    bl_context = "material"
+
+    @classmethod
+    def poll(cls, context):
+        return is_phong_material(getattr(context, "material", None))
+
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        layout.prop(context.material.phong, "shading")
+        if context.material.phong.shading != "PIXEL":
+            layout.label(text="Evaluated by the Geometry Nodes modifier \"Phong Shading\"",
+                         icon="INFO")
+
+
 def _draw_material_menu(self, context):
     self.layout.separator()
     self.layout.operator(PHONG_OT_apply_material.bl_idname, icon="MATERIAL")
@@ -95,7 +118,7 @@ def _draw_aov_panel(self, context):
 _AOV_PANEL = "VIEWLAYER_PT_layer_passes_aov"
 
 
-classes = (DATA_PT_phong_light, WORLD_PT_phong)
+classes = (DATA_PT_phong_light, WORLD_PT_phong, MATERIAL_PT_phong)
 
 
 _register_classes, _unregister_classes = bpy.utils.register_classes_factory(classes)
