@@ -92,13 +92,19 @@ def light_at(light, P, model="seeds"):
         out = ref.directional_light(light["direction"], light["intensity"], geometry_position=P)
         return out["Light Vector"], out["Intensity"], np.zeros(len(P), bool)
     threejs = model == "threejs"
+    # the seeds' power falloff i0/d^k (docs/model.md §Power falloff): no quadratic falloff,
+    # then the power's
+    power = not threejs and light.get("falloff", "quadratic") == "power"
+    quadratic = (0.0, 0.0, 1.0) if power else (light["quadratic"], light["linear"],
+                                               light["constant"]) if not threejs else None
     if kind == "point":
         out = (ref.threejs_point_light(light["position"], light["intensity"],
                                        light["distance"], light["decay"], geometry_position=P)
                if threejs else
-               ref.point_light(light["position"], light["intensity"], light["quadratic"],
-                               light["linear"], light["constant"], geometry_position=P))
-        return out["Light Vector"], out["Intensity"], np.zeros(len(P), bool)
+               ref.point_light(light["position"], light["intensity"], *quadratic,
+                               geometry_position=P))
+        return (out["Light Vector"], _power(out, light) if power else out["Intensity"],
+                np.zeros(len(P), bool))
     theta = math.radians(light["half_angle"])
     if threejs:
         out = ref.threejs_spot_light(light["position"], light["direction"], theta,
@@ -106,11 +112,17 @@ def light_at(light, P, model="seeds"):
                                      light["decay"], geometry_position=P)
     else:
         out = ref.spot_light(light["position"], light["direction"], theta,
-                             light["edge_exponent"], light["intensity"], light["quadratic"],
-                             light["linear"], light["constant"], geometry_position=P)
+                             light["edge_exponent"], light["intensity"], *quadratic,
+                             geometry_position=P)
     hard = not threejs or light["penumbra"] == 0  # three.js: smooth with a penumbra
     edge = (np.abs(out["Cos Angle"] - math.cos(theta)) < AMBIGUOUS) & hard
-    return out["Light Vector"], out["Intensity"], edge
+    return out["Light Vector"], _power(out, light) if power else out["Intensity"], edge
+
+
+def _power(out, light):
+    """The intensity of a light's group output *out* (no falloff) divided by d^k."""
+    return ref.power_falloff(out["Distance"], out["Intensity"],
+                             light.get("power_k", 2.0))["Intensity"]
 
 
 def reference_image(scene: dict, aovs: dict) -> dict:
@@ -118,7 +130,8 @@ def reference_image(scene: dict, aovs: dict) -> dict:
 
     *scene* is the scene as Blender evaluates it (``addon/demos/evaluate.py``): "ambient"
     {intensity, color}, "lights" [{type, color, intensity, diffuse, specular, position,
-    direction, quadratic, linear, constant, half_angle (degrees), edge_exponent}] and
+    direction, quadratic, linear, constant, half_angle (degrees), edge_exponent, falloff
+    ("quadratic" or "power": i0/d^k, k = power_k)}] and
     "objects" [{"lights": [indices into lights]}]: object number k (1-based, the probe's
     third "params" channel) is objects[k - 1].  Per pixel the probes hold what its lights
     group sees: P, N, I (the geometry), the Normal and View Vector inputs (zero: the

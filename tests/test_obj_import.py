@@ -193,7 +193,10 @@ def test_maps_multiply_their_colour_and_missing_files_are_named(bpy_clean, tmp_p
         "sRGB", "Non-Color"), "one file as colour and as height: neither changes the other"
     assert (f"{tmp_path / 'illum.mtl'}:9 (shiny): texture gone.png not found (looked for "
             f"{tmp_path / 'gone.png'}); left out of shiny") in logged
-    assert "(shiny): not representable, left out: d 0.5 (transparency)" in logged
+    # d is the material's Opacity now (tests/test_controls.py renders it): no warning
+    assert "(shiny): not representable" not in logged and "transparency" not in logged
+    shiny = bpy.data.materials["Phong shiny"].node_tree.nodes
+    assert shiny["phong_opacity"].outputs[0].default_value == 0.5
     out = tmp_path / "maps.mtl"
     assert bpy.ops.phong.export_mtl(filepath=str(out)) == {"FINISHED"}
     matte_out = {m.name: m for m in mtl.load(str(out))}["matte"]

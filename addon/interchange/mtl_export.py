@@ -6,6 +6,7 @@ i_a·Cl_a ⊗ Object Color (docs/model.md §Ambient), so a Phong material is wri
 
     Kd = Object Color        Ka = Ambient Object Color (= Kd unless the material links its own)
     Ks = Specular Color      Ns = Exponent     Ke = Irradiant Color
+    d = Opacity (written only below 1)
     illum 2 (1 when Specular Color is black, unless the material was imported from illum 2)
     illum 0 with Kd = Irradiant Color when that is the only colour (as an MTL illum 0
             material is imported), unless the material was imported from illum 1 or 2
@@ -164,6 +165,7 @@ def to_mtl(material, mtl_folder, name=None):
         if image is not None:
             out.maps["map_Kd"] = mtl.TextureMap(image, "", options, 0)
         out.illum = 0
+        _opacity(material, out)
         return out, warnings
     color, image, options = _map_or_value(material, "Object Color", "phong_object_color",
                                           mtl_folder, warnings)
@@ -203,7 +205,15 @@ def to_mtl(material, mtl_folder, name=None):
             f"a mix of Phong and Blinn highlights (Blinn {float(blinn):g})"
         out.comments.append(f"this material uses {kind}; MTL illum 2 is Blinn's (h·n)^Ns")
         warnings.append(f"{material.name}: {kind}, written as MTL illum 2, which is Blinn's")
+    _opacity(material, out)
     return out, warnings
+
+
+def _opacity(material, out) -> None:
+    """MTL ``d`` for a material whose Opacity is below 1 (opaque ones write none)."""
+    value = recipe.opacity(material)
+    if value < 1.0:
+        out.scalars["d"] = value
 
 
 def _colour_only(material, mtl_folder):

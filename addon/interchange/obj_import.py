@@ -11,13 +11,15 @@ Restore Original Materials puts it back) and given the MTL's values, term by ter
     illum 1   Ka ambient + Kd Lambert: Specular Color black
     illum 2   + Ks (h·n)^Ns highlight: Blinn = 1 (MTL's highlight is Blinn's)
     Ke        Irradiant Color (illum 1 and 2)
+    d / Tr    Opacity (d, else 1 - Tr; ``materials.set_opacity``): the pixel is
+              d × Phong colour + (1 - d) × what is behind
 
 A colour missing from the MTL is black (MTL's formula has no other default); a missing Ns
 keeps the recipe's 30.  ``map_Ka``, ``map_Kd``, ``map_Ks`` and ``map_Ke`` multiply their colour
 (MTL: "the map value is multiplied by the K value"), ``bump``/``map_Bump`` goes through a Bump
 node (strength ``-bm``) into Normal; a map's ``-o`` / ``-s`` place it on the UV coordinates
 through a Mapping node (uv × s + o), as Blender's own importer does.  What the model cannot show (``Material.unsupported``:
-transparency, other illumination models, other maps, map options not applied) is reported once
+refraction, other illumination models, other maps, map options not applied) is reported once
 per material; a missing texture file is named in one warning, with every material it is left
 out of.  Only an unreadable library refuses the import (``core/mtl.py`` reads the rest as other
 readers do, with a warning for what it leaves out or changes).
@@ -128,7 +130,8 @@ def apply_mtl(material, source: mtl.Material, warnings: list, missing: dict) -> 
     tree = material.node_tree
     lights = tree.nodes[recipe.LIGHTS_NODE]
     wanted = values(source)
-    keep = set(recipe.CONTROLS) | {recipe.LIGHTS_NODE, recipe.OUTPUT}
+    keep = set(recipe.CONTROLS) | {recipe.LIGHTS_NODE, recipe.OUTPUT, recipe.OPACITY,
+                                   recipe.OPACITY_MIX, recipe.OPACITY_TRANSPARENT}
     where = f"{source.path}:{source.line} ({source.name})"
     user = (where, source.name)
     for index, (name, (_key, _map_key, control)) in enumerate(COLOR_INPUTS.items()):
@@ -158,8 +161,9 @@ def apply_mtl(material, source: mtl.Material, warnings: list, missing: dict) -> 
         keep |= _placed(tree, "bump", bump.placement())
     elif lights.inputs["Normal"].is_linked:
         tree.links.remove(lights.inputs["Normal"].links[0])
+    recipe.set_opacity(material, 1.0 - source.transparency())  # d, else 1 - Tr
     _prune(tree, keep)
-    problems = source.unsupported()
+    problems = [p for p in source.unsupported() if not p.endswith("(transparency)")]
     if source.illum is not None and source.illum > 2:
         problems = [p for p in problems if not p.startswith("illum")] + [
             f"illum {source.illum} (imported as illum 2)"]

@@ -66,6 +66,17 @@ def enum_getter(key, names):
     return get
 
 
+def string_setter(key, names):
+    """Set the custom property *key* to the name of the enum item (the depsgraph handler
+    relinks the scene when the name changes the lights groups)."""
+    def set_(self, value):
+        if self.id_data.get(key) == names[value]:
+            return
+        self.id_data[key] = names[value]
+        self.id_data.update_tag()
+    return set_
+
+
 def model_setter(key, names):
     """Set the model name; a change runs the callback of ``set_model_callback``."""
     def set_(self, value):

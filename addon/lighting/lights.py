@@ -79,12 +79,13 @@ def light_set(obj, lights, rules) -> tuple:
 
 def signature(scene, view_layer=None, candidates=None) -> tuple:
     """Everything the lights groups of *scene* are built from, except values that drivers
-    carry (transforms, colours, Phong settings): which lights, their types, and linking."""
+    carry (transforms, colours, Phong settings): which lights, their types and falloffs
+    (``phong_falloff`` chooses nodes), and linking."""
     supported, unsupported = scene_lights(scene, view_layer, candidates)
     parts = []
     for obj in supported:
         rule = receivers(obj)
-        parts.append((obj.name, obj.data.name, obj.data.type,
+        parts.append((obj.name, obj.data.name, obj.data.type, obj.data.get("phong_falloff"),
                       None if rule is None else (tuple(sorted(rule[0])), tuple(sorted(rule[1])))))
     return (tuple(parts), tuple(o.name for o in unsupported),
             scene.world.name if scene.world else None)

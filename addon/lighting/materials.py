@@ -9,6 +9,9 @@ A Phong material holds, and nothing else:
 * one node of the scene's lights group (``rig.py``) for the light set of its objects; its
   Ambient Object Color is linked from whatever feeds Object Color (the seeds' model), unless
   the material links its own (an MTL ``Ka``);
+* the control Opacity (``phong_opacity``, in the frame): at 1 it feeds nothing; below 1
+  (``set_opacity``) a Mix Shader of a Transparent BSDF and the group's Shader feeds the
+  output, and Eevee blends;
 * the Material Output (the group's Shader: an emission of the model's colour) and AOV
   outputs "Phong Color", "Phong Irradiant", "Phong Ambient", "Phong Diffuse",
   "Phong Specular" (add them to the view layer with ``phong.add_term_passes``).
@@ -55,6 +58,15 @@ CONTROLS = {
     "phong_specular_strength": ("ShaderNodeValue", "Specular Strength (three.js)", 1.0,
                                 "Specular Strength"),
 }
+#: The Opacity control: not an input of the lights group (opacity is applied in the
+#: material, after the Phong colour): (node type, label, default).  At 1 (every material
+#: made before it) the node is unlinked and the material is exactly the opaque recipe; below
+#: 1 ``set_opacity`` puts a Mix Shader of a Transparent BSDF and the lights group's Shader
+#: before the Material Output (docs/contract.md, "Opacity").
+OPACITY = "phong_opacity"
+OPACITY_CONTROL = ("ShaderNodeValue", "Opacity", 1.0)
+OPACITY_MIX = "phong_opacity_mix"
+OPACITY_TRANSPARENT = "phong_opacity_transparent"
 OLD_GENERATED = "phong_gen:"  # prefix of the per-light nodes of layout 1
 #: Input of the lights group for the colour the ambient light sees (MTL's Ka).  Linked from
 #: whatever feeds Object Color unless the material has its own (layout 3).
@@ -64,7 +76,12 @@ AMBIENT_CONTROL = "phong_ambient_color"
 
 
 def add_view_layer_aovs(layer, names) -> list:
-    """Add the colour AOVs *names* that *layer* lacks; returns the names added."""
+    """Add the colour AOVs *names* that *layer* lacks; returns the names added.  The layer's
+    Alpha Threshold becomes 0: Cycles then writes the passes (AOVs included) of the first
+    surface a ray meets, also when its Opacity is below 0.5 (with the default 0.5 they
+    would add up the values of the surfaces behind)."""
+    if getattr(layer, "pass_alpha_threshold", 0.0) != 0.0:
+        layer.pass_alpha_threshold = 0.0
     have = {aov.name for aov in layer.aovs}
     added = [name for name in names if name not in have]
     for name in added:
@@ -169,7 +186,99 @@ def _controls(tree, base=None) -> dict:
             node.parent = frame
             node.location = (-880.0, 260.0 - 190.0 * index)
         nodes[name] = node
+    nodes[OPACITY] = _opacity_node(tree, frame)
     return nodes
+
+
+def _opacity_node(tree, frame=None):
+    """The Opacity control of *tree* (created at 1 when missing)."""
+    node = tree.nodes.get(OPACITY)
+    if node is not None and node.bl_idname == OPACITY_CONTROL[0]:
+        return node
+    if node is not None:
+        tree.nodes.remove(node)
+    node = tree.nodes.new(OPACITY_CONTROL[0])
+    node.name = OPACITY
+    node.label = OPACITY_CONTROL[1]
+    node.outputs[0].default_value = OPACITY_CONTROL[2]
+    frame = frame if frame is not None else tree.nodes.get(FRAME)
+    if frame is not None:
+        node.parent = frame
+    node.location = (-880.0, 260.0 - 190.0 * (len(CONTROLS) + 1))
+    return node
+
+
+def opacity(material) -> float:
+    """The opacity of a Phong material (1 when it has no Opacity control)."""
+    node = material.node_tree.nodes.get(OPACITY) if material.node_tree else None
+    if node is None or node.bl_idname != OPACITY_CONTROL[0]:
+        return 1.0
+    return float(node.outputs[0].default_value)
+
+
+def set_opacity(material, value) -> float:
+    """Set the opacity of the Phong material *material* (clamped to [0, 1]) and switch its
+    transparency on (below 1) or off (at 1); returns the value set.  The pixel becomes
+    opacity × Phong colour + (1 − opacity) × what is behind, in Cycles and Eevee alike
+    (docs/contract.md, "Opacity"); the AOVs keep the Phong values."""
+    try:
+        value = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"opacity must be a number, not {value!r}") from None
+    if value != value:
+        raise ValueError("opacity must be a number, not NaN")
+    value = min(max(value, 0.0), 1.0)
+    node = _opacity_node(material.node_tree)
+    if float(node.outputs[0].default_value) != value:
+        node.outputs[0].default_value = value
+    apply_opacity(material)
+    return value
+
+
+def apply_opacity(material) -> None:
+    """The nodes and Eevee settings of *material* for the value of its Opacity control:
+    below 1 a Mix Shader (Fac = Opacity) of a Transparent BSDF and the lights group's
+    Shader feeds the output and Eevee blends (render method Blended); at 1 the lights
+    group's Shader feeds the output directly, as in every opaque Phong material."""
+    tree = material.node_tree
+    lights = tree.nodes.get(LIGHTS_NODE)
+    output = tree.nodes.get(OUTPUT)
+    if lights is None or output is None:
+        return
+    value = opacity(material)
+    mix, transparent = tree.nodes.get(OPACITY_MIX), tree.nodes.get(OPACITY_TRANSPARENT)
+    if value >= 1.0:
+        for node in (mix, transparent):
+            if node is not None:
+                tree.nodes.remove(node)
+        tree.links.new(lights.outputs["Shader"], output.inputs["Surface"])
+        _render_method(material, "DITHERED")
+        return
+    if mix is None or mix.bl_idname != "ShaderNodeMixShader":
+        if mix is not None:
+            tree.nodes.remove(mix)
+        mix = tree.nodes.new("ShaderNodeMixShader")
+        mix.name = OPACITY_MIX
+        mix.label = "Opacity"
+        mix.location = (150.0, 200.0)
+    if transparent is None or transparent.bl_idname != "ShaderNodeBsdfTransparent":
+        if transparent is not None:
+            tree.nodes.remove(transparent)
+        transparent = tree.nodes.new("ShaderNodeBsdfTransparent")
+        transparent.name = OPACITY_TRANSPARENT
+        transparent.location = (-50.0, 300.0)
+    transparent.inputs["Color"].default_value = (1.0, 1.0, 1.0, 1.0)
+    tree.links.new(tree.nodes[OPACITY].outputs[0], mix.inputs[0])
+    tree.links.new(transparent.outputs[0], mix.inputs[1])
+    tree.links.new(lights.outputs["Shader"], mix.inputs[2])
+    tree.links.new(mix.outputs[0], output.inputs["Surface"])
+    _render_method(material, "BLENDED")
+
+
+def _render_method(material, method) -> None:
+    """Eevee's render method (4.2+): Blended blends exactly, Dithered is the default."""
+    if getattr(material, "surface_render_method", method) != method:
+        material.surface_render_method = method
 
 
 def control_node(tree, name, label, color):
@@ -236,6 +345,7 @@ def wire(material, lights_group, object_color=None) -> None:
             aov.label = aov_name
             aov.location = (400.0, -100.0 - 120.0 * index)
         tree.links.new(node.outputs[socket], aov.inputs["Color"])
+    apply_opacity(material)
     material[MATERIAL_TAG] = LAYOUT
 
 

@@ -38,11 +38,30 @@ LIGHT_SETTINGS = (
      "three.js decay: intensity/d^decay, 2 physical (Point and Spot)"),
     ("penumbra", "phong_penumbra", "Penumbra", 0.0, 0.0, 1.0,
      "three.js penumbra: the share of the cone's angle that fades out (Spot)"),
+    ("power_k", "phong_power_k", "Power k", 2.0, 0.0, 4.0,
+     "k in i0/d^k when the falloff is Power: 2 physical, 1 softer, 0 none (Point and Spot)"),
 )
+#: The seeds' distance falloff of a Point or Spot light: ``light["phong_falloff"]`` (a
+#: string; missing means QUADRATIC).  It chooses the nodes of the light in its lights group,
+#: so a change relinks the scene (``lights.signature`` holds it), as a change of light type.
+FALLOFF_KEY = "phong_falloff"
+FALLOFF_ITEMS = (
+    ("QUADRATIC", "Quadratic", "i0/(αr²+βr+γ) (Quadratic, Linear, Constant)"),
+    ("POWER", "Power", "i0/d^k (Power k): k = 2 physical, 1 softer, 0 no attenuation"),
+)
+FALLOFFS = tuple(item[0] for item in FALLOFF_ITEMS)
+
+
+def falloff_of(light) -> str:
+    """The falloff of *light* ("QUADRATIC" or "POWER"; anything else reads as QUADRATIC)."""
+    value = light.get(FALLOFF_KEY, FALLOFFS[0])
+    value = value.upper() if isinstance(value, str) else value
+    return value if value in FALLOFFS else FALLOFFS[0]
+
 #: The settings each model reads (the light panel shows these).
 MODEL_SETTINGS = {
-    "seeds": ("intensity", "quadratic", "linear", "constant", "edge_exponent", "diffuse",
-              "specular"),
+    "seeds": ("intensity", "falloff", "quadratic", "linear", "constant", "power_k",
+              "edge_exponent", "diffuse", "specular"),
     "threejs": ("intensity", "distance", "decay", "penumbra"),
 }
 
@@ -58,6 +77,12 @@ def _light_annotations():
         ann[attr] = FloatProperty(
             name=label, description=desc, default=default, min=vmin, soft_max=soft_max,
             get=forwarding.float_getter(key, default), set=forwarding.float_setter(key))
+    ann["falloff"] = bpy.props.EnumProperty(
+        name="Falloff", items=FALLOFF_ITEMS,
+        description="Distance falloff of a Point or Spot light in the seeds' model (changing "
+                    "it relinks the scene's Phong materials)",
+        get=forwarding.enum_getter(FALLOFF_KEY, FALLOFFS),
+        set=forwarding.string_setter(FALLOFF_KEY, FALLOFFS))
     return ann
 
 
@@ -123,8 +148,15 @@ def ensure_light_props(light) -> None:
 
 
 def write_light(light, values: dict) -> None:
-    """Set Phong settings of *light*: {attribute of LIGHT_SETTINGS: value}."""
+    """Set Phong settings of *light*: {attribute of LIGHT_SETTINGS, or "falloff": value}
+    ("falloff": "QUADRATIC" or "POWER", any case; ValueError for anything else)."""
     for attr, value in values.items():
+        if attr == "falloff":
+            name = value.upper() if isinstance(value, str) else value
+            if name not in FALLOFFS:
+                raise ValueError(f"falloff must be one of {', '.join(FALLOFFS)}, not {value!r}")
+            light[FALLOFF_KEY] = name
+            continue
         light[LIGHT_KEYS[attr][0]] = float(value)
     ensure_light_props(light)
     light.update_tag()

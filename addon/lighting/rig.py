@@ -9,6 +9,10 @@ own values, its outputs the model's colour, each term and the shader:
              View Vector, Ambient Object Color, Specular Strength
     outputs  Color, Irradiant, Ambient, Diffuse, Specular, Shader
 
+A Point or Spot light whose ``phong_falloff`` is POWER gets its light group with no falloff
+(α = β = 0, γ = 1) and a Phong Power Falloff i0/d^k of its Distance (k: ``phong_power_k``);
+the falloff is chosen when the group is built (a change relinks, ``lights.signature``).
+
 Inside (docs/contract.md, "Several lights"): one Phong Ambient of the World's ambient light
 and the Ambient Object Color (the colour the ambient light sees: MTL's Ka; a material links
 it from its Object Color unless it has its own), and per light a light-model group (Phong
@@ -151,7 +155,8 @@ def build(tree, lights, world, model=MODELS[0]) -> None:
         light_node = _light_node(tree, obj, (-600.0, y), MODELS[0])
         shading = _shading_node(tree, group_in, f"shading:{obj.name}", (-300.0, y), index == 0)
         tree.links.new(light_node.outputs["Light Vector"], shading.inputs["Light Vector"])
-        tree.links.new(light_node.outputs["Intensity"], shading.inputs["Light Intensity"])
+        tree.links.new(_power_falloff(tree, obj, light_node) or light_node.outputs["Intensity"],
+                       shading.inputs["Light Intensity"])
         drivers.color(shading.inputs["Light Color"], "LIGHT", obj.data, "color")
         for attr, socket in (("diffuse", "Diffuse Strength"), ("specular", "Specular Strength")):
             drivers.prop(shading.inputs[socket], None, "LIGHT", obj.data,
@@ -293,8 +298,12 @@ def _light_node(tree, obj, location, model):
     keys = {attr: f'["{key}"]' for attr, (key, _default) in properties.LIGHT_KEYS.items()}
     if light.type in ("POINT", "SPOT"):
         drivers.world_location(inputs["Position"], obj)
-        for attr in FALLOFF_SETTINGS[model]:
-            drivers.prop(inputs[attr.capitalize()], None, "LIGHT", light, keys[attr])
+        if _is_power(light, model):  # i0 here; _power_falloff divides by d^k
+            for name, value in (("Quadratic", 0.0), ("Linear", 0.0), ("Constant", 1.0)):
+                inputs[name].default_value = value
+        else:
+            for attr in FALLOFF_SETTINGS[model]:
+                drivers.prop(inputs[attr.capitalize()], None, "LIGHT", light, keys[attr])
     if light.type in ("SUN", "SPOT"):
         drivers.world_minus_z(inputs["Direction"], obj)
     if light.type == "SPOT":
@@ -303,6 +312,29 @@ def _light_node(tree, obj, location, model):
         drivers.prop(inputs[edge], None, "LIGHT", light, keys[setting])
     drivers.prop(inputs["Intensity"], None, "LIGHT", light, keys["intensity"])
     return node
+
+
+def _is_power(light, model) -> bool:
+    """Whether *light* falls off as i0/d^k in its lights group (seeds' Point and Spot)."""
+    return (model == MODELS[0] and light.type in ("POINT", "SPOT")
+            and properties.falloff_of(light) == "POWER")
+
+
+def _power_falloff(tree, obj, light_node):
+    """For a light whose falloff is POWER: its light group set to no falloff (α = β = 0,
+    γ = 1: Intensity i0, times the spot's cone and edge) followed by a Phong Power Falloff
+    of its Distance, k driven by ``phong_power_k``; returns that Intensity output.  None for
+    the other lights (their light group's quadratic falloff, driven)."""
+    light = obj.data
+    if not _is_power(light, MODELS[0]):
+        return None
+    node = _group_node(tree, "Phong Power Falloff", f"falloff:{obj.name}",
+                       (light_node.location.x + 150.0, light_node.location.y - 330.0))
+    tree.links.new(light_node.outputs["Distance"], node.inputs["Distance"])
+    tree.links.new(light_node.outputs["Intensity"], node.inputs["Intensity"])
+    drivers.prop(node.inputs["Exponent"], None, "LIGHT", light,
+                 f'["{properties.LIGHT_KEYS["power_k"][0]}"]')
+    return node.outputs["Intensity"]
 
 
 def _shading_node(tree, group_in, name, location, first):

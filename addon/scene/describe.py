@@ -108,8 +108,9 @@ def _light(obj) -> dict:
            "diffuse": values["diffuse"], "specular": values["specular"]}
     if light.type in ("POINT", "SPOT"):
         out["position"] = [float(c) for c in matrix.translation]
-        for attr in ("quadratic", "linear", "constant", "distance", "decay"):
+        for attr in ("quadratic", "linear", "constant", "distance", "decay", "power_k"):
             out[attr] = values[attr]
+        out["falloff"] = properties.falloff_of(light).lower()  # "quadratic" or "power"
     if light.type in ("SUN", "SPOT"):
         out["direction"] = [-float(matrix[i][2]) for i in range(3)]  # the world -Z axis
     if light.type == "SPOT":
