@@ -138,3 +138,17 @@ def test_two_releases_side_by_side(tmp_path):
     missing = subprocess.run([sys.executable, os.path.join(root, "benchmarks", "releases.py"),
                               str(tmp_path / "nope.json")], capture_output=True, text=True)
     assert missing.returncode == 2 and "nope.json" in missing.stderr
+
+
+def test_the_committed_table_is_the_one_its_figures_give():
+    """One owner for the benchmark figures: ``results.json``; ``results.md`` is generated from
+    it (by run.py), so the two never disagree."""
+    import json  # noqa: PLC0415
+    import os  # noqa: PLC0415
+
+    folder = os.path.dirname(table.__file__)
+    with open(os.path.join(folder, "results.json"), encoding="utf-8") as handle:
+        data = json.load(handle)
+    with open(os.path.join(folder, "results.md"), encoding="utf-8") as handle:
+        committed = handle.read()
+    assert committed == table.markdown(data["figures"], data["meta"]) + "\n"
