@@ -636,7 +636,7 @@ class _Reader:
 
     def _param_value(self, ref, context, kinds):
         params, setparams, where = context
-        source = setparams.get(ref) or params.get(ref)
+        source = setparams.get(ref) if ref in setparams else params.get(ref)
         if source is None:
             return None
         for kind in kinds:
@@ -699,7 +699,7 @@ class _Reader:
         params, setparams, where = context
         if depth > 8:
             return None
-        param = setparams.get(name) or params.get(name)
+        param = setparams.get(name) if name in setparams else params.get(name)
         if param is not None:
             sampler = next((c for c in param if c.tag.startswith("sampler")), None)
             surface = param.find("surface")
@@ -1043,14 +1043,12 @@ def attenuation(doc: Document, light: Light) -> tuple:
 
 def fmt(value) -> str:
     """The shortest decimal that reads back as the same float32 (Blender's precision)."""
-    value = float(np.float32(value))
+    value = np.float32(value)
     if value == 0.0:
         return "0"
-    for digits in range(1, 10):
-        text = f"{value:.{digits}g}"
-        if np.float32(float(text)) == np.float32(value):
-            return text
-    return repr(value)
+    if 1e-4 <= abs(value) < 1e9:
+        return np.format_float_positional(value, unique=True, trim="-")
+    return np.format_float_scientific(value, unique=True, trim="-")
 
 
 def _join(values) -> str:
@@ -1241,7 +1239,7 @@ def _write_mesh(lib, ident, mesh: Mesh):
             continue
         attrib = {"count": len(faces)}
         if symbol:
-            attrib["material"] = symbol
+            attrib["material"] = ncname(symbol)
         poly = _sub(element, "polylist", **attrib)
         _sub(poly, "input", semantic="VERTEX", source=f"#{ident}-vertices", offset=0)
         for offset, (semantic, source, channel) in enumerate(inputs, start=1):
@@ -1267,7 +1265,7 @@ def _write_node(parent, node: Node, doc, ids, used):
         if kind == "geometry" and inst.bindings:
             common = _sub(_sub(child, "bind_material"), "technique_common")
             for symbol, material in inst.bindings.items():
-                im = _sub(common, "instance_material", symbol=symbol,
+                im = _sub(common, "instance_material", symbol=ncname(symbol),
                           target="#" + ids.get(("material", material), material))
                 for semantic, channel in inst.uv_bindings.get(symbol, {}).items():
                     _sub(im, "bind_vertex_input", semantic=semantic, input_semantic="TEXCOORD",

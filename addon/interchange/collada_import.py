@@ -171,6 +171,11 @@ class _Builder:
         shown = [i for i in node.instances if i.kind != "node"]
         data_of = [self.data(i, node) for i in shown]
         pairs = [(i, d) for i, d in zip(shown, data_of) if d is not None]
+        ambient_only = node.instances and not node.children and all(
+            i.kind == "light" and getattr(self.doc.lights.get(i.url), "kind", "") == "ambient"
+            for i in node.instances)
+        if ambient_only:   # the light is the World's: no object (export writes it back so)
+            return
         own = pairs[0] if len(pairs) == 1 else None
         data = own[1] if own is not None else None
         obj = self._new(bpy.data.objects, node.name, data)
