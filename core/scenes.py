@@ -54,6 +54,8 @@ Schema (units: Blender world space, Z up; angles in degrees; colours are either
     color = "#CCCCCC"; specular_color = "#FFFFFF"; exponent = 30.0; blinn = 0.0
     irradiant = [0, 0, 0]
     texture = { type = "checker", color2 = "#333333", scale = 4.0 }   # optional
+    shading = "pixel"             # or "vertex" (Gouraud), "face" (flat), live
+                                  # (docs/shading_modes.md); not compared
     # model = "threejs": type = "phong" or "lambert"; color (default "#FFFFFF"),
     # specular_color ("#111111"), exponent (shininess, 30), irradiant (emissive); no blinn
 """
@@ -64,6 +66,8 @@ import math
 import os
 import re
 import tomllib
+
+from ..node_groups.library import FALLOFF_DEFAULTS
 
 #: The scenes shipped with the extension.
 SCENES_DIR = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "scenes")
@@ -248,8 +252,12 @@ THREEJS_LIGHT_KEYS = {
 OBJECT_KEYS = ("name", "shape", "location", "rotation", "size", "segments", "bake", "label",
                "lights", "terms", "material")
 BAKES = ("vertex", "image")
-MATERIAL_KEYS = ("color", "specular_color", "exponent", "blinn", "irradiant", "texture")
-THREEJS_MATERIAL_KEYS = ("type", "color", "specular_color", "exponent", "irradiant", "texture")
+MATERIAL_KEYS = ("color", "specular_color", "exponent", "blinn", "irradiant", "texture",
+                 "shading")
+THREEJS_MATERIAL_KEYS = ("type", "color", "specular_color", "exponent", "irradiant", "texture",
+                         "shading")
+#: A material's shading (docs/shading_modes.md): where the model is evaluated.
+SHADINGS = ("pixel", "vertex", "face")
 TEXTURE_KEYS = ("type", "color2", "scale")
 
 
@@ -327,9 +335,8 @@ def _light(c: _Checker, raw: dict, where: str, index: int) -> dict:
     light["specular"] = c.number(raw, "specular", where, default=1.0, minimum=0.0)
     if kind in ("point", "spot"):
         light["position"] = c.vector(raw, "position", where)
-        light["quadratic"] = c.number(raw, "quadratic", where, default=1.0, minimum=0.0)
-        light["linear"] = c.number(raw, "linear", where, default=0.0, minimum=0.0)
-        light["constant"] = c.number(raw, "constant", where, default=0.0, minimum=0.0)
+        for key, default in FALLOFF_DEFAULTS.items():
+            light[key] = c.number(raw, key, where, default=default, minimum=0.0)
         if light["quadratic"] == light["linear"] == light["constant"] == 0.0:
             c.fail(f"{where}.quadratic", "quadratic, linear and constant not all 0", 0)
     if kind == "point" and "falloff_exponent" in raw:
@@ -412,6 +419,7 @@ def _material(c: _Checker, mat: dict, where: str, model: str = "seeds") -> dict:
                                               maximum=1.0),
         "irradiant": c.color(mat, "irradiant", where, (0.0, 0.0, 0.0)),
         "texture": None,
+        "shading": c.string(mat, "shading", where, default="pixel", choices=SHADINGS),
     }
     if threejs:
         material["type"] = c.string(mat, "type", where, default="phong",

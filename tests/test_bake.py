@@ -85,7 +85,9 @@ def test_every_scene_builds_as_an_artist_scene(bpy_clean):
             nodes = material.node_tree.nodes
             exponent = nodes["phong_exponent"].outputs[0].default_value
             assert exponent == pytest.approx(obj_data["material"]["exponent"])
-            if obj_data["material"]["texture"] is None:
+            if obj_data["material"]["shading"] != "pixel":  # its own nodes (test_shading_modes)
+                assert material["phong_shading"] == obj_data["material"]["shading"].upper()
+            elif obj_data["material"]["texture"] is None:
                 group = nodes[materials.LIGHTS_NODE].node_tree.name
                 layouts.setdefault(group, set()).add(repr(_layout(material)))
         assert all(len(v) == 1 for v in layouts.values()), \

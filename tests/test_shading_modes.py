@@ -29,6 +29,9 @@ PIXEL_TOL = 1e-4
 #: How far from a triangle's edges (smallest barycentric weight) a pixel counts as interior.
 INTERIOR = 0.03
 SPHERE_ID = 2
+#: A vertex bake against the live colours: the bake reads Cycles' 16-bit shading normals
+#: (test_baking.py allows 1e-4 plus a slack for them).
+BAKE_TOL = 2e-4
 
 
 def _principled(bpy, name, color):
@@ -398,3 +401,33 @@ def test_a_light_added_is_followed(bpy_clean):
     want, _near = _reference(scene, sphere, camera, sorted([*lights, sun], key=lambda o: o.name),
                              P, N)
     assert np.abs(got - want).max() <= VERTEX_TOL
+
+
+def test_the_phong_vs_gouraud_demo_is_live_and_its_bake_equals_the_live_colours(bpy_clean):
+    bpy = bpy_clean
+    from phong_nodes.addon.baking import lighting, show  # noqa: PLC0415
+
+    before = set(bpy.data.scenes)
+    assert bpy.ops.phong.build_demo_scene(name="phong_vs_gouraud", resolution=16) == {"FINISHED"}
+    (scene,) = set(bpy.data.scenes) - before
+    bpy.context.window.scene = scene
+    gouraud, phong = bpy.data.objects["gouraud"], bpy.data.objects["phong"]
+    assert gouraud.active_material["phong_shading"] == "VERTEX"
+    assert phong.active_material.get("phong_shading", "PIXEL") == "PIXEL"
+    assert not bpy.data.images, "nothing baked"
+    lamp = bpy.data.objects["lamp"]
+    for location in (tuple(lamp.location), (2.0, -4.0, 3.0)):
+        lamp.location = location
+        _domain, live = _attribute(bpy, gouraud)
+        P, N = _vertices(bpy, gouraud)
+        want, _near = _reference(scene, gouraud, scene.camera, [lamp], P, N)
+        assert np.abs(live - want).max() <= VERTEX_TOL
+    settings = lighting.Settings(target="VERTEX", view="CAMERA")
+    show.bake_objects(scene, [gouraud], settings, display=False)
+    baked = gouraud.data.attributes[lighting.ATTRIBUTE]
+    values = np.empty(len(baked.data) * 4, dtype=np.float32)
+    baked.data.foreach_get("color", values)
+    err = np.abs(values.reshape(-1, 4)[:, :3] - live).max()
+    be.report(f"[shading demo] vertex bake against live Per Vertex colours: max |Δ| {err:.2e}")
+    # the bake shades with Cycles' 16-bit normals: test_baking's tolerance (1e-4 and a slack)
+    assert err <= BAKE_TOL

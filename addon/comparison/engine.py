@@ -37,6 +37,7 @@ from ..lighting import sync as sync_mod
 from ..interchange import threejs_export
 from ..scene import describe, render
 from ..scene.render import Overrides, render_exr
+from ..shading import modes as shading_modes
 
 
 class ComparisonError(ValueError):
@@ -48,7 +49,11 @@ class ComparisonError(ValueError):
 def check(scene, view_layer=None):
     """(view layer, Phong objects) of *scene*, or ComparisonError saying why it cannot be compared."""
     layer = describe.view_layer_of(scene, view_layer)
-    objects = describe.phong_objects(scene, layer)
+    # Per Vertex / Per Face materials are not the per-pixel model: shown, not compared
+    objects = [obj for obj in describe.phong_objects(scene, layer)
+               if any(materials.is_phong_material(slot.material)
+                      and shading_modes.mode_of(slot.material) == shading_modes.PIXEL
+                      for slot in obj.material_slots)]
     if not objects:
         raise ComparisonError(f"scene {scene.name!r} has no object with a Phong material in view "
                         f"layer {layer.name!r} (Apply Phong Material first)")

@@ -32,6 +32,7 @@ from ..baking import lighting, show
 from ..lighting import materials, properties, rig
 from ..lighting import sync as sync_mod
 from ..scene import meshes, render
+from ..shading import modes as shading_modes
 from ..scene.describe import SCENE_FILE_LIGHTS, SCENE_KEY, scene_file
 
 BLACK = (0.0, 0.0, 0.0)
@@ -64,6 +65,10 @@ def build(data: dict, resolution: int = 256) -> bpy.types.Scene:
         (material,) = sync.apply(obj)
         _controls(material, obj_data)
     sync.finish()
+    for obj_data in data["objects"]:  # Per Vertex / Per Face: live (docs/shading_modes.md)
+        shading = obj_data["material"].get("shading", "pixel").upper()
+        if shading != shading_modes.PIXEL:
+            shading_modes.set_mode(objects[obj_data["name"]].active_material, shading)
     sync_mod.remember(scene, scene.view_layers[0])
     for obj_data in data["objects"]:
         if obj_data.get("bake"):
