@@ -213,11 +213,17 @@ def _directional(g):
     g.output("Intensity", i, "The light's intensity, the same at every point")
 
 
+#: The falloff i0/(αr²+βr+γ) a light has unless it says otherwise: α = 1, the physical i0/r².
+#: The one owner of these defaults: the groups' inputs, the scene files (``core/scenes.py``)
+#: and the Blender lights' settings (``addon/lighting/properties.py``) read them from here.
+FALLOFF_DEFAULTS = {"quadratic": 1.0, "linear": 0.0, "constant": 0.0}
+
+
 def _falloff_inputs(g):
     i0 = g.value("Intensity", 1.0, _I0, min=0.0)
-    a = g.value("Quadratic", 1.0, _ALPHA, min=0.0)
-    b = g.value("Linear", 0.0, _BETA, min=0.0)
-    c = g.value("Constant", 0.0, _GAMMA, min=0.0)
+    a = g.value("Quadratic", FALLOFF_DEFAULTS["quadratic"], _ALPHA, min=0.0)
+    b = g.value("Linear", FALLOFF_DEFAULTS["linear"], _BETA, min=0.0)
+    c = g.value("Constant", FALLOFF_DEFAULTS["constant"], _GAMMA, min=0.0)
     return i0, a, b, c
 
 

@@ -13,17 +13,18 @@ setters live in ``forwarding``, a module that holds no ``bpy`` (see there why).
 import bpy
 from bpy.props import FloatProperty, FloatVectorProperty, PointerProperty
 
+from ...node_groups.library import FALLOFF_DEFAULTS
 from . import forwarding
 
 #: (attribute, custom property key, label, default, min, soft max, description)
 LIGHT_SETTINGS = (
     ("intensity", "phong_intensity", "Phong Intensity", 1.0, 0.0, 100.0,
      "Phong intensity i0 of the light (dimensionless, independent of the light's watts)"),
-    ("quadratic", "phong_quadratic", "Quadratic", 1.0, 0.0, 10.0,
+    ("quadratic", "phong_quadratic", "Quadratic", FALLOFF_DEFAULTS["quadratic"], 0.0, 10.0,
      "α in i0/(αr²+βr+γ): 1 gives the physical i0/r² (Point and Spot)"),
-    ("linear", "phong_linear", "Linear", 0.0, 0.0, 10.0,
+    ("linear", "phong_linear", "Linear", FALLOFF_DEFAULTS["linear"], 0.0, 10.0,
      "β in i0/(αr²+βr+γ) (Point and Spot)"),
-    ("constant", "phong_constant", "Constant", 0.0, 0.0, 10.0,
+    ("constant", "phong_constant", "Constant", FALLOFF_DEFAULTS["constant"], 0.0, 10.0,
      "γ in i0/(αr²+βr+γ) (Point and Spot)"),
     ("edge_exponent", "phong_edge_exponent", "Edge Exponent", 0.0, 0.0, 100.0,
      "Spot edge exponent e_att: 0 gives a hard cone edge, higher values a softer one"),
