@@ -200,7 +200,7 @@ def test_an_opaque_material_renders_as_before(bpy_clean, blender_tmp):
     assert np.array_equal(before["Phong Color"], after["Phong Color"])
 
 
-def test_relink_keeps_a_transparent_material_transparent(bpy_clean):
+def test_relink_and_edits_of_the_control_keep_the_nodes_in_step(bpy_clean):
     bpy = bpy_clean
     materials = _materials()
     _scene_, _back, front, _point = _opacity_scene(bpy, "cycles")
@@ -209,11 +209,18 @@ def test_relink_keeps_a_transparent_material_transparent(bpy_clean):
     materials.wire(material, material.node_tree.nodes["phong_lights"].node_tree)
     surface = material.node_tree.nodes["phong_output"].inputs["Surface"]
     assert surface.links[0].from_node.name == "phong_opacity_mix"
-    # a hand edit of the control takes effect on the next relink
-    material.node_tree.nodes["phong_opacity"].outputs[0].default_value = 1.0
     assert bpy.ops.phong.relink_lights() == {"FINISHED"}
-    materials.apply_opacity(material)
+    assert surface.links[0].from_node.name == "phong_opacity_mix"
+    # an edit of the control (the panel, the node editor) switches the nodes by itself
+    control = material.node_tree.nodes["phong_opacity"].outputs[0]
+    control.default_value = 1.0
+    bpy.context.view_layer.update()  # what Blender's UI does after each change
     assert surface.links[0].from_node.name == "phong_lights"
+    assert material.surface_render_method == "DITHERED"
+    control.default_value = 0.25
+    bpy.context.view_layer.update()
+    assert surface.links[0].from_node.name == "phong_opacity_mix"
+    assert material.surface_render_method == "BLENDED"
 
 
 # -- MTL d -------------------------------------------------------------------------------
@@ -426,3 +433,44 @@ def test_saved_file_reopens_and_renders_the_same(bpy_clean, blender_tmp, tmp_pat
     expected = 0.5 * colour(material, P) + 0.5 * colour(bpy.data.objects["Back"].active_material,
                                                         behind)
     assert np.abs(after["Combined"][..., :3][front_px] - expected).max() <= CY_TOL
+
+
+# -- panels ----------------------------------------------------------------------------------
+
+class _Layout:
+    """Records what a panel's draw() shows (prop calls: owner, attribute, text)."""
+
+    use_property_split = False
+
+    def __init__(self):
+        self.props = []
+
+    def prop(self, owner, attribute, text=None, **_options):
+        self.props.append((owner, attribute, text))
+
+    def column(self, **_options):
+        return self
+
+    def __getattr__(self, _name):
+        return lambda *args, **kwargs: self
+
+
+def _draw(panel, **context):
+    layout = _Layout()
+    panel.draw(type("Panel", (), {"layout": layout})(), type("Context", (), context)())
+    return layout.props
+
+
+def test_panels_show_falloff_power_k_and_opacity(bpy_clean):
+    bpy = bpy_clean
+    from phong_nodes.addon.ui import panels  # noqa: PLC0415  (needs bpy)
+
+    scene, plane, light = _falloff_scene(bpy, "cycles", "SPOT")
+    shown = [a for _o, a, _t in _draw(panels.DATA_PT_phong_light, light=light.data, scene=scene)]
+    assert "falloff" in shown and "quadratic" in shown and "power_k" not in shown
+    light.data.phong.falloff = "POWER"
+    shown = [a for _o, a, _t in _draw(panels.DATA_PT_phong_light, light=light.data, scene=scene)]
+    assert "power_k" in shown and "quadratic" not in shown
+    props = _draw(panels.MATERIAL_PT_phong, material=plane.active_material, scene=scene)
+    owner = next(o for o, _a, text in props if text == "Opacity")
+    assert owner == plane.active_material.node_tree.nodes["phong_opacity"].outputs[0]

@@ -25,6 +25,7 @@ pointer: one user, so it is not purged on save) and ``restore`` puts it back.
 from __future__ import annotations
 
 import bpy
+from bpy.app.handlers import persistent
 
 from .. import compat
 from . import drivers, rig
@@ -273,6 +274,35 @@ def apply_opacity(material) -> None:
     tree.links.new(lights.outputs["Shader"], mix.inputs[2])
     tree.links.new(mix.outputs[0], output.inputs["Surface"])
     _render_method(material, "BLENDED")
+
+
+def _opacity_is_wired(material) -> bool:
+    """Whether *material*'s nodes already match the value of its Opacity control."""
+    return (material.node_tree.nodes.get(OPACITY_MIX) is not None) == (opacity(material) < 1.0)
+
+
+@persistent
+def follow_opacity(_scene, depsgraph=None) -> None:
+    """After an edit of a Phong material (its Opacity in the panel or the node editor), give
+    it the nodes of its Opacity: transparency on below 1, off at 1 (microseconds when no
+    material changed)."""
+    if depsgraph is None or not (depsgraph.id_type_updated("MATERIAL")
+                                 or depsgraph.id_type_updated("NODETREE")):
+        return
+    edited, trees = [], set()
+    for update in depsgraph.updates:
+        original = getattr(update.id, "original", None)
+        if isinstance(original, bpy.types.Material):
+            edited.append(original)
+        elif isinstance(original, bpy.types.ShaderNodeTree) and original.is_embedded_data:
+            trees.add(original.as_pointer())  # a material's own tree: find the material
+    if trees:
+        edited += [m for m in bpy.data.materials
+                   if m.node_tree is not None and m.node_tree.as_pointer() in trees]
+    for material in edited:
+        if (material.library is None and is_phong_material(material)
+                and not _opacity_is_wired(material)):
+            apply_opacity(material)
 
 
 def _render_method(material, method) -> None:

@@ -171,6 +171,7 @@ class Sync:
         for tree in rig.groups_of(self.scene):
             if tree.users == 0:
                 bpy.data.node_groups.remove(tree)
+        shading_modes.refresh(self.scene)  # Per Vertex / Per Face follow lights and objects
 
 
 def relink_scene(scene, view_layer=None) -> Sync:
@@ -179,7 +180,6 @@ def relink_scene(scene, view_layer=None) -> Sync:
     sync.rebuild_groups()
     sync.relink(scene.objects)
     sync.finish()
-    shading_modes.refresh(scene)  # Per Vertex / Per Face materials follow the lights too
     remember(scene, view_layer)
     return sync
 
@@ -245,7 +245,8 @@ def forget(*_args):
     _LIGHTS.clear()
 
 
-_HANDLERS = (("depsgraph_update_post", on_depsgraph_update), ("load_post", forget),
+_HANDLERS = (("depsgraph_update_post", on_depsgraph_update),
+             ("depsgraph_update_post", materials.follow_opacity), ("load_post", forget),
              ("undo_post", forget), ("redo_post", forget))
 
 

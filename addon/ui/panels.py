@@ -4,7 +4,7 @@
 import bpy
 
 from ..lighting.lights import SUPPORTED
-from ..lighting.materials import is_phong_material
+from ..lighting.materials import OPACITY, is_phong_material
 from .operators import (PHONG_OT_add_term_passes, PHONG_OT_apply_material,
                         PHONG_OT_relink_lights, PHONG_OT_restore_materials)
 
@@ -42,10 +42,14 @@ class DATA_PT_phong_light(bpy.types.Panel):
                 layout.label(text="Angle: half the spot size", icon="INFO")
         else:
             if light.type in ("POINT", "SPOT"):
+                layout.prop(settings, "falloff")
                 col = layout.column(align=True)
-                col.prop(settings, "quadratic")
-                col.prop(settings, "linear")
-                col.prop(settings, "constant")
+                if settings.falloff == "POWER":  # i0/d^k
+                    col.prop(settings, "power_k")
+                else:
+                    col.prop(settings, "quadratic")
+                    col.prop(settings, "linear")
+                    col.prop(settings, "constant")
             if light.type == "SPOT":
                 layout.prop(settings, "edge_exponent")
             col = layout.column(align=True)
@@ -98,6 +102,9 @@ class MATERIAL_PT_phong(bpy.types.Panel):
         layout = self.layout
         layout.use_property_split = True
         layout.prop(context.material.phong, "shading")
+        opacity = context.material.node_tree.nodes.get(OPACITY)
+        if opacity is not None and opacity.bl_idname == "ShaderNodeValue":
+            layout.prop(opacity.outputs[0], "default_value", text="Opacity", slider=True)
         if context.material.phong.shading != "PIXEL":
             layout.label(text="Evaluated by the Geometry Nodes modifier \"Phong Shading\"",
                          icon="INFO")
