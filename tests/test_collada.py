@@ -460,3 +460,191 @@ def test_menus_and_file_handler_exist(bpy_clean):
     assert hasattr(bpy.types, "PHONG_OT_export_collada")
     if hasattr(bpy.types, "FileHandler"):
         assert hasattr(bpy.types, "PHONG_FH_collada")
+
+
+# -- rendered pixels --------------------------------------------------------------------------
+
+M = 0.5   # the file's unit: half a metre, Y up: Blender (x, y, z) = M · (fx, −fz, fy)
+TECHS = {
+    "constant": {"emission": (0.3, 0.2, 0.1)},
+    "lambert": {"emission": (0.01, 0.02, 0.03), "ambient": (0.2, 0.3, 0.4),
+                "diffuse": (0.5, 0.4, 0.3)},
+    "phong": {"ambient": (0.1, 0.1, 0.2), "diffuse": (0.3, 0.4, 0.5),
+              "specular": (0.4, 0.3, 0.2), "shininess": 8.0},
+    "blinn": {"emission": (0.0, 0.0, 0.05), "diffuse": (0.2, 0.3, 0.2),
+              "specular": (0.5, 0.5, 0.4), "shininess": 12.0},
+}
+AMBIENT_LIGHT = (0.3, 0.25, 0.2)
+#: light kind -> (COLLADA element, Blender position or direction source, target)
+LIGHTS = {
+    "directional": {"eye": (0.3, 0.2, 1.0), "color": (0.7, 0.6, 0.5)},
+    "point": {"eye": (0.3, 0.2, 1.5), "color": (0.9, 0.8, 0.7), "att": (0.5, 0.3, 0.2)},
+    "spot": {"eye": (0.5, 0.1, 1.2), "at": (0.2, 0.0, 0.0), "color": (1.0, 0.9, 0.8),
+             "att": (1.0, 0.0, 0.25), "angle": 100.0, "exponent": 2.0},
+}
+
+
+def _file(b):
+    """Blender metres -> the file's coordinates."""
+    x, y, z = b
+    return (x / M, z / M, -y / M)
+
+
+def _j(values):
+    return " ".join(repr(float(v)) for v in values)
+
+
+def _pixel_dae(kind):
+    light = LIGHTS[kind]
+    effects, materials, geometries, nodes = [], [], [], []
+    for index, (tech, values) in enumerate(TECHS.items()):
+        inner = "".join(f"<{e}><color>{_j(values[e])} 1</color></{e}>"
+                        for e in ("emission", "ambient", "diffuse", "specular") if e in values)
+        if "shininess" in values:
+            inner += f"<shininess><float>{values['shininess']}</float></shininess>"
+        effects.append(f'<effect id="fx-{tech}"><profile_COMMON><technique sid="t"><{tech}>'
+                       f"{inner}</{tech}></technique></profile_COMMON></effect>")
+        materials.append(f'<material id="m-{tech}" name="{tech} paint">'
+                         f'<instance_effect url="#fx-{tech}"/></material>')
+        x0, x1 = -2.0 + index, -1.0 + index
+        corners = [_file(c) for c in ((x0, -0.5, 0), (x1, -0.5, 0), (x1, 0.5, 0), (x0, 0.5, 0))]
+        geometries.append(
+            f'<geometry id="g-{tech}" name="{tech}"><mesh>'
+            f'<source id="p-{tech}"><float_array id="pa-{tech}" count="12">'
+            f'{_j(np.ravel(corners))}</float_array><technique_common><accessor source="#pa-{tech}" '
+            f'count="4" stride="3"/></technique_common></source>'
+            f'<source id="n-{tech}"><float_array id="na-{tech}" count="3">0 1 0</float_array>'
+            f'<technique_common><accessor source="#na-{tech}" count="1" stride="3"/>'
+            f'</technique_common></source>'
+            f'<vertices id="v-{tech}"><input semantic="POSITION" source="#p-{tech}"/></vertices>'
+            f'<polylist count="1" material="s"><input semantic="VERTEX" source="#v-{tech}" '
+            f'offset="0"/><input semantic="NORMAL" source="#n-{tech}" offset="1"/>'
+            f'<vcount>4</vcount><p>0 0 1 0 2 0 3 0</p></polylist></mesh></geometry>')
+        nodes.append(f'<node id="node-{tech}" name="{tech}"><instance_geometry url="#g-{tech}">'
+                     f'<bind_material><technique_common><instance_material symbol="s" '
+                     f'target="#m-{tech}"/></technique_common></bind_material>'
+                     f"</instance_geometry></node>")
+    body = f"<color>{_j(light['color'])}</color>"
+    if "att" in light:
+        c, lin, q = light["att"]
+        body += (f"<constant_attenuation>{c}</constant_attenuation><linear_attenuation>{lin}"
+                 f"</linear_attenuation><quadratic_attenuation>{q}</quadratic_attenuation>")
+    if kind == "spot":
+        body += (f"<falloff_angle>{light['angle']}</falloff_angle>"
+                 f"<falloff_exponent>{light['exponent']}</falloff_exponent>")
+    at = _file(light.get("at", (0.0, 0.0, 0.0)))
+    if kind == "point":
+        place = f"<translate>{_j(_file(light['eye']))}</translate>"
+    else:
+        place = f"<lookat>{_j(_file(light['eye']))} {_j(at)} 0 0 -1</lookat>"
+    nodes.append(f'<node id="lamp" name="Lamp">{place}<instance_light url="#L"/></node>')
+    nodes.append('<node id="amb" name="Ambient"><instance_light url="#A"/></node>')
+    nodes.append(f'<node id="cam" name="Camera"><lookat>{_j(_file((0, 0, 10)))} 0 0 0 '
+                 f'{_j(_file((0, 1, 0)))}</lookat><instance_camera url="#C"/></node>')
+    return _doc(f"""<library_cameras><camera id="C" name="Camera"><optics><technique_common>
+      <orthographic><xmag>{2.0 / M}</xmag><znear>0.1</znear><zfar>100</zfar></orthographic>
+      </technique_common></optics></camera></library_cameras>
+      <library_lights><light id="L" name="Lamp"><technique_common><{kind}>{body}</{kind}>
+      </technique_common></light><light id="A" name="Ambient"><technique_common><ambient>
+      <color>{_j(AMBIENT_LIGHT)}</color></ambient></technique_common></light></library_lights>
+      <library_effects>{''.join(effects)}</library_effects>
+      <library_materials>{''.join(materials)}</library_materials>
+      <library_geometries>{''.join(geometries)}</library_geometries>
+      <library_visual_scenes><visual_scene id="vs">{''.join(nodes)}</visual_scene>
+      </library_visual_scenes><scene><instance_visual_scene url="#vs"/></scene>""",
+                asset=f'<unit meter="{M}"/><up_axis>Y_UP</up_axis>').decode()
+
+
+def _spec_colour(kind, width, height):
+    """The spec's formula (profile_COMMON: emission + ambient·La + Σ att·Lc·(diffuse·max(N·L,
+    0) + specular·max(R·V or N·H, 0)^s)) at each pixel centre of the top view, in metres
+    (d in the file's units for the attenuation), clamped to 1 as the Phong Color output is;
+    and a mask of pixels within 1e-4 of the spot's cone edge."""
+    light = LIGHTS[kind]
+    cols = (np.arange(width) + 0.5) / width * 4.0 - 2.0
+    rows = (np.arange(height) + 0.5) / height * 1.0 - 0.5
+    x, y = np.meshgrid(cols, rows)
+    P = np.stack([x, y, np.zeros_like(x)], axis=-1)
+    N = np.array([0.0, 0.0, 1.0])
+    V = np.array([0.0, 0.0, 1.0])
+    eye = np.array(light["eye"])
+    if kind == "directional":
+        L = np.broadcast_to(eye / np.linalg.norm(eye), P.shape)
+        att = np.ones(x.shape)
+    else:
+        to = eye - P
+        d = np.linalg.norm(to, axis=-1)
+        L = to / d[..., None]
+        c, lin, q = light["att"]
+        d_file = d / M
+        att = 1.0 / (c + lin * d_file + q * d_file ** 2)
+    edge = np.zeros(x.shape, bool)
+    if kind == "spot":
+        axis = np.array(light["at"]) - eye
+        axis /= np.linalg.norm(axis)
+        cos_w = np.einsum("...i,i->...", -L, axis)
+        cos_half = math.cos(math.radians(light["angle"] / 2.0))
+        att = att * np.where(cos_w >= cos_half, np.maximum(cos_w, 0) ** light["exponent"], 0.0)
+        edge = np.abs(cos_w - cos_half) < 1e-4
+    ndl = np.maximum(L @ N, 0.0)
+    R = 2.0 * ndl[..., None] * N - L
+    H = (L + V) / np.linalg.norm(L + V, axis=-1, keepdims=True)
+    out = np.zeros(P.shape)
+    for index, (tech, values) in enumerate(TECHS.items()):
+        m = (x >= -2.0 + index) & (x < -1.0 + index)
+        ke, ka, kd, ks = (np.array(values.get(e, (0.0, 0.0, 0.0)))
+                          for e in ("emission", "ambient", "diffuse", "specular"))
+        if tech == "constant":
+            colour = np.broadcast_to(ke, P.shape)
+        else:
+            spec = 0.0
+            if tech == "phong":
+                spec = np.maximum(R @ V, 0.0) ** values["shininess"]
+            elif tech == "blinn":
+                spec = np.maximum(H @ N, 0.0) ** values["shininess"]
+            colour = ke + ka * np.array(AMBIENT_LIGHT) + att[..., None] * np.array(
+                light["color"]) * (kd * ndl[..., None] + ks * np.asarray(spec)[..., None])
+        out[m] = np.minimum(colour, 1.0)[m]
+    return out, edge
+
+
+def _render_dae(bpy, kind, engine, tmp_path):
+    import blender_env as be  # noqa: PLC0415
+    from phong_scene import render  # noqa: PLC0415
+
+    width, height = 64, 16
+    scene = be.new_scene(f"dae {kind} {engine}", width, height, engine)
+    bpy.context.window.scene = scene
+    path = tmp_path / f"{kind}.dae"
+    path.write_text(_pixel_dae(kind))
+    assert bpy.ops.phong.import_collada(filepath=str(path)) == {"FINISHED"}
+    assert scene.camera is not None and scene.camera.data.type == "ORTHO"
+    assert bpy.ops.phong.add_term_passes() == {"FINISHED"}
+    if engine == "eevee":   # Eevee: the one AOV the check reads
+        layer = scene.view_layers[0]
+        for aov in [a for a in layer.aovs if a.name != "Phong Color"]:
+            layer.aovs.remove(aov)
+    passes, seconds = render(bpy, scene, str(tmp_path / f"{kind}_{engine}.exr"))
+    got = passes["Phong Color"][..., :3].astype(np.float64)
+    want, edge = _spec_colour(kind, width, height)
+    assert want.max() > 0.2 and want.std() > 0.02, "lit, not flat"
+    err = np.abs(got - want).max(axis=-1)[~edge]
+    be.report(f"[collada {kind} {engine}] {seconds:.1f} s, max |Phong Color - spec| = "
+              f"{err.max():.2e}, within 1/255: {float((err <= 1 / 255).mean()):.2%}, "
+              f"spot-edge pixels left out: {int(edge.sum())}")
+    return err, edge
+
+
+@pytest.mark.cycles
+@pytest.mark.parametrize("kind", sorted(LIGHTS))
+def test_techniques_and_lights_render_the_spec_formula_cycles(bpy_clean, tmp_path, kind):
+    err, edge = _render_dae(bpy_clean, kind, "cycles", tmp_path)
+    assert edge.sum() <= 4
+    assert err.max() <= 1e-4
+
+
+@pytest.mark.eevee
+@pytest.mark.parametrize("kind", sorted(LIGHTS))
+def test_techniques_and_lights_render_the_spec_formula_eevee(bpy_clean, tmp_path, kind):
+    err, _edge = _render_dae(bpy_clean, kind, "eevee", tmp_path)
+    assert float((err <= 1 / 255).mean()) >= 0.995
