@@ -19,16 +19,25 @@ turns what it reads into plain data, by the FBX SDK's rules:
 * the scene ambient is GlobalSettings' AmbientColor.
 
 ufbx 0.0.5 gives every property of an element (``props.props``) and finds a property through
-the template (``props.find_prop``); ``props.defaults`` is not used: it crashes the process on
-an element whose type has no template.  A file ufbx cannot read raises :class:`FbxError`, the
-one exception class of this module.
+the template (``props.find_prop``).  Its Python binding is fragile: some of its objects crash
+the garbage collector (``Shader``, ``Texture.content``, list iterators, a ``props.defaults``
+with no template, any element once its scene is freed; measured on this project's files).
+So ufbx runs in a child process (:func:`read`): the child reads the file with the garbage
+collector off, sends plain data back (a pickle of dicts, tuples and numpy arrays) and ends
+with ``os._exit``; a crash, a time-out (:data:`TIME_LIMIT`) or the memory limit
+(:data:`MEMORY_LIMIT`, POSIX) of the child is one :class:`FbxError` in Blender, the one
+exception class of this module, and leaves Blender as it was.
 """
 
 from __future__ import annotations
 
 import math
 import os
-from dataclasses import dataclass, field
+import pickle
+import subprocess
+import sys
+import tempfile
+from dataclasses import asdict, dataclass, field
 
 #: FBX SDK class defaults of FbxSurfaceLambert / FbxSurfacePhong (what the SDK writes in its
 #: own PropertyTemplate "FbxSurfacePhong"; Lambert's are the same without the specular ones).
@@ -62,6 +71,9 @@ TEXTURE_SLOTS = {"DiffuseColor": "Object Color", "AmbientColor": "Ambient Object
                  "SpecularColor": "Specular Color", "EmissiveColor": "Irradiant Color"}
 #: Embedded textures larger than this are left out (bounded memory), with a warning.
 MAX_EMBEDDED = 256 * 1024 * 1024
+#: Limits of the child process that reads a file: seconds, and bytes of address space.
+TIME_LIMIT = 300.0
+MEMORY_LIMIT = 8 * 1024 ** 3
 _NO_VALUE = 0x4000 | 0x10000  # ufbx PropFlags NOT_FOUND | NO_VALUE
 
 
@@ -128,12 +140,42 @@ class Scene:
     materials: list
     lights: list
     warnings: list
+    nodes: list = field(default_factory=list)    # Node, parents first (with geometry only)
+    meshes: dict = field(default_factory=dict)   # mesh id -> MeshData
 
     def material(self, name):
         return next((m for m in self.materials if m.name == name), None)
 
     def light(self, name):
         return next((l for l in self.lights if l.name == name or name in l.nodes), None)
+
+
+@dataclass
+class Node:
+    """A node of the file (with geometry): its matrix is relative to its parent node, or the
+    world's (Z up, metres) for a top-level node."""
+    id: int
+    name: str
+    parent: int | None
+    matrix: tuple             # 4 rows of 4
+    kind: str                 # MESH, LIGHT, CAMERA or EMPTY
+    data: str                 # name of its mesh / light / camera
+    mesh: int | None = None
+    materials: tuple = ()     # material names, by slot
+    light: dict | None = None     # {"type": POINT/SUN/SPOT}
+    camera: dict | None = None    # {"ortho", "fov_x", "ortho_size", "near", "far"}
+    visible: bool = True
+
+
+@dataclass
+class MeshData:
+    positions: object         # (V, 3) float64
+    loop_vertex: object       # (L,) int32
+    face_sizes: object        # (F,) int32
+    face_material: object     # (F,) int32
+    normals: object = None    # (L, 3) float64 or None
+    uvs: list = field(default_factory=list)      # (name, (L, 2) float64)
+    colors: list = field(default_factory=list)   # (name, (L, 4) float64)
 
 
 def _ufbx():
@@ -144,27 +186,31 @@ def _ufbx():
     return ufbx
 
 
-#: The last scenes loaded, kept alive: ufbx 0.0.5's element objects hold no reference to their
-#: scene, and one used (or merely garbage-collected) after its scene was freed crashes the
-#: process.  A scene is dropped two loads later, long after the plain data was taken from it.
-_KEPT: list = []
-
-
 def load(path: str, **options):
-    """The ufbx scene of *path* (raises :class:`FbxError`).  *options* go to
-    ``ufbx.load_file``.  The scene is never freed explicitly (see :data:`_KEPT`)."""
+    """The ufbx scene of *path* (in the child process; raises :class:`FbxError`)."""
     ufbx = _ufbx()
     if not os.path.isfile(path):
         raise FbxError(path, "file not found")
     try:
-        scene = ufbx.load_file(path, **options)
+        return ufbx.load_file(path, **options)
     except ufbx.UfbxError as error:
         raise FbxError(path, f"not readable as FBX ({type(error).__name__}: {error})") from None
     except (OSError, ValueError, MemoryError) as error:
         raise FbxError(path, f"not readable as FBX ({error})") from None
-    _KEPT.append(scene)
-    del _KEPT[:-2]
-    return scene
+
+
+def items(ufbx_list) -> list:
+    """The elements of a ufbx list, by index (ufbx 0.0.5's list iterators are not used); the
+    list and its elements are held until the (child) process ends: ufbx 0.0.5 returns some
+    objects with a reference too few, freed while still in use otherwise."""
+    out = [ufbx_list[i] for i in range(len(ufbx_list))]
+    _HOLD.append(ufbx_list)
+    _HOLD.extend(out)
+    return out
+
+
+#: ufbx objects held for the life of the child process (see :func:`items`).
+_HOLD: list = []
 
 
 def _finite(value) -> bool:
@@ -179,7 +225,7 @@ def _value(prop, width):
 def lookup(props, names, default, width, own=None):
     """(value, source) of the first of *names* on the element, else in its template, else
     *default* ("default").  A non-finite value counts as absent."""
-    own = own if own is not None else {p.name: p for p in props.props}
+    own = own if own is not None else {p.name: p for p in items(props.props)}
     for name in names:
         prop = own.get(name)
         if prop is not None and not prop.flags & _NO_VALUE:
@@ -195,37 +241,43 @@ def lookup(props, names, default, width, own=None):
     return default, "default"
 
 
-def _texture(prop_name, texture, base) -> Texture:
-    files = list(texture.file_textures) if texture.type.name != "FILE" else [texture]
-    tex = files[0] if files else texture
-    content = bytes(tex.content) if len(tex.content) else None
-    if tex.video is not None and content is None and len(tex.video.content):
-        content = bytes(tex.video.content)
+def _texture(prop_name, index, textures, base) -> Texture:
+    """The texture *index* (typed id) of the scene's *textures*, connected to *prop_name*."""
+    texture = textures[index]
+    if texture.type.name != "FILE":  # layered or procedural: its first file texture
+        files = [t.typed_id for t in items(texture.file_textures)]
+        texture = textures[files[0]] if files else texture
+    # the embedded file is read from the Video (``Texture.content`` crashes ufbx 0.0.5)
+    video = texture.video
+    content = bytes(video.content) if video is not None and len(video.content) else None
+    filename, relative = texture.filename, texture.relative_filename
+    absolute = texture.absolute_filename
     candidates = []
-    for path in (tex.filename, tex.absolute_filename,
-                 os.path.join(base, tex.relative_filename) if tex.relative_filename else "",
-                 os.path.join(base, os.path.basename(tex.relative_filename.replace("\\", "/")))
-                 if tex.relative_filename else "",
-                 os.path.join(base, os.path.basename(tex.absolute_filename.replace("\\", "/")))
-                 if tex.absolute_filename else ""):
+    for path in (filename, absolute,
+                 os.path.join(base, relative) if relative else "",
+                 os.path.join(base, os.path.basename(relative.replace("\\", "/")))
+                 if relative else "",
+                 os.path.join(base, os.path.basename(absolute.replace("\\", "/")))
+                 if absolute else ""):
             if path and path not in candidates:
                 candidates.append(path)
-    name = tex.relative_filename or tex.absolute_filename or tex.filename or tex.name
-    return Texture(prop_name, name, tuple(candidates), content, tex.name)
+    name = relative or absolute or filename or texture.name
+    return Texture(prop_name, name, tuple(candidates), content, texture.name)
 
 
-def read_material(mat, base="") -> Material:
-    """The Phong values of the ufbx material *mat* (``base``: the file's folder)."""
+def read_material(mat, base="", textures=None) -> Material:
+    """The Phong values of the ufbx material *mat* (``base``: the file's folder; *textures*:
+    the scene's textures, ``items(scene.textures)``, for the material's maps)."""
     ufbx = _ufbx()
     shading = mat.shading_model_name or ""
     kind = mat.shader_type
-    if mat.shader is not None or kind not in (ufbx.ShaderType.FBX_LAMBERT,
-                                              ufbx.ShaderType.FBX_PHONG):
+    # (``mat.shader`` is not touched: ufbx 0.0.5's Shader object crashes the garbage collector)
+    if kind not in (ufbx.ShaderType.FBX_LAMBERT, ufbx.ShaderType.FBX_PHONG):
         return Material(mat.name, "OTHER", shading or kind.name)
     lambert = kind == ufbx.ShaderType.FBX_LAMBERT
     out = Material(mat.name, "LAMBERT" if lambert else "PHONG", shading,
                    blinn=shading.strip().lower() == "blinn")
-    own = {p.name: p for p in mat.props.props}
+    own = {p.name: p for p in items(mat.props.props)}
 
     def get(name, width):
         value, source = lookup(mat.props, (name,), SURFACE_DEFAULTS[name], width, own)
@@ -256,19 +308,22 @@ def read_material(mat, base="") -> Material:
         rc, rf = get("ReflectionColor", 3), get("ReflectionFactor", 1)
         if rf * max(rc) > 0.0:
             out.unsupported.append("reflection (ReflectionColor × ReflectionFactor)")
-    for link in mat.textures:
-        prop = link.material_prop
+    # (a MaterialTexture's texture object crashes ufbx 0.0.5 when kept: only its id is taken)
+    links = [(link.material_prop, link.texture.typed_id) for link in items(mat.textures)]
+    for prop, index in links:
         slot = TEXTURE_SLOTS.get(prop)
         if slot is None or (lambert and slot == "Specular Color"):
             out.unsupported.append(f"texture on {prop}")
             continue
-        out.textures[slot] = _texture(prop, link.texture, base)
+        if textures is None:
+            textures = items(mat.scene.textures)
+        out.textures[slot] = _texture(prop, index, textures, base)
     return out
 
 
 def read_light(light) -> Light:
     ufbx = _ufbx()
-    own = {p.name: p for p in light.props.props}
+    own = {p.name: p for p in items(light.props.props)}
     sources = {}
 
     def get(name, width):
@@ -281,25 +336,23 @@ def read_light(light) -> Light:
     decay = int(round(get("DecayType", 1)))
     del ufbx
     return Light(
-        name=light.name, nodes=tuple(n.name for n in light.instances), fbx_type=fbx_type,
+        name=light.name, nodes=tuple(n.name for n in items(light.instances)), fbx_type=fbx_type,
         type={0: "POINT", 1: "SUN", 2: "SPOT"}.get(fbx_type, "POINT"),
         color=tuple(get("Color", 3)), intensity=get("Intensity", 1) / 100.0,
         decay=decay if decay in (0, 1, 2, 3) else 2,
         outer_angle=get("OuterAngle", 1), inner_angle=get("InnerAngle", 1), sources=sources)
 
 
-def read(path: str) -> Scene:
-    """Materials, lights and ambient of the FBX file *path* (raises :class:`FbxError`)."""
-    return from_scene(load(path, ignore_geometry=True, ignore_animation=True), path)
 
 
 def from_scene(scene, path: str) -> Scene:
     """Plain data of a loaded ufbx *scene* (see :func:`read`)."""
     base = os.path.dirname(os.path.abspath(path))
     warnings = []
-    materials = [read_material(m, base) for m in scene.materials]
+    textures = items(scene.textures)
+    materials = [read_material(m, base, textures) for m in items(scene.materials)]
     lights = []
-    for light in scene.lights:
+    for light in items(scene.lights):
         item = read_light(light)
         if item.fbx_type not in (0, 1, 2):
             what = LIGHT_TYPES.get(item.fbx_type, f"type {item.fbx_type}")
@@ -339,3 +392,171 @@ def falloff(k: int) -> dict:
         return {"quadratic": 1.0, "linear": 0.0, "constant": 0.0}
     return {"quadratic": 1.0, "linear": 0.0, "constant": 0.0, "falloff": "POWER",
             "power_k": float(k)}
+
+
+# -- geometry (read in the child process) -------------------------------------------------
+
+def _matrix(m) -> tuple:
+    cols = (m.c0, m.c1, m.c2, m.c3)
+    return tuple(tuple(float(getattr(c, axis)) for c in cols) for axis in "xyz") + (
+        (0.0, 0.0, 0.0, 1.0),)
+
+
+def _mesh_data(umesh):
+    import numpy as np
+    sizes = np.array([f.num_indices for f in items(umesh.faces)], dtype=np.int64)
+    starts = np.array([f.index_begin for f in items(umesh.faces)], dtype=np.int64)
+    keep = sizes >= 3  # points and lines are no faces
+    sizes, starts = sizes[keep], starts[keep]
+    loops = (np.concatenate([np.arange(b, b + n) for b, n in zip(starts, sizes)])
+             if len(sizes) else np.zeros(0, dtype=np.int64))
+    indices = np.asarray(umesh.vertex_indices, dtype=np.int64)
+    materials = (np.asarray(umesh.face_material, dtype=np.int64)[keep]
+                 if len(umesh.face_material) else np.zeros(len(sizes), dtype=np.int64))
+
+    def per_loop(attr, width):
+        if not attr.exists:
+            return None
+        values = np.asarray(attr.values, dtype=np.float64).reshape(-1, width)
+        return values[np.asarray(attr.indices, dtype=np.int64)[loops]]
+
+    uvs = [(s.name or "UVMap", per_loop(s.vertex_uv, 2)) for s in items(umesh.uv_sets)]
+    colors = [(s.name or "Color", per_loop(s.vertex_color, 4)) for s in items(umesh.color_sets)]
+    return MeshData(
+        positions=np.asarray(umesh.vertices, dtype=np.float64).reshape(-1, 3),
+        loop_vertex=indices[loops].astype(np.int32), face_sizes=sizes.astype(np.int32),
+        face_material=materials.astype(np.int32), normals=per_loop(umesh.vertex_normal, 3),
+        uvs=[(n, a) for n, a in uvs if a is not None],
+        colors=[(n, a) for n, a in colors if a is not None])
+
+
+def _geometry(scene, out: Scene) -> None:
+    ufbx = _ufbx()
+    for node in items(scene.nodes):
+        if node.is_root:
+            continue
+        parent = node.parent
+        top = parent is None or parent.is_root
+        item = Node(id=int(node.element_id), name=node.name,
+                    parent=None if top else int(parent.element_id),
+                    matrix=_matrix(node.node_to_world if top else node.node_to_parent),
+                    kind="EMPTY", data="", visible=bool(node.visible))
+        mesh, light, camera = node.mesh, node.light, node.camera
+        if mesh is not None:
+            item.kind, item.data, item.mesh = "MESH", mesh.name or node.name, int(mesh.element_id)
+            if item.mesh not in out.meshes:
+                out.meshes[item.mesh] = _mesh_data(mesh)
+            item.materials = tuple(m.name for m in items(node.materials))
+        elif light is not None:
+            item.kind, item.data = "LIGHT", light.name or node.name
+            item.light = {"type": read_light(light).type}
+        elif camera is not None:
+            item.kind, item.data = "CAMERA", camera.name or node.name
+            item.camera = {
+                "ortho": camera.projection_mode == ufbx.ProjectionMode.ORTHOGRAPHIC,
+                "fov_x": float(camera.field_of_view_deg.x),
+                "ortho_size": float(camera.orthographic_size.x),
+                "near": float(camera.near_plane), "far": float(camera.far_plane)}
+        out.nodes.append(item)
+
+
+# -- the child process and its parent -------------------------------------------------------
+
+def _child(path: str, result: str, geometry: bool) -> None:
+    """Read *path* with ufbx, write the plain data (or {"error": ...}) to *result*."""
+    import gc
+    gc.disable()  # ufbx 0.0.5's objects crash the collector; this process is short-lived
+    try:
+        options = {"ignore_animation": True}
+        if geometry:
+            ufbx = _ufbx()
+            options.update(
+                target_axes=ufbx.axes_right_handed_z_up, target_unit_meters=1.0,
+                target_camera_axes=ufbx.axes_right_handed_y_up,
+                target_light_axes=ufbx.axes_right_handed_y_up,
+                geometry_transform_handling=ufbx.GeometryTransformHandling.MODIFY_GEOMETRY,
+                generate_missing_normals=True)
+        else:
+            options["ignore_geometry"] = True
+        scene = load(path, **options)
+        data = from_scene(scene, path)
+        if geometry:
+            _geometry(scene, data)
+        payload = {"scene": {k: v for k, v in data.__dict__.items()
+                             if k not in ("materials", "lights", "nodes")},
+                   "materials": [asdict(m) for m in data.materials],
+                   "lights": [asdict(l) for l in data.lights],
+                   "nodes": [asdict(n) for n in data.nodes]}
+        payload["scene"]["meshes"] = {k: asdict(m) for k, m in data.meshes.items()}
+    except FbxError as error:
+        payload = {"error": str(error)}
+    except Exception as error:  # noqa: BLE001 - anything else: one message for the parent
+        payload = {"error": f"{path}: not readable as FBX ({type(error).__name__}: {error})"}
+    with open(result, "wb") as handle:
+        pickle.dump(payload, handle, protocol=pickle.HIGHEST_PROTOCOL)
+        handle.flush()
+    os._exit(0)
+
+
+def _limits():  # runs in the child before it starts (POSIX)
+    try:
+        import resource
+        resource.setrlimit(resource.RLIMIT_AS, (MEMORY_LIMIT, MEMORY_LIMIT))
+    except (ImportError, ValueError, OSError):
+        pass
+
+
+def _python() -> str:
+    """The Python interpreter for the child: Blender's own (``sys.executable`` is it since
+    Blender 2.91), or the one running this module."""
+    return sys.executable
+
+
+def read(path: str, geometry: bool = False, timeout: float | None = None) -> Scene:
+    """Materials, lights and ambient of the FBX file *path* (with *geometry*: its nodes and
+    meshes too, Z up and metres), read by ufbx in a child process; raises :class:`FbxError`."""
+    path = os.path.abspath(path)
+    if not os.path.isfile(path):
+        raise FbxError(path, "file not found")
+    with tempfile.TemporaryDirectory(prefix="phong_fbx_") as folder:
+        result = os.path.join(folder, "result.pickle")
+        env = dict(os.environ)
+        env["PYTHONPATH"] = os.pathsep.join(p for p in sys.path if p)
+        command = [_python(), "-s", os.path.abspath(__file__),
+                   path, result, "1" if geometry else "0"]
+        try:
+            done = subprocess.run(command, env=env, stdin=subprocess.DEVNULL,
+                                  stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
+                                  timeout=TIME_LIMIT if timeout is None else timeout,
+                                  preexec_fn=_limits if os.name == "posix" else None)
+        except subprocess.TimeoutExpired:
+            raise FbxError(path, f"reading took longer than {TIME_LIMIT:g} s; nothing "
+                                 "imported") from None
+        except OSError as error:
+            raise FbxError(path, f"could not start the FBX reader ({error})") from None
+        if not os.path.isfile(result):
+            tail = done.stderr.decode("utf-8", "replace").strip().splitlines()[-1:] or [""]
+            raise FbxError(path, f"the FBX reader stopped (exit status {done.returncode}) "
+                                 f"{tail[0][:200]}".strip())
+        with open(result, "rb") as handle:
+            payload = pickle.load(handle)  # written by our own child process just now
+    if "error" in payload:
+        raise FbxError(path, payload["error"].removeprefix(f"{path}: "))
+    return _rebuild(payload)
+
+
+def _rebuild(payload) -> Scene:
+    materials = []
+    for m in payload["materials"]:
+        m = dict(m)
+        m["textures"] = {k: Texture(**t) for k, t in m["textures"].items()}
+        materials.append(Material(**m))
+    info = dict(payload["scene"])
+    meshes = {k: MeshData(**v) for k, v in info.pop("meshes").items()}
+    return Scene(**info, materials=materials,
+                 lights=[Light(**l) for l in payload["lights"]],
+                 nodes=[Node(**n) for n in payload["nodes"]], meshes=meshes)
+
+
+if __name__ == "__main__":  # the child process of read()
+    _child(sys.argv[1], sys.argv[2], sys.argv[3] == "1")
