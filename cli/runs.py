@@ -121,7 +121,7 @@ def _run(args, state, registered) -> int:
           f"{f'{args.resolution} px high' if args.resolution else 'own resolution'} -> {out}",
           file=say)
     registered.ensure()
-    results, failed = _bake_scenes(jobs, args, out, say, state)
+    results, failed = _compare_scenes(jobs, args, out, say, state)
     index = report.write_index(out)
     print("", *summary_table(results), sep="\n", file=say)
     ok = not failed and all(m["ok"] for m in results)
@@ -187,8 +187,8 @@ def _file_jobs(args):
     return jobs, folders
 
 
-def _bake_scenes(jobs, args, out, say, state):
-    """Make and bake each job's scene into out/<name>; returns (metrics list, failed names)."""
+def _compare_scenes(jobs, args, out, say, state):
+    """Make and compare each job's scene into out/<name>; returns (metrics list, failed names)."""
     from ..addon.comparison import engine  # noqa: PLC0415
     from ..addon.demos import builder  # noqa: PLC0415
 
@@ -213,7 +213,7 @@ def _bake_scenes(jobs, args, out, say, state):
             if job.drop:
                 builder.remove(scene)
         except Exception as error:  # noqa: BLE001  (one bad scene must not hide the others)
-            print(f"\nphong: {job.name}: bake failed: {error}", file=sys.stderr)
+            print(f"\nphong: {job.name}: the comparison failed: {error}", file=sys.stderr)
             failed.append(job.name)
             continue
         print(f"\n      {compare.verdict_text(metrics['verdict'])}", file=say)

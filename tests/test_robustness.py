@@ -313,15 +313,15 @@ def test_bake_refuses_unwritable_folder_and_the_extension_folder(bpy_clean, tmp_
     blocker.write_text("not a folder")
     with bpy.context.temp_override(scene=scene):
         with pytest.raises(RuntimeError) as excinfo:
-            bpy.ops.phong.bake_comparison(directory=str(blocker / "sub"))
-        assert _error(excinfo) == ("Bake Phong Comparison: cannot write to output folder "
+            bpy.ops.phong.compare_scene(directory=str(blocker / "sub"))
+        assert _error(excinfo) == ("Compare Phong Scene: cannot write to output folder "
                                    f"{blocker / 'sub'}: Not a directory")
         package = os.path.dirname(phong_nodes.__file__)
         for target in (package, os.path.join(package, "phong_bake")):
             with pytest.raises(RuntimeError) as excinfo:
-                bpy.ops.phong.bake_comparison(directory=target)
+                bpy.ops.phong.compare_scene(directory=target)
             assert _error(excinfo) == (
-                f"Bake Phong Comparison: output folder {target} is inside the extension's own "
+                f"Compare Phong Scene: output folder {target} is inside the extension's own "
                 f"folder {os.path.realpath(package)}; choose another folder")
         assert not os.path.exists(os.path.join(package, "phong_bake"))
         assert not os.path.exists(os.path.join(package, "point_falloff"))

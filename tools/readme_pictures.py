@@ -5,7 +5,7 @@
   spot with a soft edge), three meshes, `bpy.ops.phong.apply_material()`;
 * docs/sheet_two_lights.png, docs/sheet_exponents.png: the comparison sheets of two demo
   scenes, built as live scenes by `bpy.ops.phong.build_demo_scene()` and compared by
-  `bpy.ops.phong.bake_comparison()` (256 px high);
+  `bpy.ops.phong.compare_scene()` (256 px high);
 * docs/sheet_threejs_phong_lab.png: the seeds' three.js Phong lab in the three.js model,
   compared with three.js itself in headless Chromium (`peers={'THREEJS'}`);
 * docs/obj_import.png: an OBJ/MTL file of four spheres with classic materials of the OpenGL
@@ -185,7 +185,7 @@ def sheets(names=(("two_lights", set()), ("exponents", set()),
         bpy.ops.wm.read_homefile(use_empty=True)
         assert bpy.ops.phong.build_demo_scene(name=name, resolution=256) == {"FINISHED"}
         with bpy.context.temp_override(scene=bpy.data.scenes[name]):
-            assert bpy.ops.phong.bake_comparison(directory=folder, peers=peers) == {"FINISHED"}
+            assert bpy.ops.phong.compare_scene(directory=folder, peers=peers) == {"FINISHED"}
         out = os.path.join(ROOT, "docs", f"sheet_{name}.png")
         shutil.copyfile(os.path.join(folder, name, "sheet.png"), out)
         print(out)

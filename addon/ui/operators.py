@@ -21,6 +21,7 @@ from ..scene import describe
 from ...core import mtl
 from ...core import threejs
 from ..interchange import mtl_export, obj_import, threejs_export
+from ..interchange.fbx_import import PHONG_OT_import_fbx
 from ..lighting import materials, rig
 from ..lighting import sync as sync_mod
 
@@ -237,7 +238,7 @@ compositor"""
         return {"FINISHED"}
 
 
-# -- demo scenes and the comparison bake ---------------------------------------------
+# -- demo scenes and the comparison -------------------------------------------------
 
 def _scene_items(_self, _context):
     items = []
@@ -280,16 +281,13 @@ class PHONG_OT_build_demo_scene(bpy.types.Operator):
         return {"FINISHED"}
 
 
-class PHONG_OT_bake_comparison(bpy.types.Operator):
-    """Render the active scene's Phong materials with Eevee and Cycles, compare both with \
-the numpy reference of the formulas for the scene's lights, and write images, term passes, \
-heatmaps, a sheet and metrics.json"""
+class _CompareScene:
+    """Compare Phong Scene, under its name and its old one (a mixin: Blender registers each
+    operator class on its own)."""
 
-    bl_idname = "phong.bake_comparison"
-    bl_label = "Bake Phong Comparison"
-    bl_options = {"REGISTER"}
+    bl_label = "Compare Phong Scene"
 
-    directory: StringProperty(name="Folder", subtype="DIR_PATH", default="//phong_bake",
+    directory: StringProperty(name="Folder", subtype="DIR_PATH", default="//phong_compare",
                               description="Output folder (one sub-folder per scene)")
     engines: EnumProperty(name="Engines", options={"ENUM_FLAG"}, default={"EEVEE", "CYCLES"},
                           items=(("EEVEE", "Eevee", ""), ("CYCLES", "Cycles", "")))
@@ -321,15 +319,15 @@ heatmaps, a sheet and metrics.json"""
             engine.check(scene, self._layer(context))
             engine.check_peers(peers)
         except engine.ComparisonError as error:
-            self.report({"ERROR"}, f"Bake Phong Comparison: {error}")
+            self.report({"ERROR"}, f"{self.bl_label}: {error}")
             return {"CANCELLED"}
         folder = bpy.path.abspath(self.directory) if self.directory.startswith("//") \
             else self.directory
         if self.directory.startswith("//") and not bpy.data.filepath:
-            folder = os.path.join(tempfile.gettempdir(), "phong_bake")
+            folder = os.path.join(tempfile.gettempdir(), "phong_compare")
         problem = outputs.output_problem(folder)
         if problem is not None:
-            self.report({"ERROR"}, f"Bake Phong Comparison: {problem}")
+            self.report({"ERROR"}, f"{self.bl_label}: {problem}")
             return {"CANCELLED"}
         name = describe.folder_name(scene)
         wm = context.window_manager
@@ -340,7 +338,7 @@ heatmaps, a sheet and metrics.json"""
                                 progress=lambda f, _t: wm.progress_update(int(100 * f)),
                                 view_layer=self._layer(context), peers=peers)
         except (RuntimeError, OSError, engine.ComparisonError) as error:
-            self.report({"ERROR"}, f"Bake Phong Comparison: bake failed: {error}")
+            self.report({"ERROR"}, f"{self.bl_label}: the comparison failed: {error}")
             return {"CANCELLED"}
         finally:
             wm.progress_end()
@@ -353,6 +351,23 @@ heatmaps, a sheet and metrics.json"""
 
     def invoke(self, context, event):
         return self.execute(context)
+
+
+class PHONG_OT_compare_scene(_CompareScene, bpy.types.Operator):
+    """Render the active scene's Phong materials with Eevee and Cycles, compare both with \
+the numpy reference of the formulas for the scene's lights, and write images, term passes, \
+heatmaps, a sheet and metrics.json"""
+
+    bl_idname = "phong.compare_scene"
+    bl_options = {"REGISTER"}
+
+
+class PHONG_OT_bake_comparison(_CompareScene, bpy.types.Operator):
+    """The old name of Compare Phong Scene (0.3 and earlier), kept for scripts: "bake" now \
+means Bake Phong Lighting only"""
+
+    bl_idname = "phong.bake_comparison"
+    bl_options = {"REGISTER", "INTERNAL"}
 
 
 # -- interchange ---------------------------------------------------------------------
@@ -517,8 +532,9 @@ class PHONG_OT_export_threejs(bpy.types.Operator, ExportHelper):
 
 classes = (PHONG_OT_load_node_groups, PHONG_OT_add_node_group, PHONG_OT_apply_material,
            PHONG_OT_relink_lights, PHONG_OT_restore_materials, PHONG_OT_add_term_passes,
-           PHONG_OT_build_demo_scene, PHONG_OT_bake_comparison, PHONG_OT_export_mtl,
-           PHONG_OT_import_obj, PHONG_OT_export_obj, PHONG_OT_export_threejs)
+           PHONG_OT_build_demo_scene, PHONG_OT_compare_scene, PHONG_OT_bake_comparison, PHONG_OT_export_mtl,
+           PHONG_OT_import_obj, PHONG_OT_export_obj, PHONG_OT_export_threejs,
+           PHONG_OT_import_fbx)
 
 
 register, unregister = bpy.utils.register_classes_factory(classes)

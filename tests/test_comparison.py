@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""Demo scenes as artist scenes, and the comparison bake on any scene with Phong materials
-(build_demo_scene, bake_comparison, ``tools/phong.sh compare``)."""
+"""Demo scenes as artist scenes, and the comparison on any scene with Phong materials
+(build_demo_scene, compare_scene, ``phong compare``)."""
 
 import json
 import math
@@ -232,7 +232,10 @@ def test_a_scene_made_by_hand_compares_ok_by_operator_and_cli(bpy_clean, tmp_pat
               for m in materials.phong_materials()}
     assert len(set(groups.values())) == 2, "the point light's link makes a second light set"
     with bpy.context.temp_override(scene=scene):
-        assert bpy.ops.phong.bake_comparison(directory=str(tmp_path / "op")) == {"FINISHED"}
+        assert bpy.ops.phong.compare_scene(directory=str(tmp_path / "op")) == {"FINISHED"}
+        # the old name runs the same operator, for scripts written for 0.3
+        assert bpy.ops.phong.bake_comparison(directory=str(tmp_path / "op-old")) == {"FINISHED"}
+        assert (tmp_path / "op-old").is_dir()
     metrics = json.loads((tmp_path / "op" / "By_hand" / "metrics.json").read_text())
     assert metrics["ok"], metrics["verdict"]
     assert metrics["resolution"] == [48, 32], "the scene's own size"
@@ -241,7 +244,7 @@ def test_a_scene_made_by_hand_compares_ok_by_operator_and_cli(bpy_clean, tmp_pat
     assert metrics["pixels"]["compared"] > 300
     spot = next(l for l in metrics["parameters"]["lights"] if l["name"] == "Spot")
     assert spot["position"] != pytest.approx([0.5, 0.0, 1.0]), "the parent's transform counts"
-    # everything the bake changed is back
+    # everything the comparison changed is back
     assert _settings(scene) == settings
     assert {m.name: m.node_tree.nodes[materials.LIGHTS_NODE].node_tree.name
             for m in materials.phong_materials()} == groups
@@ -266,7 +269,7 @@ def test_a_scene_made_by_hand_compares_ok_by_operator_and_cli(bpy_clean, tmp_pat
 @pytest.mark.cycles
 def test_a_stale_lights_group_is_a_mismatch(bpy_clean, tmp_path):
     """The reference reads the lights, not the lights groups: a group that does not follow
-    its light (its intensity driver muted) shows as a mismatch, so the bake checks the recipe."""
+    its light (its intensity driver muted) shows as a mismatch, so the comparison checks the recipe."""
     bpy = bpy_clean
     from phong_nodes.addon.comparison import engine  # noqa: PLC0415
     from phong_nodes.addon.lighting import rig  # noqa: PLC0415
@@ -300,11 +303,11 @@ def test_interrupted_bake_leaves_nothing_and_puts_the_scene_back(bpy_clean, tmp_
 
     monkeypatch.setattr(report, "write_scene", boom)
     (tmp_path / "lambert_vs_phong").mkdir()
-    (tmp_path / "lambert_vs_phong" / "metrics.json").write_text("{}")  # an older bake
+    (tmp_path / "lambert_vs_phong" / "metrics.json").write_text("{}")  # an older comparison
     with pytest.raises(KeyboardInterrupt):
         engine.run(scene, str(tmp_path / "lambert_vs_phong"), engines=("cycles",))
     assert sorted(os.listdir(tmp_path)) == ["lambert_vs_phong"]
-    assert os.listdir(tmp_path / "lambert_vs_phong") == ["metrics.json"], "old bake kept whole"
+    assert os.listdir(tmp_path / "lambert_vs_phong") == ["metrics.json"], "old comparison kept whole"
     assert sorted(g.name for g in bpy.data.node_groups) == groups, "probe groups removed"
     assert scene.render.engine != "CYCLES" and len(scene.view_layers[0].aovs) == 0
     builder.remove(scene)
@@ -319,5 +322,5 @@ def test_bake_refuses_a_scene_without_phong_materials(bpy_clean, tmp_path):
     be.add_uv_sphere(scene, "Ball", (0, 0, 0), 1.0, material, segments=8, rings=4)
     with bpy.context.temp_override(scene=scene), pytest.raises(
             RuntimeError, match="scene 'Plain' has no object with a Phong material"):
-        bpy.ops.phong.bake_comparison(directory=str(tmp_path / "out"))
+        bpy.ops.phong.compare_scene(directory=str(tmp_path / "out"))
     assert not (tmp_path / "out").exists()
