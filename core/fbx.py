@@ -530,8 +530,8 @@ def read(path: str, geometry: bool = False, timeout: float | None = None) -> Sce
                                   timeout=TIME_LIMIT if timeout is None else timeout,
                                   preexec_fn=_limits if os.name == "posix" else None)
         except subprocess.TimeoutExpired:
-            raise FbxError(path, f"reading took longer than {TIME_LIMIT:g} s; nothing "
-                                 "imported") from None
+            limit = TIME_LIMIT if timeout is None else timeout
+            raise FbxError(path, f"reading took longer than {limit:g} s") from None
         except OSError as error:
             raise FbxError(path, f"could not start the FBX reader ({error})") from None
         if not os.path.isfile(result):

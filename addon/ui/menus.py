@@ -55,6 +55,7 @@ def _draw_export_menu(self, _context):
 
 def _draw_import_menu(self, _context):
     self.layout.operator(PHONG_OT_import_obj.bl_idname, text="Wavefront (.obj) as Phong")
+    self.layout.operator("phong.import_fbx", text="FBX (Phong) (.fbx)")
 
 
 def register():

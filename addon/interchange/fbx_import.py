@@ -1,0 +1,419 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""FBX imported with its Phong and Lambert materials and its lights as exact Phong values
+(issue 27).
+
+The scene comes from Blender's own FBX importer where it reads the file (binary FBX 7100 and
+later); ASCII files and FBX 6.1 are built from ufbx (meshes with normals, UVs and vertex
+colours, the node hierarchy, cameras, lights; axes and units converted as Blender's importer
+does: Z up, metres).  Then ``core/fbx.py`` gives every material and light its values, by the
+FBX SDK's rules (see there), and:
+
+    Object Color        DiffuseColor × DiffuseFactor          (× a DiffuseColor texture)
+    Ambient (Ka)        AmbientColor × AmbientFactor          (× an AmbientColor texture)
+    Specular Color      SpecularColor × SpecularFactor        (Lambert: black)
+    Exponent            ShininessExponent, else Shininess     (Blinn shading: Blinn = 1)
+    Irradiant Color     EmissiveColor × EmissiveFactor        (× an EmissiveColor texture)
+    Opacity             Opacity, else 1 − TransparencyFactor × mean(TransparentColor)
+    light               colour; Phong Intensity = Intensity / 100; DecayType k = 0, 1, 2
+                        as γ = 1 / β = 1 / α = 1, k = 3 as the power falloff 1/d³;
+                        spot: spot_size = OuterAngle, spot_blend = 1 − Inner/Outer,
+                        Phong Edge Exponent from both (core.fbx.spot_edge_exponent)
+    World               Phong ambient colour = GlobalSettings AmbientColor, intensity 1
+
+Materials of other shading models (PBR, Arnold, ShaderFX) keep Blender's import (or a plain
+material on the ufbx path), named in one warning.  Any failure raises
+:class:`core.fbx.FbxError` and removes what the import had added.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import re
+import tempfile
+
+import bpy
+from mathutils import Matrix
+
+from ...core import fbx
+from ..lighting import materials as recipe
+from ..lighting import properties
+from ..lighting import sync as sync_mod
+from . import obj_import
+
+FbxError = fbx.FbxError
+#: lights-group input -> control node of the recipe (or ours, for the ambient colour)
+CONTROLS = {"Object Color": "phong_object_color", recipe.AMBIENT_INPUT: recipe.AMBIENT_CONTROL,
+            "Specular Color": "phong_specular_color", "Irradiant Color": "phong_irradiant_color"}
+OPACITY_CONTROL = "phong_opacity"
+#: Custom property on imported objects, lights and materials: the FBX file they came from.
+SOURCE_KEY = "phong_fbx_source"
+_DATA = ("objects", "meshes", "materials", "lights", "cameras", "images", "node_groups",
+         "collections", "worlds", "textures", "armatures", "actions")
+
+
+def _snapshot():
+    return {name: set(getattr(bpy.data, name)) for name in _DATA}
+
+
+def _rollback(before) -> None:
+    """Remove every data block added since *before* (objects first)."""
+    for name in _DATA:
+        collection = getattr(bpy.data, name)
+        for block in [b for b in collection if b not in before[name]]:
+            try:
+                collection.remove(block)
+            except (ReferenceError, RuntimeError):
+                pass
+
+
+def _base_name(name: str) -> str:
+    base, dot, suffix = name.rpartition(".")
+    return base if dot and suffix.isdigit() and len(suffix) == 3 else name
+
+
+def _blender_reads(data: fbx.Scene) -> bool:
+    return not data.ascii and data.version >= 7100
+
+
+def _ensure_fbx_addon() -> bool:
+    if hasattr(bpy.ops.import_scene, "fbx"):
+        try:
+            bpy.ops.import_scene.fbx.get_rna_type()
+            return True
+        except (KeyError, AttributeError):
+            pass
+    try:
+        import addon_utils
+        addon_utils.enable("io_scene_fbx", default_set=False)
+    except Exception:  # noqa: BLE001 - any failure means: build from ufbx
+        return False
+    try:
+        bpy.ops.import_scene.fbx.get_rna_type()
+        return True
+    except (KeyError, AttributeError):
+        return False
+
+
+# -- the ufbx build (ASCII, FBX 6.1, or where Blender's importer fails) ----------------------
+
+def _mesh(item: fbx.MeshData, name, warnings, path):
+    import numpy as np
+    mesh = bpy.data.meshes.new(name or "Mesh")
+    sizes = np.asarray(item.face_sizes, dtype=np.int64)
+    mesh.vertices.add(len(item.positions))
+    mesh.vertices.foreach_set("co", np.asarray(item.positions, np.float32).ravel())
+    mesh.loops.add(len(item.loop_vertex))
+    mesh.loops.foreach_set("vertex_index", np.asarray(item.loop_vertex, np.int32))
+    mesh.polygons.add(len(sizes))
+    mesh.polygons.foreach_set("loop_start", (np.cumsum(sizes) - sizes).astype(np.int32))
+    mesh.polygons.foreach_set("loop_total", sizes.astype(np.int32))
+    mesh.polygons.foreach_set("material_index", np.asarray(item.face_material, np.int32))
+    for uv_name, values in item.uvs:
+        layer = mesh.uv_layers.new(name=uv_name)
+        layer.data.foreach_set("uv", np.asarray(values, np.float32).ravel())
+    for color_name, values in item.colors:
+        layer = mesh.color_attributes.new(color_name, "FLOAT_COLOR", "CORNER")
+        layer.data.foreach_set("color", np.asarray(values, np.float32).ravel())
+    if mesh.validate(clean_customdata=False):
+        warnings.append(f"{path}: mesh {name}: invalid faces or indices removed")
+    mesh.update()
+    normals = item.normals
+    if normals is not None and len(normals) == len(mesh.loops):
+        if hasattr(mesh, "use_auto_smooth"):  # Blender < 4.1
+            mesh.use_auto_smooth = True
+        mesh.polygons.foreach_set("use_smooth", [True] * len(mesh.polygons))
+        mesh.normals_split_custom_set([tuple(v) for v in np.asarray(normals, np.float32)])
+    return mesh
+
+
+def _build(context, data: fbx.Scene, path, warnings) -> None:
+    """The scene of *data* (read with geometry) in Blender, as Blender's FBX importer makes
+    it: objects in the active collection, Z up, metres."""
+    collection = context.collection or context.scene.collection
+    mats, meshes, made = {}, {}, {}
+    for source in data.materials:
+        material = bpy.data.materials.new(source.name or "Material")
+        if source.model == "OTHER":  # a plain material, as a stand-in for Blender's own
+            material.use_nodes = True
+        mats.setdefault(source.name, material)
+    for node in data.nodes:
+        thing = None
+        if node.kind == "MESH":
+            if node.mesh not in meshes:
+                meshes[node.mesh] = _mesh(data.meshes[node.mesh], node.data, warnings, path)
+                for name in node.materials:
+                    meshes[node.mesh].materials.append(mats.get(name))
+            thing = meshes[node.mesh]
+        elif node.kind == "LIGHT":
+            thing = bpy.data.lights.new(node.data or node.name, node.light["type"])
+        elif node.kind == "CAMERA":
+            cam = node.camera
+            thing = bpy.data.cameras.new(node.data or node.name)
+            if cam["ortho"]:
+                thing.type = "ORTHO"
+                thing.ortho_scale = max(cam["ortho_size"], 1e-6)
+            else:
+                thing.sensor_fit = "HORIZONTAL"
+                thing.angle = math.radians(min(max(cam["fov_x"], 1.0), 175.0))
+            if 0.0 < cam["near"] < cam["far"]:
+                thing.clip_start, thing.clip_end = cam["near"], cam["far"]
+        obj = bpy.data.objects.new(node.name or "Object", thing)
+        collection.objects.link(obj)
+        if node.kind == "MESH":  # per-object materials, as the file assigns them to the node
+            for index, name in enumerate(node.materials[:len(obj.material_slots)]):
+                if obj.material_slots[index].material is not mats.get(name):
+                    obj.material_slots[index].link = "OBJECT"
+                    obj.material_slots[index].material = mats.get(name)
+        made[node.id] = obj
+    for node in data.nodes:
+        obj = made[node.id]
+        if node.parent is not None and node.parent in made:
+            obj.parent = made[node.parent]
+        obj.matrix_basis = Matrix(node.matrix)
+        if not node.visible:
+            try:
+                obj.hide_set(True)
+            except RuntimeError:  # not in the view layer
+                obj.hide_viewport = True
+
+
+# -- materials ---------------------------------------------------------------------------------
+
+def _safe_name(name: str) -> str:
+    base = os.path.basename(name.replace("\\", "/")) or "texture"
+    base = re.sub(r"[^A-Za-z0-9._-]", "_", base)[:100].lstrip(".") or "texture"
+    return base
+
+
+def _image(texture, images, warnings, where):
+    """A Blender image of *texture*: its file, else its embedded data (packed), else None
+    with one warning per texture file."""
+    key = (texture.name, texture.content is not None)
+    if key in images:
+        return images[key]
+    image = None
+    found = texture.resolved
+    if found is not None:
+        try:
+            image = bpy.data.images.load(found, check_existing=True)
+        except RuntimeError:
+            image = None
+    if image is None and texture.content is not None:
+        if len(texture.content) > fbx.MAX_EMBEDDED:
+            warnings.append(f"{where}: embedded texture {texture.name} larger than "
+                            f"{fbx.MAX_EMBEDDED >> 20} MiB, left out")
+        else:
+            with tempfile.TemporaryDirectory() as folder:
+                file = os.path.join(folder, _safe_name(texture.name))
+                with open(file, "wb") as handle:
+                    handle.write(texture.content)
+                try:
+                    image = bpy.data.images.load(file, check_existing=False)
+                    image.pack()
+                    image.filepath = "//" + _safe_name(texture.name)
+                    image.name = _safe_name(texture.name)
+                except RuntimeError:
+                    if image is not None:
+                        bpy.data.images.remove(image)
+                    image = None
+    if image is None:
+        warnings.append(f"{where}: texture {texture.name} not found (looked for "
+                        f"{' and '.join(texture.candidates) or texture.name}); left out")
+    images[key] = image
+    return image
+
+
+def set_opacity(material, value: float) -> None:
+    """The material's opacity control (``phong_opacity``), where the recipe has it."""
+    setter = getattr(recipe, "set_opacity", None)
+    if setter is not None:
+        setter(material, value)
+        return
+    node = material.node_tree.nodes.get(OPACITY_CONTROL)
+    if node is not None:
+        node.outputs[0].default_value = float(value)
+
+
+def apply_material(material, source: fbx.Material, warnings: list, images: dict, path) -> None:
+    """Give the Phong material *material* the values and textures of *source*."""
+    tree = material.node_tree
+    lights = tree.nodes[recipe.LIGHTS_NODE]
+    keep = set(recipe.CONTROLS) | {recipe.LIGHTS_NODE, recipe.OUTPUT}
+    where = f"{path} ({source.name})"
+    for index, (name, control) in enumerate(CONTROLS.items()):
+        color = source.colors[name]
+        if control in recipe.CONTROLS:
+            node = tree.nodes[control]
+            node.outputs[0].default_value = (*color[:3], 1.0)
+        else:
+            node = recipe.control_node(tree, control, "Ambient Color (Ka)", color)
+        keep.add(control)
+        socket = node.outputs[0]
+        texture = source.textures.get(name)
+        image = _image(texture, images, warnings, where) if texture is not None else None
+        if image is not None:
+            socket = obj_import._multiplied(tree, name, socket, image, index)
+            keep |= {obj_import.MAP_NODE + name, obj_import.MULTIPLY_NODE + name}
+        tree.links.new(socket, lights.inputs[name])
+    tree.nodes["phong_exponent"].outputs[0].default_value = source.exponent
+    tree.nodes["phong_blinn"].outputs[0].default_value = 1.0 if source.blinn else 0.0
+    set_opacity(material, source.opacity)
+    if lights.inputs["Normal"].is_linked:
+        tree.links.remove(lights.inputs["Normal"].links[0])
+    obj_import._prune(tree, keep)
+    material[SOURCE_KEY] = path
+    if source.unsupported:
+        warnings.append(f"{where}: not representable, left out: " + ", ".join(source.unsupported))
+
+
+# -- lights -------------------------------------------------------------------------------------
+
+def _power_supported() -> bool:
+    return "power_k" in getattr(properties, "LIGHT_KEYS", {})
+
+
+def apply_light(light, source: fbx.Light, warnings: list, path) -> None:
+    """Blender light data *light* given the FBX light's values."""
+    if light.type != source.type:
+        light.type = source.type
+    light.color = source.color
+    settings = {"intensity": source.intensity}
+    falloff = fbx.falloff(source.decay) if source.type != "SUN" else {}
+    power = {k: falloff.pop(k) for k in ("falloff", "power_k") if k in falloff}
+    settings.update(falloff)
+    if source.type == "SPOT":
+        outer = min(max(source.outer_angle, 1.0), 180.0)
+        light.spot_size = math.radians(outer)
+        share = 1.0 - source.inner_angle / source.outer_angle if source.outer_angle > 0 else 0.0
+        light.spot_blend = min(max(share, 0.0), 1.0)
+        settings["edge_exponent"] = fbx.spot_edge_exponent(source.outer_angle,
+                                                           source.inner_angle)
+        settings["penumbra"] = min(max(share, 0.0), 1.0)
+    properties.write_light(light, settings)
+    if power:
+        light["phong_falloff"] = power["falloff"]
+        light["phong_power_k"] = power["power_k"]
+        light.update_tag()
+        if not _power_supported():
+            warnings.append(f"{path}: light {source.name or source.nodes[0]}: decay 1/d^"
+                            f"{source.decay:g} stored (phong_falloff POWER) but this version "
+                            "renders 1/d²")
+    else:
+        light["phong_falloff"] = "QUADRATIC"
+    light[SOURCE_KEY] = path
+
+
+# -- the import -------------------------------------------------------------------------------
+
+def import_file(filepath, context) -> list:
+    """Import the FBX file *filepath* into *context*'s scene; returns the warnings.  Raises
+    :class:`core.fbx.FbxError` (and leaves the scene as it was) when it cannot."""
+    path = os.path.abspath(bpy.path.abspath(filepath))
+    head = fbx.read(path)
+    data = head if _blender_reads(head) else fbx.read(path, geometry=True)
+    warnings = list(data.warnings)
+    before = _snapshot()
+    objects_before = set(context.scene.objects)
+    try:
+        used_blender = False
+        if _blender_reads(data) and _ensure_fbx_addon():
+            try:
+                result = bpy.ops.import_scene.fbx(filepath=path)
+                used_blender = result == {"FINISHED"}
+            except RuntimeError as error:
+                warnings.append(f"{path}: Blender's FBX importer failed ({str(error).strip()}); "
+                                "built from ufbx")
+            if not used_blender:
+                _rollback(before)
+        if not used_blender:
+            if not data.nodes:
+                data = fbx.read(path, geometry=True)
+            _build(context, data, path, warnings)
+        new = [o for o in context.scene.objects if o not in objects_before]
+        _finish(context, data, new, warnings, path)
+    except FbxError:
+        _rollback(before)
+        raise
+    except Exception as error:  # noqa: BLE001 - any failure: nothing stays, one clear error
+        _rollback(before)
+        raise FbxError(path, f"import failed ({type(error).__name__}: {error})") from None
+    return warnings
+
+
+def _finish(context, data: fbx.Scene, new, warnings, path) -> None:
+    by_name = {m.name: m for m in data.materials}
+    others = sorted({m.name for m in data.materials if m.model == "OTHER"})
+    if others:
+        warnings.append(f"{path}: materials of other shading models keep Blender's import: "
+                        + ", ".join(others))
+    lights_by_node = {}
+    for light in data.lights:
+        for node in light.nodes:
+            lights_by_node.setdefault(node, light)
+    for obj in new:
+        if obj.type == "LIGHT":
+            source = lights_by_node.get(obj.name) or lights_by_node.get(_base_name(obj.name))
+            if source is not None:
+                apply_light(obj.data, source, warnings, path)
+    sync = sync_mod.Sync(context.scene, context.view_layer)
+    sync.rebuild_groups()
+    done, images = {}, {}
+    for obj in new:
+        if obj.type != "MESH":
+            continue
+        sources = [by_name.get(slot.material.name) or by_name.get(_base_name(slot.material.name))
+                   if slot.material else None for slot in obj.material_slots]
+        if not any(s is not None and s.model != "OTHER" for s in sources):
+            continue
+        slots = list(obj.material_slots)
+        keep = {i: slot.material for i, (slot, s) in enumerate(zip(slots, sources))
+                if s is None or s.model == "OTHER"}
+        phong = sync.apply(obj)
+        for index, material in keep.items():  # other shading models: Blender's material
+            obj.material_slots[index].material = material
+        for index, (material, source) in enumerate(zip(phong, sources)):
+            if source is None or source.model == "OTHER":
+                continue
+            if material.name not in done:
+                apply_material(material, source, warnings, images, path)
+                done[material.name] = material
+    sync.relink(context.scene.objects)
+    sync.finish()
+    sync_mod.remember(context.scene, context.view_layer)
+    world = context.scene.world
+    if world is None:
+        world = context.scene.world = bpy.data.worlds.new("World")
+    properties.write_world(world, 1.0, data.ambient)
+
+
+class PHONG_OT_import_fbx(bpy.types.Operator):
+    """Import an FBX file with its Phong and Lambert materials and its lights as exact Phong \
+values (binary 7100+ through Blender's importer, ASCII and FBX 6.1 through ufbx)"""
+
+    bl_idname = "phong.import_fbx"
+    bl_label = "Import FBX (Phong)"
+    bl_options = {"REGISTER", "UNDO"}
+
+    filename_ext = ".fbx"
+    filepath: bpy.props.StringProperty(subtype="FILE_PATH")
+    filter_glob: bpy.props.StringProperty(default="*.fbx", options={"HIDDEN"})
+
+    def invoke(self, context, _event):
+        context.window_manager.fileselect_add(self)
+        return {"RUNNING_MODAL"}
+
+    def execute(self, context):
+        try:
+            warnings = import_file(self.filepath, context)
+        except FbxError as error:
+            self.report({"ERROR"}, f"Import FBX (Phong): {error}; nothing imported")
+            return {"CANCELLED"}
+        for warning in warnings:
+            self.report({"WARNING"}, f"Import FBX (Phong): {warning}")
+        self.report({"INFO"}, f"Imported {os.path.basename(self.filepath)} with Phong materials")
+        return {"FINISHED"}
+
+
+def menu_entry(self, _context):
+    self.layout.operator(PHONG_OT_import_fbx.bl_idname, text="FBX (Phong) (.fbx)")

@@ -1,0 +1,331 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""FBX Phong and Lambert materials and lights (issue 27): ``core/fbx.py`` against an
+independent reading of the files (Blender's ``io_scene_fbx.parse_fbx`` for binary files, a
+small text reading for ASCII ones) and the FBX SDK's rules written out here; File ▸ Import ▸
+FBX (Phong) on binary 7.x, ASCII and FBX 6.1 files of ufbx's test data; corrupt files refused
+with one error and nothing left behind; pixels of an imported material against the
+reference formulas."""
+
+from __future__ import annotations
+
+import math
+import os
+import re
+
+import numpy as np
+import pytest
+
+import blender_env as be
+
+DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "data", "fbx")
+ufbx = pytest.importorskip("ufbx")
+
+
+def _path(name):
+    return os.path.join(DATA, name)
+
+
+# -- independent readings of the files -----------------------------------------------------
+
+_P = re.compile(r'^\s*(?:P|Property):\s*"([^"]*)"\s*,\s*"[^"]*"\s*,(?:\s*"[^"]*"\s*,)?'
+                r'\s*"[^"]*"\s*,(.*)$')
+
+
+def _ascii_objects(path, kind):
+    """{object name: {property: floats}} of the *kind* objects (``Material``, ``Light``
+    NodeAttributes) of an ASCII FBX, and the templates {class: {property: floats}}."""
+    text = open(path, encoding="utf-8", errors="replace").read()
+    objects, templates = {}, {}
+    current, where, depth = None, None, 0
+    for line in text.splitlines():
+        head = re.match(r'^\s*(\w+):\s*(?:\d+\s*,\s*)?"([^"]*)"\s*(?:,\s*"([^"]*)")?.*\{\s*$',
+                        line)
+        if head and current is None:
+            tag, name, sub = head.groups()
+            if tag == "PropertyTemplate":
+                current, where, depth = templates.setdefault(name, {}), "t", 0
+            elif (kind == "Material" and tag == "Material") or (
+                    kind == "Light" and tag in ("NodeAttribute", "Model") and sub == "Light"):
+                current, where, depth = objects.setdefault(name.split("::")[-1], {}), "o", 0
+        if current is not None:
+            depth += line.count("{") - line.count("}")
+            match = _P.match(line)
+            if match:
+                values = [v.strip().strip('"') for v in match.group(2).split(",")]
+                try:
+                    current[match.group(1)] = tuple(float(v) for v in values if v)
+                except ValueError:
+                    current[match.group(1)] = tuple(values)
+            if depth <= 0 and "}" in line:
+                current = None
+    return objects, templates
+
+
+def _binary_objects(path, kind):
+    """The same from Blender's ``io_scene_fbx.parse_fbx`` (binary files only)."""
+    bpy = be.import_bpy()
+    del bpy
+    from io_scene_fbx import parse_fbx
+    root, _version = parse_fbx.parse(path)
+    objects, templates = {}, {}
+
+    def props(elem):
+        out = {}
+        for p in elem.elems:
+            if p.id in (b"P", b"Property"):
+                name = p.props[0].decode()
+                values = [v for v in p.props[1:] if isinstance(v, (int, float))]
+                out[name] = tuple(float(v) for v in values)
+        return out
+
+    for section in root.elems:
+        if section.id == b"Definitions":
+            for ot in section.elems:
+                for t in ot.elems:
+                    if t.id == b"PropertyTemplate":
+                        block = next((e for e in t.elems if e.id.startswith(b"Properties")), None)
+                        templates[t.props[0].decode()] = props(block) if block else {}
+        if section.id == b"Objects":
+            for obj in section.elems:
+                tag = obj.id.decode()
+                name = next((p for p in obj.props if isinstance(p, bytes)), b"")
+                name = name.split(b"\x00\x01")[0].decode("utf-8", "replace")
+                sub = (obj.props[-1].decode() if obj.props and isinstance(obj.props[-1], bytes)
+                       else "")
+                if (kind == "Material" and tag == "Material") or (
+                        kind == "Light" and tag in ("NodeAttribute", "Model") and sub == "Light"):
+                    block = next((e for e in obj.elems if e.id.startswith(b"Properties")), None)
+                    objects[name.split("::")[-1]] = props(block) if block else {}
+    return objects, templates
+
+
+def _independent(name, kind):
+    path = _path(name)
+    with open(path, "rb") as handle:
+        binary = handle.read(20).startswith(b"Kaydara FBX Binary")
+    return (_binary_objects if binary else _ascii_objects)(path, kind)
+
+
+# Phong/Lambert rules written out from the issue (not from core/fbx.py)
+SDK = {"DiffuseColor": (0.8,) * 3, "DiffuseFactor": (1.0,), "AmbientColor": (0.2,) * 3,
+       "AmbientFactor": (1.0,), "SpecularColor": (0.2,) * 3, "SpecularFactor": (1.0,),
+       "EmissiveColor": (0.0,) * 3, "EmissiveFactor": (1.0,), "ShininessExponent": (20.0,),
+       "TransparentColor": (0.0,) * 3, "TransparencyFactor": (0.0,)}
+
+
+def _expected_material(own, template, lambert):
+    def get(name):
+        if name in own:
+            return np.array(own[name], dtype=np.float64)
+        if name in template:
+            return np.array(template[name], dtype=np.float64)
+        return np.array(SDK[name], dtype=np.float64)
+
+    out = {"Object Color": get("DiffuseColor")[:3] * get("DiffuseFactor")[0],
+           "Ambient Object Color": get("AmbientColor")[:3] * get("AmbientFactor")[0],
+           "Irradiant Color": get("EmissiveColor")[:3] * get("EmissiveFactor")[0],
+           "Specular Color": (np.zeros(3) if lambert else
+                              get("SpecularColor")[:3] * get("SpecularFactor")[0])}
+    if "ShininessExponent" in own or "ShininessExponent" in template:
+        out["exponent"] = get("ShininessExponent")[0]
+    elif "Shininess" in own:
+        out["exponent"] = own["Shininess"][0]
+    else:
+        out["exponent"] = 20.0
+    if "Opacity" in own:
+        out["opacity"] = own["Opacity"][0]
+    elif "Opacity" in template:
+        out["opacity"] = template["Opacity"][0]
+    else:
+        out["opacity"] = 1.0 - get("TransparencyFactor")[0] * get("TransparentColor")[:3].mean()
+    return out
+
+
+MATERIAL_FILES = ["maya_phong_properties_7700_ascii.fbx", "maya_cube_6100_binary.fbx",
+                  "maya_cube_7500_binary.fbx", "blender_293_embedded_textures_7400_binary.fbx",
+                  "maya_material_chart_7700_binary.fbx"]
+
+
+@pytest.mark.parametrize("name", MATERIAL_FILES)
+def test_material_values_match_an_independent_reading(name):
+    from phong_nodes.core import fbx
+    scene = fbx.read(_path(name))
+    objects, templates = _independent(name, "Material")
+    phong_like = [m for m in scene.materials if m.model != "OTHER"]
+    assert phong_like, "each file holds Phong or Lambert materials"
+    for material in phong_like:
+        own = objects[material.name]
+        template = templates.get("FbxSurfacePhong" if material.model == "PHONG"
+                                 else "FbxSurfaceLambert", {})
+        want = _expected_material(own, template, material.model == "LAMBERT")
+        for slot in ("Object Color", "Ambient Object Color", "Specular Color",
+                     "Irradiant Color"):
+            np.testing.assert_allclose(material.colors[slot], want[slot], rtol=0, atol=1e-12,
+                                       err_msg=f"{name} {material.name} {slot}")
+        if material.model == "PHONG":
+            assert material.exponent == pytest.approx(want["exponent"], abs=1e-12)
+        assert material.opacity == pytest.approx(min(max(want["opacity"], 0), 1), abs=1e-12)
+
+
+def test_values_come_from_object_then_template_then_sdk_default():
+    from phong_nodes.core import fbx
+    phong = fbx.read(_path("maya_phong_properties_7700_ascii.fbx")).material("phong1")
+    # written on the object: DiffuseFactor 0.13 x DiffuseColor (0.01, 0.02, 0.03)
+    assert phong.sources["DiffuseFactor"] == "object"
+    np.testing.assert_allclose(phong.colors["Object Color"], (0.0013, 0.0026, 0.0039), atol=1e-9)
+    # AmbientFactor only in the file's FbxSurfacePhong template (1)
+    assert phong.sources["AmbientFactor"] == "template"
+    # Maya's Opacity 0.95 stored = 1 - TransparencyFactor 1 x mean(0.04, 0.05, 0.06)
+    assert phong.opacity == pytest.approx(0.95, abs=1e-9)
+    assert phong.exponent == 17.0
+    # maya_material_chart: no SpecularFactor on the object nor in the template -> SDK 1.0
+    chart = fbx.read(_path("maya_material_chart_7700_binary.fbx"))
+    emissive = chart.material("FBX_EmissiveColorMaterial")
+    assert emissive.sources["SpecularFactor"] == "default"
+    others = sorted(m.name for m in chart.materials if m.model == "OTHER")
+    assert others and all(n.startswith("Standard_") for n in others)
+
+
+def test_lights_decay_intensity_and_spot_cone():
+    from phong_nodes.core import fbx
+    scene = fbx.read(_path("motionbuilder_lights_7700_ascii.fbx"))
+    objects, _templates = _independent("motionbuilder_lights_7700_ascii.fbx", "Light")
+    text = open(_path("motionbuilder_lights_7700_ascii.fbx"), encoding="utf-8").read()
+    settings = text[text.index("GlobalSettings:"):text.index("Documents:")]
+    ambient = re.search(r'P: "AmbientColor".*?,([-\d.e]+),([-\d.e]+),([-\d.e]+)\s*$', settings,
+                        re.M).groups()
+    assert scene.ambient == tuple(float(v) for v in ambient) != (0.0, 0.0, 0.0)
+    names = ["PointConstant", "PointLinear", "PointQuadratic", "PointCubic", "SpotConstant",
+             "SpotLinear", "SpotQuadratic", "SpotCubic", "SpotLook"]
+    for name in names:
+        light = scene.light(name)
+        own = objects[name]
+        assert light.type == ("SPOT" if name.startswith("Spot") else "POINT")
+        assert light.decay == int(own.get("DecayType", (0,))[0])
+        assert light.intensity == pytest.approx(own.get("Intensity", (100.0,))[0] / 100, abs=0)
+        assert light.color == pytest.approx(own.get("Color", (1.0, 1.0, 1.0)), abs=0)
+        # no FbxLight template in this file: the SDK's OuterAngle 45, InnerAngle 0
+        assert (light.outer_angle, light.inner_angle) == (45.0, 0.0)
+    assert {scene.light(n).decay for n in names} == {0, 1, 2, 3}
+    old = fbx.read(_path("maya_anim_light_6100_ascii.fbx")).lights[0]
+    own = _independent("maya_anim_light_6100_ascii.fbx", "Light")[0]
+    own = next(iter(v for v in own.values() if "Intensity" in v))
+    assert old.intensity == pytest.approx(own["Intensity"][0] / 100, abs=0)
+    assert old.outer_angle == own["Cone angle"][0], "FBX 6.1 name of OuterAngle"
+
+
+def test_falloff_and_spot_edge_rules():
+    from phong_nodes.core import fbx
+    for k in (0, 1, 2, 3):
+        s = fbx.falloff(k)
+        r = 3.7
+        if s.get("falloff") == "POWER":
+            assert s["power_k"] == k
+        else:
+            denominator = s["quadratic"] * r * r + s["linear"] * r + s["constant"]
+            assert denominator == pytest.approx(r ** k)
+    assert fbx.spot_edge_exponent(45.0, 45.0) == 0.0
+    e = fbx.spot_edge_exponent(60.0, 20.0)
+    assert math.cos(math.radians(20.0)) ** e == pytest.approx(0.5)  # (10 + 30) / 2 = 20°
+
+
+@pytest.mark.parametrize("content", [b"", b"Kaydara FBX Binary  \x00\x1a\x00" + b"\xff" * 40,
+                                     b"; FBX 7.4.0 project file\nObjects: {\n  Model: 1, \""])
+def test_corrupt_files_raise_one_clear_error(tmp_path, content):
+    from phong_nodes.core import fbx
+    path = tmp_path / "broken.fbx"
+    path.write_bytes(content)
+    with pytest.raises(fbx.FbxError, match="broken.fbx: not readable as FBX"):
+        fbx.read(str(path))
+    # a truncated real file
+    data = open(_path("maya_cube_7500_binary.fbx"), "rb").read()
+    cut = tmp_path / "cut.fbx"
+    cut.write_bytes(data[:len(data) // 3])
+    with pytest.raises(fbx.FbxError, match="cut.fbx"):
+        fbx.read(str(cut))
+    with pytest.raises(fbx.FbxError, match="not found"):
+        fbx.read(str(tmp_path / "missing.fbx"))
+
+
+def test_reader_time_limit_and_crash_are_one_clear_error(tmp_path, monkeypatch):
+    """ufbx runs in a child process: a time-out, or a child that dies (here: killed by a
+    signal in place of reading), is an FbxError naming the file, never a crash here."""
+    from phong_nodes.core import fbx
+    with pytest.raises(fbx.FbxError, match="longer than 0.001 s"):
+        fbx.read(_path("maya_cube_7500_binary.fbx"), timeout=0.001)
+    script = tmp_path / "die.py"
+    script.write_text("import os, signal\nos.kill(os.getpid(), signal.SIGSEGV)\n")
+    monkeypatch.setattr(fbx, "_python", lambda: __import__("sys").executable)
+    monkeypatch.setattr(fbx, "__file__", str(script))
+    with pytest.raises(fbx.FbxError, match="reader stopped"):
+        fbx.read(_path("maya_cube_7500_binary.fbx"))
+
+
+# -- Blender ----------------------------------------------------------------------------------
+
+def _controls(material):
+    nodes = material.node_tree.nodes
+    lights = nodes["phong_lights"]
+
+    def colour(name):
+        link = lights.inputs[name].links[0]
+        node = link.from_node
+        if node.bl_idname == "ShaderNodeVectorMath":  # colour x texture
+            node = node.inputs[0].links[0].from_node
+        return tuple(node.outputs[0].default_value)[:3]
+
+    out = {k: colour(k) for k in ("Object Color", "Ambient Object Color", "Specular Color",
+                                  "Irradiant Color")}
+    out["exponent"] = nodes["phong_exponent"].outputs[0].default_value
+    return out
+
+
+@pytest.mark.parametrize("name", ["maya_phong_properties_7700_ascii.fbx",
+                                  "maya_cube_6100_binary.fbx", "maya_cube_7500_binary.fbx"])
+def test_import_gives_phong_materials_the_file_values(bpy_clean, name):
+    bpy = bpy_clean
+    from phong_nodes.core import fbx
+    data = fbx.read(_path(name))
+    assert bpy.ops.phong.import_fbx(filepath=_path(name)) == {"FINISHED"}
+    meshes = [o for o in bpy.context.scene.objects if o.type == "MESH"]
+    assert meshes and all(len(o.data.polygons) for o in meshes)
+    f32 = lambda v: pytest.approx(tuple(np.float32(v)), abs=0)  # noqa: E731
+    for source in data.materials:
+        material = bpy.data.materials["Phong " + source.name]
+        got = _controls(material)
+        for slot, colour in source.colors.items():
+            assert got[slot] == f32(colour), (name, slot)
+        assert got["exponent"] == pytest.approx(np.float32(source.exponent), abs=0)
+    assert tuple(bpy.context.scene.world["phong_ambient_color"]) == f32(data.ambient)
+
+
+def test_import_lights_get_decay_intensity_and_cone(bpy_clean):
+    bpy = bpy_clean
+    name = "motionbuilder_lights_7700_ascii.fbx"
+    assert bpy.ops.phong.import_fbx(filepath=_path(name)) == {"FINISHED"}
+    lights = {o.name: o.data for o in bpy.context.scene.objects if o.type == "LIGHT"}
+    cubic = lights["PointCubic"]
+    assert cubic["phong_falloff"] == "POWER" and cubic["phong_power_k"] == 3.0
+    assert cubic["phong_intensity"] == pytest.approx(2.0)
+    linear = lights["PointLinear"]
+    assert (linear["phong_quadratic"], linear["phong_linear"], linear["phong_constant"]) == (
+        0.0, 1.0, 0.0)
+    constant = lights["PointConstant"]
+    assert (constant["phong_quadratic"], constant["phong_constant"]) == (0.0, 1.0)
+    spot = lights["SpotLinear"]
+    assert spot.type == "SPOT" and spot.spot_size == pytest.approx(math.radians(45.0))
+    assert tuple(spot.color) == pytest.approx(tuple(np.float32((0.2, 0.4, 0.6))), abs=0)
+    assert spot["phong_intensity"] == pytest.approx(1.1)
+
+
+def test_corrupt_file_leaves_the_scene_as_it_was(bpy_clean, tmp_path):
+    bpy = bpy_clean
+    data = open(_path("maya_phong_properties_7700_ascii.fbx"), "rb").read()
+    cut = tmp_path / "cut.fbx"
+    cut.write_bytes(data[:len(data) // 2])
+    before = {k: len(getattr(bpy.data, k)) for k in ("objects", "meshes", "materials",
+                                                     "lights", "images", "node_groups")}
+    with pytest.raises(RuntimeError, match="cut.fbx"):
+        bpy.ops.phong.import_fbx(filepath=str(cut))
+    after = {k: len(getattr(bpy.data, k)) for k in before}
+    assert after == before
