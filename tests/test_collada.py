@@ -648,3 +648,138 @@ def test_techniques_and_lights_render_the_spec_formula_cycles(bpy_clean, tmp_pat
 def test_techniques_and_lights_render_the_spec_formula_eevee(bpy_clean, tmp_path, kind):
     err, _edge = _render_dae(bpy_clean, kind, "eevee", tmp_path)
     assert float((err <= 1 / 255).mean()) >= 0.995
+
+
+# -- real files ---------------------------------------------------------------------------------
+
+def _et(name):
+    """A data file parsed here with ElementTree (namespaces removed), independent of the
+    reader under test."""
+    root = ET.parse(os.path.join(DATA, name)).getroot()
+    for element in root.iter():
+        element.tag = element.tag.rsplit("}", 1)[-1]
+    return root
+
+
+def _text_floats(element):
+    return [float(v) for v in element.text.split()]
+
+
+def test_khronos_point_light_attenuation_is_rescaled_to_metres(bpy_clean):
+    bpy = bpy_clean
+    name = "cts_point_quadratic_attenuation_light.dae"
+    root = _et(name)
+    meter = float(root.find("asset/unit").get("meter"))
+    point = root.find(".//light/technique_common/point")
+    c, lin, q = (float(point.find(t).text) for t in (
+        "constant_attenuation", "linear_attenuation", "quadratic_attenuation"))
+    assert bpy.ops.phong.import_collada(filepath=os.path.join(DATA, name)) == {"FINISHED"}
+    (light,) = [o for o in bpy.data.objects if o.type == "LIGHT"]
+    got = light.data
+    assert (got["phong_constant"], got["phong_linear"], got["phong_quadratic"]) == pytest.approx(
+        (c, lin / meter, q / meter ** 2), rel=1e-12)
+    assert tuple(got.color) == _f32(_text_floats(point.find("color")))
+    # its node's translation, in metres, Y up turned to Z up
+    node = next(n for n in root.iter("node") if n.find("instance_light") is not None)
+    tx, ty, tz = _text_floats(node.find("translate"))
+    assert tuple(light.matrix_world.translation) == pytest.approx(
+        (tx * meter, -tz * meter, ty * meter), abs=1e-6)
+
+
+def test_khronos_spot_keeps_full_cone_and_exponent(bpy_clean):
+    bpy = bpy_clean
+    name = "cts__reference_spot_white_light.dae"
+    spot = _et(name).find(".//light/technique_common/spot")
+    assert bpy.ops.phong.import_collada(filepath=os.path.join(DATA, name)) == {"FINISHED"}
+    (light,) = [o.data for o in bpy.data.objects if o.type == "LIGHT"]
+    assert light.type == "SPOT"
+    assert light.spot_size == pytest.approx(math.radians(float(spot.find("falloff_angle").text)),
+                                            abs=1e-7)
+    assert light["phong_edge_exponent"] == float(spot.find("falloff_exponent").text)
+
+
+def test_khronos_setparam_and_swapped_names(bpy_clean):
+    """Maya's material ids and names differ ("lambert1" named "lambert2"); the transparency
+    comes from the material's <setparam>, the colours from newparams in the technique."""
+    bpy = bpy_clean
+    name = "cts_material_setparam_transparency.dae"
+    root = _et(name)
+    doc = collada.load(os.path.join(DATA, name))
+    assert {m.name for m in doc.materials.values()} == {
+        m.get("name") for m in root.iter("material")}
+    setparam = root.find(".//instance_effect/setparam")
+    phong = doc.materials["phong1"]
+    assert phong.transparency == float(setparam.find("float").text) == 0.5
+    assert phong.color("diffuse") == (1.0, 1.0, 1.0)
+    assert phong.shininess == 1.0
+    assert bpy.ops.phong.import_collada(filepath=os.path.join(DATA, name)) == {"FINISHED"}
+    assert {"lambert2", "phong1"} <= {m.name for m in bpy.data.materials}
+
+
+def test_khronos_15_transparency_param_opacity(bpy_clean):
+    bpy = bpy_clean
+    name = "cts15_halfTransparency.dae"
+    doc = collada.load(os.path.join(DATA, name))
+    assert doc.version.startswith("1.5")
+    half = next(m for m in doc.materials.values() if m.effect_id == "lambert1-fx")
+    assert (half.opaque, half.transparent, half.transparency) == ("A_ONE", (0, 0, 0, 1), 0.5)
+    assert half.opacity() == 0.5   # A_ONE: a · t
+    assert bpy.ops.phong.import_collada(filepath=os.path.join(DATA, name)) == {"FINISHED"}
+    material = bpy.data.materials[half.name]
+    node = material.node_tree.nodes.get("phong_opacity")
+    assert node is not None and node.outputs[0].default_value == 0.5
+
+
+def test_khronos_instance_node_skew_and_inch(bpy_clean):
+    bpy = bpy_clean
+    name = "cts_instances_of_same_node.dae"
+    root = _et(name)
+    uses = [i.get("url") for i in root.iter("instance_node")]
+    assert bpy.ops.phong.import_collada(filepath=os.path.join(DATA, name)) == {"FINISHED"}
+    meshes = [o for o in bpy.data.objects if o.type == "MESH"]
+    assert len(meshes) == len(uses) >= 2, "each instance_node a copy of the node"
+    assert len({o.data for o in meshes}) == 1, "sharing one mesh"
+    # skew: exact through the parent inverse matrix (world = A · M · skew) on a vertex
+    be_reset(bpy)
+    name = "cts_node_skew_cube.dae"
+    root = _et(name)
+    skew = _text_floats(root.find(".//node/skew"))
+    assert bpy.ops.phong.import_collada(filepath=os.path.join(DATA, name)) == {"FINISHED"}
+    cube = next(o for o in bpy.data.objects if o.type == "MESH")
+    angle = math.radians(skew[0])
+    a = np.array(skew[1:4]) / np.linalg.norm(skew[1:4])
+    b = np.array(skew[4:7]) / np.linalg.norm(skew[4:7])
+    # RenderMan's skew for perpendicular axes: p + tan(angle) (p · a) b
+    meter = float(root.find("asset/unit").get("meter"))
+    world = np.array(cube.matrix_world)
+    for vertex in cube.data.vertices[:4]:
+        p_file = np.array(vertex.co) / meter
+        want_file = p_file + math.tan(angle) * np.dot(p_file, a) * b
+        want = meter * np.array([want_file[0], -want_file[2], want_file[1]])
+        got = world[:3, :3] @ np.array(vertex.co) + world[:3, 3]
+        np.testing.assert_allclose(got, want, atol=1e-6)
+    be_reset(bpy)
+    name = "cts_inch.dae"
+    root = _et(name)
+    assert float(root.find("asset/unit").get("meter")) == 0.0254
+    first = _text_floats(root.find(".//float_array"))[:3]
+    assert bpy.ops.phong.import_collada(filepath=os.path.join(DATA, name)) == {"FINISHED"}
+    cube = next(o for o in bpy.data.objects if o.type == "MESH")
+    assert tuple(cube.data.vertices[0].co) == pytest.approx(
+        tuple(v * 0.0254 for v in first), abs=1e-7), "positions in metres"
+
+
+def test_ros_mesh_with_a_missing_texture_imports_with_one_warning(bpy_clean, capfd):
+    bpy = bpy_clean
+    name = "ros_l_finger_tip.dae"
+    root = _et(name)
+    image = root.find(".//library_images/image/init_from").text
+    capfd.readouterr()
+    assert bpy.ops.phong.import_collada(filepath=os.path.join(DATA, name)) == {"FINISHED"}
+    logged = "".join(capfd.readouterr())
+    assert logged.count(f"texture {image} not found") == 1
+    (mesh,) = [o for o in bpy.data.objects if o.type == "MESH"]
+    triangles = sum(int(t.get("count")) for t in root.iter("triangles")) + sum(
+        len(p.get("count", "") and p.find("vcount").text.split()) for p in root.iter("polylist"))
+    assert len(mesh.data.polygons) == triangles
+    assert mesh.data.uv_layers, "texture coordinates kept"

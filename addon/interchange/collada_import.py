@@ -211,12 +211,22 @@ class _Builder:
                 self.node(target, obj, False, seen + (inst.url,))
 
     def set_matrix(self, obj, matrix, name):
+        """*matrix* as *obj*'s transform relative to its parent.  A shear (``<skew>``, a
+        sheared ``<matrix>``), which an object's location, rotation and scale cannot hold,
+        goes into its parent inverse matrix instead (world = parent · parent inverse ·
+        basis), exact; a root gets an Empty parent at the origin for it."""
         blender = Matrix([list(map(float, row)) for row in matrix])
         obj.matrix_basis = blender
         back = np.array(obj.matrix_basis, dtype=np.float64)
-        if not np.allclose(back, matrix, atol=1e-5 * max(1.0, float(np.abs(matrix).max()))):
-            self.doc.warn(f"node {name}: its transform has a shear (<skew> or a sheared "
-                          "<matrix>), which an object cannot hold; imported without it")
+        if np.allclose(back, matrix, rtol=1e-6, atol=1e-6 * max(1.0, float(np.abs(matrix).max()))):
+            return
+        if obj.parent is None:
+            frame = self._new(bpy.data.objects, f"{name} (shear frame)", None)
+            self.collection.objects.link(frame)
+            self.objects.append(frame)
+            obj.parent = frame
+        obj.matrix_basis = Matrix.Identity(4)
+        obj.matrix_parent_inverse = blender
 
     def data(self, inst, node):
         if inst.kind == "geometry":
