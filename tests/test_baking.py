@@ -427,10 +427,11 @@ def test_export_gltf_writes_unlit_materials_with_the_bake(bpy_clean, tmp_path, t
                 assert "COLOR_0" in primitive["attributes"]
             else:
                 assert "baseColorTexture" in material["pbrMetallicRoughness"]
-    # each object shows what it showed before: its Phong material, or its bake (the demo
-    # scene's "gouraud" sphere shows its vertex bake)
+    # each object shows what it showed before: its Phong material (the demo scene's
+    # "gouraud" sphere: its Per Vertex Phong material, test_shading_modes.py)
     assert scene.objects["phong"].material_slots[0].material.get("phong_nodes_material")
-    assert scene.objects["gouraud"].material_slots[0].material.name == "Phong Bake gouraud"
+    gouraud = scene.objects["gouraud"].material_slots[0].material
+    assert gouraud.get("phong_nodes_material") and gouraud["phong_shading"] == "VERTEX"
 
 
 @pytest.mark.parametrize("target,resolution", [("VERTEX", 64), ("IMAGE", 256)])

@@ -376,6 +376,15 @@ def test_modifiers_come_first_and_pixel_mode_leaves_nothing_behind(bpy_clean):
     want, _near = _reference(scene, sphere, camera, lights, P, N)
     assert np.abs(got - want).max() <= VERTEX_TOL
     material = sphere.active_material
+    # Opacity below 1 mixes the shown shader, the stored colour's emission
+    from phong_nodes.addon.lighting import materials  # noqa: PLC0415
+
+    materials.set_opacity(material, 0.5)
+    mix = material.node_tree.nodes[materials.OPACITY_MIX]
+    assert mix.inputs[2].links[0].from_node.name == modes.EMISSION_NODE
+    materials.set_opacity(material, 1.0)
+    surface = material.node_tree.nodes["phong_output"].inputs["Surface"].links[0]
+    assert surface.from_node.name == modes.EMISSION_NODE
     groups_before = {t.name for t in bpy.data.node_groups}
     material.phong.shading = "PIXEL"
     assert material["phong_shading"] == "PIXEL"

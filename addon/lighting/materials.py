@@ -67,6 +67,8 @@ CONTROLS = {
 OPACITY = "phong_opacity"
 OPACITY_CONTROL = ("ShaderNodeValue", "Opacity", 1.0)
 OPACITY_MIX = "phong_opacity_mix"
+#: The Emission node of Per Vertex / Per Face shading (``shading/modes.py``).
+SHADING_EMISSION = "phong_shading_emission"
 OPACITY_TRANSPARENT = "phong_opacity_transparent"
 OLD_GENERATED = "phong_gen:"  # prefix of the per-light nodes of layout 1
 #: Input of the lights group for the colour the ambient light sees (MTL's Ka).  Linked from
@@ -252,7 +254,7 @@ def apply_opacity(material) -> None:
         for node in (mix, transparent):
             if node is not None:
                 tree.nodes.remove(node)
-        tree.links.new(lights.outputs["Shader"], output.inputs["Surface"])
+        tree.links.new(_shader(tree, lights), output.inputs["Surface"])
         _render_method(material, "DITHERED")
         return
     if mix is None or mix.bl_idname != "ShaderNodeMixShader":
@@ -271,9 +273,18 @@ def apply_opacity(material) -> None:
     transparent.inputs["Color"].default_value = (1.0, 1.0, 1.0, 1.0)
     tree.links.new(tree.nodes[OPACITY].outputs[0], mix.inputs[0])
     tree.links.new(transparent.outputs[0], mix.inputs[1])
-    tree.links.new(lights.outputs["Shader"], mix.inputs[2])
+    tree.links.new(_shader(tree, lights), mix.inputs[2])
     tree.links.new(mix.outputs[0], output.inputs["Surface"])
     _render_method(material, "BLENDED")
+
+
+def _shader(tree, lights):
+    """The shader the material shows: the lights group's, or in Per Vertex / Per Face
+    shading (``shading/modes.py``) the Emission of the stored colour."""
+    emission = tree.nodes.get(SHADING_EMISSION)
+    if emission is not None and emission.bl_idname == "ShaderNodeEmission":
+        return emission.outputs[0]
+    return lights.outputs["Shader"]
 
 
 def _opacity_is_wired(material) -> bool:

@@ -42,7 +42,7 @@ TREE_MATERIAL_KEY = "phong_shading_material"
 TREE_SIGNATURE_KEY = "phong_shading_signature"
 MODIFIER_NAME = "Phong Shading"
 ATTRIBUTE_NODE = "phong_shading_attribute"
-EMISSION_NODE = "phong_shading_emission"
+EMISSION_NODE = materials.SHADING_EMISSION  # "phong_shading_emission"
 ATTRIBUTE_PREFIX = "phong_lit"
 
 #: Lights-group input -> the control node that holds it when nothing else does.
@@ -88,12 +88,13 @@ def users(material) -> list:
 
 # -- putting a mode into effect ----------------------------------------------------------
 
-def update(material) -> None:
-    """Make *material* and its objects show its shading mode."""
+def update(material, objects=None, tree=False) -> None:
+    """Make *material* and its objects show its shading mode; *objects* (its users) and
+    *tree* (its Geometry Nodes group or None) when the caller has looked them up."""
     if not materials.is_phong_material(material):
         return
     mode = mode_of(material)
-    tree = tree_of(material)
+    tree = tree_of(material) if tree is False else tree
     if mode == PIXEL:
         _surface_per_pixel(material)
         if tree is not None:
@@ -110,7 +111,7 @@ def update(material) -> None:
     if tree.get(TREE_SIGNATURE_KEY) != signature:
         build(tree, material, lights, world, light_model, mode, attribute)
         tree[TREE_SIGNATURE_KEY] = signature
-    objects = users(material)
+    objects = users(material) if objects is None else objects
     for obj in objects:
         _ensure_modifier(obj, tree)
     _remove_modifiers(tree, objects)
@@ -120,17 +121,29 @@ def update(material) -> None:
 def refresh(scene=None) -> int:
     """Update every Phong material that is not Per Pixel (or still has a Geometry Nodes
     group); returns how many.  Run after the lights groups changed (``sync``)."""
-    count = 0
-    for material in materials.phong_materials():
-        if mode_of(material) != PIXEL or tree_of(material) is not None:
-            update(material)
-            count += 1
-    for tree in [t for t in bpy.data.node_groups if t.get(TREE_MATERIAL_KEY) is not None
-                 or TREE_MATERIAL_KEY in t.keys()]:
-        if not isinstance(tree.get(TREE_MATERIAL_KEY), bpy.types.Material):  # deleted
+    trees = {}
+    for tree in [t for t in bpy.data.node_groups if TREE_MATERIAL_KEY in t.keys()]:
+        material = tree.get(TREE_MATERIAL_KEY)
+        if isinstance(material, bpy.types.Material):
+            trees[material.as_pointer()] = tree
+        else:  # its material was deleted
             _remove_modifiers(tree, [])
             bpy.data.node_groups.remove(tree)
-    return count
+    todo = [m for m in materials.phong_materials()
+            if mode_of(m) != PIXEL or m.as_pointer() in trees]
+    if not todo:
+        return 0
+    wanted = {m.as_pointer() for m in todo}
+    uses = {pointer: [] for pointer in wanted}
+    for obj in bpy.data.objects:
+        if obj.type != "MESH" or obj.library is not None:
+            continue
+        for pointer in {s.material.as_pointer() for s in obj.material_slots
+                        if s.material is not None} & wanted:
+            uses[pointer].append(obj)
+    for material in todo:
+        update(material, uses[material.as_pointer()], trees.get(material.as_pointer()))
+    return len(todo)
 
 
 def _light_set(material):
@@ -183,7 +196,7 @@ def _surface_per_pixel(material) -> None:
     output = tree.nodes.get(materials.OUTPUT)
     if lights is None or output is None:
         return
-    tree.links.new(lights.outputs["Shader"], output.inputs["Surface"])
+    materials.apply_opacity(material)  # the lights group's Shader into the output (or mix)
     aov = tree.nodes.get(f"phong_aov:{materials.AOV_NAME}")
     if aov is not None:
         tree.links.new(lights.outputs["Color"], aov.inputs["Color"])
@@ -211,9 +224,7 @@ def _surface_per_mesh(material, attribute: str) -> None:
         emission.location = (200.0, 420.0)
     emission.inputs["Strength"].default_value = 1.0
     tree.links.new(node.outputs["Color"], emission.inputs["Color"])
-    output = tree.nodes.get(materials.OUTPUT)
-    if output is not None:
-        tree.links.new(emission.outputs["Emission"], output.inputs["Surface"])
+    materials.apply_opacity(material)  # the emission into the output (or the opacity mix)
     aov = tree.nodes.get(f"phong_aov:{materials.AOV_NAME}")
     if aov is not None:
         tree.links.new(node.outputs["Color"], aov.inputs["Color"])
