@@ -783,3 +783,113 @@ def test_ros_mesh_with_a_missing_texture_imports_with_one_warning(bpy_clean, cap
         len(p.get("count", "") and p.find("vcount").text.split()) for p in root.iter("polylist"))
     assert len(mesh.data.polygons) == triangles
     assert mesh.data.uv_layers, "texture coordinates kept"
+
+
+def _png(bpy, path):
+    image = bpy.data.images.new("tiles", 2, 2)
+    image.filepath_raw = str(path)
+    image.file_format = "PNG"
+    image.save()
+    bpy.data.images.remove(image)
+
+
+def test_texture_chain_feeds_its_input_and_exports_back(bpy_clean, tmp_path):
+    """A diffuse texture through newparam → sampler2D → surface → image (and a texcoord bound
+    to set 1) feeds Object Color; export writes the chain again, relative to the file, and
+    it validates and reads back."""
+    bpy = bpy_clean
+    (tmp_path / "maps").mkdir()
+    _png(bpy, tmp_path / "maps" / "wood grain.png")
+    text = open(LIT).read()
+    text = text.replace("<library_effects>", '<library_images><image id="img-wood" name="wood">'
+                        "<init_from>maps/wood%20grain.png</init_from></image></library_images>"
+                        "<library_effects>")
+    text = text.replace('<newparam sid="shine">',
+                        '<newparam sid="surf"><surface type="2D"><init_from>img-wood</init_from>'
+                        '</surface></newparam><newparam sid="samp"><sampler2D><source>surf'
+                        '</source></sampler2D></newparam><newparam sid="shine">')
+    text = text.replace("<diffuse><color>0,8 0,1 0,1 1</color></diffuse>",
+                        '<diffuse><texture texture="samp" texcoord="CH1"/></diffuse>')
+    text = text.replace('<input semantic="VERTEX" source="#quad-v" offset="0"/>',
+                        '<input semantic="VERTEX" source="#quad-v" offset="0"/>'
+                        '<input semantic="TEXCOORD" source="#quad-uv0" offset="0" set="0"/>'
+                        '<input semantic="TEXCOORD" source="#quad-uv1" offset="0" set="1"/>')
+    uv = ('<source id="quad-uv{n}"><float_array id="quad-uv{n}-a" count="8">{v}</float_array>'
+          '<technique_common><accessor source="#quad-uv{n}-a" count="4" stride="2"/>'
+          "</technique_common></source>")
+    text = text.replace('<vertices id="quad-v">',
+                        uv.format(n=0, v="0 0 1 0 1 1 0 1") + uv.format(n=1, v="0 0 2 0 2 2 0 2")
+                        + '<vertices id="quad-v">')
+    text = text.replace('target="#red-id"/>', 'target="#red-id"><bind_vertex_input semantic="CH1" '
+                        'input_semantic="TEXCOORD" input_set="1"/></instance_material>')
+    path = tmp_path / "textured.dae"
+    path.write_text(text)
+    assert bpy.ops.phong.import_collada(filepath=str(path)) == {"FINISHED"}
+    tree = bpy.data.materials["Red Paint"].node_tree
+    feed = tree.nodes["phong_lights"].inputs["Object Color"].links[0].from_node
+    assert feed.bl_idname == "ShaderNodeTexImage"
+    assert os.path.samefile(bpy.path.abspath(feed.image.filepath),
+                            tmp_path / "maps" / "wood grain.png")
+    uv_node = feed.inputs["Vector"].links[0].from_node
+    quad = bpy.data.objects["Quad node"].data
+    assert uv_node.uv_map in quad.uv_layers, "the texcoord's bound set"
+    layer = quad.uv_layers[uv_node.uv_map]
+    assert max(max(d.uv) for d in layer.data) == 2.0, "set 1's coordinates"
+    out = tmp_path / "out" / "again.dae"
+    out.parent.mkdir()
+    assert bpy.ops.phong.export_collada(filepath=str(out)) == {"FINISHED"}
+    written = out.read_text()
+    _valid(written)
+    assert "../maps/wood%20grain.png" in written
+    doc = collada.load(str(out))
+    (mat,) = doc.materials.values()
+    assert os.path.samefile(mat.textures["diffuse"].resolved, tmp_path / "maps" / "wood grain.png")
+
+
+def test_an_error_while_building_removes_everything_added(bpy_clean, monkeypatch):
+    bpy = bpy_clean
+    from phong_nodes.addon.interchange import collada_import  # noqa: PLC0415
+
+    bpy.context.scene.world = bpy.data.worlds.new("Kept")
+    bpy.context.scene.world.phong.ambient_intensity = 0.4
+    before = _ids(bpy)
+
+    def broken(self):
+        raise RuntimeError("simulated failure")
+
+    monkeypatch.setattr(collada_import._Builder, "bind_materials", broken)
+    with pytest.raises(RuntimeError, match="simulated failure.*nothing imported"):
+        bpy.ops.phong.import_collada(filepath=LIT)
+    assert _ids(bpy) == before
+    assert bpy.context.scene.world.phong.ambient_intensity == pytest.approx(0.4)
+    assert bpy.context.scene.camera is None
+
+
+def test_round_trip_keeps_meshes_and_cameras(bpy_clean, tmp_path):
+    bpy = bpy_clean
+    path = os.path.join(DATA, "cts_node_skew_cube.dae")
+    assert bpy.ops.phong.import_collada(filepath=path) == {"FINISHED"}
+
+    def state():
+        out = {}
+        for o in bpy.data.objects:
+            world = tuple(np.round(np.array(o.matrix_world), 5).reshape(-1))
+            if o.type == "MESH":
+                co = np.array([tuple(v.co) for v in o.data.vertices], dtype=np.float32)
+                out[o.name] = ("MESH", world, co.tobytes(), len(o.data.polygons),
+                               np.round(np.array([tuple(n.vector) for n in
+                                                  o.data.corner_normals]), 5).tobytes())
+            elif o.type == "CAMERA":
+                c = o.data
+                out[o.name] = ("CAMERA", world, c.type, F32(c.angle), c.sensor_fit,
+                               F32(c.clip_start), F32(c.clip_end))
+        return out
+
+    first = state()
+    assert any(v[0] == "CAMERA" for v in first.values())
+    out = tmp_path / "cube.dae"
+    assert bpy.ops.phong.export_collada(filepath=str(out)) == {"FINISHED"}
+    _valid(out.read_text())
+    be_reset(bpy)
+    assert bpy.ops.phong.import_collada(filepath=str(out)) == {"FINISHED"}
+    assert state() == first

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import math
 import os
+from urllib.parse import quote
 
 import bpy
 import numpy as np
@@ -92,6 +93,14 @@ def export(context, filepath, use_selection=False) -> list:
     """Write *context*'s scene to *filepath*; returns the warnings."""
     warnings: list = []
     doc = document(context, use_selection, warnings)
+    folder = os.path.dirname(os.path.abspath(filepath))
+    for material in doc.materials.values():
+        for texture in material.textures.values():   # relative to the file, as a URI
+            try:
+                path = os.path.relpath(texture.resolved, folder)
+            except ValueError:   # another drive
+                path = texture.resolved
+            texture.path = quote(path.replace("\\", "/"), safe="/:")
     text = collada.dumps(doc)
     temp = filepath + ".part"
     try:
