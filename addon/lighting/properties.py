@@ -59,12 +59,44 @@ def falloff_of(light) -> str:
     value = value.upper() if isinstance(value, str) else value
     return value if value in FALLOFFS else FALLOFFS[0]
 
-#: The settings each model reads (the light panel shows these).
+_EVERY = ("POINT", "SUN", "SPOT")
+_NEAR = ("POINT", "SPOT")
+#: What each lighting model reads of a light: (setting, the light types that read it, the
+#: falloff under which it is read (None: any), the input of the model's light group that it
+#: drives (None: read elsewhere: the falloff chooses nodes, power_k drives the Power
+#: Falloff's Exponent, diffuse and specular the Phong Shading's strengths)).  The one list
+#: of it: the light panel shows these in this order, the rig drives the light groups'
+#: inputs from it, the description hands them to the reference.
 MODEL_SETTINGS = {
-    "seeds": ("intensity", "falloff", "quadratic", "linear", "constant", "power_k",
-              "edge_exponent", "diffuse", "specular"),
-    "threejs": ("intensity", "distance", "decay", "penumbra"),
+    "seeds": (("intensity", _EVERY, None, "Intensity"),
+              ("falloff", _NEAR, None, None),
+              ("quadratic", _NEAR, "QUADRATIC", "Quadratic"),
+              ("linear", _NEAR, "QUADRATIC", "Linear"),
+              ("constant", _NEAR, "QUADRATIC", "Constant"),
+              ("power_k", _NEAR, "POWER", None),
+              ("edge_exponent", ("SPOT",), None, "Edge Exponent"),
+              ("diffuse", _EVERY, None, None),
+              ("specular", _EVERY, None, None)),
+    "threejs": (("intensity", _EVERY, None, "Intensity"),
+                ("distance", _NEAR, None, "Distance"),
+                ("decay", _NEAR, None, "Decay"),
+                ("penumbra", ("SPOT",), None, "Penumbra")),
 }
+
+
+def model_settings(model: str, light) -> list:
+    """(setting, light-group input or None) of what *model* reads of *light*, by its type and
+    falloff, in the panel's order."""
+    falloff = falloff_of(light) if light.type in _NEAR else None
+    return [(attr, target) for attr, types, when, target in MODEL_SETTINGS[model]
+            if light.type in types and when in (None, falloff)]
+
+
+def read_settings(light_type: str) -> set:
+    """Every setting some model reads of a light of *light_type* (its falloff aside)."""
+    return {attr for settings in MODEL_SETTINGS.values() for attr, types, _when, _target
+            in settings if light_type in types and attr != "falloff"}
+
 
 AMBIENT_INTENSITY = ("phong_ambient_intensity", 0.1)
 AMBIENT_COLOR = ("phong_ambient_color", (1.0, 1.0, 1.0))

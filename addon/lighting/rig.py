@@ -197,15 +197,12 @@ def _start(tree, lights):
     return group_in, group_out, out_x
 
 
-#: Per model: light type -> its light group; the light settings of its falloff (each drives
-#: the input of its capitalised name); a spot's (half angle input, (edge input, setting)).
+#: Per model: light type -> its light group; a spot's half-angle input (the light settings
+#: that drive the other inputs: ``properties.MODEL_SETTINGS``).
 LIGHT_GROUPS = {"seeds": SUPPORTED,
                 "threejs": {"POINT": "three.js Point Light", "SUN": "Phong Directional Light",
                             "SPOT": "three.js Spot Light"}}
-FALLOFF_SETTINGS = {"seeds": ("quadratic", "linear", "constant"),
-                    "threejs": ("distance", "decay")}
-SPOT_INPUTS = {"seeds": ("Half Angle", ("Edge Exponent", "edge_exponent")),
-               "threejs": ("Angle", ("Penumbra", "penumbra"))}
+SPOT_ANGLE = {"seeds": "Half Angle", "threejs": "Angle"}
 #: three.js model: the three.js Phong input fed by each input of the lights group.
 THREEJS_SHADING = {"Object Color": "Diffuse Color", "Specular Color": "Specular Color",
                    "Exponent": "Shininess", "Specular Strength": "Specular Strength",
@@ -301,16 +298,13 @@ def _light_node(tree, obj, location, model):
         if _is_power(light, model):  # i0 here; _power_falloff divides by d^k
             for name, value in (("Quadratic", 0.0), ("Linear", 0.0), ("Constant", 1.0)):
                 inputs[name].default_value = value
-        else:
-            for attr in FALLOFF_SETTINGS[model]:
-                drivers.prop(inputs[attr.capitalize()], None, "LIGHT", light, keys[attr])
     if light.type in ("SUN", "SPOT"):
         drivers.world_minus_z(inputs["Direction"], obj)
     if light.type == "SPOT":
-        angle, (edge, setting) = SPOT_INPUTS[model]
-        drivers.prop(inputs[angle], None, "LIGHT", light, "spot_size", scale=0.5)
-        drivers.prop(inputs[edge], None, "LIGHT", light, keys[setting])
-    drivers.prop(inputs["Intensity"], None, "LIGHT", light, keys["intensity"])
+        drivers.prop(inputs[SPOT_ANGLE[model]], None, "LIGHT", light, "spot_size", scale=0.5)
+    for attr, target in properties.model_settings(model, light):
+        if target is not None:
+            drivers.prop(inputs[target], None, "LIGHT", light, keys[attr])
     return node
 
 

@@ -104,17 +104,13 @@ def _light(obj) -> dict:
               for attr, (key, default) in properties.LIGHT_KEYS.items()}
     matrix = obj.matrix_world
     out = {"name": obj.name, "type": LIGHT_TYPES[light.type],
-           "color": [float(c) for c in light.color], "intensity": values["intensity"],
-           "diffuse": values["diffuse"], "specular": values["specular"]}
+           "color": [float(c) for c in light.color]}
+    out.update({attr: values[attr] for attr in properties.read_settings(light.type)})
     if light.type in ("POINT", "SPOT"):
         out["position"] = [float(c) for c in matrix.translation]
-        for attr in ("quadratic", "linear", "constant", "distance", "decay", "power_k"):
-            out[attr] = values[attr]
         out["falloff"] = properties.falloff_of(light).lower()  # "quadratic" or "power"
     if light.type in ("SUN", "SPOT"):
         out["direction"] = [-float(matrix[i][2]) for i in range(3)]  # the world -Z axis
     if light.type == "SPOT":
         out["half_angle"] = math.degrees(light.spot_size / 2.0)
-        out["edge_exponent"] = values["edge_exponent"]
-        out["penumbra"] = values["penumbra"]
     return out

@@ -3,6 +3,7 @@
 
 import bpy
 
+from ..lighting import properties
 from ..lighting.lights import SUPPORTED
 from ..lighting.materials import OPACITY, is_phong_material
 from .operators import (PHONG_OT_add_term_passes, PHONG_OT_apply_material,
@@ -31,30 +32,12 @@ class DATA_PT_phong_light(bpy.types.Panel):
         settings = light.phong
         scene = context.scene
         layout.prop(scene.phong, "model")
-        layout.prop(settings, "intensity")
-        if scene.phong.model == "threejs":  # docs/threejs.md
-            if light.type in ("POINT", "SPOT"):
-                col = layout.column(align=True)
-                col.prop(settings, "distance")
-                col.prop(settings, "decay")
-            if light.type == "SPOT":
-                layout.prop(settings, "penumbra")
-                layout.label(text="Angle: half the spot size", icon="INFO")
-        else:
-            if light.type in ("POINT", "SPOT"):
-                layout.prop(settings, "falloff")
-                col = layout.column(align=True)
-                if settings.falloff == "POWER":  # i0/d^k
-                    col.prop(settings, "power_k")
-                else:
-                    col.prop(settings, "quadratic")
-                    col.prop(settings, "linear")
-                    col.prop(settings, "constant")
-            if light.type == "SPOT":
-                layout.prop(settings, "edge_exponent")
-            col = layout.column(align=True)
-            col.prop(settings, "diffuse")
-            col.prop(settings, "specular")
+        model = scene.phong.model
+        col = layout.column(align=True)
+        for attr, _target in properties.model_settings(model, light):  # one list of them
+            col.prop(settings, attr)
+        if model == "threejs" and light.type == "SPOT":  # docs/threejs.md
+            layout.label(text="Angle: half the spot size", icon="INFO")
         layout.label(text="Colour, position, direction and spot size come from the light",
                      icon="INFO")
         layout.operator(PHONG_OT_relink_lights.bl_idname, icon="FILE_REFRESH")
