@@ -586,6 +586,7 @@ def _spec_colour(kind, width, height):
         cos_half = math.cos(math.radians(light["angle"] / 2.0))
         att = att * np.where(cos_w >= cos_half, np.maximum(cos_w, 0) ** light["exponent"], 0.0)
         edge = np.abs(cos_w - cos_half) < 1e-4
+        _spec_colour.inside = cos_w >= cos_half
     ndl = np.maximum(L @ N, 0.0)
     R = 2.0 * ndl[..., None] * N - L
     H = (L + V) / np.linalg.norm(L + V, axis=-1, keepdims=True)
@@ -628,6 +629,9 @@ def _render_dae(bpy, kind, engine, tmp_path):
     got = passes["Phong Color"][..., :3].astype(np.float64)
     want, edge = _spec_colour(kind, width, height)
     assert want.max() > 0.2 and want.std() > 0.02, "lit, not flat"
+    if kind == "spot":   # the cone's edge crosses the picture: pixels in and out of it
+        inside = _spec_colour.inside
+        assert inside.any() and (~inside).any()
     err = np.abs(got - want).max(axis=-1)[~edge]
     be.report(f"[collada {kind} {engine}] {seconds:.1f} s, max |Phong Color - spec| = "
               f"{err.max():.2e}, within 1/255: {float((err <= 1 / 255).mean()):.2%}, "
@@ -893,3 +897,45 @@ def test_round_trip_keeps_meshes_and_cameras(bpy_clean, tmp_path):
     be_reset(bpy)
     assert bpy.ops.phong.import_collada(filepath=str(out)) == {"FINISHED"}
     assert state() == first
+
+
+def test_khronos_bind_vertex_input_names_the_texture_set(bpy_clean, capfd):
+    bpy = bpy_clean
+    name = "cts_cube_texture_coord.dae"
+    root = _et(name)
+    bvi = root.find(".//bind_vertex_input")
+    texture = root.find(".//diffuse/texture")
+    doc = collada.load(os.path.join(DATA, name))
+    (mat,) = doc.materials.values()
+    assert mat.textures["diffuse"].texcoord == texture.get("texcoord") == bvi.get("semantic")
+    assert mat.textures["diffuse"].path == root.find(".//image/init_from").text
+    inst = next(i for n in doc.nodes for i in n.instances if i.kind == "geometry")
+    (symbol,) = inst.uv_bindings
+    assert inst.uv_bindings[symbol] == {bvi.get("semantic"): int(bvi.get("input_set"))}
+    capfd.readouterr()
+    assert bpy.ops.phong.import_collada(filepath=os.path.join(DATA, name)) == {"FINISHED"}
+    assert "texture collada.png not found" in "".join(capfd.readouterr())
+    cube = next(o for o in bpy.data.objects if o.type == "MESH")
+    assert [layer.name for layer in cube.data.uv_layers] == ["UVMap"]
+
+
+def test_instance_node_fan_out_is_bounded(bpy_clean, monkeypatch, tmp_path, capfd):
+    """Each node instancing the next one twice, 30 deep: 2^30 copies; the import stops at
+    the node limit with one warning, in bounded time."""
+    bpy = bpy_clean
+    from phong_nodes.addon.interchange import collada_import  # noqa: PLC0415
+
+    monkeypatch.setattr(collada_import, "MAX_NODES", 200)
+    nodes = "".join(f'<node id="n{i}"><instance_node url="#n{i + 1}"/>'
+                    f'<instance_node url="#n{i + 1}"/></node>' for i in range(30))
+    path = tmp_path / "fan.dae"
+    path.write_bytes(_doc(f"""<library_nodes>{nodes}<node id="n30"/></library_nodes>
+      <library_visual_scenes><visual_scene id="vs"><node id="root">
+      <instance_node url="#n0"/></node></visual_scene></library_visual_scenes>
+      <scene><instance_visual_scene url="#vs"/></scene>"""))
+    start = time.perf_counter()
+    capfd.readouterr()
+    assert bpy.ops.phong.import_collada(filepath=str(path)) == {"FINISHED"}
+    assert time.perf_counter() - start < 30.0
+    assert "".join(capfd.readouterr()).count("more than 200 nodes; the rest left out") == 1
+    assert len(bpy.data.objects) == 200
