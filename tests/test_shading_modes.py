@@ -440,3 +440,18 @@ def test_the_phong_vs_gouraud_demo_is_live_and_its_bake_equals_the_live_colours(
     be.report(f"[shading demo] vertex bake against live Per Vertex colours: max |Δ| {err:.2e}")
     # the bake shades with Cycles' 16-bit normals: test_baking's tolerance (1e-4 and a slack)
     assert err <= BAKE_TOL
+
+
+def test_a_camera_switch_is_followed(bpy_clean):
+    """The viewer is the scene's active camera (Active Camera node): switching it changes the
+    highlights with no call of ours."""
+    bpy = bpy_clean
+    scene, sphere, first, lights = _scene(bpy, "VERTEX", ("POINT",))
+    _domain, before = _attribute(bpy, sphere)
+    second = be.add_persp_camera(scene, (-4.0, -2.0, 1.0), (0.0, 0.0, 0.0))  # sets scene.camera
+    scene.camera = second
+    _domain, got = _attribute(bpy, sphere)
+    P, N = _vertices(bpy, sphere)
+    want, _near = _reference(scene, sphere, second, lights, P, N)
+    assert np.abs(got - want).max() <= VERTEX_TOL
+    assert np.abs(got - before).max() > 0.05, "the highlight moved with the camera"
