@@ -253,7 +253,7 @@ class _Reader:
             ident = element.get("id")
             if ident is not None:
                 self.ids.setdefault(ident, element)
-        self.comma_warned = set()
+        self.commas = []   # where decimal commas were read (one warning at the end)
 
     # numbers ------------------------------------------------------------------------
     def floats(self, element, where, expected=None):
@@ -275,7 +275,10 @@ class _Reader:
                     values = np.array(candidate, dtype=np.float64)
                 except ValueError:
                     continue
-                self.doc.warn(f"{where}: {what} read as numbers")
+                if what == "decimal commas":
+                    self.commas.append(where)
+                else:
+                    self.doc.warn(f"{where}: {what} read as numbers")
                 break
         if values is None:
             self.doc.warn(f"{where}: numbers that cannot be read; left out")
@@ -309,7 +312,10 @@ class _Reader:
             return
         unit = asset.find("unit")
         if unit is not None and unit.get("meter") is not None:
-            text = unit.get("meter").strip().replace(",", ".")
+            text = unit.get("meter").strip()
+            if "," in text and "." not in text:
+                self.commas.append("<unit meter>")
+                text = text.replace(",", ".")
             try:
                 meter = float(text)
             except ValueError:
@@ -1004,6 +1010,10 @@ def parse_bytes(data: bytes, path: str = "<bytes>") -> Document:
     if chosen is not None:
         doc.scene_name = chosen.get("name") or chosen.get("id") or ""
         doc.nodes = [reader.node(n) for n in chosen.findall("node")]
+    if reader.commas:
+        places = list(dict.fromkeys(reader.commas))
+        more = f" and {len(places) - 3} more" if len(places) > 3 else ""
+        doc.warn(f"decimal commas read as decimal points ({', '.join(places[:3])}{more})")
     return doc
 
 

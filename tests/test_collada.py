@@ -59,7 +59,8 @@ def test_phong_values_setparam_and_effect_params_are_read_exactly():
     assert mat.color("diffuse") == (0.8, 0.1, 0.1), "decimal commas repaired"
     assert mat.color("specular") == (0.5, 0.4, 0.3), "<setparam> of the instance_effect"
     assert mat.shininess == 25.0, "a <newparam> of the profile"
-    assert any("decimal commas" in w and "Red Paint" in w for w in doc.warnings)
+    assert [w for w in doc.warnings if "decimal commas" in w] == [
+        "decimal commas read as decimal points (material Red Paint: <diffuse>)"]
     # effect-level newparam and a param the setparam overrides
     m = _material(_effect("<phong><diffuse><param ref='e'/></diffuse>"
                           "<specular><param ref='pcol'/></specular></phong>",
@@ -939,3 +940,27 @@ def test_instance_node_fan_out_is_bounded(bpy_clean, monkeypatch, tmp_path, capf
     assert time.perf_counter() - start < 30.0
     assert "".join(capfd.readouterr()).count("more than 200 nodes; the rest left out") == 1
     assert len(bpy.data.objects) == 200
+
+
+def test_fbx_exporter_file_with_decimal_commas_and_a_plain_image_reference(bpy_clean, capfd):
+    """Autodesk's "FBX COLLADA exporter" (COLLADA 1.4.0) writes decimal commas everywhere,
+    <unit meter="0,010000">, a texture naming the image id and a Windows path."""
+    bpy = bpy_clean
+    name = "pycollada_earthCylindrical.dae"
+    root = _et(name)
+    ambient = [float(v.replace(",", ".")) for v in root.find(".//ambient/color").text.split()]
+    doc = collada.load(os.path.join(DATA, name))
+    assert doc.meter == 0.01
+    (mat,) = doc.materials.values()
+    assert mat.color("ambient") == tuple(ambient[:3])
+    image = root.find(".//image/init_from").text
+    assert mat.textures["diffuse"].path == image
+    assert os.path.basename(mat.textures["diffuse"].resolved) == image.split("\\")[-1]
+    assert len([w for w in doc.warnings if "decimal commas" in w]) == 1
+    capfd.readouterr()
+    assert bpy.ops.phong.import_collada(filepath=os.path.join(DATA, name)) == {"FINISHED"}
+    logged = "".join(capfd.readouterr())
+    assert logged.count("decimal commas") == 1
+    assert logged.count(f"texture {image} not found") == 1
+    got = _controls(bpy.data.materials[mat.name])
+    assert got["Ambient Object Color"] == _f32(ambient[:3])
