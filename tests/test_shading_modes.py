@@ -455,3 +455,57 @@ def test_a_camera_switch_is_followed(bpy_clean):
     want, _near = _reference(scene, sphere, second, lights, P, N)
     assert np.abs(got - want).max() <= VERTEX_TOL
     assert np.abs(got - before).max() > 0.05, "the highlight moved with the camera"
+
+
+def _threejs_reference(scene, obj, camera, lights, P, N):
+    """The three.js model (docs/threejs.md) from reference.py's three.js functions: ambient
+    + emissive + each light's MeshPhongMaterial colour, added with min(a + b, 1)."""
+    from phong_nodes.node_groups import reference as ref  # noqa: PLC0415
+
+    nodes = obj.active_material.node_tree.nodes
+    value = lambda n: nodes[n].outputs[0].default_value  # noqa: E731
+    color = lambda n: np.array(value(n)[:3], dtype=np.float64)  # noqa: E731
+    eye = np.array(camera.matrix_world, dtype=np.float64)[:3, 3]
+    I = (eye - P) / np.linalg.norm(eye - P, axis=1)[:, None]
+    world = scene.world.phong
+    total = ref.threejs_ambient(world.ambient_intensity, tuple(world.ambient_color),
+                                color("phong_object_color"))["Color"] * np.ones((len(P), 1))
+    total = np.minimum(total + color("phong_irradiant_color"), 1.0)
+    for light in lights:
+        mw = np.array(light.matrix_world, dtype=np.float64)
+        s = light.data.phong
+        if light.data.type == "SUN":
+            out = ref.directional_light(-mw[:3, 2], s.intensity)
+            out = {"Light Vector": np.broadcast_to(out["Light Vector"], P.shape),
+                   "Intensity": out["Intensity"]}
+        elif light.data.type == "POINT":
+            out = ref.threejs_point_light(mw[:3, 3], s.intensity, s.distance, s.decay, P)
+        else:
+            out = ref.threejs_spot_light(mw[:3, 3], -mw[:3, 2], light.data.spot_size / 2.0,
+                                         s.penumbra, s.intensity, s.distance, s.decay, P)
+        shade = ref.threejs_phong(out["Light Vector"], out["Intensity"], tuple(light.data.color),
+                                  color("phong_object_color"), color("phong_specular_color"),
+                                  float(value("phong_exponent")),
+                                  float(value("phong_specular_strength")),
+                                  geometry_normal=N, incoming=I)
+        total = np.minimum(total + shade["Color"], 1.0)
+    return total
+
+
+def test_per_vertex_in_the_threejs_model_equals_its_reference(bpy_clean):
+    bpy = bpy_clean
+    scene, sphere, camera, lights = _scene(bpy, "VERTEX", model="threejs")
+    for light in lights:
+        light.data.phong.distance = 12.0 if light.data.type != "SUN" else 0.0
+        light.data.phong.decay = 1.5
+    bpy.data.objects["Spot"].data.phong.penumbra = 0.4
+    nodes = sphere.active_material.node_tree.nodes
+    nodes["phong_specular_strength"].outputs[0].default_value = 0.7
+    _domain, got = _attribute(bpy, sphere)
+    P, N = _vertices(bpy, sphere)
+    want = _threejs_reference(scene, sphere, camera, lights, P, N)
+    err = np.abs(got - want).max()
+    be.report(f"[shading vertex three.js] {len(P)} vertices: max |Δ| {err:.2e}")
+    assert err <= VERTEX_TOL and want.std() > 0.02
+    assert sphere.active_material.node_tree.nodes["phong_lights"].node_tree.name.startswith(
+        "three.js Lights")
