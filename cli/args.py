@@ -3,7 +3,7 @@
 
     phong demo    [--scenes a,b|all] [--engines cycles,eevee] [--resolution N] [--out DIR]
                   [--shard i/n|auto] [--peers threejs] [--save-blend]
-    phong compare FILE.blend|FILE.obj [--scenes a,b] [--engines ...] [--resolution N] [--out DIR]
+    phong compare FILE.blend|.obj|.dae|.fbx [--scenes a,b] [--engines ...] [--resolution N] [--out DIR]
                   [--shard i/n|auto] [--peers threejs]
     phong bake    FILE.blend --target image|vertex [--term T] [--view camera|none] [--scenes a,b]
                   [--resolution N] [--format png|exr] [--smart-uv] [--out DIR] [--shard i/n]
@@ -91,10 +91,12 @@ def parser() -> argparse.ArgumentParser:
                         f"picture height in pixels (default: {DEFAULT_RESOLUTION})", "out/demo")
 
     compare = sub.add_parser(
-        "compare", help="compare the scenes of a .blend (or an imported .obj) with the reference",
-        description="Compare every scene of a .blend that has Phong materials (or an OBJ/MTL "
-        "file imported as Phong) with the numpy reference of the formulas.")
-    compare.add_argument("file", help="the .blend file, or a Wavefront .obj")
+        "compare", help="compare the scenes of a .blend (or an imported .obj, .dae, .fbx) with the "
+        "reference",
+        description="Compare every scene of a .blend that has Phong materials (or a Wavefront "
+        ".obj, COLLADA .dae or FBX .fbx file imported as Phong) with the numpy reference of "
+        "the formulas.")
+    compare.add_argument("file", help="the .blend file, or a .obj, .dae or .fbx file")
     compare.add_argument("--scenes", default=None,
                          help="comma-separated scene names of the file (default: every scene "
                               "with Phong materials)")

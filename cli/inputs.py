@@ -42,9 +42,28 @@ def _import_obj(context, path) -> list:
     return warnings
 
 
+def _import_collada(context, path) -> list:
+    from ..addon.interchange import collada_import  # noqa: PLC0415
+
+    try:
+        return collada_import.import_file(path, context)
+    except collada_import.ColladaImportError as error:
+        raise BadInput(f"{path}: {error}") from None
+
+
+def _import_fbx(context, path) -> list:
+    from ..addon.interchange import fbx_import  # noqa: PLC0415
+    from ..core import fbx  # noqa: PLC0415
+
+    try:
+        return fbx_import.import_file(path, context)
+    except fbx.FbxError as error:
+        raise BadInput(str(error)) from None
+
+
 #: file extension -> the importer of that format: (context, path) -> warnings; BadInput when
 #: nothing could be imported.
-IMPORTERS = {".obj": _import_obj}
+IMPORTERS = {".obj": _import_obj, ".dae": _import_collada, ".fbx": _import_fbx}
 
 
 def open_scene_file(file: str, scenes_arg, importers: bool = True) -> tuple:
@@ -99,11 +118,13 @@ def _import_into_empty_file(path, importer) -> None:
 
 
 def _frame_camera(scene) -> None:
-    """A perspective camera looking down -Y at every mesh's bounding box, from far enough
+    """A perspective camera looking at every mesh's bounding box from the front, right and
+    above (a three-quarter view, so no plane of the axes is seen edge-on), from far enough
     that the whole box is in view."""
     import bpy  # noqa: PLC0415
     from mathutils import Vector  # noqa: PLC0415
 
+    bpy.context.view_layer.update()  # the imported objects' world matrices
     points = [obj.matrix_world @ Vector(corner) for obj in scene.objects if obj.type == "MESH"
               for corner in obj.bound_box]
     low = Vector([min(p[i] for p in points) for i in range(3)]) if points else Vector()
@@ -112,11 +133,13 @@ def _frame_camera(scene) -> None:
     data = bpy.data.cameras.new("Camera")
     camera = bpy.data.objects.new("Camera", data)
     scene.collection.objects.link(camera)
-    distance = radius / math.sin(data.angle / 2) * 1.05
-    camera.location = centre + Vector((0.0, -distance, 0.0))
-    camera.rotation_euler = (math.pi / 2, 0.0, 0.0)
+    distance = radius / math.sin(min(data.angle_x, data.angle_y) / 2) * 1.05
+    camera.location = centre + Vector((1.0, -1.0, 1.0)).normalized() * distance
+    camera.rotation_euler = (centre - camera.location).to_track_quat("-Z", "Y").to_euler()
+    data.clip_start = min(data.clip_start, distance * 0.01)
     data.clip_end = max(data.clip_end, distance + 2 * radius)
     scene.camera = camera
+    bpy.context.view_layer.update()  # its world matrix, which the headlight copies
 
 
 def _headlight(scene) -> None:

@@ -142,3 +142,44 @@ def test_save_blend_keeps_a_demo_scene_that_compare_checks(tmp_path):
     assert result.returncode == 0, result.stderr[-3000:]
     metrics = json.loads((tmp_path / "check" / "lambert_vs_phong" / "metrics.json").read_text())
     assert metrics["ok"] and metrics["resolution"] == [32, 16], "the saved scene's own size"
+
+
+DATA = os.path.join(ROOT, "tests", "data")
+
+
+@pytest.mark.slow
+@pytest.mark.cycles
+@pytest.mark.parametrize("path, says", [
+    ("obj/illum.obj", ["has no camera: added one", "has no light: added a sun"]),
+    ("collada/hand_lit.dae", ["has no camera: added one", "decimal commas"]),
+    ("fbx/maya_cube_7500_binary.fbx", ["has no light: added a sun"]),
+], ids=["obj", "dae", "fbx"])
+def test_compare_reads_files_of_other_programs(tmp_path, path, says):
+    """``phong compare`` imports .obj, .dae and .fbx files as Phong (the extension's own
+    importers) into an empty scene, frames them when the file has no camera, lights them
+    when it has no light, and compares like a .blend."""
+    out = tmp_path / "out"
+    result = run_cli(tmp_path, "compare", os.path.join(DATA, path), "--engines", "cycles",
+                     "--resolution", "24", "--out", str(out))
+    assert result.returncode == 0, result.stdout[-2000:] + result.stderr[-2000:]
+    for text in says:
+        assert text in result.stderr, result.stderr
+    (folder,) = [p for p in out.iterdir() if p.is_dir()]
+    metrics = json.loads((folder / "metrics.json").read_text())
+    assert metrics["pixels"]["compared"] >= 40, "the framing camera sees the objects"
+    assert metrics["pairs"]["cycles-reference"]["max_abs"] <= 1e-4 and metrics["ok"]
+
+
+@pytest.mark.parametrize("name, text, message", [
+    ("broken.dae", "<COLLADA><library_geometries>", "broken.dae"),
+    ("broken.fbx", "Kaydara FBX Binary  \x00 truncated", "broken.fbx"),
+    ("notes.txt", "hello", "not a file this command reads (.blend, .obj, .dae, .fbx)"),
+], ids=["dae", "fbx", "txt"])
+def test_compare_refuses_an_unreadable_file_with_one_line(tmp_path, name, text, message):
+    bad = tmp_path / name
+    bad.write_text(text)
+    out = tmp_path / "out"
+    result = run_cli(tmp_path, "compare", str(bad), "--out", str(out))
+    assert result.returncode == 2, result.stderr[-2000:]
+    assert message in result.stderr and "Traceback" not in result.stderr
+    assert not out.exists(), "nothing written"
