@@ -460,7 +460,25 @@ def test_menus_and_file_handler_exist(bpy_clean):
     assert hasattr(bpy.types, "PHONG_OT_import_collada")
     assert hasattr(bpy.types, "PHONG_OT_export_collada")
     if hasattr(bpy.types, "FileHandler"):
-        assert hasattr(bpy.types, "PHONG_FH_collada")
+        handler = bpy.types.PHONG_FH_collada
+        assert handler.bl_import_operator == "phong.import_collada"
+        assert handler.bl_file_extensions == ".dae"
+    # a dropped file's path is set before invoke; a path from an earlier run must not be
+    prop = bpy.ops.phong.import_collada.get_rna_type().properties["filepath"]
+    assert prop.is_skip_save
+    labels = []
+
+    class Layout:
+        def operator(self, idname, text=""):
+            labels.append((idname, text))
+
+    for menu, idname in ((bpy.types.TOPBAR_MT_file_import, "phong.import_collada"),
+                         (bpy.types.TOPBAR_MT_file_export, "phong.export_collada")):
+        for draw in menu._dyn_ui_initialize():
+            if getattr(draw, "__module__", "").endswith("collada_ui"):
+                draw(type("Menu", (), {"layout": Layout()})(), bpy.context)
+    assert ("phong.import_collada", "COLLADA (Phong) (.dae)") in labels
+    assert ("phong.export_collada", "COLLADA (Phong) (.dae)") in labels
 
 
 # -- rendered pixels --------------------------------------------------------------------------
@@ -964,3 +982,60 @@ def test_fbx_exporter_file_with_decimal_commas_and_a_plain_image_reference(bpy_c
     assert logged.count(f"texture {image} not found") == 1
     got = _controls(bpy.data.materials[mat.name])
     assert got["Ambient Object Color"] == _f32(ambient[:3])
+
+
+def test_polygons_holes_colours_and_x_up():
+    data = _doc("""<library_geometries><geometry id="g"><mesh>
+      <source id="pos"><float_array id="pa" count="15">0 0 0 1 0 0 1 1 0 0 1 0 2 0 0</float_array>
+      <technique_common><accessor source="#pa" count="5" stride="3"/></technique_common></source>
+      <source id="col"><float_array id="ca" count="6">1 0 0 0 0.5 1</float_array>
+      <technique_common><accessor source="#ca" count="2" stride="3"/></technique_common></source>
+      <vertices id="v"><input semantic="POSITION" source="#pos"/></vertices>
+      <polygons count="3"><input semantic="VERTEX" source="#v" offset="0"/>
+      <input semantic="COLOR" source="#col" offset="1"/>
+      <p>0 0 1 0 2 0 3 0</p><p>1 1 4 1 2 1</p><ph><p>0 0 1 0 2 0</p><h>0 0 0 0 0 0</h></ph>
+      </polygons></mesh></geometry></library_geometries>""",
+                asset="<up_axis>X_UP</up_axis>")
+    doc = collada.parse_bytes(data)
+    mesh = doc.meshes["g"]
+    assert mesh.face_sizes.tolist() == [4, 3, 3]
+    assert mesh.corners.tolist() == [0, 1, 2, 3, 1, 4, 2, 0, 1, 2]
+    np.testing.assert_array_equal(mesh.colors[0][4], (0, 0.5, 1, 1)), "RGB with alpha 1"
+    assert any("holes (<ph>)" in w for w in doc.warnings)
+    # X_UP: right is −Y, up is +X, in is +Z (the spec's table); Blender: right +X, up +Z, in −Y
+    axes = doc.axes()
+    np.testing.assert_allclose(axes @ (1, 0, 0, 1), (0, 0, 1, 1), atol=1e-15)
+    np.testing.assert_allclose(axes @ (0, -1, 0, 1), (1, 0, 0, 1), atol=1e-15)
+    np.testing.assert_allclose(axes @ (0, 0, 1, 1), (0, -1, 0, 1), atol=1e-15)
+    assert np.linalg.det(axes[:3, :3]) == pytest.approx(1.0)
+
+
+def test_vertex_colours_and_selection_only_export(bpy_clean, tmp_path):
+    bpy = bpy_clean
+    text = open(LIT).read().replace(
+        '<vertices id="quad-v">',
+        '<source id="quad-col"><float_array id="quad-col-a" count="16">1 0 0 1 0 1 0 1 0 0 1 1 '
+        '1 1 1 0.5</float_array><technique_common><accessor source="#quad-col-a" count="4" '
+        'stride="4"/></technique_common></source><vertices id="quad-v">').replace(
+        '<input semantic="VERTEX" source="#quad-v" offset="0"/>',
+        '<input semantic="VERTEX" source="#quad-v" offset="0"/>'
+        '<input semantic="COLOR" source="#quad-col" offset="0" set="0"/>')
+    path = tmp_path / "colours.dae"
+    path.write_text(text)
+    assert bpy.ops.phong.import_collada(filepath=str(path)) == {"FINISHED"}
+    quad = bpy.data.objects["Quad node"]
+    attribute = quad.data.color_attributes[0]
+    assert attribute.domain == "CORNER"
+    # corners 0 3 2 1 take the colours of vertices 0 3 2 1
+    assert [tuple(d.color) for d in attribute.data] == [
+        (1, 0, 0, 1), (1, 1, 1, 0.5), (0, 0, 1, 1), (0, 1, 0, 1)]
+    for obj in bpy.context.scene.objects:
+        obj.select_set(obj.name == "Quad node")
+    out = tmp_path / "only.dae"
+    assert bpy.ops.phong.export_collada(filepath=str(out), use_selection=True) == {"FINISHED"}
+    _valid(out.read_text())
+    doc = collada.load(str(out))
+    assert [n.name for n in doc.nodes if n.instances[0].kind != "light"] == ["Quad node"]
+    assert not [light for light in doc.lights.values() if light.kind != "ambient"]
+    (mesh,) = doc.meshes.values()
+    np.testing.assert_array_equal(mesh.colors[0][1], (1, 1, 1, 0.5))

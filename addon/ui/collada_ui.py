@@ -21,6 +21,8 @@ as Phong lights (attenuation, cone, exponent), meshes, cameras and the node tree
 
     filename_ext = ".dae"
     filter_glob: StringProperty(default="*.dae", options={"HIDDEN"})
+    # not remembered between runs: a path set before invoke is a file dropped on the viewport
+    filepath: StringProperty(subtype="FILE_PATH", options={"SKIP_SAVE"})
     literal_transparency: BoolProperty(
         name="Literal Transparency", default=False,
         description="Follow the spec's transparency formula even where it makes a material "
@@ -41,8 +43,8 @@ as Phong lights (attenuation, cone, exponent), meshes, cameras and the node tree
         return {"FINISHED"}
 
     def invoke(self, context, event):
-        if self.filepath and os.path.isfile(bpy.path.abspath(self.filepath)):
-            return self.execute(context)   # dropped on the viewport
+        if self.filepath:   # dropped on the viewport (FileHandler)
+            return self.execute(context)
         return ImportHelper.invoke(self, context, event)
 
 
