@@ -1039,3 +1039,42 @@ def test_vertex_colours_and_selection_only_export(bpy_clean, tmp_path):
     assert not [light for light in doc.lights.values() if light.kind != "ambient"]
     (mesh,) = doc.meshes.values()
     np.testing.assert_array_equal(mesh.colors[0][1], (1, 1, 1, 0.5))
+
+
+OPACITY = 0.4   # the phong quad's A_ONE: a · t = 1 · 0.4
+
+
+@pytest.mark.parametrize("engine", [pytest.param("cycles", marks=pytest.mark.cycles),
+                                    pytest.param("eevee", marks=pytest.mark.eevee)])
+def test_transparency_renders_opacity_times_the_colour(bpy_clean, tmp_path, engine):
+    """The phong quad with <transparent opaque="A_ONE">1 1 1 1</transparent> and
+    <transparency>0.4</transparency> over the black world: Combined = 0.4 × the spec's colour
+    there, the spec's colour on the other quads."""
+    import blender_env as be  # noqa: PLC0415
+    from phong_scene import render  # noqa: PLC0415
+
+    bpy = bpy_clean
+    width, height = 64, 16
+    scene = be.new_scene(f"dae opacity {engine}", width, height, engine)
+    bpy.context.window.scene = scene
+    text = _pixel_dae("directional").replace(
+        "<shininess><float>8.0</float></shininess></phong>",
+        "<shininess><float>8.0</float></shininess><transparent opaque=\"A_ONE\"><color>1 1 1 1"
+        f"</color></transparent><transparency><float>{OPACITY}</float></transparency></phong>")
+    assert f"<float>{OPACITY}</float>" in text
+    path = tmp_path / "opacity.dae"
+    path.write_text(text)
+    assert bpy.ops.phong.import_collada(filepath=str(path)) == {"FINISHED"}
+    passes, _seconds = render(bpy, scene, str(tmp_path / f"opacity_{engine}.exr"))
+    got = passes["Combined"][..., :3].astype(np.float64)
+    want, _edge = _spec_colour("directional", width, height)
+    x = (np.arange(width) + 0.5) / width * 4.0 - 2.0
+    phong = (x >= 0.0) & (x < 1.0)
+    want[:, phong] *= OPACITY
+    err = np.abs(got - want).max(axis=-1)
+    be.report(f"[collada opacity {engine}] max |Combined - spec| = {err.max():.2e}, "
+              f"within 1/255: {float((err <= 1 / 255).mean()):.2%}")
+    if engine == "cycles":
+        assert err.max() <= 1e-4
+    else:
+        assert float((err <= 1 / 255).mean()) >= 0.995
