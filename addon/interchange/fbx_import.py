@@ -115,6 +115,7 @@ def _mesh(item: fbx.MeshData, name, warnings, path):
     for color_name, values in item.colors:
         layer = mesh.color_attributes.new(color_name, "FLOAT_COLOR", "CORNER")
         layer.data.foreach_set("color", np.asarray(values, np.float32).ravel())
+    mesh.update(calc_edges=True)
     if mesh.validate(clean_customdata=False):
         warnings.append(f"{path}: mesh {name}: invalid faces or indices removed")
     mesh.update()
@@ -279,9 +280,9 @@ def apply_light(light, source: fbx.Light, warnings: list, path) -> None:
         light.type = source.type
     light.color = source.color
     settings = {"intensity": source.intensity}
-    falloff = fbx.falloff(source.decay) if source.type != "SUN" else {}
-    power = {k: falloff.pop(k) for k in ("falloff", "power_k") if k in falloff}
-    settings.update(falloff)
+    if source.type != "SUN":
+        settings.update(fbx.falloff(source.decay))
+        settings.setdefault("falloff", "QUADRATIC")
     if source.type == "SPOT":
         outer = min(max(source.outer_angle, 1.0), 180.0)
         light.spot_size = math.radians(outer)
@@ -290,17 +291,15 @@ def apply_light(light, source: fbx.Light, warnings: list, path) -> None:
         settings["edge_exponent"] = fbx.spot_edge_exponent(source.outer_angle,
                                                            source.inner_angle)
         settings["penumbra"] = min(max(share, 0.0), 1.0)
-    properties.write_light(light, settings)
-    if power:
-        light["phong_falloff"] = power["falloff"]
-        light["phong_power_k"] = power["power_k"]
-        light.update_tag()
-        if not _power_supported():
+    if not _power_supported():  # before the power falloff existed: stored, 1/d² rendered
+        for key in ("falloff", "power_k"):
+            if key in settings:
+                light[{"falloff": "phong_falloff", "power_k": "phong_power_k"}[key]] = \
+                    settings.pop(key)
+        if source.decay not in (0, 1, 2):
             warnings.append(f"{path}: light {source.name or source.nodes[0]}: decay 1/d^"
-                            f"{source.decay:g} stored (phong_falloff POWER) but this version "
-                            "renders 1/d²")
-    else:
-        light["phong_falloff"] = "QUADRATIC"
+                            f"{source.decay:g} stored but this version renders 1/d²")
+    properties.write_light(light, settings)
     light[SOURCE_KEY] = path
 
 
