@@ -877,7 +877,10 @@ def test_an_error_while_building_removes_everything_added(bpy_clean, monkeypatch
     bpy.context.scene.world.phong.ambient_intensity = 0.4
     before = _ids(bpy)
 
-    def broken(self):
+    real = collada_import._Builder.bind_materials
+
+    def broken(self):   # fails after the materials, lights groups and images were made
+        real(self)
         raise RuntimeError("simulated failure")
 
     monkeypatch.setattr(collada_import._Builder, "bind_materials", broken)

@@ -54,6 +54,9 @@ INPUTS = {"Irradiant Color": ("emission", "phong_irradiant_color"),
           "Object Color": ("diffuse", "phong_object_color"),
           "Specular Color": ("specular", "phong_specular_color")}
 MAX_NODES = 100_000
+#: bpy.data collections an import adds to, in the order a failed import empties them
+_ROLLBACK = ("objects", "meshes", "lights", "cameras", "materials", "node_groups", "images",
+             "worlds")
 
 
 class ColladaImportError(RuntimeError):
@@ -103,7 +106,6 @@ class _Builder:
         self.scene = context.scene
         self.doc = doc
         self.literal = literal
-        self.created = []          # (collection of bpy.data, ID) to remove on failure
         self.objects = []
         self.meshes = {}           # geometry id -> mesh
         self.lights = {}           # light id -> light data
@@ -115,18 +117,21 @@ class _Builder:
         self.world_before = None
         self.camera_before = self.scene.camera
         self.count = 0
+        #: every data block that existed before: whatever else exists after a failure is
+        #: the import's (materials the Sync copies, lights groups, images included)
+        self.before = {kind: set(getattr(bpy.data, kind)) for kind in _ROLLBACK}
 
     def _new(self, collection, *args):
-        block = collection.new(*args)
-        self.created.append((collection, block))
-        return block
+        return collection.new(*args)
 
     def undo(self):
-        for collection, block in reversed(self.created):
-            try:
-                collection.remove(block)
-            except (ReferenceError, RuntimeError):
-                pass
+        for kind in _ROLLBACK:
+            collection = getattr(bpy.data, kind)
+            for block in [b for b in collection if b not in self.before[kind]]:
+                try:
+                    collection.remove(block)
+                except (ReferenceError, RuntimeError):
+                    pass
         if self.world_before is not None:
             world, values = self.world_before
             for key, value in values.items():
@@ -218,7 +223,11 @@ class _Builder:
         blender = Matrix([list(map(float, row)) for row in matrix])
         obj.matrix_basis = blender
         back = np.array(obj.matrix_basis, dtype=np.float64)
-        if np.allclose(back, matrix, rtol=1e-6, atol=1e-6 * max(1.0, float(np.abs(matrix).max()))):
+        linear = np.asarray(matrix, dtype=np.float64)[:3, :3]
+        size = max(float(np.abs(linear).max()), 1e-30)
+        if np.allclose(back[:3, :3], linear, rtol=0.0, atol=1e-5 * size) and \
+                np.allclose(back[:3, 3], matrix[:3, 3], rtol=1e-6, atol=1e-6) and \
+                np.allclose(matrix[3], (0.0, 0.0, 0.0, 1.0)):
             return
         if obj.parent is None:
             frame = self._new(bpy.data.objects, f"{name} (shear frame)", None)
@@ -300,6 +309,8 @@ class _Builder:
     def light(self, source: collada.Light):
         kind = {"directional": "SUN", "point": "POINT", "spot": "SPOT"}[source.kind]
         light = self._new(bpy.data.lights, source.name, kind)
+        if min(source.color) < 0.0:
+            self.doc.warn(f"light {source.name}: negative colour {source.color} read as 0")
         light.color = tuple(max(0.0, c) for c in source.color)
         values = {"intensity": 1.0}
         if source.kind in ("point", "spot"):
@@ -395,7 +406,6 @@ class _Builder:
             return self.materials[key]
         name = source.name if source is not None else "COLLADA default"
         material = recipe.new_material(name, group)
-        self.created.append((bpy.data.materials, material))
         if source is not None:
             self.values(material, source, uv_binding)
         self.materials[key] = material
