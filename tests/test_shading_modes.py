@@ -509,3 +509,150 @@ def test_per_vertex_in_the_threejs_model_equals_its_reference(bpy_clean):
     assert err <= VERTEX_TOL and want.std() > 0.02
     assert sphere.active_material.node_tree.nodes["phong_lights"].node_tree.name.startswith(
         "three.js Lights")
+
+
+# -- a peer: OpenGL's fixed-function Gouraud pipeline (Mesa, EGL surfaceless) ---------------
+
+def _gl():
+    """PyOpenGL's GL on a Mesa EGL surfaceless context (compatibility profile), or skip."""
+    os.environ.setdefault("PYOPENGL_PLATFORM", "egl")
+    if os.environ["PYOPENGL_PLATFORM"] != "egl":
+        pytest.skip("PyOpenGL is set to another platform than EGL")
+    egl = pytest.importorskip("OpenGL.EGL")
+    gl = pytest.importorskip("OpenGL.GL")
+    import ctypes  # noqa: PLC0415
+
+    try:
+        display = egl.eglGetPlatformDisplayEXT(0x31DD, egl.EGL_DEFAULT_DISPLAY, None)  # surfaceless
+        major, minor = egl.EGLint(), egl.EGLint()
+        if not display or not egl.eglInitialize(display, ctypes.pointer(major),
+                                                ctypes.pointer(minor)):
+            pytest.skip("no EGL surfaceless display (Mesa)")
+        attributes = (egl.EGLint * 5)(egl.EGL_SURFACE_TYPE, egl.EGL_PBUFFER_BIT,
+                                      egl.EGL_RENDERABLE_TYPE, egl.EGL_OPENGL_BIT, egl.EGL_NONE)
+        config, count = egl.EGLConfig(), egl.EGLint()
+        egl.eglChooseConfig(display, attributes, ctypes.pointer(config), 1, ctypes.pointer(count))
+        egl.eglBindAPI(egl.EGL_OPENGL_API)
+        context = egl.eglCreateContext(display, config, egl.EGL_NO_CONTEXT, None)
+        if not context or not egl.eglMakeCurrent(display, egl.EGL_NO_SURFACE,
+                                                 egl.EGL_NO_SURFACE, context):
+            pytest.skip("no OpenGL context on the EGL display")
+    except Exception as error:  # noqa: BLE001  (any missing piece of the stack: skip)
+        pytest.skip(f"OpenGL through EGL unavailable: {error}")
+    return gl, (egl, display, context)
+
+
+def _gl_gouraud(bpy, scene, obj, lights):
+    """The object rendered by OpenGL 1.x fixed-function lighting (GL_SMOOTH, local viewer),
+    float framebuffer: (RGB (H, W, 3), covered mask), row 0 = bottom.  The material's and
+    lights' values are set as the textbook maps them: light diffuse = i0·kd·colour, specular
+    = i0·ks·colour, attenuation 1/(γ + βd + αd²), spot cut-off = half angle, exponent = e_att;
+    material ambient = diffuse = Object Color, emission = Irradiant, shininess = Exponent;
+    global ambient = the world's ambient."""
+    gl, (egl, display, context) = _gl()
+    nodes = obj.active_material.node_tree.nodes
+    value = lambda n: nodes[n].outputs[0].default_value  # noqa: E731
+    rgba = lambda c: (float(c[0]), float(c[1]), float(c[2]), 1.0)  # noqa: E731
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    mesh = obj.evaluated_get(depsgraph).data
+    mesh.calc_loop_triangles()
+    co = np.array([v.co for v in mesh.vertices], dtype=np.float64)
+    normals = np.array([v.normal for v in mesh.vertices], dtype=np.float64)
+    tris = np.array([t.vertices[:] for t in mesh.loop_triangles])
+    camera = scene.camera
+    projection = np.array(camera.calc_matrix_camera(depsgraph, x=SIZE, y=SIZE), np.float64)
+    view = np.linalg.inv(np.array(camera.matrix_world, dtype=np.float64))
+    model = np.array(obj.matrix_world, dtype=np.float64)
+    try:
+        fbo = gl.glGenFramebuffers(1)
+        gl.glBindFramebuffer(gl.GL_FRAMEBUFFER, fbo)
+        color_rb, depth_rb = gl.glGenRenderbuffers(2)
+        gl.glBindRenderbuffer(gl.GL_RENDERBUFFER, color_rb)
+        gl.glRenderbufferStorage(gl.GL_RENDERBUFFER, gl.GL_RGBA32F, SIZE, SIZE)
+        gl.glFramebufferRenderbuffer(gl.GL_FRAMEBUFFER, gl.GL_COLOR_ATTACHMENT0,
+                                     gl.GL_RENDERBUFFER, color_rb)
+        gl.glBindRenderbuffer(gl.GL_RENDERBUFFER, depth_rb)
+        gl.glRenderbufferStorage(gl.GL_RENDERBUFFER, gl.GL_DEPTH_COMPONENT24, SIZE, SIZE)
+        gl.glFramebufferRenderbuffer(gl.GL_FRAMEBUFFER, gl.GL_DEPTH_ATTACHMENT,
+                                     gl.GL_RENDERBUFFER, depth_rb)
+        gl.glViewport(0, 0, SIZE, SIZE)
+        gl.glClampColor(gl.GL_CLAMP_READ_COLOR, gl.GL_FALSE)
+        gl.glClearColor(0.0, 0.0, 0.0, 0.0)
+        gl.glClear(gl.GL_COLOR_BUFFER_BIT | gl.GL_DEPTH_BUFFER_BIT)
+        gl.glEnable(gl.GL_DEPTH_TEST)
+        gl.glShadeModel(gl.GL_SMOOTH)
+        gl.glEnable(gl.GL_LIGHTING)
+        gl.glEnable(gl.GL_NORMALIZE)
+        gl.glMatrixMode(gl.GL_PROJECTION)
+        gl.glLoadMatrixd(projection.T.ravel())
+        gl.glMatrixMode(gl.GL_MODELVIEW)
+        gl.glLoadMatrixd(view.T.ravel())  # lights are given in world space
+        world = scene.world.phong
+        ambient = world.ambient_intensity * np.array(world.ambient_color)
+        gl.glLightModelfv(gl.GL_LIGHT_MODEL_AMBIENT, rgba(ambient))
+        gl.glLightModeli(gl.GL_LIGHT_MODEL_LOCAL_VIEWER, gl.GL_TRUE)
+        for index, light in enumerate(lights):
+            number = gl.GL_LIGHT0 + index
+            s, mw = light.data.phong, np.array(light.matrix_world, dtype=np.float64)
+            color = np.array(light.data.color)
+            gl.glEnable(number)
+            gl.glLightfv(number, gl.GL_AMBIENT, (0.0, 0.0, 0.0, 1.0))
+            gl.glLightfv(number, gl.GL_DIFFUSE, rgba(s.intensity * s.diffuse * color))
+            gl.glLightfv(number, gl.GL_SPECULAR, rgba(s.intensity * s.specular * color))
+            if light.data.type == "SUN":
+                gl.glLightfv(number, gl.GL_POSITION, (*mw[:3, 2], 0.0))  # toward the light
+                continue
+            gl.glLightfv(number, gl.GL_POSITION, (*mw[:3, 3], 1.0))
+            gl.glLightf(number, gl.GL_CONSTANT_ATTENUATION, s.constant)
+            gl.glLightf(number, gl.GL_LINEAR_ATTENUATION, s.linear)
+            gl.glLightf(number, gl.GL_QUADRATIC_ATTENUATION, s.quadratic)
+            if light.data.type == "SPOT":
+                gl.glLightfv(number, gl.GL_SPOT_DIRECTION, tuple(-mw[:3, 2]))
+                gl.glLightf(number, gl.GL_SPOT_CUTOFF, math.degrees(light.data.spot_size / 2))
+                gl.glLightf(number, gl.GL_SPOT_EXPONENT, s.edge_exponent)
+        base = value("phong_object_color")
+        gl.glMaterialfv(gl.GL_FRONT_AND_BACK, gl.GL_AMBIENT, rgba(base))
+        gl.glMaterialfv(gl.GL_FRONT_AND_BACK, gl.GL_DIFFUSE, rgba(base))
+        gl.glMaterialfv(gl.GL_FRONT_AND_BACK, gl.GL_SPECULAR, rgba(value("phong_specular_color")))
+        gl.glMaterialfv(gl.GL_FRONT_AND_BACK, gl.GL_EMISSION, rgba(value("phong_irradiant_color")))
+        gl.glMaterialf(gl.GL_FRONT_AND_BACK, gl.GL_SHININESS, float(value("phong_exponent")))
+        gl.glMultMatrixd(model.T.ravel())
+        gl.glBegin(gl.GL_TRIANGLES)
+        for tri in tris:
+            for index in tri:
+                gl.glNormal3dv(normals[index])
+                gl.glVertex3dv(co[index])
+        gl.glEnd()
+        gl.glFinish()
+        pixels = gl.glReadPixels(0, 0, SIZE, SIZE, gl.GL_RGBA, gl.GL_FLOAT)
+        image = np.frombuffer(pixels, dtype=np.float32).reshape(SIZE, SIZE, 4)
+        gl.glDeleteFramebuffers(1, [fbo])
+        gl.glDeleteRenderbuffers(2, [color_rb, depth_rb])
+    finally:
+        egl.eglMakeCurrent(display, egl.EGL_NO_SURFACE, egl.EGL_NO_SURFACE, egl.EGL_NO_CONTEXT)
+        egl.eglDestroyContext(display, context)
+    return image[..., :3].astype(np.float64), image[..., 3] > 0.5
+
+
+def test_per_vertex_renders_what_opengl_fixed_function_gouraud_renders(bpy_clean, tmp_path):
+    """Issue 28's 'done when': a coarse sphere Per Vertex (Blinn: OpenGL's specular) in Cycles
+    and Eevee against Mesa's fixed-function pipeline, >= 99% of the pixels both cover within
+    2/255 (point, sun and spot, with kc/kl/kq attenuation and a spot cut-off/exponent)."""
+    bpy = bpy_clean
+    scene, sphere, _camera, lights = _scene(bpy, "VERTEX")
+    sphere.active_material.node_tree.nodes["phong_blinn"].outputs[0].default_value = 1.0
+    for light in lights:  # OpenGL's spot cut-off is at most 90°
+        if light.data.type == "SPOT":
+            assert math.degrees(light.data.spot_size / 2) <= 90
+    peer, covered = _gl_gouraud(bpy, scene, sphere, lights)
+    for engine in ("cycles", "eevee"):
+        be.configure_engine(scene, engine)
+        passes = _render(bpy, scene, tmp_path / f"{engine}.exr")
+        ours = passes["Combined"][..., :3].astype(np.float64)
+        both = covered & (np.rint(passes["id"][..., 0]) == SPHERE_ID)
+        diff = np.abs(ours - peer).max(axis=-1)[both]
+        share = float((diff <= 2.0 / 255.0).mean())
+        be.report(f"[shading OpenGL peer, {engine}] {int(both.sum())} pixels: "
+                  f"{100 * share:.2f}% within 2/255, median {np.median(diff):.1e}, "
+                  f"max {diff.max():.1e}")
+        assert both.sum() > 300 and share >= 0.99
