@@ -401,3 +401,144 @@ def test_imported_cube_renders_the_phong_formula(bpy_clean, blender_tmp, engine,
     else:
         close = np.all(np.abs(got - want) <= 1.0 / 255.0, axis=1)
         assert close.mean() >= 0.995, (close.mean(), got[~close][:3], want)
+
+
+# -- the ufbx scene against Blender's importer's -----------------------------------------------
+
+def _scene_after_import(bpy, name):
+    be.reset_empty_file()
+    assert bpy.ops.phong.import_fbx(filepath=_path(name)) == {"FINISHED"}
+    from mathutils import Vector
+    out = {}
+    for obj in bpy.context.scene.objects:
+        m = obj.matrix_world
+        entry = {"type": obj.type, "location": tuple(m.translation),
+                 "forward": tuple((m.to_3x3() @ Vector((0, 0, -1))).normalized()),
+                 "up": tuple((m.to_3x3() @ Vector((0, 1, 0))).normalized())}
+        if obj.type == "CAMERA":
+            entry["angle"] = obj.data.angle
+        if obj.type == "MESH":
+            mesh = obj.data
+            entry["points"] = sorted(tuple(round(c, 6) for c in m @ v.co) for v in mesh.vertices)
+            entry["corners"] = sorted(
+                (tuple(round(c, 5) for c in m @ mesh.vertices[loop.vertex_index].co),
+                 tuple(round(c, 4) for c in (m.to_3x3() @ Vector(cn.vector)).normalized()))
+                for loop, cn in zip(mesh.loops, mesh.corner_normals
+                                    if hasattr(mesh, "corner_normals") else
+                                    [type("N", (), {"vector": lp.normal})() for lp in mesh.loops]))
+            entry["uvs"] = sorted(tuple(round(c, 6) for c in d.uv)
+                                  for d in mesh.uv_layers.active.data) if mesh.uv_layers else []
+        out[obj.name] = entry
+    return out
+
+
+@pytest.mark.parametrize("ours, blenders", [
+    ("maya_camera_light_axes_y_up_6100_ascii.fbx", "maya_camera_light_axes_y_up_7700_binary.fbx"),
+    ("maya_cube_7500_ascii.fbx", "maya_cube_7500_binary.fbx"),
+    ("maya_cube_6100_binary.fbx", "maya_cube_7500_binary.fbx")])
+def test_scene_built_from_ufbx_matches_blenders_importer(bpy_clean, ours, blenders):
+    """The same Maya scene saved as ASCII / FBX 6.1 (built here from ufbx) and as binary 7.x
+    (Blender's own importer): the same objects, places, axes (lights and cameras look the
+    same way), camera angle, vertices, corner normals and UVs, in metres and Z up."""
+    bpy = bpy_clean
+    got, want = _scene_after_import(bpy, ours), _scene_after_import(bpy, blenders)
+    assert sorted(got) == sorted(want)
+    for name, entry in want.items():
+        for key, value in entry.items():
+            if key in ("points", "corners", "uvs", "type"):
+                assert got[name][key] == value, (name, key)
+            else:
+                assert got[name][key] == pytest.approx(value, abs=1e-5), (name, key)
+
+
+def test_embedded_textures_are_unpacked_into_the_phong_material(bpy_clean):
+    """Blender's FBX export of 2.93 with its textures embedded (no .fbm folder next to it):
+    the DiffuseColor and EmissiveColor maps multiply their colours, as MTL maps do, from
+    images packed into the .blend; the maps the Phong model has no input for are named."""
+    bpy = bpy_clean
+    name = "blender_293_embedded_textures_7400_binary.fbx"
+    assert not os.path.exists(_path(name)[:-4] + ".fbm")
+    assert bpy.ops.phong.import_fbx(filepath=_path(name)) == {"FINISHED"}
+    material = bpy.data.materials["Phong Material.001"]
+    nodes = material.node_tree.nodes
+    lights = nodes["phong_lights"]
+    for slot, file in (("Object Color", "checkerboard_diffuse.png"),
+                       ("Irradiant Color", "checkerboard_emissive.png")):
+        multiply = lights.inputs[slot].links[0].from_node
+        assert multiply.bl_idname == "ShaderNodeVectorMath" and multiply.operation == "MULTIPLY"
+        image = multiply.inputs[1].links[0].from_node.image
+        assert image.packed_file is not None and image.name == file
+        assert tuple(image.size) != (0, 0)
+    assert not lights.inputs["Specular Color"].links[0].from_node.bl_idname.endswith("Math")
+
+
+HANDMADE = "handmade_phong_lights_7400_ascii.fbx"
+
+
+def test_handmade_spot_cone_templates_and_cubic_decay(bpy_clean):
+    """tests/data/fbx/handmade_phong_lights_7400_ascii.fbx (written by hand): the spot's
+    InnerAngle 20 on the object and OuterAngle 70 from the file's FbxLight template (the
+    SDK's 45 would be wrong); the cubic point light as the power falloff, k = 3."""
+    bpy = bpy_clean
+    objects, templates = _independent(HANDMADE, "Light")
+    assert bpy.ops.phong.import_fbx(filepath=_path(HANDMADE)) == {"FINISHED"}
+    spot = bpy.data.objects["SoftSpot"]
+    outer = templates["FbxLight"]["OuterAngle"][0]
+    inner = objects["Spot"]["InnerAngle"][0]
+    assert (outer, inner) == (70.0, 20.0)
+    assert spot.data.type == "SPOT"
+    assert spot.data.spot_size == pytest.approx(math.radians(outer), abs=1e-6)
+    assert spot.data.spot_blend == pytest.approx(1.0 - inner / outer, abs=1e-6)
+    assert spot.data["phong_penumbra"] == pytest.approx(1.0 - inner / outer)
+    # seeds' soft edge: (cos ω)^e = 1/2 halfway between the half-angles 10° and 35°
+    e = spot.data["phong_edge_exponent"]
+    assert math.cos(math.radians((inner + outer) / 4)) ** e == pytest.approx(0.5, abs=1e-9)
+    assert (spot.data["phong_linear"], spot.data["phong_quadratic"]) == (1.0, 0.0)
+    assert tuple(spot.matrix_world.to_3x3() @ __import__("mathutils").Vector((0, 0, -1))) == \
+        pytest.approx((0.0, 0.0, -1.0), abs=1e-6), "Lcl Rotation 90° about X: pointing down"
+    point = bpy.data.objects["CubicPoint"].data
+    assert point["phong_falloff"] == "POWER" and point["phong_power_k"] == 3.0
+    assert point["phong_intensity"] == pytest.approx(objects["Cubic"]["Intensity"][0] / 100)
+    assert tuple(bpy.context.scene.world["phong_ambient_color"]) == pytest.approx(
+        (0.1, 0.2, 0.3), abs=1e-7)
+
+
+@pytest.mark.cycles
+def test_cubic_decay_point_light_renders_i0_over_d_cubed(bpy_clean, blender_tmp):
+    """The hand-written plane under its cubic point light (the spot removed), every pixel
+    against Ke·EF + ambient ⊗ Ka·AF + (i0/d³)·C ⊗ (Kd·DF (n·l) + Ks·SF (r·v)^Ns), with the
+    values read from the file here (SpecularFactor and AmbientFactor from its template)."""
+    bpy = bpy_clean
+    scene = be.new_scene("cubic", 16, 16)
+    bpy.context.window.scene = scene
+    assert bpy.ops.phong.import_fbx(filepath=_path(HANDMADE)) == {"FINISHED"}
+    bpy.data.objects.remove(bpy.data.objects["SoftSpot"])
+    width = 1.6
+    be.add_ortho_camera(scene, (0.0, 0.0), width, width)
+    assert bpy.ops.phong.add_term_passes() == {"FINISHED"}
+    passes, _s = __import__("phong_scene").render(bpy, scene, str(blender_tmp / "cubic.exr"))
+    got = passes["Phong Color"][:, :, :3].astype(np.float64)  # row 0 = bottom
+    objects, templates = _independent(HANDMADE, "Material")
+    want = _expected_material(objects["shiny"], templates["FbxSurfacePhong"], False)
+    lights, _t = _independent(HANDMADE, "Light")
+    i0 = lights["Cubic"]["Intensity"][0] / 100
+    colour = np.array(lights["Cubic"]["Color"])
+    ambient = np.array([0.1, 0.2, 0.3])
+    n = np.array([0.0, 0.0, 1.0])
+    v = np.array([0.0, 0.0, 1.0])
+    source = np.array([0.0, 0.0, 2.0])
+    rows, cols = got.shape[:2]
+    worst = 0.0
+    for r in range(rows):
+        for c in range(cols):
+            p = np.array([(c + 0.5) / cols * width - width / 2,
+                          (r + 0.5) / rows * width - width / 2, 0.0])
+            d = np.linalg.norm(source - p)
+            l = (source - p) / d
+            reflect = 2 * (n @ l) * n - l
+            expected = (want["Irradiant Color"] + ambient * want["Ambient Object Color"]
+                        + i0 / d ** 3 * colour * (want["Object Color"] * (n @ l)
+                                                  + want["Specular Color"]
+                                                  * max(reflect @ v, 0.0) ** want["exponent"]))
+            worst = max(worst, float(np.abs(got[r, c] - np.minimum(expected, 1.0)).max()))
+    assert worst <= 1e-4, worst

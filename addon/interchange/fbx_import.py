@@ -193,7 +193,12 @@ def _image(texture, images, warnings, where):
     key = (texture.name, texture.content is not None)
     if key in images:
         return images[key]
-    image = None
+    base = _safe_name(texture.name)
+    image = next((i for i in images.get("", ()) if i.name == base or _safe_name(
+        bpy.path.basename(i.filepath)) == base), None)  # Blender's importer read it already
+    if image is not None:
+        images[key] = image
+        return image
     found = texture.resolved
     if found is not None:
         try:
@@ -330,7 +335,8 @@ def import_file(filepath, context) -> list:
                 data = fbx.read(path, geometry=True)
             _build(context, data, path, warnings)
         new = [o for o in context.scene.objects if o not in objects_before]
-        _finish(context, data, new, warnings, path)
+        fresh = [i for i in bpy.data.images if i not in before["images"]]
+        _finish(context, data, new, warnings, path, fresh)
     except FbxError:
         _rollback(before)
         raise
@@ -340,7 +346,7 @@ def import_file(filepath, context) -> list:
     return warnings
 
 
-def _finish(context, data: fbx.Scene, new, warnings, path) -> None:
+def _finish(context, data: fbx.Scene, new, warnings, path, fresh=()) -> None:
     by_name = {m.name: m for m in data.materials}
     others = sorted({m.name for m in data.materials if m.model == "OTHER"})
     if others:
@@ -357,7 +363,7 @@ def _finish(context, data: fbx.Scene, new, warnings, path) -> None:
                 apply_light(obj.data, source, warnings, path)
     sync = sync_mod.Sync(context.scene, context.view_layer)
     sync.rebuild_groups()
-    done, images = {}, {}
+    done, images = {}, {"": list(fresh)}  # "": the images Blender's importer made
     for obj in new:
         if obj.type != "MESH":
             continue
