@@ -1081,3 +1081,78 @@ def test_transparency_renders_opacity_times_the_colour(bpy_clean, tmp_path, engi
         assert err.max() <= 1e-4
     else:
         assert float((err <= 1 / 255).mean()) >= 0.995
+
+
+def test_export_of_a_blender_scene_writes_the_controls_and_says_what_it_cannot(bpy_clean,
+                                                                               tmp_path):
+    """A scene made in Blender (Apply Phong Material, lights set by hand): the file's values
+    read back with ElementTree here; a power falloff of k = 1 is 1/(0 + 1·d + 0·d²); the
+    Diffuse factor and a changed Opacity are reported / written."""
+    bpy = bpy_clean
+    scene = bpy.context.scene
+    mesh = bpy.data.meshes.new("Tile")
+    mesh.from_pydata([(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0)], [], [(0, 1, 2, 3)])
+    tile = bpy.data.objects.new("Tile", mesh)
+    scene.collection.objects.link(tile)
+    lamp = bpy.data.objects.new("Lamp", bpy.data.lights.new("Lamp", "POINT"))
+    scene.collection.objects.link(lamp)
+    lamp.location = (0.5, 0.5, 2.0)
+    lamp.data.color = (0.25, 0.5, 1.0)
+    lamp.data["phong_falloff"] = "POWER"
+    lamp.data["phong_power_k"] = 1.0
+    lamp.data["phong_diffuse"] = 0.5
+    for obj in scene.objects:
+        obj.select_set(obj is tile)
+    bpy.context.view_layer.objects.active = tile
+    assert bpy.ops.phong.apply_material() == {"FINISHED"}
+    material = tile.active_material
+    nodes = material.node_tree.nodes
+    nodes["phong_object_color"].outputs[0].default_value = (0.1, 0.2, 0.3, 1.0)
+    nodes["phong_specular_color"].outputs[0].default_value = (0.7, 0.6, 0.5, 1.0)
+    nodes["phong_exponent"].outputs[0].default_value = 42.0
+    nodes["phong_blinn"].outputs[0].default_value = 1.0
+    from phong_nodes.addon.lighting import materials  # noqa: PLC0415
+
+    materials.set_opacity(material, 0.75)
+    out = tmp_path / "made.dae"
+    from phong_nodes.addon.interchange import collada_export  # noqa: PLC0415
+
+    warnings = collada_export.export(bpy.context, str(out))
+    assert any("light Lamp: Diffuse 0.5 / Specular 1 factors" in w for w in warnings)
+    text = out.read_text()
+    _valid(text)
+    root = ET.fromstring(text)
+    for element in root.iter():
+        element.tag = element.tag.rsplit("}", 1)[-1]
+    blinn = root.find(".//effect/profile_COMMON/technique/blinn")
+    assert blinn is not None, "Blinn 1: <blinn>"
+    assert F32(_text_floats(blinn.find("diffuse/color"))).tobytes() == F32(
+        (0.1, 0.2, 0.3, 1.0)).tobytes(), "float32 exact"
+    assert _text_floats(blinn.find("ambient/color"))[:3] == _text_floats(
+        blinn.find("diffuse/color"))[:3], "the seeds' model: Ka = Object Color"
+    assert _text_floats(blinn.find("shininess/float")) == [42.0]
+    assert blinn.find("transparent").get("opaque") == "A_ONE"
+    assert _text_floats(blinn.find("transparency/float")) == [0.75]
+    point = root.find(".//light/technique_common/point")
+    assert [float(point.find(t).text) for t in ("constant_attenuation", "linear_attenuation",
+                                                "quadratic_attenuation")] == [0.0, 1.0, 0.0]
+    assert _text_floats(point.find("color")) == [0.25, 0.5, 1.0]
+    assert root.find("asset/up_axis").text == "Z_UP"
+    assert root.find("asset/unit").get("meter") == "1"
+
+
+def test_opacity_changed_after_import_is_exported(bpy_clean, tmp_path):
+    bpy = bpy_clean
+    assert bpy.ops.phong.import_collada(filepath=LIT) == {"FINISHED"}
+    from phong_nodes.addon.lighting import materials  # noqa: PLC0415
+
+    material = bpy.data.materials["Red Paint"]
+    out = tmp_path / "kept.dae"
+    assert bpy.ops.phong.export_collada(filepath=str(out)) == {"FINISHED"}
+    (mat,) = collada.load(str(out)).materials.values()
+    assert (mat.opaque, mat.transparent, mat.transparency) == ("RGB_ZERO", (0, 0, 0, 1), 0.0), \
+        "unchanged: the file's own transparency"
+    materials.set_opacity(material, 0.5)
+    assert bpy.ops.phong.export_collada(filepath=str(out)) == {"FINISHED"}
+    (mat,) = collada.load(str(out)).materials.values()
+    assert mat.opacity() == 0.5 and mat.opaque == "A_ONE"

@@ -30,7 +30,7 @@ def _color(socket):
     return tuple(float(c) for c in socket.default_value[:3])
 
 
-def _feed(lights, name):
+def _feed(lights, name, material, warnings):
     """(colour, image texture node or None) feeding the lights-group input *name*."""
     socket = lights.inputs[name]
     if not socket.is_linked:
@@ -40,6 +40,8 @@ def _feed(lights, name):
         return (1.0, 1.0, 1.0), node
     if node.bl_idname == "ShaderNodeRGB":
         return tuple(float(c) for c in node.outputs[0].default_value[:3]), None
+    warnings.append(f"material {material.name}: {name} is fed by a {node.bl_idname} node, "
+                    "which COLLADA cannot say; written black")
     return (0.0, 0.0, 0.0), None
 
 
@@ -65,7 +67,7 @@ def material_of(material, warnings) -> collada.Material:
                         f"written as {technique}")
     out.technique = technique
     for socket_name, (element, _control) in imp.INPUTS.items():
-        color, texture = _feed(lights, socket_name)
+        color, texture = _feed(lights, socket_name, material, warnings)
         out.colors[element] = (*color, 1.0)
         if texture is not None:
             path = bpy.path.abspath(texture.image.filepath) or texture.image.name
@@ -75,17 +77,22 @@ def material_of(material, warnings) -> collada.Material:
                 else "UVMap"
             out.textures[element] = collada.Texture(path, path, texcoord, texture.image.name)
     out.shininess = float(tree.nodes["phong_exponent"].outputs[0].default_value)
+    node = tree.nodes.get(imp.OPACITY_NODE)
+    opacity = float(node.outputs[0].default_value) if node is not None else 1.0
     mode = material.get(imp.OPAQUE_KEY)
     if mode in collada.OPAQUE_MODES and imp.TRANSPARENT_KEY in material.keys():
+        # the file's own transparency, unless Opacity was changed since the import (an
+        # invisible material imported opaque keeps its file's values)
         out.opaque = mode
         out.transparent = tuple(float(c) for c in material[imp.TRANSPARENT_KEY])
         if imp.TRANSPARENCY_KEY in material.keys():
             out.transparency = float(material[imp.TRANSPARENCY_KEY])
-    else:
-        node = tree.nodes.get(imp.OPACITY_NODE)
-        opacity = float(node.outputs[0].default_value) if node is not None else 1.0
-        if opacity < 1.0:
-            out.opaque, out.transparent, out.transparency = "A_ONE", (1, 1, 1, 1), opacity
+        read = min(max(out.opacity(), 0.0), 1.0)
+        if abs(read - opacity) <= 1e-6 or (read <= 0.0 and opacity == 1.0):
+            return out
+        out.transparent, out.transparency = None, None
+    if opacity < 1.0:
+        out.opaque, out.transparent, out.transparency = "A_ONE", (1.0, 1.0, 1.0, 1.0), opacity
     return out
 
 
@@ -165,7 +172,7 @@ def _node(obj, keep, doc, warnings, root):
     elif obj.type == "LIGHT":
         light = obj.data
         if light.type in ("SUN", "POINT", "SPOT") and light.name not in doc.lights:
-            doc.lights[light.name] = _light(light)
+            doc.lights[light.name] = _light(light, warnings)
         if light.type in ("SUN", "POINT", "SPOT"):
             node.instances.append(collada.Instance("light", light.name))
         else:
@@ -220,15 +227,27 @@ def _mesh(mesh) -> collada.Mesh:
     return out
 
 
-def _light(light) -> collada.Light:
+def _light(light, warnings) -> collada.Light:
     kind = {"SUN": "directional", "POINT": "point", "SPOT": "spot"}[light.type]
     intensity = float(light.get("phong_intensity", 1.0))
     out = collada.Light(light.name, light.name, kind,
                         tuple(intensity * float(c) for c in light.color))
+    factors = (float(light.get("phong_diffuse", 1.0)), float(light.get("phong_specular", 1.0)))
+    if factors != (1.0, 1.0):
+        warnings.append(f"light {light.name}: Diffuse {factors[0]:g} / Specular {factors[1]:g} "
+                        "factors have no COLLADA counterpart; written as 1")
     if kind in ("point", "spot"):
         out.constant = float(light.get("phong_constant", 0.0))
         out.linear = float(light.get("phong_linear", 0.0))
         out.quadratic = float(light.get("phong_quadratic", 1.0))
+        if str(light.get("phong_falloff", "QUADRATIC")).upper() == "POWER":
+            k = float(light.get("phong_power_k", 2.0))
+            # 1/d^k for k = 0, 1, 2 is 1/(c + l·d + q·d²) with one term 1
+            terms = {0.0: (1.0, 0.0, 0.0), 1.0: (0.0, 1.0, 0.0), 2.0: (0.0, 0.0, 1.0)}
+            if k not in terms:
+                warnings.append(f"light {light.name}: power falloff 1/d^{k:g} has no COLLADA "
+                                "counterpart; written as 1/d²")
+            out.constant, out.linear, out.quadratic = terms.get(k, (0.0, 0.0, 1.0))
     if kind == "spot":
         out.falloff_angle = math.degrees(light.spot_size)
         out.falloff_exponent = float(light.get("phong_edge_exponent", 0.0))
