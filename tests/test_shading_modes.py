@@ -675,3 +675,25 @@ def test_per_vertex_renders_what_opengl_fixed_function_gouraud_renders(bpy_clean
                   f"{100 * share:.2f}% within 2/255, median {np.median(diff):.1e}, "
                   f"max {diff.max():.1e}")
         assert both.sum() > 300 and share >= 0.99
+
+
+def test_a_material_assigned_by_hand_and_a_modifier_added_later_are_followed(bpy_clean):
+    """No operator: a slot given the Per Vertex material gets the modifier, a modifier added
+    after Phong Shading puts it last again (the depsgraph handler)."""
+    bpy = bpy_clean
+    from phong_nodes.addon.shading import modes  # noqa: PLC0415
+
+    scene, sphere, camera, lights = _scene(bpy, "VERTEX", ("POINT",))
+    other = be.add_uv_sphere(scene, "Other", (1.5, 1.0, 0.5), 0.5, None, 10, 5)
+    bpy.context.view_layer.update()
+    assert not other.modifiers
+    other.data.materials[0] = sphere.active_material
+    bpy.context.view_layer.update()
+    assert [m.node_group for m in other.modifiers] == [modes.tree_of(sphere.active_material)]
+    _domain, got = _attribute(bpy, other)
+    P, N = _vertices(bpy, other)
+    want, _near = _reference(scene, other, camera, lights, P, N)
+    assert np.abs(got - want).max() <= VERTEX_TOL
+    other.modifiers.new("Later", "SUBSURF")
+    bpy.context.view_layer.update()
+    assert [m.type for m in other.modifiers] == ["SUBSURF", "NODES"]

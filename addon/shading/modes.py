@@ -26,6 +26,7 @@ Everything is data of the file: a saved file renders the same without the extens
 from __future__ import annotations
 
 import bpy
+from bpy.app.handlers import persistent
 
 from ...node_groups import shading_modes as model
 from .. import loader
@@ -144,6 +145,61 @@ def refresh(scene=None) -> int:
     for material in todo:
         update(material, uses[material.as_pointer()], trees.get(material.as_pointer()))
     return len(todo)
+
+
+_BUSY: list = []
+
+
+@persistent
+def follow_objects(_scene, depsgraph=None) -> None:
+    """After an edit of mesh objects: one that got a Per Vertex / Per Face material (a slot
+    assigned by hand) gets its modifier, and a modifier the user added after Phong Shading
+    puts Phong Shading last again.  Only the updated objects are looked at."""
+    if _BUSY or depsgraph is None or not (depsgraph.id_type_updated("OBJECT")
+                                          or depsgraph.id_type_updated("MESH")):
+        return
+    objects, meshes = set(), set()
+    for change in depsgraph.updates:
+        original = getattr(change.id, "original", None)
+        if isinstance(original, bpy.types.Object):
+            objects.add(original)
+        elif isinstance(original, bpy.types.Mesh):  # a slot of the mesh was assigned
+            meshes.add(original.as_pointer())
+    if meshes:
+        objects.update(o for o in bpy.data.objects
+                       if o.type == "MESH" and o.data.as_pointer() in meshes)
+    todo = {}
+    for obj in objects:
+        if obj.type != "MESH" or obj.library is not None:
+            continue
+        for slot in obj.material_slots:
+            material = slot.material
+            if material is None or mode_of(material) == PIXEL:
+                continue
+            if not materials.is_phong_material(material):
+                continue
+            modifiers = obj.modifiers
+            mine = [m for m in modifiers if m.type == "NODES" and m.node_group is not None
+                    and m.node_group.get(TREE_MATERIAL_KEY) == material]
+            if not mine or modifiers[-1].type != "NODES" or modifiers[-1].node_group is None \
+                    or modifiers[-1].node_group.get(TREE_MATERIAL_KEY) is None:
+                todo[material.name] = material
+    if not todo:
+        return
+    _BUSY.append(True)
+    try:
+        for material in todo.values():
+            update(material)
+    finally:
+        _BUSY.pop()
+
+
+def register():
+    bpy.app.handlers.depsgraph_update_post.append(follow_objects)
+
+
+def unregister():
+    bpy.app.handlers.depsgraph_update_post.remove(follow_objects)
 
 
 def _light_set(material):

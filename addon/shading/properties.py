@@ -35,9 +35,11 @@ def register():
     forwarding.set_callback(_changed)
     bpy.utils.register_class(PhongMaterialSettings)
     bpy.types.Material.phong = PointerProperty(type=PhongMaterialSettings)
+    modes.register()
 
 
 def unregister():
+    modes.unregister()
     del bpy.types.Material.phong
     bpy.utils.unregister_class(PhongMaterialSettings)
     forwarding.set_callback(None)
