@@ -542,3 +542,84 @@ def test_cubic_decay_point_light_renders_i0_over_d_cubed(bpy_clean, blender_tmp)
                                                   * max(reflect @ v, 0.0) ** want["exponent"]))
             worst = max(worst, float(np.abs(got[r, c] - np.minimum(expected, 1.0)).max()))
     assert worst <= 1e-4, worst
+
+
+def _handmade_variant(tmp_path, name, edits, extra_objects="", extra_connections=""):
+    text = open(_path(HANDMADE), encoding="utf-8").read()
+    for old, new in edits:
+        assert old in text
+        text = text.replace(old, new)
+    text = text.replace("\nConnections:  {\n", "\nConnections:  {\n" + extra_connections)
+    text = text.replace("\t}\n}\nConnections:", "\t}\n" + extra_objects + "}\nConnections:")
+    path = tmp_path / name
+    path.write_text(text, encoding="utf-8")
+    return str(path)
+
+
+def test_area_light_becomes_a_point_light_with_one_warning(tmp_path):
+    from phong_nodes.core import fbx
+    path = _handmade_variant(tmp_path, "area.fbx", [('P: "LightType", "enum", "", "",2',
+                                                     'P: "LightType", "enum", "", "",3')])
+    scene = fbx.read(path)
+    light = scene.light("SoftSpot")
+    assert (light.fbx_type, light.type) == (3, "POINT")
+    assert [w for w in scene.warnings if "area light imported as a point light" in w] and \
+        len(scene.warnings) == 1
+
+
+MISSING_TEXTURE = '''	Texture: 800, "Texture::missing", "" {
+		Type: "TextureVideoClip"
+		Version: 202
+		TextureName: "Texture::missing"
+		FileName: "C:\\\\nowhere\\\\missing_diffuse.png"
+		RelativeFilename: "missing_diffuse.png"
+	}
+'''
+
+
+def test_missing_texture_is_one_warning_and_the_rest_imports(bpy_clean, tmp_path, capfd):
+    bpy = bpy_clean
+    path = _handmade_variant(tmp_path, "missing.fbx", [], MISSING_TEXTURE,
+                             '\tC: "OP",800,300, "DiffuseColor"\n')
+    capfd.readouterr()
+    assert bpy.ops.phong.import_fbx(filepath=path) == {"FINISHED"}
+    logged = "".join(capfd.readouterr())
+    assert logged.count("missing_diffuse.png not found") == 1, logged
+    material = bpy.data.materials["Phong shiny"]
+    colour = material.node_tree.nodes["phong_lights"].inputs["Object Color"].links[0].from_node
+    assert tuple(colour.outputs[0].default_value)[:3] == pytest.approx(
+        tuple(np.float32((0.4, 0.3, 0.2))), abs=0), "the colour, without the missing map"
+
+
+def test_hostile_counts_and_names_get_one_clear_error_in_bounded_time(bpy_clean, tmp_path):
+    """An array that claims a billion values, and an embedded texture named to escape its
+    folder: one FbxError (or the import, without writing outside a temporary folder), fast."""
+    import time
+    bpy = bpy_clean
+    from phong_nodes.addon.interchange import fbx_import
+    from phong_nodes.core import fbx
+    path = _handmade_variant(tmp_path, "counts.fbx", [("Vertices: *12 {", "Vertices: *999999999 {")])
+    start = time.perf_counter()
+    try:
+        fbx.read(path, geometry=True)
+    except fbx.FbxError as error:
+        assert "counts.fbx" in str(error)
+    assert time.perf_counter() - start < 30
+    assert fbx_import._safe_name("../../../etc/passwd") == "passwd"
+    assert fbx_import._safe_name("C:\\\\Windows\\\\x.png") == "x.png"
+    assert fbx_import._safe_name("..") == "texture" and fbx_import._safe_name("") == "texture"
+    assert "/" not in fbx_import._safe_name("a/b/\x00c d.png")
+
+
+def test_embedded_textures_on_the_ufbx_path(bpy_clean, monkeypatch):
+    """The same file with its scene built from ufbx (as for an ASCII file): the embedded
+    textures are unpacked from the file into packed images."""
+    bpy = bpy_clean
+    from phong_nodes.addon.interchange import fbx_import
+    monkeypatch.setattr(fbx_import, "_blender_reads", lambda data: False)
+    name = "blender_293_embedded_textures_7400_binary.fbx"
+    assert bpy.ops.phong.import_fbx(filepath=_path(name)) == {"FINISHED"}
+    lights = bpy.data.materials["Phong Material.001"].node_tree.nodes["phong_lights"]
+    image = lights.inputs["Object Color"].links[0].from_node.inputs[1].links[0].from_node.image
+    assert image.packed_file is not None and image.name == "checkerboard_diffuse.png"
+    assert tuple(image.size) == (128, 128)  # the PNG's IHDR in the file (read by hand)
