@@ -3,7 +3,7 @@
 (UV spheres, 32 segments, 16 rings, each its own mesh, one shared source material), one point
 light: Principled BSDF, Phong Per Pixel, Phong Per Vertex and Phong Per Face.
 
-    .venv/bin/python benchmarks/shading_modes.py [--objects 1000] [--moves 9]
+    .venv/bin/python -m phong_nodes.benchmarks.shading_modes [--objects 1000] [--moves 9]
 
 Each case is built in a fresh file in this one process; the figure is the median over
 *moves* light moves of ``view_layer.update()`` (the extension's depsgraph handler included),
@@ -20,17 +20,17 @@ import statistics
 import sys
 import time
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, os.path.join(os.path.dirname(HERE), "tests"))
+from .measure import worker_setup
 
 
-def _build(bpy, be, case, count):
-    be.reset_empty_file()
+def _build(bpy, case, count):
+    bpy.ops.wm.read_homefile(use_empty=True)
     scene = bpy.context.scene
+    from phong_nodes.addon import compat  # noqa: PLC0415
     from phong_nodes.addon.scene import meshes  # noqa: PLC0415
 
     material = bpy.data.materials.new("Shared")
-    be.compat().new_material_tree(material)
+    compat.new_material_tree(material)
     side = int(count ** 0.5 + 0.999)
     objects = []
     for index in range(count):
@@ -74,16 +74,13 @@ def main(argv=None) -> int:
     parser.add_argument("--objects", type=int, default=1000)
     parser.add_argument("--moves", type=int, default=9)
     args = parser.parse_args(argv)
-    import blender_env as be  # noqa: PLC0415  (tests/: the extension enabled from this tree)
-
-    be.enable()
-    bpy = be.import_bpy()
+    bpy = worker_setup()  # the extension registered from the source tree
     load_before = os.getloadavg()
     result = {"objects": args.objects, "vertices_per_object": 482, "moves": args.moves,
               "bpy": bpy.app.version_string, "update_s": {}, "build_s": {}}
     for case in ("principled", "pixel", "vertex", "face"):
         t0 = time.perf_counter()
-        _scene, light = _build(bpy, be, case, args.objects)
+        _scene, light = _build(bpy, case, args.objects)
         result["build_s"][case] = time.perf_counter() - t0
         times = _moves(bpy, light, args.moves)
         result["update_s"][case] = {"median": statistics.median(times), "min": min(times),
@@ -92,7 +89,6 @@ def main(argv=None) -> int:
     result["ratio_to_pixel"] = {k: v["median"] / pixel for k, v in result["update_s"].items()}
     result["load_average"] = [load_before, os.getloadavg()]
     print(json.dumps(result, indent=1))
-    be.disable()
     return 0
 
 
