@@ -404,12 +404,12 @@ def _matrix(m) -> tuple:
 
 def _mesh_data(umesh):
     import numpy as np
-    sizes = np.array([f.num_indices for f in items(umesh.faces)], dtype=np.int64)
-    starts = np.array([f.index_begin for f in items(umesh.faces)], dtype=np.int64)
+    faces = np.asarray(umesh.faces, dtype=np.int64).reshape(-1, 2)  # (index_begin, count)
+    starts, sizes = faces[:, 0], faces[:, 1]
     keep = sizes >= 3  # points and lines are no faces
     sizes, starts = sizes[keep], starts[keep]
-    loops = (np.concatenate([np.arange(b, b + n) for b, n in zip(starts, sizes)])
-             if len(sizes) else np.zeros(0, dtype=np.int64))
+    firsts = np.cumsum(sizes) - sizes
+    loops = np.repeat(starts, sizes) + np.arange(int(sizes.sum())) - np.repeat(firsts, sizes)
     indices = np.asarray(umesh.vertex_indices, dtype=np.int64)
     materials = (np.asarray(umesh.face_material, dtype=np.int64)[keep]
                  if len(umesh.face_material) else np.zeros(len(sizes), dtype=np.int64))

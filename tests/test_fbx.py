@@ -623,3 +623,23 @@ def test_embedded_textures_on_the_ufbx_path(bpy_clean, monkeypatch):
     image = lights.inputs["Object Color"].links[0].from_node.inputs[1].links[0].from_node.image
     assert image.packed_file is not None and image.name == "checkerboard_diffuse.png"
     assert tuple(image.size) == (128, 128)  # the PNG's IHDR in the file (read by hand)
+
+
+@pytest.mark.parametrize("name", ["maya_cube_7500_binary.fbx", "maya_cube_7500_ascii.fbx"])
+def test_failure_after_the_scene_was_made_removes_everything(bpy_clean, monkeypatch, name):
+    """A failure late in the import (here: converting a material) is one FbxError, and every
+    object, mesh, material, image, light and node group the import had made is removed, on
+    Blender's importer's path and on ufbx's."""
+    bpy = bpy_clean
+    from phong_nodes.addon.interchange import fbx_import
+
+    def broken(*_args):
+        raise ValueError("broken on purpose")
+
+    monkeypatch.setattr(fbx_import, "apply_material", broken)
+    kinds = ("objects", "meshes", "materials", "lights", "cameras", "images", "node_groups",
+             "collections", "worlds", "actions")
+    before = {k: set(getattr(bpy.data, k)) for k in kinds}
+    with pytest.raises(fbx_import.FbxError, match="broken on purpose"):
+        fbx_import.import_file(_path(name), bpy.context)
+    assert {k: set(getattr(bpy.data, k)) for k in kinds} == before

@@ -124,7 +124,7 @@ def _mesh(item: fbx.MeshData, name, warnings, path):
         if hasattr(mesh, "use_auto_smooth"):  # Blender < 4.1
             mesh.use_auto_smooth = True
         mesh.polygons.foreach_set("use_smooth", [True] * len(mesh.polygons))
-        mesh.normals_split_custom_set([tuple(v) for v in np.asarray(normals, np.float32)])
+        mesh.normals_split_custom_set(np.asarray(normals, np.float32))
     return mesh
 
 
