@@ -72,6 +72,18 @@ def _base_name(name: str) -> str:
     return base if dot and suffix.isdigit() and len(suffix) == 3 else name
 
 
+def _binary_7100(path) -> bool:
+    """Whether the file says it is binary FBX 7100 or later (its header: the magic
+    "Kaydara FBX Binary  \\0", two bytes, the version as little-endian uint32)."""
+    try:
+        with open(path, "rb") as handle:
+            head = handle.read(27)
+    except OSError:
+        return False
+    return (head[:21] == b"Kaydara FBX Binary  \x00" and len(head) == 27
+            and int.from_bytes(head[23:27], "little") >= 7100)
+
+
 def _blender_reads(data: fbx.Scene) -> bool:
     return not data.ascii and data.version >= 7100
 
@@ -314,8 +326,7 @@ def import_file(filepath, context) -> list:
     """Import the FBX file *filepath* into *context*'s scene; returns the warnings.  Raises
     :class:`core.fbx.FbxError` (and leaves the scene as it was) when it cannot."""
     path = os.path.abspath(bpy.path.abspath(filepath))
-    head = fbx.read(path)
-    data = head if _blender_reads(head) else fbx.read(path, geometry=True)
+    data = fbx.read(path, geometry=not _binary_7100(path))
     warnings = list(data.warnings)
     before = _snapshot()
     objects_before = set(context.scene.objects)
