@@ -643,3 +643,25 @@ def test_failure_after_the_scene_was_made_removes_everything(bpy_clean, monkeypa
     with pytest.raises(fbx_import.FbxError, match="broken on purpose"):
         fbx_import.import_file(_path(name), bpy.context)
     assert {k: set(getattr(bpy.data, k)) for k in kinds} == before
+
+
+def test_a_binary_file_ufbx_cannot_read_is_still_imported_by_blender(bpy_clean, monkeypatch,
+                                                                       capfd):
+    """Never refuse what a common reader opens: when ufbx fails on a binary 7.x file (here:
+    made to), Blender's importer brings the scene in and its materials become Phong materials
+    as Apply Phong Material makes them, with one warning saying so."""
+    bpy = bpy_clean
+    from phong_nodes.core import fbx
+
+    def fails(path, geometry=False, timeout=None):
+        raise fbx.FbxError(path, "not readable as FBX (made to fail)")
+
+    monkeypatch.setattr(fbx, "read", fails)
+    capfd.readouterr()
+    assert bpy.ops.phong.import_fbx(filepath=_path("maya_cube_7500_binary.fbx")) == {"FINISHED"}
+    logged = "".join(capfd.readouterr())
+    assert logged.count("made to fail") == 1 and "Apply Phong Material" in logged
+    cube = next(o for o in bpy.context.scene.objects if o.type == "MESH")
+    assert cube.active_material.name.startswith("Phong lambert1")
+    with pytest.raises(RuntimeError, match="made to fail"):
+        bpy.ops.phong.import_fbx(filepath=_path("maya_cube_7500_ascii.fbx"))

@@ -179,8 +179,13 @@ def _build(context, data: fbx.Scene, path, warnings) -> None:
                     obj.material_slots[index].link = "OBJECT"
                     obj.material_slots[index].material = mats.get(name)
         made[node.id] = obj
+    for obj in context.view_layer.objects:  # the imported objects selected, as Blender does
+        obj.select_set(False)
     for node in data.nodes:
         obj = made[node.id]
+        if obj.name in context.view_layer.objects:
+            obj.select_set(True)
+            context.view_layer.objects.active = obj
         if node.parent is not None and node.parent in made:
             obj.parent = made[node.parent]
         obj.matrix_basis = Matrix(node.matrix)
@@ -326,7 +331,18 @@ def import_file(filepath, context) -> list:
     """Import the FBX file *filepath* into *context*'s scene; returns the warnings.  Raises
     :class:`core.fbx.FbxError` (and leaves the scene as it was) when it cannot."""
     path = os.path.abspath(bpy.path.abspath(filepath))
-    data = fbx.read(path, geometry=not _binary_7100(path))
+    binary, unread = _binary_7100(path), False
+    try:
+        data = fbx.read(path, geometry=not binary)
+    except FbxError as error:
+        if not (binary and _ensure_fbx_addon()):
+            raise
+        # never refuse what Blender's importer opens: its scene, its materials converted as
+        # Apply Phong Material converts them (the file's own values could not be read)
+        unread = True
+        data = fbx.Scene(path, 7100, False, "", (0.0, 0.0, 0.0), [], [], [
+            f"{error}; imported by Blender's FBX importer, its materials converted as Apply "
+            "Phong Material does (not the file's own Phong values)"])
     warnings = list(data.warnings)
     before = _snapshot()
     objects_before = set(context.scene.objects)
@@ -342,12 +358,14 @@ def import_file(filepath, context) -> list:
             if not used_blender:
                 _rollback(before)
         if not used_blender:
+            if unread:
+                raise FbxError(path, "neither ufbx nor Blender's FBX importer could read it")
             if not data.nodes:
                 data = fbx.read(path, geometry=True)
             _build(context, data, path, warnings)
         new = [o for o in context.scene.objects if o not in objects_before]
         fresh = [i for i in bpy.data.images if i not in before["images"]]
-        _finish(context, data, new, warnings, path, fresh)
+        _finish(context, data, new, warnings, path, fresh, convert_all=unread)
     except FbxError:
         _rollback(before)
         raise
@@ -357,7 +375,7 @@ def import_file(filepath, context) -> list:
     return warnings
 
 
-def _finish(context, data: fbx.Scene, new, warnings, path, fresh=()) -> None:
+def _finish(context, data: fbx.Scene, new, warnings, path, fresh=(), convert_all=False):
     by_name = {m.name: m for m in data.materials}
     others = sorted({m.name for m in data.materials if m.model == "OTHER"})
     if others:
@@ -380,6 +398,9 @@ def _finish(context, data: fbx.Scene, new, warnings, path, fresh=()) -> None:
             continue
         sources = [by_name.get(slot.material.name) or by_name.get(_base_name(slot.material.name))
                    if slot.material else None for slot in obj.material_slots]
+        if convert_all:  # ufbx could not read the file: Apply Phong Material's conversion
+            sync.apply(obj)
+            continue
         if not any(s is not None and s.model != "OTHER" for s in sources):
             continue
         slots = list(obj.material_slots)
@@ -397,6 +418,8 @@ def _finish(context, data: fbx.Scene, new, warnings, path, fresh=()) -> None:
     sync.relink(context.scene.objects)
     sync.finish()
     sync_mod.remember(context.scene, context.view_layer)
+    if convert_all:
+        return
     world = context.scene.world
     if world is None:
         world = context.scene.world = bpy.data.worlds.new("World")
