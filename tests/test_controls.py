@@ -474,3 +474,39 @@ def test_panels_show_falloff_power_k_and_opacity(bpy_clean):
     props = _draw(panels.MATERIAL_PT_phong, material=plane.active_material, scene=scene)
     owner = next(o for o, _a, text in props if text == "Opacity")
     assert owner == plane.active_material.node_tree.nodes["phong_opacity"].outputs[0]
+
+
+# -- the comparison's reference ------------------------------------------------------------
+
+def test_the_comparison_reference_knows_the_power_falloff():
+    """core/compare.light_at (the reference of Compare / the bake) for a power light: i0/d^k,
+    and the spot's cone and edge, against the formula worked out here."""
+    from phong_nodes.core import compare  # noqa: PLC0415
+
+    P = np.array([[0.0, 0.0, 0.0], [1.0, 0.5, 0.0], [3.0, 0.0, 0.0], [0.2, -0.1, 1.5]])
+    light = {"type": "point", "position": [0.0, 0.0, 2.0], "intensity": 1.5, "quadratic": 7.0,
+             "linear": 7.0, "constant": 7.0, "falloff": "power", "power_k": 1.7}
+    d = np.linalg.norm(P - [0.0, 0.0, 2.0], axis=-1)
+    _ell, intensity, _edge = compare.light_at(light, P)
+    np.testing.assert_allclose(intensity, 1.5 / d ** 1.7, rtol=1e-12)
+    spot = {**light, "type": "spot", "direction": [0.0, 0.0, -1.0], "half_angle": 40.0,
+            "edge_exponent": 3.0, "penumbra": 0.0}
+    cos_w = (2.0 - P[:, 2]) / d
+    want = np.where(cos_w >= math.cos(math.radians(40.0)), 1.5 / d ** 1.7 * cos_w ** 3, 0.0)
+    np.testing.assert_allclose(compare.light_at(spot, P)[1], want, rtol=1e-12)
+    assert want[2] == 0.0 and want[0] > 0.0, "one point outside the cone, one inside"
+    quadratic = {**light, "falloff": "quadratic"}
+    np.testing.assert_allclose(compare.light_at(quadratic, P)[1], 1.5 / (7 * d * d + 7 * d + 7))
+
+
+def test_describe_gives_the_reference_the_falloff(bpy_clean):
+    bpy = bpy_clean
+    from phong_nodes.addon.scene import describe  # noqa: PLC0415  (needs bpy)
+
+    scene, plane, light = _falloff_scene(bpy, "cycles", "SPOT")
+    layer = scene.view_layers[0]
+    data = describe.describe(scene, layer, [plane])
+    assert data["lights"][0]["falloff"] == "quadratic"
+    _set_power(bpy, light, 2.5)
+    data = describe.describe(scene, layer, [plane])
+    assert (data["lights"][0]["falloff"], data["lights"][0]["power_k"]) == ("power", 2.5)
