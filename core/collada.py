@@ -175,6 +175,32 @@ class Mesh:
     normals: np.ndarray | None = None          # (corners, 3)
     uvs: dict = field(default_factory=dict)    # set number -> (corners, 2)
     colors: dict = field(default_factory=dict)  # set number -> (corners, 4)
+    from_strips: bool = False       # faces of <tristrips> / <trifans> (stitched strips)
+
+
+def drop_degenerate(mesh: "Mesh") -> int:
+    """Remove from *mesh* the faces that use one vertex twice (the stitches between
+    triangle strips, which Blender's meshes cannot hold); returns how many."""
+    sizes = np.asarray(mesh.face_sizes, dtype=np.int64)
+    if not len(sizes):
+        return 0
+    face_of = np.repeat(np.arange(len(sizes)), sizes)
+    keys = face_of * (int(mesh.corners.max(initial=0)) + 1) + mesh.corners
+    unique_faces = face_of[np.unique(keys, return_index=True)[1]]
+    distinct = np.bincount(unique_faces, minlength=len(sizes))
+    keep = distinct == sizes
+    dropped = int((~keep).sum())
+    if not dropped:
+        return 0
+    corner_keep = np.repeat(keep, sizes)
+    mesh.face_sizes = sizes[keep]
+    mesh.face_symbols = [s for s, k in zip(mesh.face_symbols, keep) if k]
+    mesh.corners = mesh.corners[corner_keep]
+    if mesh.normals is not None:
+        mesh.normals = mesh.normals[corner_keep]
+    mesh.uvs = {k: v[corner_keep] for k, v in mesh.uvs.items()}
+    mesh.colors = {k: v[corner_keep] for k, v in mesh.colors.items()}
+    return dropped
 
 
 @dataclass
@@ -391,6 +417,9 @@ class _Reader:
                     vertex_extra[semantic] = got[0]
         if positions is not None and len(positions) == 0:
             positions = np.zeros((0, 3))
+        if positions is not None and positions.shape[1] == 2:
+            self.doc.warn(f"{where}: 2D positions read with z = 0")
+            positions = np.hstack([positions, np.zeros((len(positions), 1))])
         if positions is None or positions.shape[1] < 3:
             self.doc.warn(f"{where}: no positions; left out")
             return None
@@ -411,6 +440,7 @@ class _Reader:
         out = Mesh(ident, name, positions, np.concatenate(acc["sizes"]),
                    [s for chunk in acc["face_symbols"] for s in chunk], acc["symbols"],
                    np.concatenate(acc["corners"]))
+        out.from_strips = acc.get("strips", False)
         if acc["has_normals"]:
             out.normals = np.concatenate(acc["normals"])
         for key, target in (("uvs", out.uvs), ("colors", out.colors)):
@@ -494,6 +524,7 @@ class _Reader:
                 size_parts.append(np.full(n, 3, np.int64))
             if not parts:
                 return
+            acc["strips"] = True
             rows = np.concatenate(parts)
             sizes = np.concatenate(size_parts)
         keep = sizes >= 3
@@ -511,22 +542,18 @@ class _Reader:
         position_index = rows[:, vertex_offset]
         sources = {}
         for semantic, source, offset, channel in inputs:
-            if semantic == "VERTEX":
-                continue
+            if semantic not in ("NORMAL", "TEXCOORD", "COLOR"):
+                continue    # VERTEX above; TANGENT, CUSTOM ... the model does not read
             got = self.source(source, label)
             if got is None:
                 continue
             sources[(semantic, channel, offset)] = got[0]
         bad = (position_index < 0) | (position_index >= len(positions))
-        for (semantic, channel, offset), data in sources.items():
-            if semantic in ("NORMAL", "TEXCOORD", "COLOR"):
-                index = rows[:, offset]
-                bad |= (index < 0) | (index >= len(data))
         if np.any(bad):
             face_of = np.repeat(np.arange(len(sizes)), sizes)
             bad_faces = np.unique(face_of[bad])
-            self.doc.warn(f"{label}: {len(bad_faces)} face(s) with indices out of range "
-                          "left out")
+            self.doc.warn(f"{label}: {len(bad_faces)} face(s) with position indices out of "
+                          "range left out")
             keep = np.ones(len(sizes), bool)
             keep[bad_faces] = False
             mask = np.repeat(keep, sizes)
@@ -541,8 +568,15 @@ class _Reader:
         acc["face_symbols"].append([acc["symbols"].index(symbol)] * len(sizes))
         acc["corners"].append(position_index)
         normals = None
+        missing = []
         for (semantic, channel, offset), data in sources.items():
             index = rows[:, offset]
+            outside = (index < 0) | (index >= len(data))
+            if np.any(outside):   # the corner keeps its position; this value is left out
+                missing.append(f"{int(outside.sum())} {semantic}")
+                data = np.vstack([data, np.full((1, data.shape[1]),
+                                                1.0 if semantic == "COLOR" else 0.0)])
+                index = np.where(outside, len(data) - 1, index)
             if semantic == "NORMAL" and normals is None and data.shape[1] >= 3:
                 normals = data[index, :3]
             elif semantic == "TEXCOORD" and data.shape[1] >= 2:
@@ -562,6 +596,9 @@ class _Reader:
         elif acc["has_normals"]:
             acc["normals"].append(np.zeros((len(rows), 3)))
         acc["n_corners"] += len(rows)
+        if missing:
+            self.doc.warn(f"{label}: indices out of range for {', '.join(missing)} corner "
+                          "value(s); those values left out (zero normal, UV (0, 0), white)")
 
     # effects and materials -------------------------------------------------------------
     def params(self, *scopes):
@@ -718,11 +755,15 @@ class _Reader:
                     return self.texture(src.text.strip(), texcoord, context, depth + 1)
             if surface is not None:
                 init = surface.find("init_from")
-                if init is not None and init.text:
+                if init is not None and init.text and init.text.strip():
                     return self.image(init.text.strip(), texcoord, where)
                 inst = surface.find("init_from/ref")
                 if inst is not None and inst.text:
                     return self.image(inst.text.strip(), texcoord, where)
+                # init_planar / init_volume / init_cube: <all ref="image"/> (or the first face)
+                ref = next((e.get("ref") for e in surface.iter() if e.get("ref")), None)
+                if ref:
+                    return self.image(ref, texcoord, where)
         return self.image(name, texcoord, where, liberal=True)
 
     def image(self, ident, texcoord, where, liberal=False):

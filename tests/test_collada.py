@@ -237,7 +237,21 @@ def test_indices_out_of_range_and_absurd_counts_are_left_out_with_a_warning():
     doc = collada.parse_bytes(_tri_mesh("0 1 2 0 1 7 -1 1 2"))
     mesh = doc.meshes["g"]
     assert mesh.corners.tolist() == [0, 1, 2], "only the face whose indices exist"
-    assert any("2 face(s) with indices out of range" in w for w in doc.warnings)
+    assert any("2 face(s) with position indices out of range" in w for w in doc.warnings)
+    # a texture coordinate index out of range (Maya wrote such files, Khronos's suite has
+    # them): the face stays, that corner's UV is left out
+    data = _tri_mesh("0 0 1 1 2 9").replace(
+        b'<input semantic="VERTEX" source="#v" offset="0"/>',
+        b'<input semantic="VERTEX" source="#v" offset="0"/>'
+        b'<input semantic="TEXCOORD" source="#uv" offset="1" set="0"/>').replace(
+        b'<vertices', b'<source id="uv"><float_array id="ua" count="4">0.5 0.5 1 1</float_array>'
+        b'<technique_common><accessor source="#ua" count="2" stride="2"/></technique_common>'
+        b'</source><vertices')
+    doc = collada.parse_bytes(data)
+    mesh = doc.meshes["g"]
+    assert mesh.corners.tolist() == [0, 1, 2]
+    assert mesh.uvs[0].tolist() == [[0.5, 0.5], [1.0, 1.0], [0.0, 0.0]]
+    assert any("indices out of range for 1 TEXCOORD corner value(s)" in w for w in doc.warnings)
     start = time.perf_counter()
     doc = collada.parse_bytes(_tri_mesh("0 1 2", count="999999999999", accessor_count="4000000000"))
     assert len(doc.meshes["g"].face_sizes) == 1, "counts are not trusted for allocation"
@@ -1156,3 +1170,50 @@ def test_opacity_changed_after_import_is_exported(bpy_clean, tmp_path):
     assert bpy.ops.phong.export_collada(filepath=str(out)) == {"FINISHED"}
     (mat,) = collada.load(str(out)).materials.values()
     assert mat.opacity() == 0.5 and mat.opaque == "A_ONE"
+
+
+def _strip_dae():
+    """Two strips stitched into one with repeated vertices (the usual way to join strips):
+    0 1 2 3 | 3 4 (stitch) | 4 5 6 7."""
+    return _doc("""<library_geometries><geometry id="g" name="stitched"><mesh>
+      <source id="pos"><float_array id="pa" count="24">0 0 0 1 0 0 0 1 0 1 1 0
+        3 0 0 4 0 0 3 1 0 4 1 0</float_array>
+      <technique_common><accessor source="#pa" count="8" stride="3"/></technique_common></source>
+      <source id="nor"><float_array id="na" count="3">0 0 1</float_array>
+      <technique_common><accessor source="#na" count="1" stride="3"/></technique_common></source>
+      <vertices id="v"><input semantic="POSITION" source="#pos"/></vertices>
+      <tristrips count="1"><input semantic="VERTEX" source="#v" offset="0"/>
+      <input semantic="NORMAL" source="#nor" offset="1"/>
+      <p>0 0 1 0 2 0 3 0 3 0 4 0 4 0 5 0 6 0 7 0</p></tristrips></mesh></geometry>
+      </library_geometries><library_visual_scenes><visual_scene id="vs"><node id="n" name="n">
+      <instance_geometry url="#g"/></node></visual_scene></library_visual_scenes>
+      <scene><instance_visual_scene url="#vs"/></scene>""")
+
+
+def test_stitched_strips_lose_their_degenerate_triangles():
+    doc = collada.parse_bytes(_strip_dae())
+    mesh = doc.meshes["g"]
+    assert len(mesh.face_sizes) == 8, "10 strip vertices: 8 triangles"
+    assert collada.drop_degenerate(mesh) == 4, "the 4 triangles of the stitch"
+    def cyclic(t):   # the same triangle and winding, whichever corner comes first
+        k = t.index(min(t))
+        return t[k:] + t[:k]
+
+    tris = [cyclic(t) for t in mesh.corners.reshape(-1, 3).tolist()]
+    # OpenGL's strip rule: triangle n is (n, n+1, n+2) for even n, (n+1, n, n+2) for odd n
+    assert tris == [cyclic(t) for t in ([0, 1, 2], [2, 1, 3], [4, 5, 6], [6, 5, 7])]
+    assert mesh.normals.shape == (12, 3) and len(mesh.face_symbols) == 4
+
+
+def test_stitched_strips_import_into_a_valid_mesh(bpy_clean, tmp_path, capfd):
+    bpy = bpy_clean
+    path = tmp_path / "strips.dae"
+    path.write_bytes(_strip_dae())
+    capfd.readouterr()
+    assert bpy.ops.phong.import_collada(filepath=str(path)) == {"FINISHED"}
+    mesh = bpy.data.objects["n"].data
+    assert (len(mesh.polygons), len(mesh.edges)) == (4, 10)
+    assert not mesh.validate(verbose=False), "nothing left for Blender to repair"
+    assert "using a vertex twice" not in "".join(capfd.readouterr()), "strips: no warning"
+    normals = np.array([tuple(n.vector) for n in mesh.corner_normals])
+    np.testing.assert_allclose(normals, np.tile((0, 0, 1), (12, 1)), atol=1e-6)

@@ -269,6 +269,10 @@ class _Builder:
 
     # -- meshes -------------------------------------------------------------------------
     def mesh(self, source: collada.Mesh):
+        dropped = collada.drop_degenerate(source)
+        if dropped and not source.from_strips:
+            self.doc.warn(f"geometry {source.name}: {dropped} face(s) using a vertex twice "
+                          "left out")
         mesh = self._new(bpy.data.meshes, source.name)
         m = self.doc.meter
         positions = np.asarray(source.positions, dtype=np.float64) * m
@@ -292,16 +296,19 @@ class _Builder:
             attribute = mesh.color_attributes.new(name, "FLOAT_COLOR", "CORNER")
             attribute.data.foreach_set("color",
                                        source.colors[channel].astype(np.float32).reshape(-1))
-        mesh.update()
-        if source.normals is not None and len(sizes):
+        mesh.update(calc_edges=True)
+        if mesh.validate(verbose=False):
+            self.doc.warn(f"geometry {source.name}: invalid faces (repeated faces or edges) "
+                          "repaired by Blender")
+        if source.normals is not None and len(mesh.loops) != len(source.corners):
+            self.doc.warn(f"geometry {source.name}: its normals left out (Blender repaired "
+                          "its faces)")
+        elif source.normals is not None and len(sizes):
             normals = np.asarray(source.normals, dtype=np.float64)
             length = np.linalg.norm(normals, axis=1, keepdims=True)
             normals = np.where(length > 0, normals / np.where(length > 0, length, 1), 0.0)
-            mesh.polygons.foreach_set("use_smooth", np.ones(len(sizes), dtype=bool))
+            mesh.polygons.foreach_set("use_smooth", np.ones(len(mesh.polygons), dtype=bool))
             mesh.normals_split_custom_set([tuple(n) for n in normals])
-        if mesh.validate(verbose=False):
-            self.doc.warn(f"geometry {source.name}: invalid faces (repeated corners or "
-                          "edges) repaired by Blender")
         mesh["phong_collada_symbols"] = list(source.symbols)
         return mesh
 
