@@ -1217,3 +1217,35 @@ def test_stitched_strips_import_into_a_valid_mesh(bpy_clean, tmp_path, capfd):
     assert "using a vertex twice" not in "".join(capfd.readouterr()), "strips: no warning"
     normals = np.array([tuple(n.vector) for n in mesh.corner_normals])
     np.testing.assert_allclose(normals, np.tile((0, 0, 1), (12, 1)), atol=1e-6)
+
+
+def test_instances_of_one_mesh_binding_different_materials(bpy_clean, tmp_path):
+    bpy = bpy_clean
+    text = open(LIT).read()
+    text = text.replace("</library_materials>",
+                        '<material id="blue-id" name="Blue"><instance_effect url="#fx-red">'
+                        '<setparam ref="spec"><float3>0 0 1</float3></setparam></instance_effect>'
+                        "</material></library_materials>")
+    text = text.replace('<node id="n-amb"',
+                        '<node id="n-quad2" name="Second quad"><translate>0 0 5</translate>'
+                        '<instance_geometry url="#quad"><bind_material><technique_common>'
+                        '<instance_material symbol="mat" target="#blue-id"/></technique_common>'
+                        '</bind_material></instance_geometry></node><node id="n-amb"')
+    path = tmp_path / "two.dae"
+    path.write_text(text)
+
+    def bound():
+        return {name: bpy.data.objects[name].material_slots[0].material.name
+                for name in ("Quad node", "Second quad")}
+
+    assert bpy.ops.phong.import_collada(filepath=str(path)) == {"FINISHED"}
+    assert bpy.data.objects["Quad node"].data is bpy.data.objects["Second quad"].data
+    assert bound() == {"Quad node": "Red Paint", "Second quad": "Blue"}
+    assert _controls(bpy.data.materials["Blue"])["Specular Color"] == (0.0, 0.0, 1.0)
+    assert "phong_collada_symbols" not in bpy.data.objects["Quad node"].data.keys()
+    out = tmp_path / "two_out.dae"
+    assert bpy.ops.phong.export_collada(filepath=str(out)) == {"FINISHED"}
+    _valid(out.read_text())
+    be_reset(bpy)
+    assert bpy.ops.phong.import_collada(filepath=str(out)) == {"FINISHED"}
+    assert bound() == {"Quad node": "Red Paint", "Second quad": "Blue"}

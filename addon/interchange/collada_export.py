@@ -158,16 +158,17 @@ def _node(obj, keep, doc, warnings, root):
         if obj.modifiers:
             warnings.append(f"object {obj.name}: modifiers not applied")
         inst = collada.Instance("geometry", key)
-        for slot in obj.material_slots:
-            material = slot.material
-            if material is None:
+        symbols = doc.meshes[key].symbols
+        for index, slot in enumerate(obj.material_slots):
+            material = slot.material   # the object's own when the slot links to the object
+            if material is None or index >= len(symbols) or not symbols[index]:
                 continue
             if material.name not in doc.materials:
                 doc.materials[material.name] = material_of(material, warnings)
-            inst.bindings[material.name] = material.name
+            inst.bindings[symbols[index]] = material.name
             uv = {t.texcoord: _uv_set(obj.data, t.texcoord)
                   for t in doc.materials[material.name].textures.values()}
-            inst.uv_bindings[material.name] = uv
+            inst.uv_bindings[symbols[index]] = uv
         node.instances.append(inst)
     elif obj.type == "LIGHT":
         light = obj.data
@@ -211,7 +212,9 @@ def _mesh(mesh) -> collada.Mesh:
     else:
         mesh.calc_normals_split()
         mesh.loops.foreach_get("normal", normals)
-    symbols = [m.name if m is not None else "" for m in mesh.materials] or [""]
+    # the symbols: the mesh's own materials' names (each slot binds its object's material)
+    symbols = [m.name if m is not None else f"slot{i}" for i, m in enumerate(mesh.materials)] \
+        or [""]
     out = collada.Mesh(mesh.name, mesh.name, positions.reshape(-1, 3).astype(np.float64),
                        sizes.astype(np.int64), [min(int(i), len(symbols) - 1)
                                                 for i in material_index],

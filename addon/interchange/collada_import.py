@@ -46,6 +46,7 @@ OPAQUE_KEY = "phong_collada_opaque"
 TRANSPARENT_KEY = "phong_collada_transparent"
 TRANSPARENCY_KEY = "phong_collada_transparency"
 OPACITY_NODE = "phong_opacity"
+SYMBOLS_KEY = "phong_collada_symbols"   # a mesh's material symbols, while importing
 TEXTURE_NODE = "phong_dae_map:"   # + lights-group input
 UVMAP_NODE = "phong_dae_uv:"      # + lights-group input
 #: lights-group input -> (COLLADA element, control node)
@@ -161,6 +162,9 @@ class _Builder:
         self.sync = sync_mod.Sync(self.scene, self.context.view_layer)
         self.sync.rebuild_groups()
         self.bind_materials()
+        for mesh in self.meshes.values():
+            if SYMBOLS_KEY in mesh.keys():
+                del mesh[SYMBOLS_KEY]
         self.sync.relink(self.scene.objects)
         self.sync.finish()
         sync_mod.remember(self.scene, self.context.view_layer)
@@ -309,7 +313,7 @@ class _Builder:
             normals = np.where(length > 0, normals / np.where(length > 0, length, 1), 0.0)
             mesh.polygons.foreach_set("use_smooth", np.ones(len(mesh.polygons), dtype=bool))
             mesh.normals_split_custom_set([tuple(n) for n in normals])
-        mesh["phong_collada_symbols"] = list(source.symbols)
+        mesh[SYMBOLS_KEY] = list(source.symbols)
         return mesh
 
     # -- lights and cameras -----------------------------------------------------------------
@@ -382,7 +386,7 @@ class _Builder:
     def bind_materials(self):
         for obj, inst in self.uses:
             mesh = obj.data
-            symbols = list(mesh.get("phong_collada_symbols", []))
+            symbols = list(mesh.get(SYMBOLS_KEY, []))
             key, reach = self.sync.light_set(obj)
             group = self.sync.group(key, reach)
             wanted = []
