@@ -6,7 +6,8 @@ Pure numpy (OpenImageIO to read the renders): no ``bpy``.  The Blender side
 (``addon/demos/bake.py``) renders and hands the arrays over.
 
 Pixels the reference cannot predict are left out of the metrics, the same for every
-engine: the background (no object) and pixels within 1e-5 of a discontinuity of the model
+engine: the background (no object), objects with a see-through material (Opacity below 1:
+the picture blends what is behind them) and pixels within 1e-5 of a discontinuity of the model
 (the spot's cone edge cos ω = cos θ; the terminator ℓ·n = 0 where a specular term may
 jump).  Their count is in metrics.json.
 """
@@ -132,7 +133,8 @@ def reference_image(scene: dict, aovs: dict) -> dict:
     {intensity, color}, "lights" [{type, color, intensity, diffuse, specular, position,
     direction, quadratic, linear, constant, half_angle (degrees), edge_exponent, falloff
     ("quadratic" or "power": i0/d^k, k = power_k)}] and
-    "objects" [{"lights": [indices into lights]}]: object number k (1-based, the probe's
+    "objects" [{"lights": [indices into lights], "transparent": an Opacity below 1 (its pixels
+    are ambiguous)}]: object number k (1-based, the probe's
     third "params" channel) is objects[k - 1].  Per pixel the probes hold what its lights
     group sees: P, N, I (the geometry), the Normal and View Vector inputs (zero: the
     geometry's), Object Color, Ambient Object Color, Specular Color, Irradiant Color,
@@ -188,6 +190,9 @@ def reference_image(scene: dict, aovs: dict) -> dict:
         sums["Diffuse"] += out["Diffuse"]
         sums["Specular"] += out["Specular"]
     final = np.minimum(sum(sums.values()), 1.0)
+    # an object with a material of Opacity below 1 shows what is behind it: not predicted
+    see_through = np.array([bool(obj.get("transparent")) for obj in scene["objects"]] or [False])
+    ambiguous |= see_through[idx]
 
     def image(values):
         img = np.zeros((h, w, 3))

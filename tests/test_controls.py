@@ -510,3 +510,25 @@ def test_describe_gives_the_reference_the_falloff(bpy_clean):
     _set_power(bpy, light, 2.5)
     data = describe.describe(scene, layer, [plane])
     assert (data["lights"][0]["falloff"], data["lights"][0]["power_k"]) == ("power", 2.5)
+
+
+@pytest.mark.cycles
+def test_compare_phong_scene_checks_power_lights_and_leaves_out_see_through_objects(
+        bpy_clean, tmp_path):
+    """The comparison (Compare Phong Scene) end to end: a power light matches its reference;
+    a half-opaque object's pixels, which blend what is behind, are left out and counted."""
+    bpy = bpy_clean
+    from phong_nodes.addon.comparison import engine  # noqa: PLC0415
+
+    bpy.ops.phong.build_demo_scene(name="two_lights", resolution=24)
+    scene = bpy.data.scenes["two_lights"]
+    first = engine.run(scene, str(tmp_path / "quadratic"), engines=("cycles",))
+    assert first["ok"], first["verdict"]
+    _set_power(bpy, scene.objects["green"], 1.3)
+    _materials().set_opacity(scene.objects["both"].active_material, 0.5)
+    second = engine.run(scene, str(tmp_path / "power"), engines=("cycles",))
+    assert second["ok"], second["verdict"]
+    green = next(l for l in second["parameters"]["lights"] if l["name"] == "green")
+    assert (green["falloff"], green["power_k"]) == ("power", 1.3)
+    report(f"[compare power + opacity] {bpy.app.version_string}: {second['pixels']}")
+    assert second["pixels"]["ambiguous"] > first["pixels"]["ambiguous"] + 20
