@@ -32,6 +32,7 @@ import math
 import os
 import re
 import xml.etree.ElementTree as ET
+import xml.parsers.expat as expat
 from dataclasses import dataclass, field
 from urllib.parse import unquote, urlparse
 
@@ -58,8 +59,6 @@ MAX_BYTES = 1 << 31
 #: Largest number of values one primitive may index (bounded memory on absurd counts).
 MAX_INDICES = 200_000_000
 
-_ENTITY = re.compile(rb"<!DOCTYPE[^>\[]*\[[^\]]*<!ENTITY", re.S | re.I)
-_DOCTYPE_ENTITY = re.compile(rb"<!ENTITY", re.I)
 
 
 class ColladaError(ValueError):
@@ -531,10 +530,8 @@ class _Reader:
         if not np.all(keep):
             self.doc.warn(f"{label}: {int((~keep).sum())} face(s) with fewer than 3 corners "
                           "left out")
-            starts = np.concatenate([[0], np.cumsum(sizes)[:-1]])
             mask = np.repeat(keep, sizes)
             rows, sizes = rows[mask], sizes[keep]
-            del starts
         if not len(sizes):
             return
         # check every index against its source
@@ -990,15 +987,34 @@ def _int_attr(element, name):
 
 # -- reading ------------------------------------------------------------------------------
 
+class _Started(Exception):
+    """The root element began: no entity was declared before it."""
+
+
+def _refuse_entities(data: bytes, path: str) -> None:
+    """ColladaError when the document type declares an entity (internal or external), found
+    by expat itself (so in any encoding) before the root element; nothing is expanded."""
+    scan = expat.ParserCreate()
+
+    def declared(*_args):
+        raise ColladaError(path, "declares XML entities (<!DOCTYPE ... <!ENTITY>); refused "
+                                 "(entity expansion and external entities are not read)")
+
+    def started(*_args):
+        raise _Started
+
+    scan.EntityDeclHandler = declared
+    scan.UnparsedEntityDeclHandler = declared
+    scan.StartElementHandler = started
+    try:
+        scan.Parse(data, True)
+    except (_Started, expat.ExpatError):   # a parse error is reported by the parse itself
+        return
+
+
 def parse_bytes(data: bytes, path: str = "<bytes>") -> Document:
     """Read COLLADA from *data*; raises ColladaError for what is not COLLADA XML."""
-    head = data[:1 << 20]
-    if b"<!DOCTYPE" in head.upper() or b"<!doctype" in head:
-        start = head.upper().find(b"<!DOCTYPE")
-        if _ENTITY.search(head) or _DOCTYPE_ENTITY.search(data):
-            raise ColladaError(path, "declares XML entities (<!DOCTYPE ... <!ENTITY>); refused "
-                                     "(entity expansion and external entities are not read)")
-        del start
+    _refuse_entities(data, path)
     try:
         parser = ET.XMLParser()
         parser.feed(data)
@@ -1032,12 +1048,10 @@ def parse_bytes(data: bytes, path: str = "<bytes>") -> Document:
         mesh = reader.mesh(element)
         if mesh is not None:
             doc.meshes.setdefault(mesh.id or mesh.name, mesh)
-    library = root.find("library_nodes")
     for lib in root.findall("library_nodes"):
         for element in lib.findall("node"):
             node = reader.node(element)
             doc.library_nodes.setdefault(node.id, node)
-    del library
     scenes = {s.get("id"): s for s in root.iter("visual_scene")}
     chosen = None
     inst = root.find("scene/instance_visual_scene")

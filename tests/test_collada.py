@@ -217,6 +217,11 @@ def test_entity_expansion_and_external_entities_are_refused_fast():
                 f'<COLLADA xmlns="{collada.NS14}"><asset><title>&x;</title></asset></COLLADA>').encode()
     with pytest.raises(collada.ColladaError, match="entities"):
         collada.parse_bytes(external, "external.dae")
+    # the same in UTF-16 (no byte pattern to look for: expat itself finds the declaration)
+    with pytest.raises(collada.ColladaError, match="entities"):
+        collada.parse_bytes(laughs.decode().replace('version="1.0"?>', 'version="1.0" '
+                                                    'encoding="UTF-16"?>').encode("utf-16"),
+                            "laughs16.dae")
     assert time.perf_counter() - start < 1.0
     with pytest.raises(collada.ColladaError, match="not well-formed"):
         collada.parse_bytes(b"<COLLADA><asset>", "cut.dae")
@@ -1249,3 +1254,18 @@ def test_instances_of_one_mesh_binding_different_materials(bpy_clean, tmp_path):
     be_reset(bpy)
     assert bpy.ops.phong.import_collada(filepath=str(out)) == {"FINISHED"}
     assert bound() == {"Quad node": "Red Paint", "Second quad": "Blue"}
+
+
+def test_instance_node_chain_deeper_than_the_limit(bpy_clean, tmp_path, capfd):
+    bpy = bpy_clean
+    nodes = "".join(f'<node id="n{i}"><instance_node url="#n{i + 1}"/></node>'
+                    for i in range(2000))
+    path = tmp_path / "deep.dae"
+    path.write_bytes(_doc(f"""<library_nodes>{nodes}<node id="n2000"/></library_nodes>
+      <library_visual_scenes><visual_scene id="vs"><node id="root">
+      <instance_node url="#n0"/></node></visual_scene></library_visual_scenes>
+      <scene><instance_visual_scene url="#vs"/></scene>"""))
+    capfd.readouterr()
+    assert bpy.ops.phong.import_collada(filepath=str(path)) == {"FINISHED"}
+    assert "".join(capfd.readouterr()).count("nested more than 256 deep") == 1
+    assert len(bpy.data.objects) == 257

@@ -55,6 +55,7 @@ INPUTS = {"Irradiant Color": ("emission", "phong_irradiant_color"),
           "Object Color": ("diffuse", "phong_object_color"),
           "Specular Color": ("specular", "phong_specular_color")}
 MAX_NODES = 100_000
+MAX_DEPTH = 256
 #: bpy.data collections an import adds to, in the order a failed import empties them
 _ROLLBACK = ("objects", "meshes", "lights", "cameras", "materials", "node_groups", "images",
              "worlds")
@@ -172,10 +173,14 @@ class _Builder:
         if camera is not None and self.scene.camera is None:
             self.scene.camera = camera
 
-    def node(self, node, parent, root, seen):
+    def node(self, node, parent, root, seen, depth=0):
         self.count += 1
         if self.count > MAX_NODES:
             self.doc.warn(f"more than {MAX_NODES} nodes; the rest left out")
+            return
+        if depth > MAX_DEPTH:
+            self.doc.warn(f"nodes nested more than {MAX_DEPTH} deep (through instance_node); "
+                          "the deeper ones left out")
             return
         shown = [i for i in node.instances if i.kind != "node"]
         data_of = [self.data(i, node) for i in shown]
@@ -205,7 +210,7 @@ class _Builder:
                 if inst.kind == "geometry":
                     self.uses.append((child, inst))
         for child in node.children:
-            self.node(child, obj, False, seen)
+            self.node(child, obj, False, seen, depth + 1)
         for inst in node.instances:
             if inst.kind != "node":
                 continue
@@ -217,7 +222,7 @@ class _Builder:
                 self.doc.warn(f"node {node.name}: <instance_node url=\"#{inst.url}\"> "
                               "instantiates itself; left out")
             else:
-                self.node(target, obj, False, seen + (inst.url,))
+                self.node(target, obj, False, seen + (inst.url,), depth + 1)
 
     def set_matrix(self, obj, matrix, name):
         """*matrix* as *obj*'s transform relative to its parent.  A shear (``<skew>``, a
