@@ -434,7 +434,8 @@ class _Reader:
                 continue
             self.primitive(prim, kind, positions, vertex_extra, acc, where)
         if not acc["sizes"]:
-            return Mesh(ident, name, positions, np.zeros(0, np.int64), [], [], np.zeros(0, np.int64))
+            empty = np.zeros(0, np.int64)
+            return Mesh(ident, name, positions, empty, [], [], empty.copy())
         total = acc["n_corners"]
         out = Mesh(ident, name, positions, np.concatenate(acc["sizes"]),
                    [s for chunk in acc["face_symbols"] for s in chunk], acc["symbols"],
@@ -815,8 +816,10 @@ class _Reader:
         values = self.floats(color, f"{where}: <color>") if color is not None else None
         if values is not None and len(values) >= 3:
             out.color = tuple(float(v) for v in values[:3])
-        for attr, tag in (("constant", "constant_attenuation"), ("linear", "linear_attenuation"),
-                          ("quadratic", "quadratic_attenuation"), ("falloff_angle", "falloff_angle"),
+        for attr, tag in (("constant", "constant_attenuation"),
+                          ("linear", "linear_attenuation"),
+                          ("quadratic", "quadratic_attenuation"),
+                          ("falloff_angle", "falloff_angle"),
                           ("falloff_exponent", "falloff_exponent")):
             child = kind_element.find(tag)
             if child is not None:

@@ -28,7 +28,6 @@ this module builds the Blender side:
 from __future__ import annotations
 
 import math
-import os
 
 import bpy
 import numpy as np
