@@ -1269,3 +1269,26 @@ def test_instance_node_chain_deeper_than_the_limit(bpy_clean, tmp_path, capfd):
     assert bpy.ops.phong.import_collada(filepath=str(path)) == {"FINISHED"}
     assert "".join(capfd.readouterr()).count("nested more than 256 deep") == 1
     assert len(bpy.data.objects) == 257
+
+
+def test_blender_42_exporter_file_full_cone_and_values(bpy_clean):
+    """Blender 4.2's own exporter (tests/data/collada/make_blender42_scene.py) wrote the
+    spot's full cone (spot_size 60°) as falloff_angle 60: read back as the same cone."""
+    bpy = bpy_clean
+    name = "blender42_scene.dae"
+    root = _et(name)
+    assert root.find("asset/contributor/authoring_tool").text.startswith("Blender 4.2")
+    spot_xml = next(light for light in root.iter("light") if light.get("name") == "Spot")
+    angle = float(spot_xml.find(".//falloff_angle").text)
+    assert angle == 60.0, "the exporter's spot_size in degrees: the full cone"
+    assert bpy.ops.phong.import_collada(filepath=os.path.join(DATA, name)) == {"FINISHED"}
+    spot = next(o for o in bpy.data.objects if o.type == "LIGHT" and o.data.type == "SPOT")
+    assert spot.data.spot_size == pytest.approx(math.radians(60.0), abs=1e-7)
+    assert tuple(spot.data.color) == _f32(_text_floats(spot_xml.find(".//color")))
+    tile = next(o for o in bpy.data.objects if o.type == "MESH")
+    diffuse = _text_floats(root.find(".//lambert/diffuse/color"))
+    got = _controls(tile.active_material)
+    assert got["Object Color"] == _f32(diffuse[:3])
+    assert got["Specular Color"] == (0.0, 0.0, 0.0), "lambert"
+    assert bpy.context.scene.camera is not None
+    assert {o.data.type for o in bpy.data.objects if o.type == "LIGHT"} == {"SPOT", "POINT", "SUN"}
