@@ -315,6 +315,24 @@ def test_written_file_validates_and_reads_back_the_same_values():
     assert "6e+01" not in text and "<falloff_angle>60</falloff_angle>" in text
 
 
+def test_pycollada_reads_what_is_written(tmp_path):
+    """Another reader: pycollada's strict load of a written file, with its values."""
+    pc = pytest.importorskip("collada")
+    doc = collada.load(LIT)
+    path = tmp_path / "written.dae"
+    path.write_text(collada.dumps(doc), encoding="utf-8")
+    other = pc.Collada(str(path))
+    (effect,) = other.effects
+    src = doc.materials["red-id"]
+    assert effect.shadingtype == "phong"
+    assert tuple(F32(effect.diffuse[:3])) == tuple(F32(src.color("diffuse")))
+    assert tuple(F32(effect.specular[:3])) == tuple(F32(src.color("specular")))
+    assert effect.shininess == 25.0
+    lights = {light.id: light for light in other.lights}
+    spot = next(light for light in lights.values() if type(light).__name__ == "SpotLight")
+    assert (spot.falloff_ang, spot.falloff_exp) == (60.0, 3.0)
+
+
 def test_names_escape_to_ncname_and_back():
     for name in ("Red Paint", "1st", "a_x0041_b", "über-ß", ""):
         escaped = collada.ncname(name)
