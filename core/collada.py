@@ -259,8 +259,11 @@ def _strip_namespaces(root) -> None:
 
 
 def _name(element, default=""):
-    """An element's ``name`` (``_xHHHH_`` escapes read back), else *default*."""
-    return unescape_name(element.get("name") or "") or default
+    """An element's exact name (our ``<extra>``), else its ``name``, else *default*."""
+    exact = element.find(f"extra/technique[@profile='{PROFILE}']/name")
+    if exact is not None and exact.text:
+        return exact.text
+    return element.get("name") or default
 
 
 def _ref(url) -> str:
@@ -1130,23 +1133,37 @@ def _sub(parent, tag, text=None, **attrib):
     return element
 
 
-_NCNAME_BAD = re.compile(r"[^A-Za-z0-9_.\-]|_(?=x[0-9A-Fa-f]{4}_)")
-_ESCAPED = re.compile(r"_x([0-9A-Fa-f]{4})_")
+PROFILE = "phong_nodes"   # the <technique profile> of our <extra>: an exact name
 
 
 def ncname(text: str) -> str:
-    """*text* as an XML NCName (what COLLADA 1.4.1's ``name`` attributes must be): every
-    other character, and a first character that cannot start a name, written ``_xHHHH_``
-    (the XML name escape of .NET and others); :func:`unescape_name` reads it back."""
-    out = _NCNAME_BAD.sub(lambda m: f"_x{ord(m.group(0)):04X}_", text)
-    if not out or not re.match(r"[A-Za-z_]", out[0]):
-        first = out[:1] or ""
-        out = (f"_x{ord(first):04X}_" + out[1:]) if first else "_"
+    """*text* as an XML NCName (what COLLADA 1.4.1's ``name`` attributes must be): other
+    characters become "_", and a name that cannot start so gets a "_" in front.  Where this
+    changes the name, :func:`_exact_name` writes the name itself in an ``<extra>``."""
+    out = re.sub(r"[^A-Za-z0-9_.\-]", "_", text)
+    return out if re.match(r"[A-Za-z_]", out) else "_" + out
+
+
+def _exact_name(element, name: str) -> None:
+    """``<extra><technique profile="phong_nodes"><name>`` *name* when the ``name``
+    attribute could not hold it (the last child, as the schema wants)."""
+    if ncname(name) != name:
+        technique = _sub(_sub(element, "extra"), "technique", profile=PROFILE)
+        _sub(technique, "name", name)
+
+
+def _symbols(mesh) -> dict:
+    """{material symbol: its NCName}, distinct within the mesh."""
+    out, used = {}, set()
+    for symbol in mesh.symbols:
+        name = ncname(symbol) if symbol else ""
+        base, n = name, 1
+        while name in used:
+            n += 1
+            name = f"{base}_{n}"
+        used.add(name)
+        out[symbol] = name
     return out
-
-
-def unescape_name(text: str) -> str:
-    return _ESCAPED.sub(lambda m: chr(int(m.group(1), 16)), text) if text else text
 
 
 def _xml_id(text: str, used: set) -> str:
@@ -1196,6 +1213,7 @@ def dumps(doc: Document) -> str:
                 wanted.append("aspect_ratio")
             for attr in wanted + ["znear", "zfar"]:
                 _sub(kind, attr, fmt(getattr(cam, attr)))
+            _exact_name(element, cam.name)
     if doc.lights:
         lib = _sub(root, "library_lights")
         for key, light in doc.lights.items():
@@ -1209,6 +1227,7 @@ def dumps(doc: Document) -> str:
             if light.kind == "spot":
                 _sub(kind, "falloff_angle", fmt(light.falloff_angle))
                 _sub(kind, "falloff_exponent", fmt(light.falloff_exponent))
+            _exact_name(element, light.name)
     textures = [(key, element, tex) for key, mat in doc.materials.items()
                 for element, tex in mat.textures.items()]
     if textures:
@@ -1258,6 +1277,7 @@ def dumps(doc: Document) -> str:
         for key, mat in doc.materials.items():
             element = _sub(lib, "material", id=ids[("material", key)], name=ncname(mat.name))
             _sub(element, "instance_effect", url="#" + mat.effect_id)
+            _exact_name(element, mat.name)
     if doc.meshes:
         lib = _sub(root, "library_geometries")
         for key, mesh in doc.meshes.items():
@@ -1267,6 +1287,7 @@ def dumps(doc: Document) -> str:
                   name=ncname(doc.scene_name or "Scene"))
     for node in doc.nodes:
         _write_node(visual, node, doc, ids, used)
+    _exact_name(visual, doc.scene_name or "Scene")
     _sub(_sub(root, "scene"), "instance_visual_scene", url="#" + scene_id)
     ET.indent(root, space=" ")
     return '<?xml version="1.0" encoding="utf-8"?>\n' + ET.tostring(root, encoding="unicode") + "\n"
@@ -1301,13 +1322,14 @@ def _write_mesh(lib, ident, mesh: Mesh):
     _sub(vertices, "input", semantic="POSITION", source=f"#{ident}-positions")
     starts = np.concatenate([[0], np.cumsum(mesh.face_sizes)]).astype(np.int64)
     symbols = np.asarray(mesh.face_symbols, dtype=np.int64)
+    names = _symbols(mesh)
     for index, symbol in enumerate(mesh.symbols):
         faces = np.nonzero(symbols == index)[0]
         if not len(faces):
             continue
         attrib = {"count": len(faces)}
         if symbol:
-            attrib["material"] = ncname(symbol)
+            attrib["material"] = names[symbol]
         poly = _sub(element, "polylist", **attrib)
         _sub(poly, "input", semantic="VERTEX", source=f"#{ident}-vertices", offset=0)
         for offset, (semantic, source, channel) in enumerate(inputs, start=1):
@@ -1318,11 +1340,12 @@ def _write_mesh(lib, ident, mesh: Mesh):
         columns = [mesh.corners[corners]] + [corners] * len(inputs)
         table = np.stack(columns, axis=1).reshape(-1)
         _sub(poly, "p", " ".join(str(int(v)) for v in table))
+    _exact_name(geometry, mesh.name)
 
 
 def _write_node(parent, node: Node, doc, ids, used):
-    element = _sub(parent, "node", id=_xml_id(node.id or node.name, used), name=ncname(node.name),
-                   type="NODE")
+    element = _sub(parent, "node", id=_xml_id(node.id or node.name, used),
+                   name=ncname(node.name), type="NODE")
     _sub(element, "matrix", _join(np.asarray(node.matrix, dtype=np.float64).reshape(-1)),
          sid="transform")
     order = ("camera", "controller", "geometry", "light", "node")   # the schema's order
@@ -1331,12 +1354,15 @@ def _write_node(parent, node: Node, doc, ids, used):
         target = ids.get((kind, inst.url), inst.url)
         child = _sub(element, f"instance_{kind}", url="#" + target)
         if kind == "geometry" and inst.bindings:
+            mesh = doc.meshes.get(inst.url)
+            names = _symbols(mesh) if mesh is not None else {}
             common = _sub(_sub(child, "bind_material"), "technique_common")
             for symbol, material in inst.bindings.items():
-                im = _sub(common, "instance_material", symbol=ncname(symbol),
+                im = _sub(common, "instance_material", symbol=names.get(symbol, ncname(symbol)),
                           target="#" + ids.get(("material", material), material))
                 for semantic, channel in inst.uv_bindings.get(symbol, {}).items():
                     _sub(im, "bind_vertex_input", semantic=semantic, input_semantic="TEXCOORD",
                          input_set=channel)
     for child in node.children:
         _write_node(element, child, doc, ids, used)
+    _exact_name(element, node.name)

@@ -333,11 +333,23 @@ def test_pycollada_reads_what_is_written(tmp_path):
     assert (spot.falloff_ang, spot.falloff_exp) == (60.0, 3.0)
 
 
-def test_names_escape_to_ncname_and_back():
-    for name in ("Red Paint", "1st", "a_x0041_b", "über-ß", ""):
-        escaped = collada.ncname(name)
-        assert re.fullmatch(r"[A-Za-z_][A-Za-z0-9_.\-]*", escaped), escaped
-        assert collada.unescape_name(escaped) == (name or "\x00"[:0]) or name == ""
+def test_names_are_ncnames_with_the_exact_name_in_an_extra():
+    """COLLADA 1.4.1's name attributes are NCNames: a name that is not one is written with
+    "_" for what it cannot hold (what other readers show) and kept exactly in an <extra>."""
+    for name in ("Red Paint", "1st", "über-ß", "a:b"):
+        assert re.fullmatch(r"[A-Za-z_][A-Za-z0-9_.\-]*", collada.ncname(name))
+    assert collada.ncname("Red Paint") == "Red_Paint"
+    doc = collada.load(LIT)
+    text = collada.dumps(doc)
+    root = ET.fromstring(text)
+    ns = {"c": collada.NS14}
+    material = root.find(".//c:library_materials/c:material", ns)
+    assert material.get("name") == "Red_Paint"
+    assert material.find("c:extra/c:technique[@profile='phong_nodes']/c:name", ns).text == \
+        "Red Paint"
+    assert list(material)[-1].tag.endswith("extra"), "the schema's place: last"
+    (again,) = collada.parse_bytes(text.encode()).materials.values()
+    assert again.name == "Red Paint"
 
 
 # -- Blender ---------------------------------------------------------------------------------
@@ -1310,3 +1322,24 @@ def test_blender_42_exporter_file_full_cone_and_values(bpy_clean):
     assert got["Specular Color"] == (0.0, 0.0, 0.0), "lambert"
     assert bpy.context.scene.camera is not None
     assert {o.data.type for o in bpy.data.objects if o.type == "LIGHT"} == {"SPOT", "POINT", "SUN"}
+
+
+def test_blender_4_importer_reads_the_export(bpy_clean, tmp_path):
+    """Blender 4.x's own COLLADA importer (removed in 5.0) opens the exported file: the
+    objects by name, the spot's full cone and the diffuse colour."""
+    bpy = bpy_clean
+    if bpy.app.version >= (5, 0, 0):
+        pytest.skip("Blender 5 has no COLLADA importer")
+    assert bpy.ops.phong.import_collada(filepath=LIT) == {"FINISHED"}
+    out = tmp_path / "for_blender.dae"
+    assert bpy.ops.phong.export_collada(filepath=str(out)) == {"FINISHED"}
+    be_reset(bpy)
+    assert bpy.ops.wm.collada_import(filepath=str(out)) == {"FINISHED"}
+    names = {o.name for o in bpy.data.objects}
+    # the names as the file's name attributes give them (spaces cannot be there)
+    assert {"Quad_node", "Bulb_node", "Spot_node"} <= names
+    spot = bpy.data.objects["Spot_node"].data
+    assert spot.spot_size == pytest.approx(math.radians(60.0), abs=1e-6)
+    material = bpy.data.objects["Quad_node"].active_material
+    base = material.node_tree.nodes["Principled BSDF"].inputs["Base Color"].default_value
+    assert tuple(base)[:3] == _f32((0.8, 0.1, 0.1))
