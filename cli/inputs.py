@@ -47,8 +47,8 @@ def _import_collada(context, path) -> list:
 
     try:
         return collada_import.import_file(path, context)
-    except collada_import.ColladaImportError as error:
-        raise BadInput(f"{path}: {error}") from None
+    except collada_import.ColladaImportError as error:  # its message names the file
+        raise BadInput(str(error)) from None
 
 
 def _import_fbx(context, path) -> list:

@@ -34,7 +34,6 @@ import re
 import xml.etree.ElementTree as ET
 import xml.parsers.expat as expat
 from dataclasses import dataclass, field
-from urllib.parse import unquote, urlparse
 
 import numpy as np
 
@@ -59,6 +58,35 @@ MAX_BYTES = 1 << 31
 #: Largest number of values one primitive may index (bounded memory on absurd counts).
 MAX_INDICES = 200_000_000
 
+
+
+def _unquote(text: str) -> str:
+    """Percent-escapes decoded as UTF-8 (an image's URI); a malformed one is kept as written.
+    (Not urllib: the extension imports no network module.)"""
+    raw = text.encode("utf-8", "surrogateescape")
+    decoded = re.sub(rb"%([0-9A-Fa-f]{2})", lambda m: bytes([int(m.group(1), 16)]), raw)
+    return decoded.decode("utf-8", "replace")
+
+
+def uri_quote(path: str) -> str:
+    """*path* as a URI reference for ``<init_from>``: / separators, every byte outside
+    letters, digits and ``-._~/:`` percent-escaped (UTF-8); ``_uri_path`` reads it back."""
+    safe = set(b"abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789-._~/:")
+    return "".join(chr(b) if b in safe else f"%{b:02X}"
+                   for b in path.replace("\\", "/").encode("utf-8"))
+
+
+def _uri_path(written: str) -> str:
+    """The file path of an image reference: a relative or absolute path, or a file: URI
+    (``file:///C:/a%20b.png``, ``file://host/x.png``, ``file:/x.png``), percent-decoded."""
+    path = written
+    if path.lower().startswith("file:"):
+        path = path[5:]
+        if path.startswith("//"):
+            path = "/" + path[2:].partition("/")[2]  # the host part is dropped
+        if re.match(r"^/[A-Za-z]:", path):
+            path = path[1:]
+    return _unquote(path)
 
 
 class ColladaError(ValueError):
@@ -787,14 +815,7 @@ class _Reader:
 
     def texture_file(self, written, texcoord, image_id):
         folder = os.path.dirname(os.path.abspath(self.doc.path))
-        path = written
-        if path.lower().startswith("file:"):
-            parsed = urlparse(path)
-            path = unquote(parsed.path)
-            if re.match(r"^/[A-Za-z]:", path):
-                path = path[1:]
-        else:
-            path = unquote(path)
+        path = _uri_path(written)
         candidates = []
         if os.path.isabs(path):
             candidates.append(path)

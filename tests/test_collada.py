@@ -1343,3 +1343,27 @@ def test_blender_4_importer_reads_the_export(bpy_clean, tmp_path):
     material = bpy.data.objects["Quad_node"].active_material
     base = material.node_tree.nodes["Principled BSDF"].inputs["Base Color"].default_value
     assert tuple(base)[:3] == _f32((0.8, 0.1, 0.1))
+
+
+@pytest.mark.parametrize("written, path", [
+    ("file:///C:/maps/a%20b.png", "C:/maps/a b.png"),
+    ("file://server/share/x.png", "/share/x.png"),
+    ("file:/tex/x.png", "/tex/x.png"),
+    ("tex/caf%C3%A9.png", "tex/café.png"),
+    ("odd%zz.png", "odd%zz.png"),
+])
+def test_image_references_as_other_readers_take_them(written, path):
+    """file: URIs and percent-escapes, read without urllib (the zip imports no network
+    module)."""
+    from phong_nodes.core import collada  # noqa: PLC0415
+
+    assert collada._uri_path(written) == path
+
+
+def test_written_image_references_read_back():
+    from phong_nodes.core import collada  # noqa: PLC0415
+
+    for path in ("C:\\maps\\a b.png", "tex/café #1.png", "/abs/x%y.png"):
+        quoted = collada.uri_quote(path)
+        assert " " not in quoted and "#" not in quoted
+        assert collada._uri_path(quoted) == path.replace("\\", "/")

@@ -15,7 +15,6 @@ from __future__ import annotations
 
 import math
 import os
-from urllib.parse import quote
 
 import bpy
 import numpy as np
@@ -77,8 +76,7 @@ def material_of(material, warnings) -> collada.Material:
                 else "UVMap"
             out.textures[element] = collada.Texture(path, path, texcoord, texture.image.name)
     out.shininess = float(tree.nodes["phong_exponent"].outputs[0].default_value)
-    node = tree.nodes.get(imp.OPACITY_NODE)
-    opacity = float(node.outputs[0].default_value) if node is not None else 1.0
+    opacity = recipe.opacity(material)
     mode = material.get(imp.OPAQUE_KEY)
     if mode in collada.OPAQUE_MODES and imp.TRANSPARENT_KEY in material.keys():
         # the file's own transparency, unless Opacity was changed since the import (an
@@ -107,7 +105,7 @@ def export(context, filepath, use_selection=False) -> list:
                 path = os.path.relpath(texture.resolved, folder)
             except ValueError:   # another drive
                 path = texture.resolved
-            texture.path = quote(path.replace("\\", "/"), safe="/:")
+            texture.path = collada.uri_quote(path)
     text = collada.dumps(doc)
     temp = filepath + ".part"
     try:
@@ -232,19 +230,23 @@ def _mesh(mesh) -> collada.Mesh:
 
 def _light(light, warnings) -> collada.Light:
     kind = {"SUN": "directional", "POINT": "point", "SPOT": "spot"}[light.type]
-    intensity = float(light.get("phong_intensity", 1.0))
+
+    def value(attr):  # the light's Phong setting, its default where it has none
+        key, default = properties.LIGHT_KEYS[attr]
+        return float(light.get(key, default))
+
+    intensity = value("intensity")
     out = collada.Light(light.name, light.name, kind,
                         tuple(intensity * float(c) for c in light.color))
-    factors = (float(light.get("phong_diffuse", 1.0)), float(light.get("phong_specular", 1.0)))
+    factors = (value("diffuse"), value("specular"))
     if factors != (1.0, 1.0):
         warnings.append(f"light {light.name}: Diffuse {factors[0]:g} / Specular {factors[1]:g} "
                         "factors have no COLLADA counterpart; written as 1")
     if kind in ("point", "spot"):
-        out.constant = float(light.get("phong_constant", 0.0))
-        out.linear = float(light.get("phong_linear", 0.0))
-        out.quadratic = float(light.get("phong_quadratic", 1.0))
-        if str(light.get("phong_falloff", "QUADRATIC")).upper() == "POWER":
-            k = float(light.get("phong_power_k", 2.0))
+        out.constant, out.linear, out.quadratic = (value("constant"), value("linear"),
+                                                    value("quadratic"))
+        if properties.falloff_of(light) == "POWER":
+            k = value("power_k")
             # 1/d^k for k = 0, 1, 2 is 1/(c + l·d + q·d²) with one term 1
             terms = {0.0: (1.0, 0.0, 0.0), 1.0: (0.0, 1.0, 0.0), 2.0: (0.0, 0.0, 1.0)}
             if k not in terms:
@@ -253,7 +255,7 @@ def _light(light, warnings) -> collada.Light:
             out.constant, out.linear, out.quadratic = terms.get(k, (0.0, 0.0, 1.0))
     if kind == "spot":
         out.falloff_angle = math.degrees(light.spot_size)
-        out.falloff_exponent = float(light.get("phong_edge_exponent", 0.0))
+        out.falloff_exponent = value("edge_exponent")
     return out
 
 

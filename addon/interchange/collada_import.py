@@ -44,7 +44,6 @@ TECHNIQUE_KEY = "phong_collada_technique"
 OPAQUE_KEY = "phong_collada_opaque"
 TRANSPARENT_KEY = "phong_collada_transparent"
 TRANSPARENCY_KEY = "phong_collada_transparency"
-OPACITY_NODE = "phong_opacity"
 SYMBOLS_KEY = "phong_collada_symbols"   # a mesh's material symbols, while importing
 TEXTURE_NODE = "phong_dae_map:"   # + lights-group input
 UVMAP_NODE = "phong_dae_uv:"      # + lights-group input
@@ -62,18 +61,6 @@ _ROLLBACK = ("objects", "meshes", "lights", "cameras", "materials", "node_groups
 
 class ColladaImportError(RuntimeError):
     """The import failed; nothing was added to the file."""
-
-
-def set_opacity(material, value: float) -> None:
-    """The material's Opacity control (``phong_opacity``), through the recipe's setter
-    once it has one; a no-op for a material without the control."""
-    setter = getattr(recipe, "set_opacity", None)
-    if setter is not None:
-        setter(material, value)
-        return
-    node = material.node_tree.nodes.get(OPACITY_NODE) if material.node_tree else None
-    if node is not None:
-        node.outputs[0].default_value = float(value)
 
 
 def import_file(filepath, context=None, literal_transparency=False) -> list:
@@ -474,7 +461,7 @@ class _Builder:
                           f"{1.0 if source.transparency is None else source.transparency:g}); "
                           "imported opaque, as its exporter most likely meant")
             opacity = 1.0
-        set_opacity(material, min(max(opacity, 0.0), 1.0))
+        recipe.set_opacity(material, opacity)  # clamped to [0, 1] there
 
     def image(self, texture, source):
         if texture.resolved in self.images:
