@@ -158,6 +158,9 @@ def follow_objects(_scene, depsgraph=None) -> None:
     if _BUSY or depsgraph is None or not (depsgraph.id_type_updated("OBJECT")
                                           or depsgraph.id_type_updated("MESH")):
         return
+    if not any(TREE_MATERIAL_KEY in t.keys() for t in bpy.data.node_groups
+               if t.bl_idname == "GeometryNodeTree"):
+        return  # no Per Vertex / Per Face material in the file: nothing to follow
     objects, meshes = set(), set()
     for change in depsgraph.updates:
         original = getattr(change.id, "original", None)
