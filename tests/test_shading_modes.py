@@ -697,3 +697,18 @@ def test_a_material_assigned_by_hand_and_a_modifier_added_later_are_followed(bpy
     other.modifiers.new("Later", "SUBSURF")
     bpy.context.view_layer.update()
     assert [m.type for m in other.modifiers] == ["SUBSURF", "NODES"]
+
+
+def test_linked_duplicates_are_each_lit_where_they_stand(bpy_clean):
+    bpy = bpy_clean
+    scene, sphere, camera, lights = _scene(bpy, "VERTEX", ("POINT", "SPOT"))
+    twin = bpy.data.objects.new("Twin", sphere.data)  # the same mesh (Alt+D)
+    twin.location = (-1.2, 0.8, 0.3)
+    scene.collection.objects.link(twin)
+    bpy.context.view_layer.update()
+    for obj in (sphere, twin):
+        _domain, got = _attribute(bpy, obj)
+        P, N = _vertices(bpy, obj)
+        want, near = _reference(scene, obj, camera, lights, P, N)
+        assert np.abs(got - want)[~near].max() <= VERTEX_TOL, obj.name
+    assert np.abs(_attribute(bpy, sphere)[1] - _attribute(bpy, twin)[1]).max() > 0.05
