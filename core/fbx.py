@@ -68,7 +68,10 @@ SLOTS = {
 #: Texture slots read (a texture on the colour multiplies colour × factor; one on the factor
 #: too): property -> lights-group input.
 TEXTURE_SLOTS = {"DiffuseColor": "Object Color", "AmbientColor": "Ambient Object Color",
-                 "SpecularColor": "Specular Color", "EmissiveColor": "Irradiant Color"}
+                 "SpecularColor": "Specular Color", "EmissiveColor": "Irradiant Color",
+                 # the legacy names some older files connect textures to
+                 "Diffuse": "Object Color", "Ambient": "Ambient Object Color",
+                 "Specular": "Specular Color", "Emissive": "Irradiant Color"}
 #: Embedded textures larger than this are left out (bounded memory), with a warning.
 MAX_EMBEDDED = 256 * 1024 * 1024
 #: Limits of the child process that reads a file: seconds, and bytes of address space.

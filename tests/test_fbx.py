@@ -665,3 +665,40 @@ def test_a_binary_file_ufbx_cannot_read_is_still_imported_by_blender(bpy_clean, 
     assert cube.active_material.name.startswith("Phong lambert1")
     with pytest.raises(RuntimeError, match="made to fail"):
         bpy.ops.phong.import_fbx(filepath=_path("maya_cube_7500_ascii.fbx"))
+
+
+def test_where_blenders_importer_fails_the_scene_comes_from_ufbx(bpy_clean, capfd):
+    """Maya's in-between blend shapes stop Blender's importer ("FBX in-between Shapes are not
+    currently supported"): the scene is built from ufbx instead, with one warning naming
+    the reason, and its Lambert gets the file's values."""
+    bpy = bpy_clean
+    name = "maya_blend_inbetween_7500_binary.fbx"
+    capfd.readouterr()
+    assert bpy.ops.phong.import_fbx(filepath=_path(name)) == {"FINISHED"}
+    logged = "".join(capfd.readouterr())
+    assert "Blender's FBX importer failed (RuntimeError: FBX in-between Shapes" in logged
+    meshes = [o for o in bpy.context.scene.objects if o.type == "MESH"]
+    from io_scene_fbx import parse_fbx
+    root, _version = parse_fbx.parse(_path(name))
+    objects = next(e for e in root.elems if e.id == b"Objects")
+    geometry = next(e for e in objects.elems if e.id == b"Geometry")
+    index = next(e for e in geometry.elems if e.id == b"PolygonVertexIndex").props[0]
+    faces = sum(1 for i in index if i < 0)  # a face ends with a negative index
+    assert [o.name for o in meshes] == ["pCube1"] and len(meshes[0].data.polygons) == faces
+    assert bpy.context.view_layer.objects.active is not None
+    assert meshes[0].active_material.name.startswith("Phong ")
+
+
+def test_more_uv_sets_than_blender_holds_is_one_warning(bpy_clean, capfd):
+    """ufbx's maya_texture_blend_modes_6100_ascii.fbx: 14 UV sets on one mesh (Blender holds 8)
+    and textures of a folder not shipped: imported, each named once."""
+    bpy = bpy_clean
+    name = "maya_texture_blend_modes_6100_ascii.fbx"
+    text = open(_path(name), encoding="utf-8").read()
+    sets = len(re.findall(r"^\s*LayerElementUV: \d+", text, re.M))
+    capfd.readouterr()
+    assert bpy.ops.phong.import_fbx(filepath=_path(name)) == {"FINISHED"}
+    logged = "".join(capfd.readouterr())
+    assert sets == 14 and logged.count(f"UV sets after the 8th left out ({sets} in the file)") == 1
+    (mesh,) = [o.data for o in bpy.context.scene.objects if o.type == "MESH"]
+    assert len(mesh.uv_layers) == 8

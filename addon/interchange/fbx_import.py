@@ -121,12 +121,17 @@ def _mesh(item: fbx.MeshData, name, warnings, path):
     mesh.polygons.foreach_set("loop_start", (np.cumsum(sizes) - sizes).astype(np.int32))
     mesh.polygons.foreach_set("loop_total", sizes.astype(np.int32))
     mesh.polygons.foreach_set("material_index", np.asarray(item.face_material, np.int32))
-    for uv_name, values in item.uvs:
+    for index, (uv_name, values) in enumerate(item.uvs):
         layer = mesh.uv_layers.new(name=uv_name)
+        if layer is None:  # Blender holds at most 8 UV maps
+            warnings.append(f"{path}: mesh {name}: UV sets after the {index}th left out "
+                            f"({len(item.uvs)} in the file)")
+            break
         layer.data.foreach_set("uv", np.asarray(values, np.float32).ravel())
     for color_name, values in item.colors:
         layer = mesh.color_attributes.new(color_name, "FLOAT_COLOR", "CORNER")
-        layer.data.foreach_set("color", np.asarray(values, np.float32).ravel())
+        if layer is not None:
+            layer.data.foreach_set("color", np.asarray(values, np.float32).ravel())
     mesh.update(calc_edges=True)
     if mesh.validate(clean_customdata=False):
         warnings.append(f"{path}: mesh {name}: invalid faces or indices removed")
@@ -179,8 +184,10 @@ def _build(context, data: fbx.Scene, path, warnings) -> None:
                     obj.material_slots[index].link = "OBJECT"
                     obj.material_slots[index].material = mats.get(name)
         made[node.id] = obj
-    for obj in context.view_layer.objects:  # the imported objects selected, as Blender does
-        obj.select_set(False)
+    context.view_layer.update()  # (after a rollback of Blender's importer's objects)
+    for obj in list(context.view_layer.objects):  # the imported ones selected, as Blender does
+        if obj is not None:
+            obj.select_set(False)
     for node in data.nodes:
         obj = made[node.id]
         if obj.name in context.view_layer.objects:
@@ -353,8 +360,11 @@ def import_file(filepath, context) -> list:
                 result = bpy.ops.import_scene.fbx(filepath=path)
                 used_blender = result == {"FINISHED"}
             except RuntimeError as error:
-                warnings.append(f"{path}: Blender's FBX importer failed ({str(error).strip()}); "
-                                "built from ufbx")
+                lines = [ln.strip() for ln in str(error).splitlines() if ln.strip()]
+                said = [ln for ln in lines if "Error" in ln.split(":")[0]] or lines
+                last = said[-1][:200] if said else "no message"
+                warnings.append(f"{path}: Blender's FBX importer failed ({last}); "
+                                "the scene is built from ufbx")
             if not used_blender:
                 _rollback(before)
         if not used_blender:
