@@ -162,7 +162,7 @@ def test_a_source_name_taken_by_another_material_keeps_the_phong_name(bpy_clean,
     Red_clay entry, so the Phong material keeps its own name in the OBJ and the MTL."""
     bpy = bpy_clean
     red, _bricks = _scene(bpy, tmp_path)
-    source = red["phong_source"]
+    source = bpy.data.materials[red["phong_source"]]
     be.add_uv_sphere(bpy.context.scene, "Still red clay", (4, 0, 0), 0.5, source)
     out = tmp_path / "taken.obj"
     assert bpy.ops.phong.export_obj(filepath=str(out)) == {"FINISHED"}

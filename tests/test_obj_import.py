@@ -94,7 +94,7 @@ def test_each_illumination_model_renders_the_mtl_formula(bpy_clean, blender_tmp)
         np.testing.assert_allclose(got, expected(ILLUM[name]), atol=ATOL, err_msg=name)
     # the importer's materials are kept as the sources: Restore puts them back
     material = objects["shiny"].active_material
-    assert material.name == "Phong shiny" and material["phong_source"] in set(
+    assert material.name == "Phong shiny" and bpy.data.materials[material["phong_source"]] in set(
         bpy.data.materials) - before
 
 

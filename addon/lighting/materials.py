@@ -18,11 +18,17 @@ A Phong material holds, and nothing else:
 
 Materials are converted, not objects: one Phong material per distinct source material
 (and light set), so objects that shared a material share its Phong version.  The source
-material is kept, referenced from its Phong version (``material["phong_source"]``, an ID
-pointer: one user, so it is not purged on save) and ``restore`` puts it back.
+material is kept with a fake user (so it is not purged on save) and named by its Phong
+version: ``material["phong_source"]`` its name, ``material["phong_source_key"]`` a token the
+source carries too (``source["phong_source_key"]``: the source is found again after a rename);
+``restore`` puts it back.  Not an ID pointer: the depsgraph follows those, and each Phong
+material would bring its source material and node tree into every update (issue 30; layout
+4 and earlier held a pointer, ``upgrade`` turns it into the name and token).
 """
 
 from __future__ import annotations
+
+import uuid
 
 import bpy
 from bpy.app.handlers import persistent
@@ -33,8 +39,9 @@ from . import drivers, rig
 #: Custom property that marks a Phong material; its value is the layout version (1: the
 #: layout of version 0.1, every light's nodes and drivers in the material).
 MATERIAL_TAG = "phong_nodes_material"
-LAYOUT = 4
+LAYOUT = 5  # 5: the source material named (SOURCE_KEY, SOURCE_TOKEN), not pointed at
 SOURCE_KEY = "phong_source"
+SOURCE_TOKEN = "phong_source_key"
 #: Marks a Phong material made for a slot that had no material.
 EMPTY_SOURCE_KEY = "phong_source_empty"
 #: AOV outputs of every Phong material: AOV name -> output of the lights group.
@@ -103,9 +110,32 @@ def phong_materials():
 
 
 def source_of(material):
-    """The material a Phong material was made from (None if unknown or made for no material)."""
+    """The material a Phong material was made from (None if unknown or made for no material):
+    the material named ``material["phong_source"]`` carrying its token, else the one carrying
+    the token under another name (renamed since), else an ID pointer of layout 4 and before."""
     source = material.get(SOURCE_KEY)
-    return source if isinstance(source, bpy.types.Material) else None
+    if isinstance(source, bpy.types.Material):
+        return source
+    token = material.get(SOURCE_TOKEN)
+    if not isinstance(token, str) or not token:
+        return None
+    named = bpy.data.materials.get(source) if isinstance(source, str) else None
+    if named is not None and named.get(SOURCE_TOKEN) == token and named is not material:
+        return named
+    return next((m for m in bpy.data.materials if m.get(SOURCE_TOKEN) == token
+                 and m is not material and not is_phong_material(m)), None)
+
+
+def keep_source(material, source) -> None:
+    """Name *source* as the source of the Phong *material* and keep it (a fake user)."""
+    token = source.get(SOURCE_TOKEN)
+    if not isinstance(token, str) or not token:
+        token = uuid.uuid4().hex
+        source[SOURCE_TOKEN] = token
+    if not source.use_fake_user and source.library is None:
+        source.use_fake_user = True
+    material[SOURCE_KEY] = source.name
+    material[SOURCE_TOKEN] = token
 
 
 def lights_key(material):
@@ -429,7 +459,7 @@ def from_source(source, name, lights_group, template=None):
     if source is None:
         material[EMPTY_SOURCE_KEY] = 1
     else:
-        material[SOURCE_KEY] = source
+        keep_source(material, source)
     return material
 
 
@@ -460,8 +490,15 @@ def _strip_to_texture(material, texture_socket):
 def upgrade(material) -> bool:
     """Turn a Phong material of layout 1 (every light's nodes in the material) into the
     recipe: the control nodes and their values stay; returns whether it changed."""
-    if int(material.get(MATERIAL_TAG, 0)) >= LAYOUT:
+    layout = int(material.get(MATERIAL_TAG, 0))
+    if layout >= LAYOUT:
         return False
+    source = material.get(SOURCE_KEY)
+    if isinstance(source, bpy.types.Material):  # layout <= 4: an ID pointer
+        del material[SOURCE_KEY]
+        keep_source(material, source)
+    if layout >= 4:
+        return True
     tree = material.node_tree
     names = [n.name for n in tree.nodes if n.name.startswith(OLD_GENERATED)]
     if tree.animation_data is not None:

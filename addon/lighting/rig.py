@@ -29,14 +29,20 @@ three.js Phong (MeshPhongMaterial; Specular Strength 0 is MeshLambertMaterial), 
 ambient is a three.js Ambient and the Irradiant Color is three.js's emissive, added as is.
 Blinn is not used there; the seeds' model does not use Specular Strength.
 
-The number of drivers depends on the lights (about 15 per light), not on the objects.
+The number of drivers depends on the lights (about 12 per light), not on the objects.  A
+light's location and axis are not driven in the group: drivers on the World write them as
+World custom properties that Attribute nodes (View Layer) read (``WORLD_PREFIX``), so moving
+a light re-evaluates no material (docs/contract.md, "Lights' transforms on the world").
 """
 
 from __future__ import annotations
 
+import re
+import zlib
+
 import bpy
 
-from .. import loader
+from .. import compat, loader
 from . import drivers, properties
 from .lights import SUPPORTED
 
@@ -45,7 +51,7 @@ from .lights import SUPPORTED
 SCENE_KEY = "phong_lights_scene"
 SET_KEY = "phong_lights_set"
 #: Bump when the layout of the lights group changes.
-RIG_VERSION = 3
+RIG_VERSION = 4  # 4: lights' transforms from World custom properties (View Layer attributes)
 VERSION_KEY = "phong_lights_version"
 ALL = "*"
 #: The lighting models (docs/model.md, docs/threejs.md); a scene's is
@@ -65,9 +71,45 @@ INPUTS = (  # (name, socket type, default)
     ("Ambient Object Color", "NodeSocketColor", (0.8, 0.8, 0.8, 1.0)),
     ("Specular Strength", "NodeSocketFloat", 1.0),  # three.js's specularStrength
 )
+#: A light's world location (Point, Spot) and world -Z axis (Sun, Spot) reach its lights
+#: group as World custom properties of 4 floats (``world_key``), written by drivers on the
+#: World and read by Attribute nodes of type View Layer: moving a light then updates the
+#: World, not the node trees of the materials (issue 30).  Each such Attribute node is a
+#: search loop in Eevee's shader, whose compile time grows steeply beyond about 8 of them
+#: (measured: 0.08 s with 8, 2.6 s with 14, 20 s with 16), so a group reads at most
+#: ``compat.VIEW_LAYER_LOOKUPS``; the lights beyond (and a scene without a World) keep
+#: drivers on the group's sockets.  The group lists its keys in ``WORLD_KEYS``.
+WORLD_PREFIX = "phong_light_"
+WORLD_KEYS = "phong_world_keys"
+TRANSFORM_SOCKETS = {"LOCATION": "Position", "AXIS": "Direction"}
 TERMS = ("Irradiant", "Ambient", "Diffuse", "Specular")
 OUTPUTS = (("Color", "NodeSocketColor"),) + tuple((t, "NodeSocketColor") for t in TERMS) + (
     ("Shader", "NodeSocketShader"),)
+
+
+def world_key(obj, kind: str) -> str:
+    """The World custom property that carries *obj*'s world location (*kind* "LOCATION") or
+    world -Z axis ("AXIS"): its name in letters, digits and underscores, and a checksum of the
+    exact name (two names that read the same stay apart)."""
+    safe = re.sub(r"[^A-Za-z0-9]", "_", obj.name)[:40]
+    suffix = "p" if kind == "LOCATION" else "d"
+    return f"{WORLD_PREFIX}{safe}_{zlib.crc32(obj.name.encode()):08x}_{suffix}"
+
+
+def prune_world_keys(worlds=None) -> int:
+    """Remove the light-transform properties (and their drivers) of *worlds* (default: all
+    local worlds) that no lights group reads any more; returns how many."""
+    used = set()
+    for tree in bpy.data.node_groups:
+        used.update(tree.get(WORLD_KEYS, ()))
+    removed = 0
+    for world in (bpy.data.worlds if worlds is None else worlds):
+        if world is None or world.library is not None:
+            continue
+        for key in [k for k in world.keys() if k.startswith(WORLD_PREFIX) and k not in used]:
+            drivers.remove_world_vector(world, key)
+            removed += 1
+    return removed
 
 
 def model_of(scene) -> str:
@@ -149,10 +191,11 @@ def build(tree, lights, world, model=MODELS[0]) -> None:
         _build_threejs(tree, lights, world)
         return
     group_in, group_out, out_x = _start(tree, lights)
+    budget = [world, compat.VIEW_LAYER_LOOKUPS]
     shadings = []
     for index, obj in enumerate(lights):
         y = -520.0 * index
-        light_node = _light_node(tree, obj, (-600.0, y), MODELS[0])
+        light_node = _light_node(tree, obj, (-600.0, y), MODELS[0], budget)
         shading = _shading_node(tree, group_in, f"shading:{obj.name}", (-300.0, y), index == 0)
         tree.links.new(light_node.outputs["Light Vector"], shading.inputs["Light Vector"])
         tree.links.new(_power_falloff(tree, obj, light_node) or light_node.outputs["Intensity"],
@@ -189,6 +232,7 @@ def _start(tree, lights):
     if tree.animation_data is not None:
         tree.animation_data_clear()
     tree.nodes.clear()
+    tree[WORLD_KEYS] = []
     group_in = tree.nodes.new("NodeGroupInput")
     group_in.location = (-900.0, 0.0)
     group_out = tree.nodes.new("NodeGroupOutput")
@@ -213,10 +257,11 @@ def _build_threejs(tree, lights, world) -> None:
     """The three.js model (docs/threejs.md): per light a light group and a three.js Phong,
     the ambient a three.js Ambient, the emissive the Irradiant Color input."""
     group_in, group_out, out_x = _start(tree, lights)
+    budget = [world, compat.VIEW_LAYER_LOOKUPS]
     shadings = []
     for index, obj in enumerate(lights):
         y = -520.0 * index
-        light_node = _light_node(tree, obj, (-600.0, y), "threejs")
+        light_node = _light_node(tree, obj, (-600.0, y), "threejs", budget)
         shading = _group_node(tree, "three.js Phong", f"shading:{obj.name}", (-300.0, y))
         for source, target in THREEJS_SHADING.items():
             tree.links.new(group_in.outputs[source], shading.inputs[target])
@@ -286,19 +331,30 @@ def _group_node(tree, group_name, name, location):
     return node
 
 
-def _light_node(tree, obj, location, model):
-    """The light group of *obj* in *model*, driven by the light."""
+def _light_node(tree, obj, location, model, budget=(None, 0)):
+    """The light group of *obj* in *model*, driven by the light; its transform from the
+    World (*budget*: [world, View Layer lookups left], spent here) or by drivers."""
     light = obj.data
     properties.ensure_light_props(light)
     node = _group_node(tree, LIGHT_GROUPS[model][light.type], f"light:{obj.name}", location)
     inputs = node.inputs
     keys = {attr: f'["{key}"]' for attr, (key, _default) in properties.LIGHT_KEYS.items()}
+    kinds = [kind for kind, types in (("LOCATION", ("POINT", "SPOT")), ("AXIS", ("SUN", "SPOT")))
+             if light.type in types]
+    world = budget[0]
+    from_world = world is not None and world.library is None and budget[1] >= len(kinds)
+    if from_world:
+        budget[1] -= len(kinds)
+        for row, kind in enumerate(kinds):
+            _world_input(tree, world, obj, kind, inputs[TRANSFORM_SOCKETS[kind]],
+                         (location[0] - 300.0, location[1] - 160.0 * row))
     if light.type in ("POINT", "SPOT"):
-        drivers.world_location(inputs["Position"], obj)
+        if not from_world:
+            drivers.world_location(inputs["Position"], obj)
         if _is_power(light, model):  # i0 here; _power_falloff divides by d^k
             for name, value in (("Quadratic", 0.0), ("Linear", 0.0), ("Constant", 1.0)):
                 inputs[name].default_value = value
-    if light.type in ("SUN", "SPOT"):
+    if light.type in ("SUN", "SPOT") and not from_world:
         drivers.world_minus_z(inputs["Direction"], obj)
     if light.type == "SPOT":
         drivers.prop(inputs[SPOT_ANGLE[model]], None, "LIGHT", light, "spot_size", scale=0.5)
@@ -306,6 +362,19 @@ def _light_node(tree, obj, location, model):
         if target is not None:
             drivers.prop(inputs[target], None, "LIGHT", light, keys[attr])
     return node
+
+
+def _world_input(tree, world, obj, kind, socket, location) -> None:
+    """*socket* fed by an Attribute node (View Layer) of *obj*'s World property *kind*."""
+    key = world_key(obj, kind)
+    drivers.world_vector(world, key, obj, kind)
+    attribute = tree.nodes.new("ShaderNodeAttribute")
+    attribute.attribute_type = "VIEW_LAYER"
+    attribute.attribute_name = key
+    attribute.name = attribute.label = f"{TRANSFORM_SOCKETS[kind].lower()}:{obj.name}"
+    attribute.location = location
+    tree.links.new(attribute.outputs["Vector"], socket)
+    tree[WORLD_KEYS] = [*tree.get(WORLD_KEYS, ()), key]
 
 
 def _is_power(light, model) -> bool:

@@ -167,19 +167,25 @@ class Sync:
             if tree.users == 0 and tree not in self.groups.values():
                 bpy.data.node_groups.remove(tree)
 
-    def finish(self) -> None:
+    def finish(self, prune: bool = True) -> None:
+        """Remove this scene's unused groups; *prune*: and the World properties of lights
+        no group reads any more (not inside a depsgraph handler: removing an ID property
+        and its drivers there crashed Blender 4.2 in the next handler; Apply and Relink
+        prune what the handler left)."""
         for tree in rig.groups_of(self.scene):
             if tree.users == 0:
                 bpy.data.node_groups.remove(tree)
+        if prune:
+            rig.prune_world_keys()
         shading_modes.refresh(self.scene)  # Per Vertex / Per Face follow lights and objects
 
 
-def relink_scene(scene, view_layer=None) -> Sync:
+def relink_scene(scene, view_layer=None, prune: bool = True) -> Sync:
     """Bring the Phong materials of *scene*'s objects up to date with its lights."""
     sync = Sync(scene, view_layer)
     sync.rebuild_groups()
     sync.relink(scene.objects)
-    sync.finish()
+    sync.finish(prune)
     remember(scene, view_layer)
     return sync
 
@@ -233,7 +239,7 @@ def on_depsgraph_update(scene, depsgraph=None):
         return
     _BUSY.append(True)
     try:
-        relink_scene(scene, view_layer)
+        relink_scene(scene, view_layer, prune=False)
     finally:
         _BUSY.pop()
 
@@ -245,9 +251,33 @@ def forget(*_args):
     _LIGHTS.clear()
 
 
-_HANDLERS = (("depsgraph_update_post", on_depsgraph_update),
-             ("depsgraph_update_post", materials.follow_opacity), ("load_post", forget),
-             ("undo_post", forget), ("redo_post", forget))
+@persistent
+def upgrade_on_load(*_args):
+    """A file of an earlier version: each scene whose lights groups are older than
+    ``rig.RIG_VERSION`` is relinked, which rebuilds its groups and upgrades its Phong
+    materials (``materials.upgrade``); nothing is lost.  Files of version 0.1 (no lights
+    groups, every light in the material) are upgraded by Relink Phong Lights."""
+    if _BUSY:
+        return
+    for scene in bpy.data.scenes:
+        if scene.library is not None:
+            continue
+        if not any(int(t.get(rig.VERSION_KEY, 0)) < rig.RIG_VERSION
+                   for t in rig.groups_of(scene)):
+            continue
+        _BUSY.append(True)
+        try:
+            relink_scene(scene)
+        finally:
+            _BUSY.pop()
+
+
+#: The relink handler comes after every other handler of depsgraph_update_post that reads
+#: the depsgraph's updates: a relink frees and edits data blocks (groups, the World's
+#: drivers) that those updates still name (Blender 4.2 crashed in follow_opacity after it).
+_HANDLERS = (("depsgraph_update_post", materials.follow_opacity),
+             ("depsgraph_update_post", on_depsgraph_update), ("load_post", forget),
+             ("load_post", upgrade_on_load), ("undo_post", forget), ("redo_post", forget))
 
 
 def register():

@@ -1,0 +1,185 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Issue 30: one depsgraph update after moving (and turning) a light, Principled against Phong
+with the lights' transforms as World properties read by View Layer attributes (this version)
+and against the design before it (drivers on the lights group's sockets, ``phong_source`` an
+ID pointer), side by side in one process.
+
+    .venv/bin/python -m phong_nodes.benchmarks.light_move [--objects 1000] [--lights 4] [--moves 21]
+    .venv/bin/python -m phong_nodes.benchmarks.light_move --eevee 4 8 16 [--repeats 1]
+
+The scene is figure 6's artist scene (``measure.artist_scene``: cubes with their own mesh and
+Principled material, lights cycling point, sun, spot, point).  In one process: the Principled
+scene; then Apply Phong Material (this version); then the same file turned into the previous
+design (every group rebuilt with no View Layer lookup, ``compat.VIEW_LAYER_LOOKUPS = 0``,
+which is the previous rig exactly, and each Phong material given back its ``phong_source`` ID
+pointer); then this version again (Relink), to see the drift of the machine.  Each figure is
+the median of *moves* updates after two untimed ones; "move" moves the first light (a point
+light), "turn" rotates the third (a spot).  Prints one JSON object (seconds, ratios to
+Principled, relink seconds, load average).
+
+``--eevee``: Eevee's first render (shader compile included, after the engine's warm-up) of
+3x3 spheres with 4, 8 and 16 point lights, this version against the previous rig, each in a
+process of its own with empty shader caches.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import statistics
+import sys
+import time
+
+from .measure import artist_scene, worker_setup
+
+
+def _updates(bpy, view_layer, change, moves):
+    times = []
+    for index in range(moves + 2):
+        change(index)
+        t0 = time.perf_counter()
+        view_layer.update()
+        times.append(time.perf_counter() - t0)
+    return statistics.median(times[2:])
+
+
+def _measure(bpy, view_layer, lights, moves):
+    point, spot = lights[0], lights[min(2, len(lights) - 1)]
+
+    def move(index):
+        point.location.x += 0.25 if index % 2 == 0 else -0.25
+
+    def turn(index):
+        spot.rotation_euler.x += 0.05 if index % 2 == 0 else -0.05
+
+    return {"move": _updates(bpy, view_layer, move, moves),
+            "turn": _updates(bpy, view_layer, turn, moves)}
+
+
+def _relink(bpy, scene, view_layer):
+    with bpy.context.temp_override(scene=scene, view_layer=view_layer):
+        t0 = time.perf_counter()
+        result = bpy.ops.phong.relink_lights()
+        view_layer.update()
+        if result != {"FINISHED"}:
+            raise RuntimeError(f"relink_lights returned {result}")
+    return time.perf_counter() - t0
+
+
+def run(objects: int, n_lights: int, moves: int) -> dict:
+    bpy = worker_setup()
+    from phong_nodes.addon import compat  # noqa: PLC0415
+    from phong_nodes.addon.lighting import materials  # noqa: PLC0415
+
+    load_before = os.getloadavg()
+    scene, meshes, lights = artist_scene("light_move", objects, n_lights)
+    bpy.context.window.scene = scene
+    view_layer = scene.view_layers[0]
+    view_layer.update()
+    out = {"objects": objects, "lights": n_lights, "moves": moves,
+           "bpy": bpy.app.version_string, "update_s": {}, "relink_s": {}}
+    out["update_s"]["principled"] = _measure(bpy, view_layer, lights, moves)
+    for obj in meshes:
+        obj.select_set(True, view_layer=view_layer)
+    with bpy.context.temp_override(scene=scene, view_layer=view_layer, selected_objects=meshes):
+        t0 = time.perf_counter()
+        assert bpy.ops.phong.apply_material() == {"FINISHED"}
+        view_layer.update()
+        out["apply_s"] = time.perf_counter() - t0
+    out["update_s"]["world_attributes"] = _measure(bpy, view_layer, lights, moves)
+    out["relink_s"]["world_attributes"] = _relink(bpy, scene, view_layer)
+
+    saved = compat.VIEW_LAYER_LOOKUPS
+    compat.VIEW_LAYER_LOOKUPS = 0  # the previous rig: every transform driven in the group
+    try:
+        out["relink_s"]["previous"] = _relink(bpy, scene, view_layer)
+        for material in materials.phong_materials():  # and the source as an ID pointer
+            material[materials.SOURCE_KEY] = materials.source_of(material)
+        view_layer.update()
+        out["update_s"]["previous"] = _measure(bpy, view_layer, lights, moves)
+        for material in materials.phong_materials():
+            material[materials.SOURCE_KEY] = material[materials.SOURCE_KEY].name
+    finally:
+        compat.VIEW_LAYER_LOOKUPS = saved
+    _relink(bpy, scene, view_layer)
+    out["update_s"]["world_attributes_again"] = _measure(bpy, view_layer, lights, moves)
+    base = out["update_s"]["principled"]
+    out["ratio_to_principled"] = {
+        case: {k: v / base[k] for k, v in figures.items()}
+        for case, figures in out["update_s"].items()}
+    out["load_average"] = [load_before, os.getloadavg()]
+    return out
+
+
+def eevee_first(n_lights: int, design: str) -> dict:
+    """One cold process (run by ``eevee``): Eevee's engine warmed up by the Emission scene,
+    then the first render (shader compile included) and a second render of 3x3 spheres with
+    *n_lights* point lights in *design* ("world_attributes" or "previous")."""
+    worker_setup()
+    from phong_nodes.addon import compat  # noqa: PLC0415
+
+    from .measure import build_scene, remove_scene, render, set_eevee  # noqa: PLC0415
+
+    if design == "previous":
+        compat.VIEW_LAYER_LOOKUPS = 0
+    elif design.startswith("lookups="):  # a budget other than the release's, to compare
+        compat.VIEW_LAYER_LOOKUPS = int(design.split("=")[1])
+    warm, _ = build_scene("ewarm", res=64, grid=3, n_lights=1, material="emission", segments=16)
+    set_eevee(warm, 1)
+    render(warm)
+    remove_scene(warm)
+    scene, _ = build_scene(f"e {n_lights}", res=64, grid=3, n_lights=n_lights, material="phong",
+                           segments=16)
+    set_eevee(scene, 1)
+    return {"first": render(scene), "second": render(scene)}
+
+
+def eevee(lights, repeats) -> dict:
+    """Eevee's cold first render per number of lights, both designs, each in a process of
+    its own with empty shader caches (as ``run.py`` does); the order alternates."""
+    import subprocess  # noqa: PLC0415
+    import tempfile  # noqa: PLC0415
+
+    out = {}
+    for repeat in range(repeats):
+        for n in lights:
+            designs = ("world_attributes", "previous")
+            for design in designs if repeat % 2 == 0 else designs[::-1]:
+                tmp = tempfile.mkdtemp(prefix="phong_light_move_")
+                env = dict(os.environ, BLENDER_USER_RESOURCES=os.path.join(tmp, "user"),
+                           MESA_SHADER_CACHE_DIR=os.path.join(tmp, "mesa"),
+                           XDG_CACHE_HOME=os.path.join(tmp, "cache"))
+                proc = subprocess.run(
+                    [sys.executable, "-m", "phong_nodes.benchmarks.light_move",
+                     "--eevee-worker", str(n), design], env=env, capture_output=True, text=True)
+                line = [x for x in proc.stdout.splitlines() if x.startswith("EEVEE ")]
+                if proc.returncode != 0 or not line:
+                    raise RuntimeError(proc.stderr[-2000:])
+                out.setdefault(f"{design}:{n}", []).append(json.loads(line[-1][6:]))
+    return out
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--objects", type=int, default=1000)
+    parser.add_argument("--lights", type=int, default=4)
+    parser.add_argument("--moves", type=int, default=21)
+    parser.add_argument("--eevee", type=int, nargs="*", metavar="LIGHTS",
+                        help="instead: Eevee's cold first render with these numbers of lights")
+    parser.add_argument("--repeats", type=int, default=1)
+    parser.add_argument("--eevee-worker", nargs=2, help=argparse.SUPPRESS)
+    args = parser.parse_args(argv)
+    if args.eevee_worker:
+        print("EEVEE " + json.dumps(eevee_first(int(args.eevee_worker[0]),
+                                                args.eevee_worker[1])))
+        return 0
+    if args.eevee is not None:
+        print(json.dumps(eevee(args.eevee or [4, 8, 16], args.repeats), indent=1))
+        return 0
+    print(json.dumps(run(args.objects, args.lights, args.moves), indent=1))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
