@@ -368,3 +368,21 @@ def test_a_renamed_source_is_still_found_and_restored(bpy_clean, tmp_path):
     assert tuple(sphere.active_material.node_tree.nodes["Principled BSDF"]
                  .inputs["Base Color"].default_value) == pytest.approx((0.2, 0.5, 0.8, 1.0))
     assert not math.isnan(sum(sphere.active_material.diffuse_color))
+
+
+def test_the_light_move_benchmark_runs_and_shows_the_difference(bpy_clean):
+    """benchmarks/light_move.py at a tiny size (a fresh process): both designs measured beside
+    Principled; on 5.2+ the previous rig's update (every material re-evaluated) is the slower."""
+    code = ("import json, sys; from phong_nodes.benchmarks import light_move; "
+            "print('RESULT ' + json.dumps(light_move.run(60, 4, 5)))")
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         timeout=300, cwd=be.REPO_ROOT)
+    assert run.returncode == 0, run.stderr[-2000:]
+    result = json.loads(run.stdout.split("RESULT ")[-1])
+    updates = result["update_s"]
+    assert set(updates) == {"principled", "world_attributes", "previous",
+                            "world_attributes_again"}
+    assert all(v > 0 for case in updates.values() for v in case.values())
+    assert result["ratio_to_principled"]["principled"] == {"move": 1.0, "turn": 1.0}
+    if _lookups():
+        assert updates["previous"]["move"] > updates["world_attributes"]["move"], updates
