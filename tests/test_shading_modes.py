@@ -393,6 +393,11 @@ def test_modifiers_come_first_and_pixel_mode_leaves_nothing_behind(bpy_clean):
     want, _near = _reference(scene, sphere, camera, lights, P, N)
     assert np.abs(got - want).max() <= VERTEX_TOL
     material = sphere.active_material
+    aovs = {n.aov_name: n.inputs["Color"] for n in material.node_tree.nodes
+            if n.name.startswith("phong_aov:")}
+    assert aovs["Phong Color"].links[0].from_node.name == modes.ATTRIBUTE_NODE
+    assert not any(aovs[t].is_linked for t in ("Phong Irradiant", "Phong Ambient",
+                                               "Phong Diffuse", "Phong Specular"))
     # Opacity below 1 mixes the shown shader, the stored colour's emission
     from phong_nodes.addon.lighting import materials  # noqa: PLC0415
 
@@ -412,6 +417,9 @@ def test_modifiers_come_first_and_pixel_mode_leaves_nothing_behind(bpy_clean):
     assert modes.ATTRIBUTE_NODE not in nodes and modes.EMISSION_NODE not in nodes
     surface = nodes["phong_output"].inputs["Surface"].links[0]
     assert surface.from_node.name == "phong_lights" and surface.from_socket.name == "Shader"
+    for name, socket in aovs.items():  # every AOV from the lights group again
+        assert socket.links[0].from_node.name == "phong_lights", name
+        assert socket.links[0].from_socket.name == name.removeprefix("Phong "), name
     with pytest.raises(ValueError, match="unknown shading"):
         modes.set_mode(material, "SMOOTH")
 

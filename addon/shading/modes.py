@@ -256,9 +256,10 @@ def _surface_per_pixel(material) -> None:
     if lights is None or output is None:
         return
     materials.apply_opacity(material)  # the lights group's Shader into the output (or mix)
-    aov = tree.nodes.get(f"phong_aov:{materials.AOV_NAME}")
-    if aov is not None:
-        tree.links.new(lights.outputs["Color"], aov.inputs["Color"])
+    for aov_name, socket in materials.AOVS.items():  # every AOV from the lights group again
+        aov = tree.nodes.get(f"phong_aov:{aov_name}")
+        if aov is not None:
+            tree.links.new(lights.outputs[socket], aov.inputs["Color"])
 
 
 def _surface_per_mesh(material, attribute: str) -> None:
@@ -284,9 +285,16 @@ def _surface_per_mesh(material, attribute: str) -> None:
     emission.inputs["Strength"].default_value = 1.0
     tree.links.new(node.outputs["Color"], emission.inputs["Color"])
     materials.apply_opacity(material)  # the emission into the output (or the opacity mix)
-    aov = tree.nodes.get(f"phong_aov:{materials.AOV_NAME}")
-    if aov is not None:
-        tree.links.new(node.outputs["Color"], aov.inputs["Color"])
+    for aov_name in materials.AOVS:
+        aov = tree.nodes.get(f"phong_aov:{aov_name}")
+        if aov is None:
+            continue
+        if aov_name == materials.AOV_NAME:  # Phong Color: the stored colour
+            tree.links.new(node.outputs["Color"], aov.inputs["Color"])
+        else:  # the per-pixel terms are not computed in this mode (and not compiled by Eevee)
+            for link in list(aov.inputs["Color"].links):
+                tree.links.remove(link)
+            aov.inputs["Color"].default_value = (0.0, 0.0, 0.0, 1.0)
 
 
 def _control_paths(material) -> dict:
