@@ -158,8 +158,12 @@ def follow_objects(_scene, depsgraph=None) -> None:
     if _BUSY or depsgraph is None or not (depsgraph.id_type_updated("OBJECT")
                                           or depsgraph.id_type_updated("MESH")):
         return
-    if not any(TREE_MATERIAL_KEY in t.keys() for t in bpy.data.node_groups
-               if t.bl_idname == "GeometryNodeTree"):
+    # Only materials that have their group are followed: not a temporary copy (Bake Phong
+    # Lighting swaps in copies of the materials, which keep the custom property)
+    followed = {t.get(TREE_MATERIAL_KEY).as_pointer() for t in bpy.data.node_groups
+                if t.bl_idname == "GeometryNodeTree"
+                and isinstance(t.get(TREE_MATERIAL_KEY), bpy.types.Material)}
+    if not followed:
         return  # no Per Vertex / Per Face material in the file: nothing to follow
     objects, meshes = set(), set()
     for change in depsgraph.updates:
@@ -177,7 +181,9 @@ def follow_objects(_scene, depsgraph=None) -> None:
             continue
         for slot in obj.material_slots:
             material = slot.material
-            if material is None or mode_of(material) == PIXEL:
+            if material is None or material.as_pointer() not in followed:
+                continue
+            if mode_of(material) == PIXEL:
                 continue
             if not materials.is_phong_material(material):
                 continue
@@ -202,7 +208,8 @@ def register():
 
 
 def unregister():
-    bpy.app.handlers.depsgraph_update_post.remove(follow_objects)
+    if follow_objects in bpy.app.handlers.depsgraph_update_post:
+        bpy.app.handlers.depsgraph_update_post.remove(follow_objects)
 
 
 def _light_set(material):
