@@ -23,7 +23,7 @@ the template (``props.find_prop``).  Its Python binding is fragile: some of its 
 the garbage collector (``Shader``, ``Texture.content``, list iterators, a ``props.defaults``
 with no template, any element once its scene is freed; measured on this project's files).
 So ufbx runs in a child process (:func:`read`): the child reads the file with the garbage
-collector off, sends plain data back (a pickle of dicts, tuples and numpy arrays) and ends
+collector off, sends plain data back (JSON, and its numpy arrays in an .npz of plain arrays) and ends
 with ``os._exit``; a crash, a time-out (:data:`TIME_LIMIT`) or the memory limit
 (:data:`MEMORY_LIMIT`, POSIX) of the child is one :class:`FbxError` in Blender, the one
 exception class of this module, and leaves Blender as it was.
@@ -31,9 +31,9 @@ exception class of this module, and leaves Blender as it was.
 
 from __future__ import annotations
 
+import json
 import math
 import os
-import pickle
 import subprocess
 import sys
 import tempfile
@@ -495,10 +495,66 @@ def _child(path: str, result: str, geometry: bool) -> None:
         payload = {"error": str(error)}
     except Exception as error:  # noqa: BLE001 - anything else: one message for the parent
         payload = {"error": f"{path}: not readable as FBX ({type(error).__name__}: {error})"}
-    with open(result, "wb") as handle:
-        pickle.dump(payload, handle, protocol=pickle.HIGHEST_PROTOCOL)
-        handle.flush()
+    _write_payload(payload, result)
     os._exit(0)
+
+
+# The child's answer: JSON for the structure (a tuple as {"()": [...]}, an array as
+# {"[]": name}, bytes as {"b": name}) and one .npz of the arrays (numpy's np.load refuses object arrays by
+# default): plain data only, nothing that runs code when it is read.
+
+def _write_payload(payload, result: str) -> None:
+    import numpy as np
+
+    arrays = {}
+
+    def plain(value):
+        if isinstance(value, (bytes, bytearray)):  # an embedded texture's file
+            name = f"a{len(arrays)}"
+            arrays[name] = np.frombuffer(bytes(value), dtype=np.uint8)
+            return {"b": name}
+        if isinstance(value, np.ndarray):
+            name = f"a{len(arrays)}"
+            arrays[name] = value
+            return {"[]": name}
+        if isinstance(value, dict):
+            return {str(k): plain(v) for k, v in value.items()}
+        if isinstance(value, tuple):
+            return {"()": [plain(v) for v in value]}
+        if isinstance(value, list):
+            return [plain(v) for v in value]
+        if isinstance(value, np.generic):
+            return value.item()
+        return value
+
+    text = json.dumps(plain(payload), allow_nan=True)
+    np.savez(result + ".npz", **arrays)
+    with open(result + ".json", "w", encoding="utf-8") as handle:  # written last: complete
+        handle.write(text)
+
+
+def _read_payload(result: str):
+    import numpy as np
+
+    with open(result + ".json", encoding="utf-8") as handle:
+        text = handle.read()
+    with np.load(result + ".npz") as archive:
+        arrays = {name: archive[name] for name in archive.files}
+
+    def typed(value):
+        if isinstance(value, dict):
+            if set(value) == {"[]"}:
+                return arrays[value["[]"]]
+            if set(value) == {"b"}:
+                return arrays[value["b"]].tobytes()
+            if set(value) == {"()"}:
+                return tuple(typed(v) for v in value["()"])
+            return {k: typed(v) for k, v in value.items()}
+        if isinstance(value, list):
+            return [typed(v) for v in value]
+        return value
+
+    return typed(json.loads(text))
 
 
 def _limits():  # runs in the child before it starts (POSIX)
@@ -522,7 +578,7 @@ def read(path: str, geometry: bool = False, timeout: float | None = None) -> Sce
     if not os.path.isfile(path):
         raise FbxError(path, "file not found")
     with tempfile.TemporaryDirectory(prefix="phong_fbx_") as folder:
-        result = os.path.join(folder, "result.pickle")
+        result = os.path.join(folder, "result")
         env = dict(os.environ)
         env["PYTHONPATH"] = os.pathsep.join(p for p in sys.path if p)
         command = [_python(), "-s", os.path.abspath(__file__),
@@ -537,12 +593,11 @@ def read(path: str, geometry: bool = False, timeout: float | None = None) -> Sce
             raise FbxError(path, f"reading took longer than {limit:g} s") from None
         except OSError as error:
             raise FbxError(path, f"could not start the FBX reader ({error})") from None
-        if not os.path.isfile(result):
+        if not os.path.isfile(result + ".json"):
             tail = done.stderr.decode("utf-8", "replace").strip().splitlines()[-1:] or [""]
             raise FbxError(path, f"the FBX reader stopped (exit status {done.returncode}) "
                                  f"{tail[0][:200]}".strip())
-        with open(result, "rb") as handle:
-            payload = pickle.load(handle)  # written by our own child process just now
+        payload = _read_payload(result)
     if "error" in payload:
         raise FbxError(path, payload["error"].removeprefix(f"{path}: "))
     return _rebuild(payload)
@@ -555,7 +610,7 @@ def _rebuild(payload) -> Scene:
         m["textures"] = {k: Texture(**t) for k, t in m["textures"].items()}
         materials.append(Material(**m))
     info = dict(payload["scene"])
-    meshes = {k: MeshData(**v) for k, v in info.pop("meshes").items()}
+    meshes = {int(k): MeshData(**v) for k, v in info.pop("meshes").items()}  # JSON keys
     return Scene(**info, materials=materials,
                  lights=[Light(**l) for l in payload["lights"]],
                  nodes=[Node(**n) for n in payload["nodes"]], meshes=meshes)

@@ -45,7 +45,6 @@ FbxError = fbx.FbxError
 #: lights-group input -> control node of the recipe (or ours, for the ambient colour)
 CONTROLS = {"Object Color": "phong_object_color", recipe.AMBIENT_INPUT: recipe.AMBIENT_CONTROL,
             "Specular Color": "phong_specular_color", "Irradiant Color": "phong_irradiant_color"}
-OPACITY_CONTROL = "phong_opacity"
 #: Custom property on imported objects, lights and materials: the FBX file they came from.
 SOURCE_KEY = "phong_fbx_source"
 _DATA = ("objects", "meshes", "materials", "lights", "cameras", "images", "node_groups",
@@ -254,17 +253,6 @@ def _image(texture, images, warnings, where):
     return image
 
 
-def set_opacity(material, value: float) -> None:
-    """The material's opacity control (``phong_opacity``), where the recipe has it."""
-    setter = getattr(recipe, "set_opacity", None)
-    if setter is not None:
-        setter(material, value)
-        return
-    node = material.node_tree.nodes.get(OPACITY_CONTROL)
-    if node is not None:
-        node.outputs[0].default_value = float(value)
-
-
 def apply_material(material, source: fbx.Material, warnings: list, images: dict, path) -> None:
     """Give the Phong material *material* the values and textures of *source*."""
     tree = material.node_tree
@@ -288,7 +276,7 @@ def apply_material(material, source: fbx.Material, warnings: list, images: dict,
         tree.links.new(socket, lights.inputs[name])
     tree.nodes["phong_exponent"].outputs[0].default_value = source.exponent
     tree.nodes["phong_blinn"].outputs[0].default_value = 1.0 if source.blinn else 0.0
-    set_opacity(material, source.opacity)
+    recipe.set_opacity(material, source.opacity)
     if lights.inputs["Normal"].is_linked:
         tree.links.remove(lights.inputs["Normal"].links[0])
     obj_import._prune(tree, keep)
