@@ -9,12 +9,13 @@ import bpy
 VERSION = bpy.app.version
 #: Attribute nodes of type View Layer a lights group may hold (lights' transforms read from
 #: World custom properties, ``lighting/rig.py``): each is a search loop in Eevee's shader and
-#: its compile time grows steeply beyond about 8 (issue 30's measurements).  Before 5.2 none:
-#: 4.2.23, 4.5.15 and 5.0.1 read them right in Cycles and Eevee, but Eevee's compile of a
-#: Phong material with the five term AOVs on the view layer and 4 lookups ran past 4 minutes
-#: on each (5.2.3: seconds, as with none; measured, tests/test_materials.py's Eevee test);
-#: there the lights keep drivers in the lights group (the rig of 0.2).
-VIEW_LAYER_LOOKUPS = 8 if VERSION >= (5, 2, 0) else 0
+#: its compile time grows steeply with their number, more so with the five term AOVs on the
+#: view layer (each AOV output evaluates the group again).  Measured with
+#: tests/test_materials.py's Eevee test (5 AOVs) on 5.2.3: 4 lookups 2.9 s (6 lights: 3.4 s
+#: against 4.7 s with none), 5: 9.9 s, 6: 15 s, 8: 154 s; so 4.  Before 5.2 none: 4.2.23, 4.5.15
+#: and 5.0.1 read them right in Cycles and Eevee, but that test ran past 4 minutes with 4
+#: lookups on each; there the lights keep drivers in the lights group (the rig of 0.2).
+VIEW_LAYER_LOOKUPS = 4 if VERSION >= (5, 2, 0) else 0
 
 
 def exit_crashes() -> bool:

@@ -109,17 +109,23 @@ def phong_materials():
     return [m for m in bpy.data.materials if is_phong_material(m) and m.library is None]
 
 
-def source_of(material):
+def source_of(material, names=None):
     """The material a Phong material was made from (None if unknown or made for no material):
     the material named ``material["phong_source"]`` carrying its token, else the one carrying
-    the token under another name (renamed since), else an ID pointer of layout 4 and before."""
+    the token under another name (renamed since), else an ID pointer of layout 4 and before.
+    *names*: a dict name -> material of ``bpy.data.materials`` (callers that ask for many)."""
     source = material.get(SOURCE_KEY)
     if isinstance(source, bpy.types.Material):
         return source
     token = material.get(SOURCE_TOKEN)
     if not isinstance(token, str) or not token:
         return None
-    named = bpy.data.materials.get(source) if isinstance(source, str) else None
+    if not isinstance(source, str):
+        named = None
+    elif names is not None:
+        named = names.get(source)
+    else:
+        named = bpy.data.materials.get(source)
     if named is not None and named.get(SOURCE_TOKEN) == token and named is not material:
         return named
     return next((m for m in bpy.data.materials if m.get(SOURCE_TOKEN) == token
@@ -511,15 +517,15 @@ def upgrade(material) -> bool:
     return True
 
 
-def restore(obj) -> int:
+def restore(obj, names=None) -> int:
     """Put back the source materials in the slots of *obj* that hold a Phong material made
-    from one; returns how many slots changed."""
+    from one; returns how many slots changed.  *names*: as for ``source_of``."""
     changed = 0
     for slot in obj.material_slots:
         material = slot.material
         if not is_phong_material(material):
             continue
-        source = source_of(material)
+        source = source_of(material, names)
         if source is not None:
             slot.material = source
             changed += 1

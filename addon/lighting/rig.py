@@ -75,8 +75,8 @@ INPUTS = (  # (name, socket type, default)
 #: group as World custom properties of 4 floats (``world_key``), written by drivers on the
 #: World and read by Attribute nodes of type View Layer: moving a light then updates the
 #: World, not the node trees of the materials (issue 30).  Each such Attribute node is a
-#: search loop in Eevee's shader, whose compile time grows steeply beyond about 8 of them
-#: (measured: 0.08 s with 8, 2.6 s with 14, 20 s with 16), so a group reads at most
+#: search loop in Eevee's shader, whose compile time grows steeply with their number (and
+#: with the term AOVs on the view layer: ``compat.py``), so a group reads at most
 #: ``compat.VIEW_LAYER_LOOKUPS``; the lights beyond (and a scene without a World) keep
 #: drivers on the group's sockets.  The group lists its keys in ``WORLD_KEYS``.
 WORLD_PREFIX = "phong_light_"

@@ -213,7 +213,8 @@ in the file until unused)"""
         meshes = _selected_meshes(self, context, "Restore Original Materials")
         if meshes is None:
             return {"CANCELLED"}
-        slots = sum(materials.restore(obj) for obj in meshes)
+        names = {m.name: m for m in bpy.data.materials}  # one look-up table for all slots
+        slots = sum(materials.restore(obj, names) for obj in meshes)
         if not slots:
             self.report({"WARNING"}, "Restore Original Materials: no selected object has a "
                                      "Phong material made from another material")
