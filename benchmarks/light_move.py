@@ -177,8 +177,9 @@ def main(argv=None) -> int:
     if args.eevee is not None:
         print(json.dumps(eevee(args.eevee or [4, 8, 16], args.repeats), indent=1))
         return 0
-    print(json.dumps(run(args.objects, args.lights, args.moves), indent=1))
-    return 0
+    print(json.dumps(run(args.objects, args.lights, args.moves), indent=1), flush=True)
+    sys.stderr.flush()
+    os._exit(0)  # bpy 4.2's clean-up at interpreter exit crashed after this run (signal 11)
 
 
 if __name__ == "__main__":

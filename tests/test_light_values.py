@@ -378,8 +378,9 @@ def test_a_renamed_source_is_still_found_and_restored(bpy_clean, tmp_path):
 def test_the_light_move_benchmark_runs_and_shows_the_difference(bpy_clean):
     """benchmarks/light_move.py at a tiny size (a fresh process): both designs measured beside
     Principled; on 5.2+ the previous rig's update (every material re-evaluated) is the slower."""
-    code = ("import json, sys; from phong_nodes.benchmarks import light_move; "
-            "print('RESULT ' + json.dumps(light_move.run(60, 4, 5)))")
+    code = ("import json, os, sys; from phong_nodes.benchmarks import light_move; "
+            "print('RESULT ' + json.dumps(light_move.run(60, 4, 5)), flush=True); "
+            "os._exit(0)")  # bpy 4.2's clean-up at exit crashed after this run (signal 11)
     run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          timeout=300, cwd=be.REPO_ROOT)
     assert run.returncode == 0, run.stderr[-2000:]
