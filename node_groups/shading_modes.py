@@ -153,9 +153,12 @@ def light_group_inputs(index: int, group_name: str) -> dict:
     return {s.name: _input(light_input(index, s.name), s.kind) for s in GROUPS[group_name].inputs}
 
 
-def model_color(light_types, model: str = "seeds") -> Expr:
+def model_color(light_types, model: str = "seeds", power=()) -> Expr:
     """The clamped colour of the whole model for lights of *light_types* (``POINT``,
-    ``SUN``, ``SPOT``, in the order of the lights group), one vector expression."""
+    ``SUN``, ``SPOT``, in the order of the lights group), one vector expression.  The lights
+    whose indices are in *power* fall off as i0/d^k (the seeds' model, as the rig builds them:
+    the light group without falloff, then a Phong Power Falloff of its Distance, k the leaf
+    ``light<k>:Power K``)."""
     if model not in MODELS:
         raise ValueError(f"unknown lighting model {model!r}: expected one of {MODELS}")
     geo = world_geometry()
@@ -174,8 +177,15 @@ def model_color(light_types, model: str = "seeds") -> Expr:
     for index, light_type in enumerate(light_types):
         group_name = LIGHT_GROUPS[model][light_type]
         light = light_group_inputs(index, group_name)
+        is_power = model == "seeds" and index in power and light_type in ("POINT", "SPOT")
+        if is_power:  # no falloff in the light group: α = β = 0, γ = 1
+            light.update({"Quadratic": 0.0, "Linear": 0.0, "Constant": 1.0})
         vector = _group(group_name, "Light Vector", light, geo)
         intensity = _group(group_name, "Intensity", light, geo)
+        if is_power:
+            intensity = _group("Phong Power Falloff", "Intensity", {
+                "Intensity": intensity, "Distance": _group(group_name, "Distance", light, geo),
+                "Exponent": _input(light_input(index, "Power K"), FLOAT)}, geo)
         light_color = _input(light_input(index, "Color"), VECTOR)
         if model == "threejs":
             parts.append(_group("three.js Phong", "Color", {

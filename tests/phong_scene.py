@@ -140,6 +140,8 @@ def light_inputs(obj):
     if light.type in ("POINT", "SPOT"):
         inputs.update({"Position": mw[:3, 3], "Quadratic": s.quadratic, "Linear": s.linear,
                        "Constant": s.constant})
+        if s.falloff == "POWER":  # i0/d^k: the group without falloff (see _power)
+            inputs.update({"Quadratic": 0.0, "Linear": 0.0, "Constant": 1.0})
     if light.type in ("SUN", "SPOT"):
         inputs["Direction"] = -mw[:3, 2]
     if light.type == "SPOT":
@@ -160,7 +162,10 @@ def reference_color(world, lights, controls, P, N, I, terms=None):
     if terms is not None:
         terms.update({t: np.zeros(P.shape) for t in TERMS})
     for index, obj in enumerate(lights):
-        out = ref.GROUPS[GROUP[obj.data.type]](light_inputs(obj), geo)
+        out = dict(ref.GROUPS[GROUP[obj.data.type]](light_inputs(obj), geo))
+        if obj.data.type in ("POINT", "SPOT") and obj.data.phong.falloff == "POWER":
+            out["Intensity"] = ref.power_falloff(out["Distance"], out["Intensity"],
+                                                 obj.data.phong.power_k)["Intensity"]
         if obj.data.type == "SPOT":
             cos_t = math.cos(obj.data.spot_size / 2.0)
             near_edge |= np.abs(out["Cos Angle"] - cos_t) < 1e-5

@@ -285,6 +285,38 @@ def test_modes_are_validated():
 
 # -- in Blender -------------------------------------------------------------------------
 
+def test_power_falloff_lights_per_vertex_and_per_face(bpy_clean):
+    """A Point and a Spot whose falloff is i0/d^k (phong_falloff POWER, k = 3 and 1.5) light
+    Per Vertex and Per Face materials as the reference's Power Falloff says, and a change of
+    k or of the falloff is followed."""
+    bpy = bpy_clean
+    scene, sphere, camera, lights = _scene(bpy, "VERTEX", ("POINT", "SPOT"))
+    point, spot = (next(o for o in lights if o.data.type == t) for t in ("POINT", "SPOT"))
+    point.data.phong.falloff, point.data.phong.power_k = "POWER", 3.0
+    spot.data.phong.falloff, spot.data.phong.power_k = "POWER", 1.5
+    bpy.context.view_layer.update()
+    results = []
+    for step in ("k 3 / 1.5", "k 2 / 1.5", "point quadratic"):
+        if step == "k 2 / 1.5":
+            point.data.phong.power_k = 2.0
+        elif step == "point quadratic":
+            point.data.phong.falloff = "QUADRATIC"
+        bpy.context.view_layer.update()
+        _domain, got = _attribute(bpy, sphere)
+        P, N = _vertices(bpy, sphere)
+        want, near = _reference(scene, sphere, camera, lights, P, N)
+        err = np.abs(got - want)[~near].max()
+        results.append(f"{step}: {err:.2e}")
+        assert err <= VERTEX_TOL, (step, err)
+    sphere.active_material.phong.shading = "FACE"
+    bpy.context.view_layer.update()
+    _domain, got = _attribute(bpy, sphere)
+    P, N = _face_centres(bpy, sphere)
+    want, near = _reference(scene, sphere, camera, lights, P, N)
+    assert np.abs(got - want)[~near].max() <= VERTEX_TOL
+    be.report("[shading power falloff] " + "; ".join(results))
+
+
 @pytest.mark.parametrize("light_types", [("POINT",), ("SUN",), ("SPOT",), ("POINT", "SUN", "SPOT")])
 def test_per_vertex_colours_equal_the_reference_at_every_vertex(bpy_clean, light_types):
     bpy = bpy_clean

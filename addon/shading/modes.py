@@ -107,7 +107,8 @@ def update(material, objects=None, tree=False) -> None:
         tree[TREE_MATERIAL_KEY] = material
     lights, world, light_model = _light_set(material)
     attribute = attribute_name(material)
-    signature = repr((mode, attribute, light_model, [(o.name, o.data.type) for o in lights],
+    signature = repr((mode, attribute, light_model,
+                      [(o.name, o.data.type, properties.falloff_of(o.data)) for o in lights],
                       world.name if world is not None else None, _control_paths(material)))
     if tree.get(TREE_SIGNATURE_KEY) != signature:
         build(tree, material, lights, world, light_model, mode, attribute)
@@ -416,7 +417,9 @@ def build(tree, material, lights, world, light_model, mode, attribute) -> None:
                    camera_info.inputs["Object"])
     sockets.update({"P": point.outputs[0], "N": normal.outputs[0],
                     "Camera": camera_info.outputs["Location"]})
-    expression = model.model_color([o.data.type for o in lights], light_model)
+    power = {index for index, obj in enumerate(lights)
+             if properties.falloff_of(obj.data) == "POWER"}  # i0/d^k (rig.py alike)
+    expression = model.model_color([o.data.type for o in lights], light_model, power)
     factories = {}  # leaf name -> makes its socket (only the leaves the model reads are made)
     # the material's controls
     for name, (path, value) in _control_paths(material).items():
@@ -489,7 +492,7 @@ def _light_sockets(b, index, obj) -> dict:
                  prefix + "Direction": direction,
                  prefix + "Color": lambda: b.vector(prefix + "Color", "LIGHT", light, "color")}
     for attr in ("intensity", "quadratic", "linear", "constant", "edge_exponent", "diffuse",
-                 "specular", "distance", "decay", "penumbra"):
+                 "specular", "distance", "decay", "penumbra", "power_k"):
         name = prefix + attr.replace("_", " ").title()
         factories[name] = lambda n=name, a=attr: b.value(n, "LIGHT", light, keys[a])
     for name in ("Half Angle", "Angle"):
