@@ -426,11 +426,15 @@ def _prepare(obj, settings: Settings):
     return None, previous_name
 
 
-def _stage():
+def _stage(scene=None):
     """The temporary scene the objects are baked in: Cycles' bake syncs the whole scene for
     every object it bakes, so each is baked in a scene of its own objects alone (the lights
-    groups' drivers still read the lights, wherever they are)."""
+    groups' drivers still read the lights, wherever they are).  It shares *scene*'s World:
+    the lights groups read the lights' transforms from World properties through View Layer
+    attributes (docs/contract.md), which look in the rendered scene's World."""
     stage = bpy.data.scenes.new("Phong Bake (temporary)")
+    if scene is not None:
+        stage.world = scene.world
     render.exact(stage, "cycles")
     stage.render.bake.margin_type = "EXTEND"
     return stage
@@ -514,7 +518,7 @@ def bake(scene, objects, settings: Settings, progress=None) -> tuple:
     scratch = tempfile.mkdtemp(prefix="phong-bake-")
     temps = []  # the stage and the bake materials, removed in one go
     try:
-        stage = _stage()
+        stage = _stage(scene)
         temps.append(stage)
         _file_settings(stage, settings.file_format, Overrides())  # the stage goes later
         names = file_names(objects, settings.file_format)
