@@ -221,7 +221,9 @@ def test_relink_and_edits_of_the_control_keep_the_nodes_in_step(bpy_clean):
     assert surface.links[0].from_node.name == "phong_opacity_mix"
     assert bpy.ops.phong.relink_lights() == {"FINISHED"}
     assert surface.links[0].from_node.name == "phong_opacity_mix"
-    # an edit of the control (the panel, the node editor) switches the nodes by itself
+    # an edit of the control in the node editor (the active object's material) switches the
+    # nodes by itself
+    bpy.context.view_layer.objects.active = front
     control = material.node_tree.nodes["phong_opacity"].outputs[0]
     control.default_value = 1.0
     bpy.context.view_layer.update()  # what Blender's UI does after each change
@@ -231,6 +233,19 @@ def test_relink_and_edits_of_the_control_keep_the_nodes_in_step(bpy_clean):
     bpy.context.view_layer.update()
     assert surface.links[0].from_node.name == "phong_opacity_mix"
     assert material.surface_render_method == "BLENDED"
+    # material.phong.opacity (the panel's slider, scripts) switches at once, active or not
+    bpy.context.view_layer.objects.active = None
+    material.phong.opacity = 1.0
+    assert control.default_value == 1.0 and material.phong.opacity == 1.0
+    assert surface.links[0].from_node.name == "phong_lights"
+    material.phong.opacity = 0.5
+    assert surface.links[0].from_node.name == "phong_opacity_mix"
+    # a script that writes the node of another object's material: Relink brings it in line
+    control.default_value = 1.0
+    bpy.context.view_layer.update()
+    assert surface.links[0].from_node.name == "phong_opacity_mix", "not the active object's"
+    assert bpy.ops.phong.relink_lights() == {"FINISHED"}
+    assert surface.links[0].from_node.name == "phong_lights"
 
 
 # -- MTL d -------------------------------------------------------------------------------
@@ -482,8 +497,7 @@ def test_panels_show_falloff_power_k_and_opacity(bpy_clean):
     shown = [a for _o, a, _t in _draw(panels.DATA_PT_phong_light, light=light.data, scene=scene)]
     assert "power_k" in shown and "quadratic" not in shown
     props = _draw(panels.MATERIAL_PT_phong, material=plane.active_material, scene=scene)
-    owner = next(o for o, _a, text in props if text == "Opacity")
-    assert owner == plane.active_material.node_tree.nodes["phong_opacity"].outputs[0]
+    assert (plane.active_material.phong, "opacity") in [(o, a) for o, a, _t in props]
 
 
 # -- the comparison's reference ------------------------------------------------------------

@@ -323,32 +323,29 @@ def _shader(tree, lights):
     return lights.outputs["Shader"]
 
 
-def _opacity_is_wired(material) -> bool:
+def opacity_in_step(material) -> bool:
     """Whether *material*'s nodes already match the value of its Opacity control."""
     return (material.node_tree.nodes.get(OPACITY_MIX) is not None) == (opacity(material) < 1.0)
 
 
 @persistent
 def follow_opacity(_scene, depsgraph=None) -> None:
-    """After an edit of a Phong material (its Opacity in the panel or the node editor), give
-    it the nodes of its Opacity: transparency on below 1, off at 1 (microseconds when no
-    material changed)."""
+    """After an edit of the Opacity control node in the node editor: the materials of the
+    active object (the ones the node editor and the panel show) get the nodes of their
+    Opacity.  Only those are looked at, so a light move in a file of thousands of Phong
+    materials costs nothing here; scripts set ``material.phong.opacity`` or call
+    :func:`set_opacity`, and Relink brings every material in line."""
     if depsgraph is None or not (depsgraph.id_type_updated("MATERIAL")
                                  or depsgraph.id_type_updated("NODETREE")):
         return
-    edited, trees = [], set()
-    for update in depsgraph.updates:
-        original = getattr(update.id, "original", None)
-        if isinstance(original, bpy.types.Material):
-            edited.append(original)
-        elif isinstance(original, bpy.types.ShaderNodeTree) and original.is_embedded_data:
-            trees.add(original.as_pointer())  # a material's own tree: find the material
-    if trees:
-        edited += [m for m in bpy.data.materials
-                   if m.node_tree is not None and m.node_tree.as_pointer() in trees]
-    for material in edited:
-        if (material.library is None and is_phong_material(material)
-                and not _opacity_is_wired(material)):
+    layer = getattr(bpy.context, "view_layer", None)
+    obj = layer.objects.active if layer is not None else None
+    if obj is None or not hasattr(obj, "material_slots"):
+        return
+    for slot in obj.material_slots:
+        material = slot.material
+        if (material is not None and material.library is None and is_phong_material(material)
+                and not opacity_in_step(material)):
             apply_opacity(material)
 
 

@@ -115,6 +115,8 @@ class Sync:
                 or int(material.get(materials.MATERIAL_TAG, 0)) < materials.LAYOUT):
             materials.wire(material, group)
             self.changed.add(material.name)
+        elif not materials.opacity_in_step(material):  # its Opacity node written directly
+            materials.apply_opacity(material)
         return material
 
     # -- objects --------------------------------------------------------------------------

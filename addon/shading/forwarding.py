@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""The getter and setter behind ``material.phong.shading``: they forward to the material's
-custom property ``phong_shading``.  No ``bpy`` here, directly or indirectly (see
+"""The getters and setters behind ``material.phong.shading`` (they forward to the material's
+custom property ``phong_shading``) and ``material.phong.opacity`` (the Opacity control node).  No ``bpy`` here, directly or indirectly (see
 ``lighting/forwarding.py`` for why: Blender 4.2 keeps these callbacks alive for ever); the
 function that puts a new mode into effect is held by a weak reference."""
 
@@ -32,4 +32,30 @@ def setter(key, names):
         callback = _on_change() if _on_change is not None else None
         if callback is not None:
             callback(material)
+    return set_
+
+
+_on_opacity = None
+
+
+def set_opacity_callback(callback) -> None:
+    """*callback(material, value)* sets a material's Opacity (``lighting.materials.set_opacity``;
+    None: nothing)."""
+    global _on_opacity
+    _on_opacity = None if callback is None else weakref.ref(callback)
+
+
+def opacity_getter(node_name):
+    def get(self):
+        tree = self.id_data.node_tree
+        node = tree.nodes.get(node_name) if tree is not None else None
+        return float(node.outputs[0].default_value) if node is not None and node.outputs else 1.0
+    return get
+
+
+def opacity_setter():
+    def set_(self, value):
+        callback = _on_opacity() if _on_opacity is not None else None
+        if callback is not None:
+            callback(self.id_data, value)
     return set_

@@ -1,10 +1,12 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""``material.phong.shading``: Per Pixel, Per Vertex, Per Face (stored as the material's
-custom property ``phong_shading``, so a file keeps it without the extension)."""
+"""``material.phong``: ``shading`` (Per Pixel, Per Vertex, Per Face; stored as the material's
+custom property ``phong_shading``, so a file keeps it without the extension) and ``opacity``
+(the Opacity control node, switching the material's transparency as it is set)."""
 
 import bpy
-from bpy.props import EnumProperty, PointerProperty
+from bpy.props import EnumProperty, FloatProperty, PointerProperty
 
+from ..lighting import materials
 from . import forwarding, modes
 
 SHADING_ITEMS = (
@@ -25,6 +27,11 @@ class PhongMaterialSettings(bpy.types.PropertyGroup):
         set=forwarding.setter(modes.SHADING_KEY, modes.MODES),
         description="Where the Phong model is evaluated: at every pixel, at every vertex "
                     "(interpolated across faces) or once per face")
+    opacity: FloatProperty(
+        name="Opacity", min=0.0, max=1.0, default=1.0, subtype="FACTOR",
+        get=forwarding.opacity_getter(materials.OPACITY), set=forwarding.opacity_setter(),
+        description="Opacity × Phong colour + (1 − opacity) × what is behind (the Opacity "
+                    "control node; below 1 the material blends)")
 
 
 def _changed(material):
@@ -33,6 +40,7 @@ def _changed(material):
 
 def register():
     forwarding.set_callback(_changed)
+    forwarding.set_opacity_callback(materials.set_opacity)
     bpy.utils.register_class(PhongMaterialSettings)
     bpy.types.Material.phong = PointerProperty(type=PhongMaterialSettings)
     modes.register()
@@ -43,3 +51,4 @@ def unregister():
     del bpy.types.Material.phong
     bpy.utils.unregister_class(PhongMaterialSettings)
     forwarding.set_callback(None)
+    forwarding.set_opacity_callback(None)

@@ -85,9 +85,8 @@ class MATERIAL_PT_phong(bpy.types.Panel):
         layout = self.layout
         layout.use_property_split = True
         layout.prop(context.material.phong, "shading")
-        opacity = context.material.node_tree.nodes.get(OPACITY)
-        if opacity is not None and opacity.bl_idname == "ShaderNodeValue":
-            layout.prop(opacity.outputs[0], "default_value", text="Opacity", slider=True)
+        if context.material.node_tree.nodes.get(OPACITY) is not None:
+            layout.prop(context.material.phong, "opacity", slider=True)
         if context.material.phong.shading != "PIXEL":
             layout.label(text="Evaluated by the Geometry Nodes modifier \"Phong Shading\"",
                          icon="INFO")
