@@ -22,6 +22,7 @@ import xml.etree.ElementTree as ET
 import numpy as np
 import pytest
 
+import blender_env as be
 from phong_nodes.core import collada
 
 DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "data", "collada")
@@ -281,8 +282,8 @@ def test_lines_are_skipped_with_a_warning_and_unknown_profiles_import_black():
 # -- pure: writing ---------------------------------------------------------------------------
 
 def _validator():
-    pytest.importorskip("lxml")
-    schema = pytest.importorskip("collada.schema")
+    be.need_module("lxml")
+    schema = be.need_module("collada.schema")
     return schema.ColladaValidator()
 
 
@@ -317,7 +318,7 @@ def test_written_file_validates_and_reads_back_the_same_values():
 
 def test_pycollada_reads_what_is_written(tmp_path):
     """Another reader: pycollada's strict load of a written file, with its values."""
-    pc = pytest.importorskip("collada")
+    pc = be.need_module("collada")
     doc = collada.load(LIT)
     path = tmp_path / "written.dae"
     path.write_text(collada.dumps(doc), encoding="utf-8")

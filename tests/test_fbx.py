@@ -18,7 +18,7 @@ import pytest
 import blender_env as be
 
 DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "data", "fbx")
-ufbx = pytest.importorskip("ufbx")
+ufbx = be.need_module("ufbx")  # pinned in requirements/; the extension bundles it (wheels/)
 
 
 def _path(name):

@@ -576,9 +576,9 @@ def _gl():
     """PyOpenGL's GL on a Mesa EGL surfaceless context (compatibility profile), or skip."""
     os.environ.setdefault("PYOPENGL_PLATFORM", "egl")
     if os.environ["PYOPENGL_PLATFORM"] != "egl":
-        pytest.skip("PyOpenGL is set to another platform than EGL")
-    egl = pytest.importorskip("OpenGL.EGL")
-    gl = pytest.importorskip("OpenGL.GL")
+        be.skip_unless_ci("PyOpenGL is set to another platform than EGL")
+    egl = be.need_module("OpenGL.EGL")
+    gl = be.need_module("OpenGL.GL")
     import ctypes  # noqa: PLC0415
 
     try:
@@ -586,7 +586,7 @@ def _gl():
         major, minor = egl.EGLint(), egl.EGLint()
         if not display or not egl.eglInitialize(display, ctypes.pointer(major),
                                                 ctypes.pointer(minor)):
-            pytest.skip("no EGL surfaceless display (Mesa)")
+            be.skip_unless_ci("no EGL surfaceless display (Mesa)")
         attributes = (egl.EGLint * 5)(egl.EGL_SURFACE_TYPE, egl.EGL_PBUFFER_BIT,
                                       egl.EGL_RENDERABLE_TYPE, egl.EGL_OPENGL_BIT, egl.EGL_NONE)
         config, count = egl.EGLConfig(), egl.EGLint()
@@ -595,9 +595,9 @@ def _gl():
         context = egl.eglCreateContext(display, config, egl.EGL_NO_CONTEXT, None)
         if not context or not egl.eglMakeCurrent(display, egl.EGL_NO_SURFACE,
                                                  egl.EGL_NO_SURFACE, context):
-            pytest.skip("no OpenGL context on the EGL display")
+            be.skip_unless_ci("no OpenGL context on the EGL display")
     except Exception as error:  # noqa: BLE001  (any missing piece of the stack: skip)
-        pytest.skip(f"OpenGL through EGL unavailable: {error}")
+        be.skip_unless_ci(f"OpenGL through EGL unavailable: {error}")
     return gl, (egl, display, context)
 
 
