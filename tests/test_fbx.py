@@ -296,6 +296,10 @@ def test_import_gives_phong_materials_the_file_values(bpy_clean, name):
         for slot, colour in source.colors.items():
             assert got[slot] == f32(colour), (name, slot)
         assert got["exponent"] == pytest.approx(np.float32(source.exponent), abs=0)
+        # the Opacity control stays with the material whatever its value (the importer strips
+        # only the nodes it replaced)
+        assert material.node_tree.nodes.get("phong_opacity") is not None, (name, source.name)
+        assert material.phong.opacity == pytest.approx(np.float32(source.opacity), abs=0)
     assert tuple(bpy.context.scene.world["phong_ambient_color"]) == f32(data.ambient)
 
 

@@ -257,7 +257,7 @@ def apply_material(material, source: fbx.Material, warnings: list, images: dict,
     """Give the Phong material *material* the values and textures of *source*."""
     tree = material.node_tree
     lights = tree.nodes[recipe.LIGHTS_NODE]
-    keep = set(recipe.CONTROLS) | {recipe.LIGHTS_NODE, recipe.OUTPUT}
+    keep = set(recipe.RECIPE_NODES)
     where = f"{path} ({source.name})"
     for index, (name, control) in enumerate(CONTROLS.items()):
         color = source.colors[name]

@@ -130,8 +130,7 @@ def apply_mtl(material, source: mtl.Material, warnings: list, missing: dict) -> 
     tree = material.node_tree
     lights = tree.nodes[recipe.LIGHTS_NODE]
     wanted = values(source)
-    keep = set(recipe.CONTROLS) | {recipe.LIGHTS_NODE, recipe.OUTPUT, recipe.OPACITY,
-                                   recipe.OPACITY_MIX, recipe.OPACITY_TRANSPARENT}
+    keep = set(recipe.RECIPE_NODES)
     where = f"{source.path}:{source.line} ({source.name})"
     user = (where, source.name)
     for index, (name, (_key, _map_key, control)) in enumerate(COLOR_INPUTS.items()):

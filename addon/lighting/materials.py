@@ -77,6 +77,10 @@ OPACITY_MIX = "phong_opacity_mix"
 #: The Emission node of Per Vertex / Per Face shading (``shading/modes.py``).
 SHADING_EMISSION = "phong_shading_emission"
 OPACITY_TRANSPARENT = "phong_opacity_transparent"
+#: The nodes of the recipe itself (controls, lights group, output, opacity): what an importer
+#: that strips the nodes it replaced must keep.
+RECIPE_NODES = frozenset(CONTROLS) | {LIGHTS_NODE, OUTPUT, OPACITY, OPACITY_MIX,
+                                      OPACITY_TRANSPARENT}
 OLD_GENERATED = "phong_gen:"  # prefix of the per-light nodes of layout 1
 #: Input of the lights group for the colour the ambient light sees (MTL's Ka).  Linked from
 #: whatever feeds Object Color unless the material has its own (layout 3).
