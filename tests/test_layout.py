@@ -132,3 +132,34 @@ def test_the_phong_command_lists_its_subcommands():
         assert re.search(rf"^\s+{command}\s", result.stdout, re.M), result.stdout
     which = subprocess.run([phong, "which"], capture_output=True, text=True, timeout=60)
     assert which.returncode == 0 and which.stdout.startswith("bpy "), which.stdout
+
+
+#: The rooms of the Blender layer from the ground up (docs/architecture.md): a room imports
+#: only rooms before it in this list, never one after it.
+ADDON_ROOMS = ("compat", "loader", "lighting", "shading", "scene", "interchange", "baking",
+               "comparison", "demos", "ui")
+
+
+def _addon_targets(path, depth):
+    """The addon-level names that the module *path* (*depth* folders below addon/) imports:
+    ``from ..lighting import x`` gives lighting, ``from .. import loader`` gives loader."""
+    tree = ast.parse(open(path, encoding="utf-8").read(), path)
+    for node in ast.walk(tree):
+        if isinstance(node, ast.ImportFrom) and node.level == depth + 1:
+            if node.module:
+                yield node.module.split(".")[0]
+            else:
+                yield from (alias.name for alias in node.names)
+
+
+def test_addon_rooms_import_only_the_rooms_below_them():
+    bad = []
+    for index, room in enumerate(ADDON_ROOMS):
+        folder = os.path.join(ROOT, "addon", room)
+        files = ([os.path.join(folder, f) for f in os.listdir(folder) if f.endswith(".py")]
+                 if os.path.isdir(folder) else [folder + ".py"])
+        for path in files:
+            for name in _addon_targets(path, 1 if os.path.isdir(folder) else 0):
+                if name in ADDON_ROOMS and ADDON_ROOMS.index(name) > index:
+                    bad.append(f"addon/{room}/{os.path.basename(path)} imports {name}")
+    assert not bad, bad

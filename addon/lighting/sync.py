@@ -16,7 +16,6 @@ import contextlib
 import bpy
 from bpy.app.handlers import persistent
 
-from ..shading import modes as shading_modes
 from . import lights as lights_mod
 from . import materials, rig
 
@@ -181,7 +180,14 @@ class Sync:
                 bpy.data.node_groups.remove(tree)
         if prune:
             rig.prune_world_keys()
-        shading_modes.refresh(self.scene)  # Per Vertex / Per Face follow lights and objects
+        for follow in AFTER_FINISH:  # e.g. Per Vertex / Per Face (shading/) follow the lights
+            follow(self.scene)
+
+
+#: Callables ``follow(scene)`` run at the end of every Apply / Relink (``Sync.finish``): the
+#: rooms above this one that depend on the lights (``shading.modes.refresh``) register here,
+#: so that lighting imports none of them.
+AFTER_FINISH: list = []
 
 
 def relink_scene(scene, view_layer=None, prune: bool = True) -> Sync:

@@ -6,7 +6,7 @@ custom property ``phong_shading``, so a file keeps it without the extension) and
 import bpy
 from bpy.props import EnumProperty, FloatProperty, PointerProperty
 
-from ..lighting import materials
+from ..lighting import materials, sync
 from . import forwarding, modes
 
 SHADING_ITEMS = (
@@ -39,6 +39,7 @@ def _changed(material):
 
 
 def register():
+    sync.AFTER_FINISH.append(modes.refresh)  # Apply and Relink refresh these modes too
     forwarding.set_callback(_changed)
     forwarding.set_opacity_callback(materials.set_opacity)
     bpy.utils.register_class(PhongMaterialSettings)
@@ -52,3 +53,5 @@ def unregister():
     bpy.utils.unregister_class(PhongMaterialSettings)
     forwarding.set_callback(None)
     forwarding.set_opacity_callback(None)
+    if modes.refresh in sync.AFTER_FINISH:
+        sync.AFTER_FINISH.remove(modes.refresh)
