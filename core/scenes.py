@@ -33,8 +33,9 @@ Schema (units: Blender world space, Z up; angles in degrees; colours are either
     position = [x, y, z]          # point, spot (required)
     direction = [x, y, z]         # directional, spot: the way the rays travel (required)
     quadratic = 1.0; linear = 0.0; constant = 0.0     # point, spot: i0/(αr²+βr+γ)
-    falloff_exponent = 2          # point only, optional: i0/d^k with k = 0, 1 or 2 instead
-                                  # (the light's γ, β or α = 1, the others 0)
+    falloff_exponent = 2          # point only, optional: i0/d^k instead, 0 <= k <= 16 (k = 0,
+                                  # 1, 2: the light's γ, β or α = 1, the others 0; any other k:
+                                  # the light's power falloff, phong_falloff POWER)
     half_angle = 30.0             # spot, degrees, in (0, 90]
     edge_exponent = 0.0           # spot, >= 0
     # model = "threejs": lights take three.js's settings instead (three.js defaults):
@@ -79,6 +80,8 @@ TERMS = ("irradiant", "ambient", "diffuse", "specular")
 TEXTURES = ("checker",)
 #: falloff_exponent k -> (quadratic α, linear β, constant γ): i0/d^k = i0/(αd² + βd + γ).
 FALLOFF_EXPONENTS = {0.0: (0.0, 0.0, 1.0), 1.0: (0.0, 1.0, 0.0), 2.0: (1.0, 0.0, 0.0)}
+#: The largest falloff_exponent (the Phong Power Falloff group's Exponent input goes to 16).
+MAX_FALLOFF_EXPONENT = 16.0
 NAME_RE = re.compile(r"^[a-z0-9_]+$")
 #: The lighting models of a scene file (``model = ...``).
 MODELS = ("seeds", "threejs")
@@ -340,15 +343,15 @@ def _light(c: _Checker, raw: dict, where: str, index: int) -> dict:
         if light["quadratic"] == light["linear"] == light["constant"] == 0.0:
             c.fail(f"{where}.quadratic", "quadratic, linear and constant not all 0", 0)
     if kind == "point" and "falloff_exponent" in raw:
-        k = c.number(raw, "falloff_exponent", where, minimum=0.0)
-        if k not in FALLOFF_EXPONENTS:
-            c.fail(f"{where}.falloff_exponent", "0, 1 or 2 (i0/d^k is the light's γ, β or α "
-                   "= 1; other exponents: quadratic, linear, constant)", raw["falloff_exponent"])
+        k = c.number(raw, "falloff_exponent", where, minimum=0.0, maximum=MAX_FALLOFF_EXPONENT)
         if any(key in raw for key in ("quadratic", "linear", "constant")):
             c.fail(f"{where}.falloff_exponent", "either falloff_exponent or quadratic, linear "
                    "and constant, not both", raw["falloff_exponent"])
         light["falloff_exponent"] = k
-        light["quadratic"], light["linear"], light["constant"] = FALLOFF_EXPONENTS[k]
+        if k in FALLOFF_EXPONENTS:  # the light's γ, β or α = 1: i0/d^k exactly
+            light["quadratic"], light["linear"], light["constant"] = FALLOFF_EXPONENTS[k]
+        else:  # the light's power falloff (phong_falloff POWER, phong_power_k)
+            light["falloff"], light["power_k"] = "POWER", k
     if kind in ("directional", "spot"):
         light["direction"] = c.vector(raw, "direction", where, nonzero=True)
     if kind == "spot":

@@ -183,3 +183,22 @@ def test_compare_refuses_an_unreadable_file_with_one_line(tmp_path, name, text, 
     assert result.returncode == 2, result.stderr[-2000:]
     assert message in result.stderr and "Traceback" not in result.stderr
     assert not out.exists(), "nothing written"
+
+
+@pytest.mark.slow
+@pytest.mark.cycles
+def test_a_scene_file_light_with_falloff_exponent_3_is_compared_exactly(tmp_path):
+    """falloff_exponent = 3 builds a Blender light with the power falloff i0/d^3, and the
+    comparison's reference (from the scene as Blender evaluates it) agrees with Cycles."""
+    scene = tmp_path / "cubic.toml"
+    scene.write_text(GOOD.replace("position = [1, -2, 3]",
+                                  "position = [1, -2, 3]\nintensity = 20\nfalloff_exponent = 3"))
+    out = tmp_path / "out"
+    result = run_cli(tmp_path, "demo", "--scenes", str(scene), "--engines", "cycles",
+                     "--resolution", "24", "--out", str(out))
+    assert result.returncode == 0, result.stdout[-2000:] + result.stderr[-2000:]
+    metrics = json.loads((out / "cubic" / "metrics.json").read_text())
+    (light,) = metrics["parameters"]["lights"]
+    assert light["falloff"] == "power" and light["power_k"] == 3.0
+    assert metrics["pairs"]["cycles-reference"]["max_abs"] <= 1e-4
+    assert metrics["pixels"]["compared"] > 100

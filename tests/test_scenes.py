@@ -44,9 +44,9 @@ BROKEN = {
     "bad_colour": ("exponent = 10", 'exponent = 10, color = "#12345"',
                    'objects[0].material.color: expected a colour "#RRGGBB"'),
     "not_toml": ("[camera]", "[camera", "not valid TOML"),
-    "falloff_exponent_not_0_1_2": ("position = [1, -2, 3]",
-                                   "position = [1, -2, 3]\nfalloff_exponent = 1.5",
-                                   "lights[0].falloff_exponent: expected 0, 1 or 2"),
+    "falloff_exponent_too_large": ("position = [1, -2, 3]",
+                                   "position = [1, -2, 3]\nfalloff_exponent = 17",
+                                   "lights[0].falloff_exponent: expected a number <= 16"),
     "falloff_exponent_and_quadratic": ("position = [1, -2, 3]",
                                        "position = [1, -2, 3]\nfalloff_exponent = 1\n"
                                        "quadratic = 2",
@@ -134,3 +134,18 @@ def test_duplicate_scene_names_refused(tmp_path):
         (tmp_path / sub / "same.toml").write_text(GOOD)
     with pytest.raises(scenes.SceneError, match="also used by"):
         scenes.load_all([str(tmp_path / "a" / "same.toml"), str(tmp_path / "b" / "same.toml")])
+
+
+def test_a_falloff_exponent_other_than_0_1_2_is_the_power_falloff(tmp_path):
+    """k = 0, 1, 2 stay the light's γ, β or α = 1; any other k (up to 16) is the light's power
+    falloff i0/d^k (phong_falloff POWER, phong_power_k)."""
+    for k, expected in ((1, {"linear": 1.0}), (1.5, {"falloff": "POWER", "power_k": 1.5}),
+                        (3, {"falloff": "POWER", "power_k": 3.0})):
+        path = tmp_path / f"k{int(k * 10)}.toml"
+        path.write_text(GOOD.replace("position = [1, -2, 3]",
+                                     f"position = [1, -2, 3]\nfalloff_exponent = {k}"))
+        (light,) = scenes.load(str(path))["lights"]
+        assert light["falloff_exponent"] == k
+        for key, value in expected.items():
+            assert light[key] == value, (k, key)
+        assert ("falloff" in light) == (k not in (0, 1, 2))

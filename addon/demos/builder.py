@@ -3,7 +3,8 @@
 an ordinary artist's scene, made by the same code as Apply Phong Material.
 
 * every light of the file is a real Point / Sun / Spot light with its Phong settings
-  (``falloff_exponent`` k = 0, 1, 2 is read as γ, β or α = 1: i0/d^k exactly);
+  (``falloff_exponent`` k = 0, 1, 2 is read as γ, β or α = 1, any other k as the light's
+  power falloff: i0/d^k exactly);
 * a light's ``lights = [...]`` lists of the objects become Blender Light Linking (a
   receiver collection per light that does not reach every object);
 * the ambient light is the World's Phong settings;
@@ -187,6 +188,8 @@ def _light(scene, light_data):
     if "direction" in light_data:
         obj.rotation_euler = Vector(light_data["direction"]).to_track_quat("-Z", "Y").to_euler()
     values = {key: light_data[key] for key in properties.LIGHT_KEYS if key in light_data}
+    if "falloff" in light_data:  # a falloff_exponent other than 0, 1, 2: i0/d^k
+        values["falloff"] = light_data["falloff"]
     if kind == "SPOT":
         light.spot_size = math.radians(2 * light_data["half_angle"])
         light.spot_blend = 0.0
