@@ -418,11 +418,7 @@ class _Builder:
         lights = tree.nodes[recipe.LIGHTS_NODE]
         for index, (socket_name, (element, control)) in enumerate(INPUTS.items()):
             color = source.color(element)
-            if control in recipe.CONTROLS:
-                node = tree.nodes[control]
-                recipe.set_quietly(node.outputs[0], (*color, 1.0))
-            else:
-                node = recipe.control_node(tree, control, "Ambient Color (Ka)", color)
+            node = recipe.color_control(tree, control, color)
             output = node.outputs[0]
             texture = source.texture(element)
             if texture is not None:

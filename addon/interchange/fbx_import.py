@@ -261,11 +261,7 @@ def apply_material(material, source: fbx.Material, warnings: list, images: dict,
     where = f"{path} ({source.name})"
     for index, (name, control) in enumerate(CONTROLS.items()):
         color = source.colors[name]
-        if control in recipe.CONTROLS:
-            node = tree.nodes[control]
-            node.outputs[0].default_value = (*color[:3], 1.0)
-        else:
-            node = recipe.control_node(tree, control, "Ambient Color (Ka)", color)
+        node = recipe.color_control(tree, control, color)
         keep.add(control)
         socket = node.outputs[0]
         texture = source.textures.get(name)

@@ -135,11 +135,7 @@ def apply_mtl(material, source: mtl.Material, warnings: list, missing: dict) -> 
     user = (where, source.name)
     for index, (name, (_key, _map_key, control)) in enumerate(COLOR_INPUTS.items()):
         color = wanted["colors"][name]
-        if control in recipe.CONTROLS:
-            node = tree.nodes[control]
-            node.outputs[0].default_value = (*color[:3], 1.0)
-        else:
-            node = recipe.control_node(tree, control, "Ambient Color (Ka)", color)
+        node = recipe.color_control(tree, control, color)
         keep.add(control)
         socket = node.outputs[0]
         texture = wanted["maps"][name]

@@ -297,19 +297,10 @@ def apply_opacity(material) -> None:
         tree.links.new(_shader(tree, lights), output.inputs["Surface"])
         _render_method(material, "DITHERED")
         return
-    if mix is None or mix.bl_idname != "ShaderNodeMixShader":
-        if mix is not None:
-            tree.nodes.remove(mix)
-        mix = tree.nodes.new("ShaderNodeMixShader")
-        mix.name = OPACITY_MIX
-        mix.label = "Opacity"
-        mix.location = (150.0, 200.0)
-    if transparent is None or transparent.bl_idname != "ShaderNodeBsdfTransparent":
-        if transparent is not None:
-            tree.nodes.remove(transparent)
-        transparent = tree.nodes.new("ShaderNodeBsdfTransparent")
-        transparent.name = OPACITY_TRANSPARENT
-        transparent.location = (-50.0, 300.0)
+    mix = named_node(tree, OPACITY_MIX, "ShaderNodeMixShader", (150.0, 200.0))
+    mix.label = "Opacity"
+    transparent = named_node(tree, OPACITY_TRANSPARENT, "ShaderNodeBsdfTransparent",
+                             (-50.0, 300.0))
     transparent.inputs["Color"].default_value = (1.0, 1.0, 1.0, 1.0)
     tree.links.new(tree.nodes[OPACITY].outputs[0], mix.inputs[0])
     tree.links.new(transparent.outputs[0], mix.inputs[1])
@@ -359,19 +350,38 @@ def _render_method(material, method) -> None:
         material.surface_render_method = method
 
 
+def named_node(tree, name, bl_idname, location):
+    """The node *name* of *tree*, of type *bl_idname*: the one there, else a new one at
+    *location* (a node of another type under that name is replaced)."""
+    node = tree.nodes.get(name)
+    if node is None or node.bl_idname != bl_idname:
+        if node is not None:
+            tree.nodes.remove(node)
+        node = tree.nodes.new(bl_idname)
+        node.name = name
+        node.location = location
+    return node
+
+
+#: Label of a material's own Ambient Object Color control (AMBIENT_CONTROL), as importers make it.
+AMBIENT_LABEL = "Ambient Color (Ka)"
+
+
+def color_control(tree, name, color):
+    """The colour control *name* of the recipe (an RGB node of CONTROLS, or the material's own
+    AMBIENT_CONTROL, made on demand) set to *color*; what the importers give each colour."""
+    label = CONTROLS[name][1] if name in CONTROLS else AMBIENT_LABEL
+    return control_node(tree, name, label, color)
+
+
 def control_node(tree, name, label, color):
     """The RGB control node *name* of *tree* in the Phong Controls frame, created when
     missing, with the colour *color*."""
-    node = tree.nodes.get(name)
-    if node is None or node.bl_idname != "ShaderNodeRGB":
-        if node is not None:
-            tree.nodes.remove(node)
-        node = tree.nodes.new("ShaderNodeRGB")
-        node.name = name
-        node.location = (-880.0, 260.0 - 190.0 * len(CONTROLS))
-        frame = tree.nodes.get(FRAME)
-        if frame is not None:
-            node.parent = frame
+    before = tree.nodes.get(name)
+    node = named_node(tree, name, "ShaderNodeRGB", (-880.0, 260.0 - 190.0 * len(CONTROLS)))
+    frame = tree.nodes.get(FRAME)
+    if node != before and frame is not None:  # a new control goes into the frame
+        node.parent = frame
     node.label = label
     set_quietly(node.outputs[0], (*tuple(color)[:3], 1.0))
     return node

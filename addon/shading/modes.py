@@ -272,24 +272,12 @@ def _surface_per_pixel(material) -> None:
 
 def _surface_per_mesh(material, attribute: str) -> None:
     tree = material.node_tree
-    node = tree.nodes.get(ATTRIBUTE_NODE)
-    if node is None or node.bl_idname != "ShaderNodeAttribute":
-        if node is not None:
-            tree.nodes.remove(node)
-        node = tree.nodes.new("ShaderNodeAttribute")
-        node.name = ATTRIBUTE_NODE
-        node.location = (-20.0, 420.0)
+    node = materials.named_node(tree, ATTRIBUTE_NODE, "ShaderNodeAttribute", (-20.0, 420.0))
     node.label = "Phong Per Vertex / Per Face colour"
     node.attribute_type = "GEOMETRY"
     if node.attribute_name != attribute:
         node.attribute_name = attribute
-    emission = tree.nodes.get(EMISSION_NODE)
-    if emission is None or emission.bl_idname != "ShaderNodeEmission":
-        if emission is not None:
-            tree.nodes.remove(emission)
-        emission = tree.nodes.new("ShaderNodeEmission")
-        emission.name = EMISSION_NODE
-        emission.location = (200.0, 420.0)
+    emission = materials.named_node(tree, EMISSION_NODE, "ShaderNodeEmission", (200.0, 420.0))
     emission.inputs["Strength"].default_value = 1.0
     tree.links.new(node.outputs["Color"], emission.inputs["Color"])
     materials.apply_opacity(material)  # the emission into the output (or the opacity mix)
