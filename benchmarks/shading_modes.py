@@ -4,11 +4,13 @@
 light: Principled BSDF, Phong Per Pixel, Phong Per Vertex and Phong Per Face.
 
     .venv/bin/python -m phong_nodes.benchmarks.shading_modes [--objects 1000] [--moves 9]
+        [--repeats 3] [--merge benchmarks/results.json]
 
-Each case is built in a fresh file in this one process; the figure is the median over
+Each case is built in a fresh file in this one process; a run's figure is the median over
 *moves* light moves of ``view_layer.update()`` (the extension's depsgraph handler included),
-after two untimed moves.  Prints one JSON object (seconds, ratios, load average); the lead
-merges the figure into benchmarks/results.md.
+after two untimed moves; ratios are taken run by run (side by side).  Prints one JSON object
+(seconds, ratios, load average); ``--merge`` writes it into the results file as figure 8 and
+regenerates the table beside it (``results.md``).
 """
 
 from __future__ import annotations
@@ -69,26 +71,60 @@ def _moves(bpy, light, moves):
     return times[2:]
 
 
+def _stats(values):
+    return {"median": statistics.median(values), "min": min(values), "max": max(values),
+            "values": list(values)}
+
+
+def merge(figure, path) -> None:
+    """Put *figure* into the results file *path* as figure 8 (``shading_modes``) and write the
+    table beside it (results.json -> results.md), as run.py does."""
+    from .table import markdown  # noqa: PLC0415
+
+    with open(path, encoding="utf-8") as handle:
+        data = json.load(handle)
+    data["figures"]["shading_modes"] = figure
+    with open(path, "w", encoding="utf-8") as handle:
+        json.dump(data, handle, indent=1)
+        handle.write("\n")
+    with open(os.path.splitext(path)[0] + ".md", "w", encoding="utf-8") as handle:
+        handle.write(markdown(data["figures"], data["meta"]) + "\n")
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--objects", type=int, default=1000)
     parser.add_argument("--moves", type=int, default=9)
+    parser.add_argument("--repeats", type=int, default=1,
+                        help="runs of the four cases (their order rotates); the figure is the "
+                             "median over the runs")
+    parser.add_argument("--merge", metavar="RESULTS_JSON",
+                        help="write the figure into this results file (figure 8) and its table")
     args = parser.parse_args(argv)
     bpy = worker_setup()  # the extension registered from the source tree
     load_before = os.getloadavg()
-    result = {"objects": args.objects, "vertices_per_object": 482, "moves": args.moves,
-              "bpy": bpy.app.version_string, "update_s": {}, "build_s": {}}
-    for case in ("principled", "pixel", "vertex", "face"):
-        t0 = time.perf_counter()
-        _scene, light = _build(bpy, case, args.objects)
-        result["build_s"][case] = time.perf_counter() - t0
-        times = _moves(bpy, light, args.moves)
-        result["update_s"][case] = {"median": statistics.median(times), "min": min(times),
-                                    "max": max(times)}
-    pixel = result["update_s"]["pixel"]["median"]
-    result["ratio_to_pixel"] = {k: v["median"] / pixel for k, v in result["update_s"].items()}
-    result["load_average"] = [load_before, os.getloadavg()]
+    cases = ["principled", "pixel", "vertex", "face"]
+    medians = {case: [] for case in cases}
+    build = {case: [] for case in cases}
+    for repeat in range(args.repeats):
+        order = cases[repeat % len(cases):] + cases[:repeat % len(cases)]
+        for case in order:
+            t0 = time.perf_counter()
+            _scene, light = _build(bpy, case, args.objects)
+            build[case].append(time.perf_counter() - t0)
+            medians[case].append(statistics.median(_moves(bpy, light, args.moves)))
+    result = {"what": "one depsgraph update after moving the light: Per Vertex / Per Face "
+                      "against Per Pixel (and Principled), same process",
+              "objects": args.objects, "vertices_per_object": 482, "moves": args.moves,
+              "repeats": args.repeats, "bpy": bpy.app.version_string, "goal_value": 3.0,
+              "update_s": {c: _stats(v) for c, v in medians.items()},
+              "build_s": {c: _stats(v) for c, v in build.items()},
+              "ratio_to_pixel": {c: _stats([m / p for m, p in zip(medians[c], medians["pixel"])])
+                                 for c in cases},
+              "load_average": [load_before, os.getloadavg()], "cpu_count": os.cpu_count()}
     print(json.dumps(result, indent=1))
+    if args.merge:
+        merge(result, args.merge)
     return 0
 
 

@@ -26,7 +26,8 @@ def rows(figures, meta):
     """One row per figure and case: (figure, median (min–max), goal, verdict, detail)."""
     return [*cycles_rows(figures), *eevee_rows(figures), *quality_rows(figures),
             *scale_rows(figures, meta["config"]["scale_objects"]),
-            *artist_rows(figures["artist_scale"]), *demo_rows(figures.get("demo_eevee"))]
+            *artist_rows(figures["artist_scale"]), *demo_rows(figures.get("demo_eevee")),
+            *shading_rows(figures.get("shading_modes"))]
 
 
 def markdown(figures, meta):
@@ -192,3 +193,23 @@ def demo_rows(figure):
              verdict(figure["ratio"]["median"], figure["goal_value"], figure["goal_kind"]),
              f"all scenes {fmt(figure['total_shared_seconds'])} s vs "
              f"{fmt(figure['total_distinct_seconds'])} s; {detail}")]
+
+
+def shading_rows(figure):
+    """Table rows of figure 8 (issue 28; ``shading_modes.py --merge``)."""
+    if figure is None:
+        return []
+    ms = {case: {k: v * 1000.0 for k, v in stats.items()}
+          for case, stats in figure["update_s"].items()}
+    where = (f"8. {figure['objects']:,} objects of {figure['vertices_per_object']} vertices, "
+             f"1 light: one update after moving it")
+    rows = []
+    for case, label in (("vertex", "Per Vertex"), ("face", "Per Face")):
+        ratio = figure["ratio_to_pixel"][case]
+        rows.append((f"{where}, {label} / Per Pixel", fmt(ratio, 2) + "×",
+                     f"≤ {figure['goal_value']:.0f}×",
+                     verdict(ratio["median"], figure["goal_value"], "max"),
+                     f"{fmt(ms[case], 2)} ms vs Per Pixel {fmt(ms['pixel'], 2)} ms, Principled "
+                     f"{fmt(ms['principled'], 2)} ms; {figure['repeats']} runs of "
+                     f"{figure['moves']} moves, bpy {figure['bpy']}"))
+    return rows

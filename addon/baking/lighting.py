@@ -51,6 +51,7 @@ from ...core import outputs
 from ..scene import render
 from ..scene.render import Overrides
 from ..lighting import materials
+from ..shading import modes as shading_modes
 
 TARGETS = ("IMAGE", "VERTEX")
 TERMS = ("COLOR", "IRRADIANT", "AMBIENT", "DIFFUSE", "SPECULAR")
@@ -463,10 +464,10 @@ def _bake_chunk(scene, stage, chunk, settings: Settings, camera, scratch, temps,
         layer = stage.view_layers[0]
         for obj in chunk:
             obj.select_set(True, view_layer=layer)
-        layer.update()  # the lights groups' drivers evaluated before Cycles reads them
-        with bpy.context.temp_override(scene=stage, view_layer=layer, active_object=chunk[0],
+        with shading_modes.modifiers_off(chunk), bpy.context.temp_override(scene=stage, view_layer=layer, active_object=chunk[0],
                                        object=chunk[0], selected_objects=list(chunk),
                                        selected_editable_objects=list(chunk)):
+            layer.update()  # the lights groups' drivers evaluated before Cycles reads them
             try:
                 bpy.ops.object.bake(type="EMIT", target=target, save_mode="INTERNAL",
                                     use_clear=True, margin=settings.margin,

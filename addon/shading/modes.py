@@ -4,31 +4,40 @@
 A Phong material's Shading (``material["phong_shading"]``: PIXEL, VERTEX, FACE) says where
 the model is evaluated.  PIXEL is the lights group in the shader (``lighting/rig.py``).
 VERTEX and FACE evaluate the same model (``node_groups/shading_modes.py``: the library's own
-group expressions, composed as the lights group composes them) in a Geometry Nodes group of
-the material, "Phong Per Vertex <material>", that every object using the material runs as
-its last modifier:
+group expressions, composed as the lights group composes them) in the shader too, but at the
+vertices of the pixel's triangle or at the centre of its face:
 
-* P, N: the mesh's positions and normals (of the evaluated mesh: after the user's
-  subdivision, mirror, armature) taken to world space by the object's own transform (Self
-  Object ▸ Object Info; normals by the inverse transpose);
-* the camera: the scene's active camera (Active Camera ▸ Object Info), so a camera switch is
-  followed;
-* each light of the material's light set: its world position and -Z axis from Object Info,
-  its data (Phong settings, colour, spot size) and the world's ambient and the material's
-  controls by drivers without Python expressions (``lighting/drivers.py``);
-* the colour is stored on the point (VERTEX) or face (FACE) domain as the colour attribute
-  the material shows (Attribute ▸ Emission): the renderer interpolates a point attribute
-  across each face (Gouraud) and keeps a face attribute constant (flat).
+* a Geometry Nodes group that does not depend on lights or camera, **Phong Shading
+  Geometry**, runs as the last modifier of every mesh object with such a material: it stores
+  on each face the centre and normal of the face (Per Face), then triangulates and stores on
+  each triangle the positions and normals of its three vertices, and on each corner its
+  barycentric basis vector (Per Vertex), all in object space;
+* the material shows a shader group of its light set and mode, **Phong Per Vertex ⟨lights
+  group⟩** / **Phong Per Face ⟨lights group⟩**, made once per lights group: it reads those
+  attributes (taken to world space by the shaded object's transform, so instances are lit
+  where they stand), evaluates the model at each of the triangle's vertices (or at the face
+  centre) and mixes the three colours by the interpolated basis (Gouraud) or shows the one
+  colour (flat).  The viewer is the eye of the pixel's ray (position + incoming × view
+  distance), so the camera, and the viewport's view, are followed at render time;
+* the lights reach it as they reach the lights group: world transforms from the World's
+  properties (View Layer attributes, where the lights group reads them) or drivers, their
+  settings, the world's ambient by drivers without Python expressions.
 
-Everything is data of the file: a saved file renders the same without the extension.
+Moving a light or the camera evaluates no Geometry Nodes and, where the lights group reads the
+lights' transforms from the World, re-evaluates no material either: a light drag costs what it
+costs Per Pixel (issue 28).  Everything is data of the file: a saved file renders the same
+without the extension.
 """
 
 from __future__ import annotations
+
+import contextlib
 
 import bpy
 from bpy.app.handlers import persistent
 
 from ...node_groups import shading_modes as model
+from ...node_groups.expr import VECTOR, input_
 from .. import loader
 from ..lighting import drivers, materials, properties, rig
 
@@ -36,22 +45,37 @@ from ..lighting import drivers, materials, properties, rig
 SHADING_KEY = "phong_shading"
 MODES = model.MODES
 PIXEL, VERTEX, FACE = MODES
-DOMAINS = {VERTEX: "POINT", FACE: "FACE"}
-#: Custom properties of the Geometry Nodes group: the material it evaluates (an ID pointer)
-#: and the fingerprint of what it was built for.
-TREE_MATERIAL_KEY = "phong_shading_material"
-TREE_SIGNATURE_KEY = "phong_shading_signature"
 MODIFIER_NAME = "Phong Shading"
-ATTRIBUTE_NODE = "phong_shading_attribute"
+#: The Geometry Nodes group of the modifier: its custom property holds its layout version.
+GEOMETRY_TREE = "Phong Shading Geometry"
+GEOMETRY_KEY = "phong_shading_geometry"
+GEOMETRY_VERSION = 1
+#: The attributes it stores (object space): face centre and normal (FACE domain, of the
+#: faces before triangulation), the triangle's vertex positions and normals (FACE domain,
+#: after it), each corner's barycentric basis (CORNER domain).
+FACE_CENTRE, FACE_NORMAL = "phong_face_p", "phong_face_n"
+VERTEX_POSITIONS = ("phong_p0", "phong_p1", "phong_p2")
+VERTEX_NORMALS = ("phong_n0", "phong_n1", "phong_n2")
+WEIGHTS = "phong_w"
+#: Outputs of a Per Vertex shading group besides Color: the model at the triangle's k-th
+#: vertex (constant over the triangle).
+VERTEX_OUTPUTS = ("Vertex 0", "Vertex 1", "Vertex 2")
+_POINT_NORMAL = "phong_vertex_normal"  # temporary, removed by the group
+#: Custom properties of a shading group: its lights group (an ID pointer), its mode and the
+#: fingerprint of what it was built for.
+GROUP_LIGHTS_KEY = "phong_shading_lights"
+GROUP_MODE_KEY = "phong_shading_mode"
+GROUP_SIGNATURE_KEY = "phong_shading_signature"
+GROUP_VERSION = 2  # bump when the layout of the shading groups changes
+#: Nodes of the material in these modes: the shading group and the Emission it feeds.
+SHADING_NODE = "phong_shading_group"
 EMISSION_NODE = materials.SHADING_EMISSION  # "phong_shading_emission"
-ATTRIBUTE_PREFIX = "phong_lit"
-
-#: Lights-group input -> the control node that holds it when nothing else does.
-CONTROL_OF = {"Object Color": "phong_object_color", "Specular Color": "phong_specular_color",
-              "Exponent": "phong_exponent", "Blinn": "phong_blinn",
-              "Irradiant Color": "phong_irradiant_color",
-              "Ambient Object Color": "phong_object_color",
-              "Specular Strength": "phong_specular_strength"}
+#: The design before (a Geometry Nodes group per material storing a colour attribute that an
+#: Attribute node showed): removed on load and by Relink.
+LEGACY_TREE_KEY = "phong_shading_material"
+LEGACY_ATTRIBUTE_NODE = "phong_shading_attribute"
+#: The material's inputs of the shading group (those of the lights group that the model reads).
+CONTROL_INPUTS = tuple(i for i in rig.INPUTS if i[0] in model.CONTROLS)
 
 
 def mode_of(material) -> str:
@@ -68,15 +92,18 @@ def set_mode(material, mode: str) -> None:
     update(material)
 
 
-def attribute_name(material) -> str:
-    """The colour attribute *material* shows in Per Vertex / Per Face mode."""
-    return f"{ATTRIBUTE_PREFIX}:{material.name}"
+def group_of(material):
+    """The shading group *material* shows (Per Vertex / Per Face), or None."""
+    tree = material.node_tree if material is not None else None
+    node = tree.nodes.get(SHADING_NODE) if tree is not None else None
+    return node.node_tree if node is not None and node.bl_idname == "ShaderNodeGroup" else None
 
 
-def tree_of(material):
-    """The material's Geometry Nodes group, or None."""
+def geometry_tree():
+    """The modifier's Geometry Nodes group, or None."""
     for tree in bpy.data.node_groups:
-        if tree.bl_idname == "GeometryNodeTree" and tree.get(TREE_MATERIAL_KEY) == material:
+        if tree.bl_idname == "GeometryNodeTree" and GEOMETRY_KEY in tree.keys() \
+                and tree.library is None:
             return tree
     return None
 
@@ -87,65 +114,80 @@ def users(material) -> list:
             and any(slot.material == material for slot in o.material_slots)]
 
 
+def needs_modifier(obj) -> bool:
+    """Whether a material of *obj* is a Phong material shaded Per Vertex or Per Face."""
+    return obj.type == "MESH" and any(
+        mode_of(s.material) != PIXEL and materials.is_phong_material(s.material)
+        for s in obj.material_slots)
+
+
 # -- putting a mode into effect ----------------------------------------------------------
 
-def update(material, objects=None, tree=False) -> None:
-    """Make *material* and its objects show its shading mode; *objects* (its users) and
-    *tree* (its Geometry Nodes group or None) when the caller has looked them up."""
+def update(material, objects=None, groups=None) -> None:
+    """Make *material* and its objects show its shading mode; *objects* (its users) when the
+    caller has looked them up, *groups* a cache of shading groups shared by the calls of one
+    refresh."""
     if not materials.is_phong_material(material):
         return
+    _remove_legacy_nodes(material)
     mode = mode_of(material)
-    tree = tree_of(material) if tree is False else tree
-    if mode == PIXEL:
-        _surface_per_pixel(material)
-        if tree is not None:
-            _remove_modifiers(tree, [])
-            bpy.data.node_groups.remove(tree)
-        return
-    if tree is None:
-        tree = bpy.data.node_groups.new(f"Phong Per Vertex {material.name}", "GeometryNodeTree")
-        tree[TREE_MATERIAL_KEY] = material
-    lights, world, light_model = _light_set(material)
-    attribute = attribute_name(material)
-    signature = repr((mode, attribute, light_model,
-                      [(o.name, o.data.type, properties.falloff_of(o.data)) for o in lights],
-                      world.name if world is not None else None, _control_paths(material)))
-    if tree.get(TREE_SIGNATURE_KEY) != signature:
-        build(tree, material, lights, world, light_model, mode, attribute)
-        tree[TREE_SIGNATURE_KEY] = signature
     objects = users(material) if objects is None else objects
+    if mode == PIXEL:
+        had = group_of(material)
+        _surface_per_pixel(material)
+        for obj in objects:
+            if not needs_modifier(obj):
+                _remove_modifier(obj)
+        if had is not None and had.users == 0:
+            bpy.data.node_groups.remove(had)
+        geometry = geometry_tree()
+        if geometry is not None and geometry.users == 0:
+            bpy.data.node_groups.remove(geometry)
+        return
+    group = shading_group(material, mode, groups)
+    _surface_per_mesh(material, group)
+    geometry = ensure_geometry_tree()
     for obj in objects:
-        _ensure_modifier(obj, tree)
-    _remove_modifiers(tree, objects)
-    _surface_per_mesh(material, attribute)
+        _ensure_modifier(obj, geometry)
 
 
 def refresh(scene=None) -> int:
-    """Update every Phong material that is not Per Pixel (or still has a Geometry Nodes
-    group); returns how many.  Run after the lights groups changed (``sync``)."""
-    trees = {}
-    for tree in [t for t in bpy.data.node_groups if TREE_MATERIAL_KEY in t.keys()]:
-        material = tree.get(TREE_MATERIAL_KEY)
-        if isinstance(material, bpy.types.Material):
-            trees[material.as_pointer()] = tree
-        else:  # its material was deleted
-            _remove_modifiers(tree, [])
-            bpy.data.node_groups.remove(tree)
+    """Update every Phong material that is not Per Pixel (or still shows a shading group);
+    remove what no material needs any more; returns how many materials.  Run after the lights
+    groups changed (``sync``) and on load."""
+    legacy = _remove_legacy_trees()
     todo = [m for m in materials.phong_materials()
-            if mode_of(m) != PIXEL or m.as_pointer() in trees]
-    if not todo:
-        return 0
-    wanted = {m.as_pointer() for m in todo}
-    uses = {pointer: [] for pointer in wanted}
-    for obj in bpy.data.objects:
-        if obj.type != "MESH" or obj.library is not None:
-            continue
-        for pointer in {s.material.as_pointer() for s in obj.material_slots
-                        if s.material is not None} & wanted:
-            uses[pointer].append(obj)
-    for material in todo:
-        update(material, uses[material.as_pointer()], trees.get(material.as_pointer()))
+            if mode_of(m) != PIXEL or group_of(m) is not None
+            or (legacy and LEGACY_ATTRIBUTE_NODE in m.node_tree.nodes)]
+    if todo:
+        wanted = {m.as_pointer() for m in todo}
+        uses = {pointer: [] for pointer in wanted}
+        for obj in bpy.data.objects:
+            if obj.type != "MESH" or obj.library is not None:
+                continue
+            for pointer in {s.material.as_pointer() for s in obj.material_slots
+                            if s.material is not None} & wanted:
+                uses[pointer].append(obj)
+        groups: dict = {}
+        for material in todo:
+            update(material, uses[material.as_pointer()], groups)
+    _prune()
     return len(todo)
+
+
+def _prune() -> None:
+    """Remove the modifiers of objects that need them no more, the shading groups no material
+    shows and the geometry group no modifier runs."""
+    geometry = geometry_tree()
+    if geometry is not None:
+        for obj in bpy.data.objects:
+            if obj.library is None and obj.type == "MESH" and not needs_modifier(obj):
+                _remove_modifier(obj, geometry)
+        if geometry.users == 0:
+            bpy.data.node_groups.remove(geometry)
+    for tree in [t for t in bpy.data.node_groups
+                 if GROUP_MODE_KEY in t.keys() and t.library is None and t.users == 0]:
+        bpy.data.node_groups.remove(tree)
 
 
 _BUSY: list = []
@@ -154,108 +196,150 @@ _BUSY: list = []
 @persistent
 def follow_objects(_scene, depsgraph=None) -> None:
     """After an edit of mesh objects: one that got a Per Vertex / Per Face material (a slot
-    assigned by hand) gets its modifier, and a modifier the user added after Phong Shading
+    assigned by hand) gets the modifier, and a modifier the user added after Phong Shading
     puts Phong Shading last again.  Only the updated objects are looked at."""
     if _BUSY or depsgraph is None or not (depsgraph.id_type_updated("OBJECT")
                                           or depsgraph.id_type_updated("MESH")):
         return
-    # Only materials that have their group are followed: not a temporary copy (Bake Phong
-    # Lighting swaps in copies of the materials, which keep the custom property)
-    followed = {t.get(TREE_MATERIAL_KEY).as_pointer() for t in bpy.data.node_groups
-                if t.bl_idname == "GeometryNodeTree"
-                and isinstance(t.get(TREE_MATERIAL_KEY), bpy.types.Material)}
-    if not followed:
-        return  # no Per Vertex / Per Face material in the file: nothing to follow
+    geometry = geometry_tree()
+    if geometry is None:
+        return  # no Per Vertex / Per Face material was set up in the file: nothing to follow
     objects, meshes = set(), set()
     for change in depsgraph.updates:
+        if not change.is_updated_geometry:  # a slot or a modifier changed: geometry is tagged
+            continue  # (a light move re-shades every object: not looked at)
         original = getattr(change.id, "original", None)
         if isinstance(original, bpy.types.Object):
-            objects.add(original)
+            if original.type == "MESH":
+                objects.add(original)
         elif isinstance(original, bpy.types.Mesh):  # a slot of the mesh was assigned
             meshes.add(original.as_pointer())
     if meshes:
         objects.update(o for o in bpy.data.objects
                        if o.type == "MESH" and o.data.as_pointer() in meshes)
-    todo = {}
+    todo = []
     for obj in objects:
-        if obj.type != "MESH" or obj.library is not None:
+        if obj.library is not None or not needs_modifier(obj):
             continue
-        for slot in obj.material_slots:
-            material = slot.material
-            if material is None or material.as_pointer() not in followed:
-                continue
-            if mode_of(material) == PIXEL:
-                continue
-            if not materials.is_phong_material(material):
-                continue
-            modifiers = obj.modifiers
-            mine = [m for m in modifiers if m.type == "NODES" and m.node_group is not None
-                    and m.node_group.get(TREE_MATERIAL_KEY) == material]
-            if not mine or modifiers[-1].type != "NODES" or modifiers[-1].node_group is None \
-                    or modifiers[-1].node_group.get(TREE_MATERIAL_KEY) is None:
-                todo[material.name] = material
+        modifiers = obj.modifiers
+        if not len(modifiers) or modifiers[-1].type != "NODES" \
+                or modifiers[-1].node_group != geometry:
+            todo.append(obj)
     if not todo:
         return
     _BUSY.append(True)
     try:
-        for material in todo.values():
-            update(material)
+        for obj in todo:
+            for slot in obj.material_slots:  # a material set up in another file or by hand
+                if mode_of(slot.material) != PIXEL and group_of(slot.material) is None:
+                    update(slot.material)
+            _ensure_modifier(obj, geometry)
     finally:
         _BUSY.pop()
 
 
+@persistent
+def upgrade_on_load(*_args) -> None:
+    """A file of the design before (a Geometry Nodes group per material): refreshed into
+    this one, nothing lost (the materials keep their Shading)."""
+    if any(LEGACY_TREE_KEY in t.keys() for t in bpy.data.node_groups if t.library is None):
+        refresh()
+
+
 def register():
     bpy.app.handlers.depsgraph_update_post.append(follow_objects)
+    bpy.app.handlers.load_post.append(upgrade_on_load)
 
 
 def unregister():
-    if follow_objects in bpy.app.handlers.depsgraph_update_post:
-        bpy.app.handlers.depsgraph_update_post.remove(follow_objects)
+    for handlers, function in ((bpy.app.handlers.depsgraph_update_post, follow_objects),
+                               (bpy.app.handlers.load_post, upgrade_on_load)):
+        if function in handlers:
+            handlers.remove(function)
 
 
 def _light_set(material):
-    """(light objects, world, model) of the lights group *material* uses."""
+    """(lights group, light objects, world, model) of *material*."""
     node = material.node_tree.nodes.get(materials.LIGHTS_NODE)
     group = node.node_tree if node is not None else None
     scene = rig.owner(group) if group is not None else None
     if scene is None:
-        return [], None, rig.MODELS[0]
+        return group, [], None, rig.MODELS[0]
     names = list(group.get("phong_lights", []))
     lights = [scene.objects.get(n) for n in names]
     lights = [o for o in lights if o is not None and o.type == "LIGHT"
               and o.data.type in model.LIGHT_GROUPS["seeds"]]
     light_model = group.get(rig.MODEL_KEY, rig.MODELS[0])
-    return lights, scene.world, light_model if light_model in model.MODELS else rig.MODELS[0]
+    return (group, lights, scene.world,
+            light_model if light_model in model.MODELS else rig.MODELS[0])
 
 
 def _ensure_modifier(obj, tree) -> None:
+    if obj.type != "MESH" or obj.library is not None:
+        return
     modifier = next((m for m in obj.modifiers if m.type == "NODES" and m.node_group == tree),
                     None)
     if modifier is None:
         modifier = obj.modifiers.new(MODIFIER_NAME, "NODES")
         modifier.node_group = tree
     index = list(obj.modifiers).index(modifier)
-    ours = [i for i, m in enumerate(obj.modifiers)
-            if m.type == "NODES" and m.node_group is not None
-            and m.node_group.get(TREE_MATERIAL_KEY) is not None]
-    if any(i > index for i, m in enumerate(obj.modifiers) if i not in ours):
+    if index != len(obj.modifiers) - 1:
         obj.modifiers.move(index, len(obj.modifiers) - 1)  # last: the lit mesh is the one seen
 
 
-def _remove_modifiers(tree, keep) -> None:
-    keep = set(o.name for o in keep)
-    for obj in bpy.data.objects:
-        if obj.name in keep or obj.type != "MESH":
-            continue
-        for modifier in [m for m in obj.modifiers if m.type == "NODES" and m.node_group == tree]:
-            obj.modifiers.remove(modifier)
+@contextlib.contextmanager
+def modifiers_off(objects):
+    """The Phong Shading modifiers of *objects* switched off inside the block (Cycles' bake
+    to vertex colours needs the mesh's own topology, which the modifier triangulates)."""
+    tree = geometry_tree()
+    off = []
+    if tree is not None:
+        for obj in objects:
+            for modifier in obj.modifiers:
+                if modifier.type == "NODES" and modifier.node_group == tree \
+                        and (modifier.show_viewport or modifier.show_render):
+                    off.append((modifier, modifier.show_viewport, modifier.show_render))
+                    modifier.show_viewport = modifier.show_render = False
+    try:
+        yield
+    finally:
+        for modifier, viewport, render in off:
+            modifier.show_viewport, modifier.show_render = viewport, render
+
+
+def _remove_modifier(obj, tree=None) -> None:
+    tree = geometry_tree() if tree is None else tree
+    if tree is None:
+        return
+    for modifier in [m for m in obj.modifiers if m.type == "NODES" and m.node_group == tree]:
+        obj.modifiers.remove(modifier)
+
+
+def _remove_legacy_trees() -> bool:
+    """Remove the Geometry Nodes groups (and their modifiers) of the design before."""
+    legacy = [t for t in bpy.data.node_groups
+              if LEGACY_TREE_KEY in t.keys() and t.library is None]
+    for tree in legacy:
+        for obj in bpy.data.objects:
+            if obj.library is None and obj.type == "MESH":
+                for modifier in [m for m in obj.modifiers
+                                 if m.type == "NODES" and m.node_group == tree]:
+                    obj.modifiers.remove(modifier)
+        bpy.data.node_groups.remove(tree)
+    return bool(legacy)
+
+
+def _remove_legacy_nodes(material) -> None:
+    node = material.node_tree.nodes.get(LEGACY_ATTRIBUTE_NODE)
+    if node is not None:
+        material.node_tree.nodes.remove(node)
 
 
 # -- the material's surface -----------------------------------------------------------
 
 def _surface_per_pixel(material) -> None:
     tree = material.node_tree
-    for name in (ATTRIBUTE_NODE, EMISSION_NODE):
+    for name in (SHADING_NODE, EMISSION_NODE):
         node = tree.nodes.get(name)
         if node is not None:
             tree.nodes.remove(node)
@@ -270,22 +354,37 @@ def _surface_per_pixel(material) -> None:
             tree.links.new(lights.outputs[socket], aov.inputs["Color"])
 
 
-def _surface_per_mesh(material, attribute: str) -> None:
+def _surface_per_mesh(material, group) -> None:
     tree = material.node_tree
-    node = materials.named_node(tree, ATTRIBUTE_NODE, "ShaderNodeAttribute", (-20.0, 420.0))
-    node.label = "Phong Per Vertex / Per Face colour"
-    node.attribute_type = "GEOMETRY"
-    if node.attribute_name != attribute:
-        node.attribute_name = attribute
-    emission = materials.named_node(tree, EMISSION_NODE, "ShaderNodeEmission", (200.0, 420.0))
+    node = materials.named_node(tree, SHADING_NODE, "ShaderNodeGroup", (-20.0, 420.0))
+    if node.node_tree != group:
+        node.node_tree = group
+    node.label = "Phong Per Vertex" if group.get(GROUP_MODE_KEY) == VERTEX else "Phong Per Face"
+    node.width = 200.0
+    lights = tree.nodes.get(materials.LIGHTS_NODE)
+    for socket in node.inputs:  # the material's controls, as its lights group node has them
+        source = lights.inputs.get(socket.name) if lights is not None else None
+        for link in list(socket.links):
+            if source is None or not source.is_linked \
+                    or link.from_socket != source.links[0].from_socket:
+                tree.links.remove(link)
+        if source is None:
+            continue
+        if source.is_linked:
+            if not socket.is_linked:
+                tree.links.new(source.links[0].from_socket, socket)
+        else:
+            socket.default_value = source.default_value
+    emission = materials.named_node(tree, EMISSION_NODE, "ShaderNodeEmission", (260.0, 420.0))
     emission.inputs["Strength"].default_value = 1.0
-    tree.links.new(node.outputs["Color"], emission.inputs["Color"])
+    if not any(l.from_socket == node.outputs["Color"] for l in emission.inputs["Color"].links):
+        tree.links.new(node.outputs["Color"], emission.inputs["Color"])
     materials.apply_opacity(material)  # the emission into the output (or the opacity mix)
     for aov_name in materials.AOVS:
         aov = tree.nodes.get(f"phong_aov:{aov_name}")
         if aov is None:
             continue
-        if aov_name == materials.AOV_NAME:  # Phong Color: the stored colour
+        if aov_name == materials.AOV_NAME:  # Phong Color: the colour shown
             tree.links.new(node.outputs["Color"], aov.inputs["Color"])
         else:  # the per-pixel terms are not computed in this mode (and not compiled by Eevee)
             for link in list(aov.inputs["Color"].links):
@@ -293,34 +392,146 @@ def _surface_per_mesh(material, attribute: str) -> None:
             aov.inputs["Color"].default_value = (0.0, 0.0, 0.0, 1.0)
 
 
-def _control_paths(material) -> dict:
-    """Lights-group input -> (data path in the material of the value that feeds it, or
-    None, and its constant value)."""
-    tree = material.node_tree
-    lights = tree.nodes.get(materials.LIGHTS_NODE)
-    paths = {}
-    for name, control in CONTROL_OF.items():
-        source = None
-        socket = lights.inputs.get(name) if lights is not None else None
-        if socket is not None and socket.is_linked:
-            node = socket.links[0].from_node
-            if node.bl_idname in ("ShaderNodeRGB", "ShaderNodeValue"):
-                source = node
-        if source is None:
-            source = tree.nodes.get(control)
-        if source is not None:
-            path = f'node_tree.nodes["{bpy.utils.escape_identifier(source.name)}"].outputs[0].default_value'
-            paths[name] = (path, None)
-        else:
-            value = socket.default_value if socket is not None else 0.0
-            paths[name] = (None, tuple(value)[:3] if hasattr(value, "__len__") else float(value))
-    return paths
+# -- the Geometry Nodes group (no light, no camera: evaluated when the mesh changes) -------
+
+def ensure_geometry_tree():
+    """The modifier's group, made (or remade when its layout is older) once per file."""
+    tree = geometry_tree()
+    if tree is not None and tree.get(GEOMETRY_KEY) == GEOMETRY_VERSION:
+        return tree
+    if tree is None:
+        tree = bpy.data.node_groups.new(GEOMETRY_TREE, "GeometryNodeTree")
+    build_geometry_tree(tree)
+    tree[GEOMETRY_KEY] = GEOMETRY_VERSION
+    return tree
 
 
-# -- the Geometry Nodes group -------------------------------------------------------------
+def build_geometry_tree(tree) -> None:
+    """Store the attributes the shading groups read (module docstring), in object space."""
+    tree.nodes.clear()
+    tree.interface.clear()
+    tree.interface.new_socket("Geometry", in_out="INPUT", socket_type="NodeSocketGeometry")
+    tree.interface.new_socket("Geometry", in_out="OUTPUT", socket_type="NodeSocketGeometry")
+    if hasattr(tree, "is_modifier"):
+        tree.is_modifier = True
+    tree.description = ("Phong Per Vertex / Per Face shading: each face's centre and normal, "
+                        "each triangle's vertex positions and normals, each corner's "
+                        "barycentric basis (object space), for the shading groups")
+    nodes, links = tree.nodes, tree.links
+    x = [0.0]
+
+    def new(kind, **settings):
+        node = nodes.new(kind)
+        for key, value in settings.items():
+            setattr(node, key, value)
+        node.location = (x[0], -200.0 * (len(nodes) % 4))
+        return node
+
+    def store(geometry, name, domain, value):
+        node = new("GeometryNodeStoreNamedAttribute", data_type="FLOAT_VECTOR", domain=domain)
+        node.inputs["Name"].default_value = name
+        links.new(geometry, node.inputs["Geometry"])
+        socket = next(s for s in node.inputs if s.name == "Value" and s.enabled)
+        links.new(value, socket)
+        x[0] += 200.0
+        return node.outputs["Geometry"]
+
+    geometry = new("NodeGroupInput").outputs[0]
+    x[0] += 200.0
+    position = new("GeometryNodeInputPosition").outputs[0]
+    normal = new("GeometryNodeInputNormal").outputs[0]
+    # the face: its centre (the mean of its corners) and normal, before triangulation
+    geometry = store(geometry, FACE_CENTRE, "FACE", position)
+    geometry = store(geometry, FACE_NORMAL, "FACE", normal)
+    geometry = store(geometry, _POINT_NORMAL, "POINT", normal)  # the vertex normal
+    triangulate = new("GeometryNodeTriangulate")
+    links.new(geometry, triangulate.inputs[0])
+    geometry = triangulate.outputs[0]
+    x[0] += 200.0
+    vertex_normal = new("GeometryNodeInputNamedAttribute", data_type="FLOAT_VECTOR")
+    vertex_normal.inputs["Name"].default_value = _POINT_NORMAL
+    vertex_normal = next(s for s in vertex_normal.outputs if s.enabled and s.name == "Attribute")
+    for k in range(3):  # the triangle's k-th corner's vertex
+        corners = new("GeometryNodeCornersOfFace")
+        corners.inputs["Sort Index"].default_value = k
+        vertex = new("GeometryNodeVertexOfCorner")
+        links.new(corners.outputs["Corner Index"], vertex.inputs["Corner Index"])
+        for name, value in ((VERTEX_POSITIONS[k], position), (VERTEX_NORMALS[k], vertex_normal)):
+            at = new("GeometryNodeFieldAtIndex", domain="POINT", data_type="FLOAT_VECTOR")
+            links.new(vertex.outputs["Vertex Index"], at.inputs["Index"])
+            links.new(value, next(s for s in at.inputs if s.name == "Value" and s.enabled))
+            geometry = store(geometry, name, "FACE",
+                             next(s for s in at.outputs if s.name == "Value" and s.enabled))
+    # each corner: its barycentric basis vector (1, 0, 0), (0, 1, 0) or (0, 0, 1)
+    index_in_face = new("GeometryNodeFaceOfCorner").outputs["Index in Face"]
+    basis = new("ShaderNodeCombineXYZ")
+    for k in range(3):
+        equal = new("ShaderNodeMath", operation="COMPARE")
+        links.new(index_in_face, equal.inputs[0])
+        equal.inputs[1].default_value = float(k)
+        equal.inputs[2].default_value = 0.25
+        links.new(equal.outputs[0], basis.inputs[k])
+    geometry = store(geometry, WEIGHTS, "CORNER", basis.outputs[0])
+    remove = new("GeometryNodeRemoveAttribute")
+    links.new(geometry, remove.inputs["Geometry"])
+    remove.inputs["Name"].default_value = _POINT_NORMAL
+    x[0] += 200.0
+    links.new(remove.outputs["Geometry"], new("NodeGroupOutput").inputs[0])
+
+
+# -- the shading group (per lights group and mode) ------------------------------------------
+
+def shading_group(material, mode, cache=None):
+    """The shading group of *material*'s lights group for *mode*, made or rebuilt when its
+    lights, world or model changed."""
+    lights_group, lights, world, light_model = _light_set(material)
+    key = (lights_group.as_pointer() if lights_group is not None else None, mode)
+    if cache is not None and key in cache:
+        return cache[key]
+    world_keys = tuple(lights_group.get(rig.WORLD_KEYS, ())) if lights_group is not None else ()
+    signature = repr((GROUP_VERSION, mode, light_model, world.name if world else None,
+                      [(o.name, o.data.type, properties.falloff_of(o.data)) for o in lights],
+                      world_keys))
+    group = next((t for t in bpy.data.node_groups
+                  if t.get(GROUP_MODE_KEY) == mode and t.library is None
+                  and t.bl_idname == "ShaderNodeTree"
+                  and t.get(GROUP_LIGHTS_KEY) == lights_group), None)
+    name = (f"Phong {'Per Vertex' if mode == VERTEX else 'Per Face'} "
+            f"{lights_group.name if lights_group is not None else 'no lights'}")
+    if group is None:
+        group = bpy.data.node_groups.new(name, "ShaderNodeTree")
+        group[GROUP_MODE_KEY] = mode
+        if lights_group is not None:
+            group[GROUP_LIGHTS_KEY] = lights_group
+    if group.get(GROUP_SIGNATURE_KEY) != signature:
+        group = _rebuild(group, mode, lights, world, light_model, world_keys)
+        group[GROUP_SIGNATURE_KEY] = signature
+    if not (group.name == name or group.name.startswith(name + ".")):
+        group.name = name
+    if cache is not None:
+        cache[key] = group
+    return group
+
+
+def _rebuild(group, *args):
+    """*group* rewritten; a group many materials show is built apart and takes over their
+    uses (Blender propagates every node edit to each material: ``rig.rebuild``)."""
+    if group.users <= 1:
+        build_shading_group(group, *args)
+        return group
+    fresh = bpy.data.node_groups.new(group.name + " (new)", "ShaderNodeTree")
+    for key in group.keys():
+        fresh[key] = group[key]
+    build_shading_group(fresh, *args)
+    name = group.name
+    group.user_remap(fresh)
+    bpy.data.node_groups.remove(group)
+    fresh.name = name
+    return fresh
+
 
 class _Writer(loader.NodeWriter):
-    """The node writer of the shader groups, its leaves mapped to sockets of this tree."""
+    """The node writer of the library groups, its leaves mapped to sockets of this tree."""
 
     def __init__(self, tree, sockets):
         super().__init__(tree, None)
@@ -367,117 +578,183 @@ class _Builder:
             socket.default_value = float(value[index])
         return node.outputs[0]
 
+    def attribute(self, name, attribute_type="GEOMETRY"):
+        node = self.node("ShaderNodeAttribute", name, x=-1300.0)
+        node.attribute_type = attribute_type
+        node.attribute_name = name
+        return node.outputs["Vector"]
 
-def build(tree, material, lights, world, light_model, mode, attribute) -> None:
-    """(Re)write *tree*: the model for *lights* evaluated on the mesh, stored as *attribute*."""
+    def to_world(self, socket, vector_type="POINT"):
+        node = self.node("ShaderNodeVectorTransform", x=-1100.0)
+        node.vector_type = vector_type
+        node.convert_from, node.convert_to = "OBJECT", "WORLD"
+        self.tree.links.new(socket, node.inputs[0])
+        return node.outputs[0]
+
+    def normal_to_world(self, socket):
+        """Object-space normal *socket* in world space: M^-T n = cof(M) n / det(M), from the
+        object's axes M e1, M e2, M e3 (Vector Transform of vectors: Eevee 4.2's Vector
+        Transform of a normal is not the inverse transpose under non-uniform scale)."""
+        if not hasattr(self, "_cofactors"):
+            axes = []
+            for axis in ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0)):
+                node = self.node("ShaderNodeVectorTransform", x=-1300.0)
+                node.vector_type = "VECTOR"
+                node.convert_from, node.convert_to = "OBJECT", "WORLD"
+                node.inputs[0].default_value = axis
+                axes.append(node.outputs[0])
+            columns = [self.math("CROSS_PRODUCT", axes[(i + 1) % 3], axes[(i + 2) % 3])
+                       for i in range(3)]  # cof(M) = [M e2 x M e3, M e3 x M e1, M e1 x M e2]
+            det = self.node("ShaderNodeVectorMath", x=-1000.0)
+            det.operation = "DOT_PRODUCT"
+            self.tree.links.new(axes[0], det.inputs[0])
+            self.tree.links.new(columns[0], det.inputs[1])
+            inverse = self.node("ShaderNodeMath", x=-900.0)
+            inverse.operation = "DIVIDE"
+            inverse.inputs[0].default_value = 1.0
+            self.tree.links.new(det.outputs["Value"], inverse.inputs[1])
+            self._cofactors = (columns, inverse.outputs[0])
+        columns, inverse_det = self._cofactors
+        split = self.node("ShaderNodeSeparateXYZ", x=-1100.0)
+        self.tree.links.new(socket, split.inputs[0])
+        total = None
+        for k in range(3):
+            term = self.math("SCALE", columns[k], (0.0, 0.0, 0.0))
+            self.tree.links.new(split.outputs[k], term.node.inputs["Scale"])
+            total = term if total is None else self.math("ADD", total, term)
+        out = self.math("SCALE", total, (0.0, 0.0, 0.0))
+        self.tree.links.new(inverse_det, out.node.inputs["Scale"])
+        return out
+
+    def math(self, operation, a, b, name=None):
+        node = self.node("ShaderNodeVectorMath", name, x=-1000.0)
+        node.operation = operation
+        for socket, value in zip(node.inputs, (a, b)):
+            if isinstance(value, bpy.types.NodeSocket):
+                self.tree.links.new(value, socket)
+            else:
+                socket.default_value = value
+        return node.outputs["Vector"]
+
+
+def build_shading_group(tree, mode, lights, world, light_model, world_keys) -> None:
+    """(Re)write *tree*: the model for *lights* at the vertices of the pixel's triangle
+    (VERTEX, mixed by the barycentric basis) or at its face's centre (FACE)."""
     if tree.animation_data is not None:
         tree.animation_data_clear()
     tree.nodes.clear()
-    if not any(i.item_type == "SOCKET" and i.in_out == "INPUT" for i in tree.interface.items_tree):
-        tree.interface.clear()
-        tree.interface.new_socket("Geometry", in_out="INPUT", socket_type="NodeSocketGeometry")
-        tree.interface.new_socket("Geometry", in_out="OUTPUT", socket_type="NodeSocketGeometry")
-    if hasattr(tree, "is_modifier"):
-        tree.is_modifier = True
-    tree.description = (f"Phong {'Per Vertex' if mode == VERTEX else 'Per Face'} shading of "
-                        f"{material.name}: the lighting model at each "
-                        f"{'vertex' if mode == VERTEX else 'face centre'}")
+    tree.interface.clear()
+    tree.interface.new_socket("Color", in_out="OUTPUT", socket_type="NodeSocketColor")
+    if mode == VERTEX:  # the model at the triangle's k-th vertex (for AOVs and tests)
+        for name in VERTEX_OUTPUTS:
+            tree.interface.new_socket(name, in_out="OUTPUT", socket_type="NodeSocketColor")
+    for name, socket_type, default in CONTROL_INPUTS:
+        item = tree.interface.new_socket(name, in_out="INPUT", socket_type=socket_type)
+        item.default_value = default
+    tree[rig.WORLD_KEYS] = []
+    tree.description = (f"Phong {'Per Vertex' if mode == VERTEX else 'Per Face'} shading: the "
+                        f"lighting model at the {'vertices of each triangle' if mode == VERTEX else 'centre of each face'}")
     b = _Builder(tree)
-    sockets = {}
-    # geometry: world position and normal, camera position
-    self_info = b.node("GeometryNodeObjectInfo", "self", x=-1300.0)
-    self_info.transform_space = "ORIGINAL"
-    tree.links.new(b.node("GeometryNodeSelfObject", x=-1500.0).outputs[0],
-                   self_info.inputs["Object"])
-    point = b.node("FunctionNodeTransformPoint", "world position", x=-1100.0)
-    tree.links.new(b.node("GeometryNodeInputPosition", x=-1300.0).outputs[0], point.inputs[0])
-    tree.links.new(self_info.outputs["Transform"], point.inputs[1])
-    invert = b.node("FunctionNodeInvertMatrix", x=-1300.0)
-    tree.links.new(self_info.outputs["Transform"], invert.inputs[0])
-    transpose = b.node("FunctionNodeTransposeMatrix", x=-1200.0)
-    tree.links.new(invert.outputs[0], transpose.inputs[0])
-    normal = b.node("FunctionNodeTransformDirection", "world normal", x=-1100.0)
-    tree.links.new(b.node("GeometryNodeInputNormal", x=-1300.0).outputs[0], normal.inputs[0])
-    tree.links.new(transpose.outputs[0], normal.inputs[1])
-    camera_info = b.node("GeometryNodeObjectInfo", "camera", x=-1100.0)
-    camera_info.transform_space = "ORIGINAL"
-    tree.links.new(b.node("GeometryNodeInputActiveCamera", x=-1300.0).outputs[0],
-                   camera_info.inputs["Object"])
-    sockets.update({"P": point.outputs[0], "N": normal.outputs[0],
-                    "Camera": camera_info.outputs["Location"]})
+    group_in = b.node("NodeGroupInput", x=-1500.0)
+    group_out = tree.nodes.new("NodeGroupOutput")
+    sockets = {name: group_in.outputs[name] for name, _t, _d in CONTROL_INPUTS}
+    # the viewer: the eye of the pixel's ray
+    geometry = b.node("ShaderNodeNewGeometry", x=-1300.0)
+    camera = b.node("ShaderNodeCameraData", x=-1300.0)
+    toward = b.math("SCALE", geometry.outputs["Incoming"], (0.0, 0.0, 0.0))
+    tree.links.new(camera.outputs["View Distance"], toward.node.inputs["Scale"])
+    sockets["Camera"] = b.math("ADD", geometry.outputs["Position"], toward, "eye")
+    # the points where the model is evaluated
+    if mode == VERTEX:
+        points = [(VERTEX_POSITIONS[k], VERTEX_NORMALS[k]) for k in range(3)]
+    else:
+        points = [(FACE_CENTRE, FACE_NORMAL)]
+    for k, (p_name, n_name) in enumerate(points):
+        sockets[f"P{k}"] = b.to_world(b.attribute(p_name), "POINT")
+        sockets[f"N{k}"] = b.normal_to_world(b.attribute(n_name))
     power = {index for index, obj in enumerate(lights)
              if properties.falloff_of(obj.data) == "POWER"}  # i0/d^k (rig.py alike)
     expression = model.model_color([o.data.type for o in lights], light_model, power)
-    factories = {}  # leaf name -> makes its socket (only the leaves the model reads are made)
-    # the material's controls
-    for name, (path, value) in _control_paths(material).items():
-        vector = model.CONTROLS[name] == "vector"
-        if path is None:
-            factories[name] = (lambda n=name, v=value, vec=vector:
-                               b.constant_vector(n, v) if vec else b.constant(n, v))
-        elif vector:
-            factories[name] = lambda n=name, p=path: b.vector(n, "MATERIAL", material, p)
-        else:
-            factories[name] = lambda n=name, p=path: b.value(n, "MATERIAL", material, p)
-    # the ambient light
-    if world is None:
-        factories["Ambient Intensity"] = lambda: b.constant("Ambient Intensity",
-                                                            properties.AMBIENT_INTENSITY[1])
-        factories["Ambient Color"] = lambda: b.constant_vector("Ambient Color",
-                                                               properties.AMBIENT_COLOR[1])
-    else:
-        properties.ensure_world_props(world)
-        factories["Ambient Intensity"] = lambda: b.value(
-            "Ambient Intensity", "WORLD", world, f'["{properties.AMBIENT_INTENSITY[0]}"]')
-        factories["Ambient Color"] = lambda: b.vector(
-            "Ambient Color", "WORLD", world, f'["{properties.AMBIENT_COLOR[0]}"]')
-    # the lights
+    colors = [model.substitute(expression, {"P": input_(f"P{k}", VECTOR),
+                                            "N": input_(f"N{k}", VECTOR)})
+              for k in range(len(points))]
+    factories = _ambient_sockets(b, world)
     for index, obj in enumerate(lights):
-        factories.update(_light_sockets(b, index, obj))
-    for name in sorted(model.leaves(expression) - set(sockets)):
+        factories.update(_light_sockets(b, index, obj, world_keys))
+    read = set().union(*(model.leaves(c) for c in colors))
+    for name in sorted(read - set(sockets)):
         sockets[name] = factories[name]()
-    store = tree.nodes.new("GeometryNodeStoreNamedAttribute")
-    store.name = "store"
-    store.data_type = "FLOAT_COLOR"
-    store.domain = DOMAINS[mode]
-    store.inputs["Name"].default_value = attribute
-    group_in = tree.nodes.new("NodeGroupInput")
-    group_out = tree.nodes.new("NodeGroupOutput")
     writer = _Writer(tree, sockets)
-    value_socket = next(s for s in store.inputs if s.name == "Value" and s.enabled)
-    writer.output(expression, value_socket, "color")
+    if mode == FACE:
+        writer.output(colors[0], group_out.inputs["Color"], "color")
+    else:
+        weights = b.node("ShaderNodeSeparateXYZ", x=-1000.0)
+        tree.links.new(b.attribute(WEIGHTS), weights.inputs[0])
+        total, mixing = None, []
+        for k, color in enumerate(colors):
+            scaled = tree.nodes.new("ShaderNodeVectorMath")
+            scaled.operation = "SCALE"
+            scaled.name = scaled.label = f"vertex {k}"
+            writer.output(color, scaled.inputs[0], "vector")
+            writer.output(color, group_out.inputs[VERTEX_OUTPUTS[k]], "color")
+            tree.links.new(weights.outputs[k], scaled.inputs["Scale"])
+            mixing.append(scaled)
+            if total is None:
+                total = scaled.outputs[0]
+                continue
+            add = tree.nodes.new("ShaderNodeVectorMath")
+            add.operation = "ADD"
+            tree.links.new(total, add.inputs[0])
+            tree.links.new(scaled.outputs[0], add.inputs[1])
+            total = add.outputs[0]
+            mixing.append(add)
+        tree.links.new(total, group_out.inputs["Color"])
+        x = (writer.max_depth + 1) * loader.COLUMN_WIDTH
+        for row, node in enumerate(mixing):
+            node.location = (x + 200.0 * (row // 2), -200.0 * (row % 2))
     x = (writer.max_depth + 1) * loader.COLUMN_WIDTH
-    store.location = (x, 0.0)
-    group_in.location = (x - 200.0, 300.0)
-    group_out.location = (x + 250.0, 0.0)
-    tree.links.new(group_in.outputs[0], store.inputs["Geometry"])
-    tree.links.new(store.outputs["Geometry"], group_out.inputs[0])
+    group_out.location = (x + 700.0, 0.0)
 
 
-def _light_sockets(b, index, obj) -> dict:
-    """Leaf name -> a function making its socket, for light *index* (*obj*)."""
+def _ambient_sockets(b, world) -> dict:
+    if world is None:
+        return {"Ambient Intensity": lambda: b.constant("Ambient Intensity",
+                                                        properties.AMBIENT_INTENSITY[1]),
+                "Ambient Color": lambda: b.constant_vector("Ambient Color",
+                                                           properties.AMBIENT_COLOR[1])}
+    properties.ensure_world_props(world)
+    return {"Ambient Intensity": lambda: b.value(
+                "Ambient Intensity", "WORLD", world, f'["{properties.AMBIENT_INTENSITY[0]}"]'),
+            "Ambient Color": lambda: b.vector(
+                "Ambient Color", "WORLD", world, f'["{properties.AMBIENT_COLOR[0]}"]')}
+
+
+def _light_sockets(b, index, obj, world_keys) -> dict:
+    """Leaf name -> a function making its socket, for light *index* (*obj*): its transform
+    from the World property its lights group reads (View Layer attribute) or by drivers, the
+    rest by drivers."""
     light = obj.data
     properties.ensure_light_props(light)
     keys = {attr: f'["{key}"]' for attr, (key, _default) in properties.LIGHT_KEYS.items()}
     prefix = f"light{index}:"
-    made = {}
 
-    def info():
-        if "info" not in made:
-            node = b.node("GeometryNodeObjectInfo", f"{prefix}{obj.name}")
-            node.transform_space = "ORIGINAL"
-            node.inputs["Object"].default_value = obj
-            made["info"] = node
-        return made["info"]
-
-    def direction():
-        node = b.node("FunctionNodeTransformDirection", f"{prefix}Direction")
-        node.inputs[0].default_value = (0.0, 0.0, -1.0)  # the light's -Z axis
-        b.tree.links.new(info().outputs["Transform"], node.inputs[1])
+    def transform(kind):
+        key = rig.world_key(obj, kind)
+        name = f"{prefix}{rig.TRANSFORM_SOCKETS[kind]}"
+        if key in world_keys:
+            socket = b.attribute(key, "VIEW_LAYER")
+            socket.node.name = socket.node.label = name
+            b.tree[rig.WORLD_KEYS] = [*b.tree.get(rig.WORLD_KEYS, ()), key]
+            return socket
+        node = b.node("ShaderNodeVectorMath", name)
+        node.operation = "ADD"
+        node.inputs[1].default_value = (0.0, 0.0, 0.0)
+        (drivers.world_location if kind == "LOCATION" else drivers.world_minus_z)(
+            node.inputs[0], obj)
         return node.outputs[0]
 
-    factories = {prefix + "Position": lambda: info().outputs["Location"],
-                 prefix + "Direction": direction,
+    factories = {prefix + "Position": lambda: transform("LOCATION"),
+                 prefix + "Direction": lambda: transform("AXIS"),
                  prefix + "Color": lambda: b.vector(prefix + "Color", "LIGHT", light, "color")}
     for attr in ("intensity", "quadratic", "linear", "constant", "edge_exponent", "diffuse",
                  "specular", "distance", "decay", "penumbra", "power_k"):

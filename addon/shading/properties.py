@@ -12,9 +12,9 @@ from . import forwarding, modes
 SHADING_ITEMS = (
     ("PIXEL", "Per Pixel", "The model evaluated at every pixel (Phong shading)"),
     ("VERTEX", "Per Vertex", "The model evaluated at every vertex and the colour interpolated "
-     "across each face (Gouraud shading); live, by a Geometry Nodes modifier"),
+     "across each face (Gouraud shading); live, in the shader"),
     ("FACE", "Per Face", "The model evaluated once per face, at its centre with its normal "
-     "(flat shading); live, by a Geometry Nodes modifier"),
+     "(flat shading); live, in the shader"),
 )
 
 
