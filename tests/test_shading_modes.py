@@ -102,11 +102,17 @@ def _evaluated(bpy, obj):
     return obj.evaluated_get(bpy.context.evaluated_depsgraph_get()).data
 
 
+#: Object name -> the world matrix it is seen with (an instance of it: see _seen_as).
+_SEEN_AS: dict = {}
+
+
 def _matrix(obj):
     """The evaluated world matrix (bpy 4.2 in the background does not write it back to an
-    object created after the last update)."""
+    object created after the last update), or the matrix of the instance it stands for."""
     import bpy  # noqa: PLC0415
 
+    if obj.name in _SEEN_AS:
+        return _SEEN_AS[obj.name]
     evaluated = obj.evaluated_get(bpy.context.evaluated_depsgraph_get())
     return np.array(evaluated.matrix_world, dtype=np.float64)
 
@@ -834,3 +840,80 @@ def test_linked_duplicates_are_each_lit_where_they_stand(bpy_clean):
     common = set(lit[sphere.name]) & set(lit[twin.name])
     assert common and max(np.abs(lit[sphere.name][v] - lit[twin.name][v]).max()
                           for v in common) > 0.05
+
+
+def test_collection_instances_are_lit_where_they_stand(bpy_clean):
+    """A collection instance of a Per Vertex object (the object itself not in the scene) is lit
+    with the instance's transform: its vertices' values equal the reference at the vertices
+    where the instance puts them."""
+    bpy = bpy_clean
+    scene, sphere, camera, lights = _scene(bpy, "VERTEX", ("POINT", "SUN"))
+    collection = bpy.data.collections.new("Instanced")
+    twin = bpy.data.objects.new("Twin", sphere.data)  # the same mesh, material and modifier
+    twin.modifiers.new("Phong Shading", "NODES").node_group = sphere.modifiers[-1].node_group
+    twin.rotation_euler = (0.0, 0.3, 0.0)
+    collection.objects.link(twin)
+    empty = bpy.data.objects.new("Instance", None)
+    empty.instance_type = "COLLECTION"
+    empty.instance_collection = collection
+    empty.location = (-1.6, 1.2, 0.4)
+    empty.scale = (0.8, 0.8, 1.2)
+    scene.collection.objects.link(empty)
+    sphere.hide_render = True
+    bpy.context.view_layer.update()
+    matrix = _matrix(empty) @ np.array(twin.matrix_world, dtype=np.float64)
+    _SEEN_AS[twin.name] = matrix
+    try:
+        _domain, ids, got = _live(bpy, twin)
+        P, N = _vertices(bpy, twin)
+        want, near = _reference(scene, twin, camera, lights, P, N)
+    finally:
+        _SEEN_AS.clear()
+    err = np.abs(got - want[ids])[~near[ids]].max()
+    be.report(f"[shading instance] {len(np.unique(ids))} vertices seen: max |Δ| {err:.2e}")
+    assert len(np.unique(ids)) >= 20 and err <= VERTEX_TOL
+
+
+def test_a_mirrored_object_is_lit_with_its_normals(bpy_clean):
+    """Negative scale (a mirrored object): the normals' inverse transpose keeps their side."""
+    bpy = bpy_clean
+    scene, sphere, camera, lights = _scene(bpy, "VERTEX", ("POINT", "SUN"))
+    sphere.scale = (-1.0, 1.1, 0.9)
+    bpy.context.view_layer.update()
+    _domain, ids, got = _live(bpy, sphere)
+    P, N = _vertices(bpy, sphere)
+    want, near = _reference(scene, sphere, camera, lights, P, N)
+    err = np.abs(got - want[ids])[~near[ids]].max()
+    be.report(f"[shading mirrored] {len(np.unique(ids))} vertices seen: max |Δ| {err:.2e}")
+    assert len(np.unique(ids)) >= 20 and err <= VERTEX_TOL and want.std() > 0.02
+
+
+def test_a_file_of_the_design_before_is_upgraded(bpy_clean):
+    """The 0.3 development design (a Geometry Nodes group per material with the custom
+    property phong_shading_material, storing a colour attribute that an Attribute node named
+    phong_shading_attribute showed) is replaced on load by this one, the Shading kept."""
+    bpy = bpy_clean
+    from phong_nodes.addon.shading import modes  # noqa: PLC0415
+
+    scene, sphere, camera, lights = _scene(bpy, "VERTEX", ("POINT",))
+    material = sphere.active_material
+    sphere.modifiers.remove(sphere.modifiers[-1])  # what the old design had instead
+    tree = material.node_tree
+    tree.nodes.remove(tree.nodes[modes.SHADING_NODE])
+    old = bpy.data.node_groups.new("Phong Per Vertex Phong Old", "GeometryNodeTree")
+    old[modes.LEGACY_TREE_KEY] = material
+    sphere.modifiers.new("Phong Shading", "NODES").node_group = old
+    attribute = tree.nodes.new("ShaderNodeAttribute")
+    attribute.name = modes.LEGACY_ATTRIBUTE_NODE
+    attribute.attribute_name = f"phong_lit:{material.name}"
+    tree.links.new(attribute.outputs["Color"], tree.nodes[modes.EMISSION_NODE].inputs["Color"])
+    old_name = old.name
+    modes.upgrade_on_load()
+    assert old_name not in bpy.data.node_groups
+    assert modes.LEGACY_ATTRIBUTE_NODE not in tree.nodes
+    assert [m.node_group for m in sphere.modifiers] == [modes.geometry_tree()]
+    assert material["phong_shading"] == "VERTEX" and modes.group_of(material) is not None
+    _domain, ids, got = _live(bpy, sphere)
+    P, N = _vertices(bpy, sphere)
+    want, _near = _reference(scene, sphere, camera, lights, P, N)
+    assert np.abs(got - want[ids]).max() <= VERTEX_TOL
