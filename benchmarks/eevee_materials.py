@@ -25,7 +25,9 @@ are out of it: every F12 render pays the rest again).  Cases:
   ambient, the irradiant beyond the first), the colour clamped once; the lights' values
   frozen as socket values where drivers would write them (a prototype for measuring: the
   drivers are not written);
-* ``phong_lights0``, ``phong_lights1``: Apply with no light / one light (a smaller group).
+* ``phong_lights0``, ``phong_lights1``: Apply with no light / one light (a smaller group);
+* ``phong_noshadow``: ``phong`` with the cubes' shadow visibility off (not a fix: it shows
+  what one of the passes Eevee builds for each material costs).
 
 Prints one JSON object: seconds per case and repeat, nodes of each case's material once its
 groups are expanded, ratios to Principled, load averages, bpy release.
@@ -44,7 +46,7 @@ import time
 from .measure import artist_scene, render, set_eevee, simple_material, worker_setup
 
 CASES = ("principled", "emission", "phong", "phong_noaov", "phong_ungrouped", "phong_flat",
-         "phong_lights0", "phong_lights1")
+         "phong_lights0", "phong_lights1", "phong_noshadow")
 
 
 # -- the scene ----------------------------------------------------------------------
@@ -101,6 +103,9 @@ def build(bpy, case, objects, n_lights):
             ungroup_all(lights_group)
         elif case == "phong_flat":
             write_flat(lights_group)
+        elif case == "phong_noshadow":  # Eevee then builds no shadow pass of the materials
+            for obj in meshes:
+                obj.visible_shadow = False
     scene.view_layers[0].update()
     material = meshes[0].material_slots[0].material
     return scene, material
@@ -332,6 +337,29 @@ def write_flat(lights_group) -> None:
         kind = {"NodeSocketColor": "color", "NodeSocketShader": "shader"}[kinds[name]]
         writer.output(expression, group_out.inputs[name], kind)
     writer.place_ends(group_out)
+
+
+# -- the picture -----------------------------------------------------------------------------
+
+def largest_difference(objects=16, n_lights=4, case="phong_flat", engine="cycles") -> float:
+    """The largest pixel difference between the render of the ``phong`` scene and that of
+    *case* (16-bit PNGs, *engine* "cycles" or "eevee"), in this process."""
+    import tempfile  # noqa: PLC0415
+
+    from .measure import read_image, set_cycles  # noqa: PLC0415
+
+    bpy = worker_setup()
+    folder = tempfile.mkdtemp(prefix="phong_eevee_materials_")
+    images = []
+    for name in ("phong", case):
+        scene, _material = build(bpy, name, objects, n_lights)
+        if engine == "cycles":
+            set_cycles(scene, 1)
+        bpy.context.window.scene = scene
+        path = os.path.join(folder, f"{name}.png")
+        render(scene, path)
+        images.append(read_image(path))
+    return float(abs(images[0] - images[1]).max())
 
 
 # -- the run -------------------------------------------------------------------------------
