@@ -1,9 +1,9 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Issue 30 item 4: a full Eevee render (F12) of many objects with their own materials,
-Principled against Phong, side by side in one process.
+Principled against Phong, side by side in one run (a process per case).
 
     .venv/bin/python -m phong_nodes.benchmarks.eevee_materials [--objects 1000] [--lights 4]
-        [--repeats 2] [--cases principled,phong,phong_flat,...]
+        [--repeats 2] [--renders 1] [--cases principled,phong,phong_flat,...]
 
 The scene is figure 6's artist scene (``measure.artist_scene``: cubes with their own mesh and
 Principled material, 4 lights cycling point, sun, spot, point) seen from above by an
