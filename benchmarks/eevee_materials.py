@@ -1,0 +1,438 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Issue 30 item 4: a full Eevee render (F12) of many objects with their own materials,
+Principled against Phong, side by side in one run (a process per case).
+
+    .venv/bin/python -m phong_nodes.benchmarks.eevee_materials [--objects 1000] [--lights 4]
+        [--repeats 2] [--renders 1] [--cases principled,phong,phong_flat,...]
+
+The scene is figure 6's artist scene (``measure.artist_scene``: cubes with their own mesh and
+Principled material, 4 lights cycling point, sun, spot, point) seen from above by an
+orthographic camera, 256² pixels, Eevee at 1 sample; each case is built and rendered in a
+process of its own, started one after the other by this one (the order of the cases
+alternates from repeat to repeat), and each figure is the wall time of
+``bpy.ops.render.render`` after one untimed render (the shader compiles and the first sync
+are out of it: every F12 render pays the rest again).  Cases:
+
+* ``principled``: the artist's scene as it is;
+* ``emission``: each cube its own Emission material (one node: the floor);
+* ``phong``: after Apply Phong Material (this version);
+* ``phong_noaov``: the same without the five AOV outputs of each material;
+* ``phong_ungrouped``: the lights group with every nested group node replaced by its nodes
+  (the same nodes, no nesting; the lights' drivers dropped, their values frozen);
+* ``phong_flat``: the lights group written as one expression (``flat_expressions``): the
+  same formulas of ``node_groups/library.py``, shared sub-expressions once (the normal, the
+  view vector), the terms that are zero by construction left out (each Phong Shading's
+  ambient, the irradiant beyond the first), the colour clamped once; the lights' values
+  frozen as socket values where drivers would write them (a prototype for measuring: the
+  drivers are not written);
+* ``phong_lights0``, ``phong_lights1``: Apply with no light / one light (a smaller group);
+* ``phong_noshadow``: ``phong`` with the cubes' shadow visibility off (not a fix: it shows
+  what one of the passes Eevee builds for each material costs).
+
+Prints one JSON object: seconds per case and repeat, nodes of each case's material once its
+groups are expanded, ratios to Principled, load averages, bpy release.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import statistics
+import sys
+import time
+
+from .measure import artist_scene, render, set_eevee, simple_material, worker_setup
+
+CASES = ("principled", "emission", "phong", "phong_noaov", "phong_ungrouped", "phong_flat",
+         "phong_lights0", "phong_lights1", "phong_noshadow")
+
+
+# -- the scene ----------------------------------------------------------------------
+
+def _camera(bpy, scene, count):
+    cols = max(1, math.ceil(math.sqrt(count)))
+    camera = bpy.data.objects.new(f"{scene.name} camera", bpy.data.cameras.new(scene.name))
+    camera.data.type = "ORTHO"
+    camera.data.ortho_scale = 3.0 * cols + 3.0
+    camera.location = (1.5 * (cols - 1), 1.5 * (cols - 1), 50.0)
+    scene.collection.objects.link(camera)
+    scene.camera = camera
+    scene.render.resolution_x = scene.render.resolution_y = 256
+    scene.render.resolution_percentage = 100
+
+
+def _apply(bpy, scene, meshes):
+    view_layer = scene.view_layers[0]
+    for obj in meshes:
+        obj.select_set(True, view_layer=view_layer)
+    with bpy.context.temp_override(scene=scene, view_layer=view_layer, selected_objects=meshes):
+        result = bpy.ops.phong.apply_material()
+    if result != {"FINISHED"}:
+        raise RuntimeError(f"apply_material returned {result}")
+
+
+def build(bpy, case, objects, n_lights):
+    """The scene of *case*; returns (scene, one of its materials)."""
+    if case == "phong_lights0":
+        n_lights = 0
+    elif case == "phong_lights1":
+        n_lights = 1
+    scene, meshes, _lights = artist_scene(case, objects, n_lights)
+    bpy.context.window.scene = scene
+    _camera(bpy, scene, objects)
+    set_eevee(scene, 1)
+    if case == "emission":
+        for index, obj in enumerate(meshes):
+            material = simple_material(f"{case} {index}", "emission")
+            material.node_tree.nodes["Emission"].inputs["Color"].default_value = (
+                (index % 7) / 7, (index % 11) / 11, (index % 13) / 13, 1.0)
+            obj.data.materials[0] = material
+    elif case != "principled":
+        _apply(bpy, scene, meshes)
+        scene.view_layers[0].update()  # the drivers' values, frozen by the two cases below
+        materials = {slot.material for obj in meshes for slot in obj.material_slots}
+        lights_group = next(iter(materials)).node_tree.nodes["phong_lights"].node_tree
+        if case == "phong_noaov":
+            for material in materials:
+                tree = material.node_tree
+                for node in [n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputAOV"]:
+                    tree.nodes.remove(node)
+        elif case == "phong_ungrouped":
+            ungroup_all(lights_group)
+        elif case == "phong_flat":
+            write_flat(lights_group)
+        elif case == "phong_noshadow":  # Eevee then builds no shadow pass of the materials
+            for obj in meshes:
+                obj.visible_shadow = False
+    scene.view_layers[0].update()
+    material = meshes[0].material_slots[0].material
+    return scene, material
+
+
+def expanded_nodes(tree) -> int:
+    """Nodes of *tree* once every group node is replaced by its nodes (recursively)."""
+    count = 0
+    for node in tree.nodes:
+        if node.bl_idname == "ShaderNodeGroup" and node.node_tree is not None:
+            count += expanded_nodes(node.node_tree)
+        elif node.bl_idname not in ("NodeFrame", "NodeGroupInput", "NodeGroupOutput"):
+            count += 1
+    return count
+
+
+# -- the lights group without nesting (same nodes) ---------------------------------------
+
+_PROPS = ("operation", "attribute_type", "attribute_name", "data_type", "use_clamp")
+
+
+def _value(socket):
+    value = socket.default_value
+    return tuple(value) if hasattr(value, "__len__") else value
+
+
+def _fit(value, target):
+    """*value* (a float or a 3 / 4-tuple) as *target*'s default value."""
+    want = target.default_value
+    if not hasattr(want, "__len__"):
+        return value if not isinstance(value, tuple) else sum(value[:3]) / 3.0
+    if not isinstance(value, tuple):
+        value = (value,) * 3
+    return tuple(value[:3]) if len(want) == 3 else (*value[:3], 1.0)
+
+
+def ungroup_all(tree) -> None:
+    """Replace every group node of *tree* by its nodes, recursively (drivers dropped)."""
+    if tree.animation_data is not None:
+        tree.animation_data_clear()
+    while True:
+        groups = [n for n in tree.nodes if n.bl_idname == "ShaderNodeGroup" and n.node_tree]
+        if not groups:
+            return
+        for group in groups:
+            _ungroup(tree, group)
+
+
+def _ungroup(tree, group) -> None:
+    inner = group.node_tree
+    copies = {}
+    for node in inner.nodes:
+        if node.bl_idname in ("NodeGroupInput", "NodeGroupOutput", "NodeFrame"):
+            continue
+        new = tree.nodes.new(node.bl_idname)
+        for prop in _PROPS:
+            if hasattr(node, prop):
+                setattr(new, prop, getattr(node, prop))
+        if node.bl_idname == "ShaderNodeGroup":
+            new.node_tree = node.node_tree
+        for index, socket in enumerate(node.inputs):
+            if hasattr(socket, "default_value"):
+                new.inputs[index].default_value = socket.default_value
+        copies[node.name] = new
+    inputs = {s.identifier: s for s in group.inputs}
+
+    def source(link):
+        if link.from_node.bl_idname == "NodeGroupInput":
+            socket = inputs[link.from_socket.identifier]
+            return socket.links[0].from_socket if socket.is_linked else _value(socket)
+        node = link.from_node
+        return copies[node.name].outputs[list(node.outputs).index(link.from_socket)]
+
+    results = {}
+    for link in inner.links:
+        src = source(link)
+        if link.to_node.bl_idname == "NodeGroupOutput":
+            results[link.to_socket.identifier] = src
+            continue
+        node = link.to_node
+        target = copies[node.name].inputs[list(node.inputs).index(link.to_socket)]
+        if isinstance(src, (float, tuple)):
+            target.default_value = _fit(src, target)
+        else:
+            tree.links.new(src, target)
+    for output in group.outputs:
+        src = results.get(output.identifier)
+        for link in list(output.links):
+            target = link.to_socket
+            if src is None:
+                continue
+            if isinstance(src, (float, tuple)):
+                tree.links.remove(link)
+                target.default_value = _fit(src, target)
+            else:
+                tree.links.new(src, target)
+    tree.nodes.remove(group)
+
+
+# -- the lights group as one expression ----------------------------------------------------
+
+def _substitute(expr, env, memo):
+    """*expr* with its group inputs replaced by the expressions of *env* (by name)."""
+    from phong_nodes.node_groups.expr import Expr  # noqa: PLC0415
+
+    key = expr.key
+    if key in memo:
+        return memo[key]
+    if expr.op == "input":
+        out = env[expr.value]
+    elif expr.is_leaf:
+        out = expr
+    else:
+        out = Expr(expr.kind, expr.op, tuple(_substitute(a, env, memo) for a in expr.args))
+        out = _fold_zero(out)
+    memo[key] = out
+    return out
+
+
+def _is_zero(expr) -> bool:
+    return expr.op == "const" and (expr.value == 0.0 or expr.value == (0.0, 0.0, 0.0))
+
+
+def _fold_zero(expr):
+    """x·0 = 0 and x + 0 = x (the terms that are zero by construction)."""
+    from phong_nodes.node_groups.expr import const  # noqa: PLC0415
+
+    name = expr.op.name
+    if name in ("mul", "scale") and any(_is_zero(a) for a in expr.args):
+        return const(0.0) if expr.kind == "float" else const((0.0, 0.0, 0.0))
+    if name == "add" and _is_zero(expr.args[1]):
+        return expr.args[0]
+    if name == "add" and _is_zero(expr.args[0]):
+        return expr.args[1]
+    return expr
+
+
+def flat_expressions(lights_group):
+    """The outputs of *lights_group* (a seeds'-model rig) as expressions of its group inputs,
+    of ``@name`` leaves (the sockets of its Attribute nodes) and of the values its lights'
+    nodes hold now (constants here; drivers would write them)."""
+    from phong_nodes.node_groups import library  # noqa: PLC0415
+    from phong_nodes.node_groups.expr import (  # noqa: PLC0415
+        COLOR, FLOAT, VECTOR, const, emission, input_, minimum)
+
+    group_inputs = {item.name: input_(item.name, FLOAT if item.socket_type == "NodeSocketFloat"
+                                      else COLOR if item.socket_type == "NodeSocketColor"
+                                      else VECTOR)
+                    for item in lights_group.interface.items_tree
+                    if item.item_type == "SOCKET" and item.in_out == "INPUT"}
+    nodes = lights_group.nodes
+
+    def env_of(node, extra):
+        env = {}
+        for socket in node.inputs:
+            if socket.is_linked:
+                link = socket.links[0]
+                if link.from_node.bl_idname == "ShaderNodeAttribute":
+                    env[socket.name] = input_(f"@{link.from_node.name}", VECTOR)
+                continue
+            value = _value(socket)
+            env[socket.name] = const(value if not isinstance(value, tuple) else value[:3])
+        env.update(extra)
+        return env
+
+    def outputs(node, extra):
+        definition = library.GROUPS[node.node_tree.name]
+        env, memo = env_of(node, extra), {}
+        return {name: _substitute(e, env, memo) for name, e in definition.expressions.items()}
+
+    diffuse, specular = [], []
+    irradiant = group_inputs["Irradiant Color"]
+    for light in [n for n in nodes if n.name.startswith("light:")]:
+        name = light.name[len("light:"):]
+        out = outputs(light, {})
+        intensity = out["Intensity"]
+        falloff = nodes.get(f"falloff:{name}")
+        if falloff is not None:
+            intensity = outputs(falloff, {"Distance": out["Distance"],
+                                          "Intensity": intensity})["Intensity"]
+        shading = nodes[f"shading:{name}"]
+        extra = {socket: group_inputs[socket] for socket in
+                 ("Object Color", "Specular Color", "Exponent", "Blinn", "Normal",
+                  "View Vector")}
+        extra.update({"Light Vector": out["Light Vector"], "Light Intensity": intensity,
+                      "Irradiant Color": const((0.0, 0.0, 0.0)),
+                      "Ambient Intensity": const(0.0)})
+        terms = outputs(shading, extra)
+        diffuse.append(terms["Diffuse"])
+        specular.append(terms["Specular"])
+    ambient = outputs(nodes["ambient"], {"Object Color": group_inputs["Ambient Object Color"]})
+    total_d = total_s = None
+    for d, s in zip(diffuse, specular):
+        total_d = d if total_d is None else total_d + d
+        total_s = s if total_s is None else total_s + s
+    zero = const((0.0, 0.0, 0.0))
+    total_d = zero if total_d is None else total_d
+    total_s = zero if total_s is None else total_s
+    color = minimum(irradiant + ambient["Color"] + total_d + total_s, 1.0)
+    return {"Color": color, "Irradiant": irradiant, "Ambient": ambient["Color"],
+            "Diffuse": total_d, "Specular": total_s, "Shader": emission(color)}
+
+
+def write_flat(lights_group) -> None:
+    """Rewrite *lights_group* as ``flat_expressions`` says (its Attribute nodes kept)."""
+    from phong_nodes.addon.loader import NodeWriter  # noqa: PLC0415
+
+    expressions = flat_expressions(lights_group)
+    if lights_group.animation_data is not None:
+        lights_group.animation_data_clear()
+    attributes = {}
+    for node in list(lights_group.nodes):
+        if node.bl_idname == "ShaderNodeAttribute":
+            attributes[node.name] = (node.attribute_type, node.attribute_name)
+    lights_group.nodes.clear()
+    group_in = lights_group.nodes.new("NodeGroupInput")
+    group_out = lights_group.nodes.new("NodeGroupOutput")
+    writer = NodeWriter(lights_group, group_in)
+    for name, (kind, attribute_name) in attributes.items():
+        node = lights_group.nodes.new("ShaderNodeAttribute")
+        node.name = name
+        node.attribute_type = kind
+        node.attribute_name = attribute_name
+        writer.sockets[("vector", "input", f"@{name}", ())] = node.outputs["Vector"]
+        writer.depth[("vector", "input", f"@{name}", ())] = 0
+    kinds = {item.name: item.socket_type for item in lights_group.interface.items_tree
+             if item.item_type == "SOCKET" and item.in_out == "OUTPUT"}
+    for name, expression in expressions.items():
+        kind = {"NodeSocketColor": "color", "NodeSocketShader": "shader"}[kinds[name]]
+        writer.output(expression, group_out.inputs[name], kind)
+    writer.place_ends(group_out)
+
+
+# -- the picture -----------------------------------------------------------------------------
+
+def largest_difference(objects=16, n_lights=4, case="phong_flat", engine="cycles") -> float:
+    """The largest pixel difference between the render of the ``phong`` scene and that of
+    *case* (16-bit PNGs, *engine* "cycles" or "eevee"), in this process."""
+    import tempfile  # noqa: PLC0415
+
+    from .measure import read_image, set_cycles  # noqa: PLC0415
+
+    bpy = worker_setup()
+    folder = tempfile.mkdtemp(prefix="phong_eevee_materials_")
+    images = []
+    for name in ("phong", case):
+        scene, _material = build(bpy, name, objects, n_lights)
+        if engine == "cycles":
+            set_cycles(scene, 1)
+        bpy.context.window.scene = scene
+        path = os.path.join(folder, f"{name}.png")
+        render(scene, path)
+        images.append(read_image(path))
+    return float(abs(images[0] - images[1]).max())
+
+
+# -- the run -------------------------------------------------------------------------------
+
+def worker(case, objects, n_lights, renders) -> dict:
+    """One process, one case: its scene built, rendered once untimed (shader compiles, the
+    first sync), then *renders* timed renders."""
+    bpy = worker_setup()
+    scene, material = build(bpy, case, objects, n_lights)
+    bpy.context.window.scene = scene
+    render(scene)
+    return {"render_s": [render(scene) for _ in range(renders)],
+            "expanded_nodes": expanded_nodes(material.node_tree)}
+
+
+def run(objects: int, n_lights: int, repeats: int, cases, renders: int = 1) -> dict:
+    """Each case in a process of its own, the order of the cases alternating from repeat to
+    repeat; the figure of a case is the median of its timed renders over the repeats.
+    (A first version rendered every case's scene in one file: at 300 objects Principled
+    took 5.1-6.3 s there beside six other scenes, load 2.1-3.7, against 4.1-4.3 s for
+    1,000 cubes alone in a process, load 2.2-4.7; at 1,000 objects it did not finish two
+    repeats of seven cases in 15 minutes.  Not investigated further.)"""
+    import subprocess  # noqa: PLC0415
+
+    out = {"objects": objects, "lights": n_lights, "repeats": repeats, "renders": renders,
+           "load_average": [os.getloadavg()], "render_s": {}, "expanded_nodes": {}}
+    for repeat in range(repeats):
+        for case in cases if repeat % 2 == 0 else cases[::-1]:
+            proc = subprocess.run(
+                [sys.executable, "-m", "phong_nodes.benchmarks.eevee_materials", "--worker",
+                 case, "--objects", str(objects), "--lights", str(n_lights),
+                 "--renders", str(renders)], capture_output=True, text=True)
+            line = [x for x in proc.stdout.splitlines() if x.startswith("RESULT ")]
+            if proc.returncode != 0 or not line:
+                raise RuntimeError(proc.stdout[-2000:] + proc.stderr[-2000:])
+            result = json.loads(line[-1][7:])
+            out["bpy"] = result["bpy"]
+            out["render_s"].setdefault(case, []).extend(result["render_s"])
+            out["expanded_nodes"][case] = result["expanded_nodes"]
+            out["load_average"].append(os.getloadavg())
+    medians = {case: statistics.median(times) for case, times in out["render_s"].items()}
+    out["median_s"] = medians
+    if "principled" in medians:
+        out["ratio_to_principled"] = {case: t / medians["principled"] for case, t in medians.items()}
+    return out
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--objects", type=int, default=1000)
+    parser.add_argument("--lights", type=int, default=4)
+    parser.add_argument("--repeats", type=int, default=2)
+    parser.add_argument("--renders", type=int, default=1, help="timed renders per process")
+    parser.add_argument("--cases", default="principled,phong,phong_flat,phong_lights0")
+    parser.add_argument("--worker", help=argparse.SUPPRESS)
+    args = parser.parse_args(argv)
+    if args.worker:
+        result = worker(args.worker, args.objects, args.lights, args.renders)
+        import bpy  # noqa: PLC0415
+
+        result["bpy"] = bpy.app.version_string
+        print("RESULT " + json.dumps(result), flush=True)
+        os._exit(0)  # skip bpy's clean-up at exit (slow, and it can crash after Eevee)
+    cases = args.cases.split(",")
+    unknown = set(cases) - set(CASES)
+    if unknown:
+        parser.error(f"unknown cases {sorted(unknown)}; choose from {', '.join(CASES)}")
+    started = time.perf_counter()
+    result = run(args.objects, args.lights, args.repeats, cases, args.renders)
+    result["seconds"] = time.perf_counter() - started
+    print(json.dumps(result, indent=1), flush=True)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
