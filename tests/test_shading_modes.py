@@ -235,6 +235,11 @@ def _face_centres(bpy, obj):
 
 
 def _reference(scene, obj, camera, lights, P, N):
+    """The reference at P, N seen from *camera* (an orthographic camera looks along its axis)."""
+    if camera.data.type == "ORTHO":
+        I = np.tile(_matrix(camera)[:3, 2] / np.linalg.norm(_matrix(camera)[:3, 2]), (len(P), 1))
+        return reference_color(scene.world, _evaluated_lights(lights),
+                               _controls(obj.active_material), P, N, I)
     eye = _matrix(camera)[:3, 3]
     I = eye - P
     I /= np.linalg.norm(I, axis=1)[:, None]
@@ -917,3 +922,24 @@ def test_a_file_of_the_design_before_is_upgraded(bpy_clean):
     P, N = _vertices(bpy, sphere)
     want, _near = _reference(scene, sphere, camera, lights, P, N)
     assert np.abs(got - want[ids]).max() <= VERTEX_TOL
+
+
+def test_an_orthographic_camera_views_along_its_axis(bpy_clean):
+    """Switching the camera to orthographic (no call of ours) makes every vertex's view vector
+    the camera's axis, Per Vertex and Per Face."""
+    bpy = bpy_clean
+    scene, sphere, camera, lights = _scene(bpy, "VERTEX", ("POINT", "SPOT"))
+    camera.data.type = "ORTHO"
+    camera.data.ortho_scale = 3.2
+    bpy.context.view_layer.update()
+    _domain, ids, got = _live(bpy, sphere)
+    P, N = _vertices(bpy, sphere)
+    want, near = _reference(scene, sphere, camera, lights, P, N)
+    err = np.abs(got - want[ids])[~near[ids]].max()
+    be.report(f"[shading orthographic] {len(np.unique(ids))} vertices seen: max |Δ| {err:.2e}")
+    assert len(np.unique(ids)) >= 20 and err <= VERTEX_TOL
+    sphere.active_material.phong.shading = "FACE"
+    _domain, ids, got = _live(bpy, sphere)
+    P, N = _face_centres(bpy, sphere)
+    want, near = _reference(scene, sphere, camera, lights, P, N)
+    assert np.abs(got - want[ids])[~near[ids]].max() <= VERTEX_TOL

@@ -66,7 +66,7 @@ _POINT_NORMAL = "phong_vertex_normal"  # temporary, removed by the group
 GROUP_LIGHTS_KEY = "phong_shading_lights"
 GROUP_MODE_KEY = "phong_shading_mode"
 GROUP_SIGNATURE_KEY = "phong_shading_signature"
-GROUP_VERSION = 2  # bump when the layout of the shading groups changes
+GROUP_VERSION = 3  # bump when the layout of the shading groups changes
 #: Nodes of the material in these modes: the shading group and the Emission it feeds.
 SHADING_NODE = "phong_shading_group"
 EMISSION_NODE = materials.SHADING_EMISSION  # "phong_shading_emission"
@@ -504,7 +504,8 @@ def shading_group(material, mode, cache=None):
         if lights_group is not None:
             group[GROUP_LIGHTS_KEY] = lights_group
     if group.get(GROUP_SIGNATURE_KEY) != signature:
-        group = _rebuild(group, mode, lights, world, light_model, world_keys)
+        scene = rig.owner(lights_group) if lights_group is not None else None
+        group = _rebuild(group, mode, lights, world, light_model, world_keys, scene)
         group[GROUP_SIGNATURE_KEY] = signature
     if not (group.name == name or group.name.startswith(name + ".")):
         group.name = name
@@ -637,7 +638,7 @@ class _Builder:
         return node.outputs["Vector"]
 
 
-def build_shading_group(tree, mode, lights, world, light_model, world_keys) -> None:
+def build_shading_group(tree, mode, lights, world, light_model, world_keys, scene=None) -> None:
     """(Re)write *tree*: the model for *lights* at the vertices of the pixel's triangle
     (VERTEX, mixed by the barycentric basis) or at its face's centre (FACE)."""
     if tree.animation_data is not None:
@@ -658,12 +659,13 @@ def build_shading_group(tree, mode, lights, world, light_model, world_keys) -> N
     group_in = b.node("NodeGroupInput", x=-1500.0)
     group_out = tree.nodes.new("NodeGroupOutput")
     sockets = {name: group_in.outputs[name] for name, _t, _d in CONTROL_INPUTS}
-    # the viewer: the eye of the pixel's ray
+    # the viewer: the eye of the pixel's ray (below: at infinity for an orthographic camera)
     geometry = b.node("ShaderNodeNewGeometry", x=-1300.0)
     camera = b.node("ShaderNodeCameraData", x=-1300.0)
     toward = b.math("SCALE", geometry.outputs["Incoming"], (0.0, 0.0, 0.0))
     tree.links.new(camera.outputs["View Distance"], toward.node.inputs["Scale"])
-    sockets["Camera"] = b.math("ADD", geometry.outputs["Position"], toward, "eye")
+    eye = b.math("ADD", geometry.outputs["Position"], toward, "eye")
+    orthographic = _orthographic(b, scene)
     # the points where the model is evaluated
     if mode == VERTEX:
         points = [(VERTEX_POSITIONS[k], VERTEX_NORMALS[k]) for k in range(3)]
@@ -671,12 +673,20 @@ def build_shading_group(tree, mode, lights, world, light_model, world_keys) -> N
         points = [(FACE_CENTRE, FACE_NORMAL)]
     for k, (p_name, n_name) in enumerate(points):
         sockets[f"P{k}"] = b.to_world(b.attribute(p_name), "POINT")
+        # the camera seen from point k: the eye, or for an orthographic camera P_k + incoming
+        # (so that v = normalize(camera - P_k) is the camera's one direction)
+        parallel = b.math("ADD", sockets[f"P{k}"], geometry.outputs["Incoming"])
+        toward_parallel = b.math("SUBTRACT", parallel, eye)
+        share = b.math("SCALE", toward_parallel, (0.0, 0.0, 0.0))
+        b.tree.links.new(orthographic, share.node.inputs["Scale"])
+        sockets[f"Camera{k}"] = b.math("ADD", eye, share, f"camera {k}")
         sockets[f"N{k}"] = b.normal_to_world(b.attribute(n_name))
     power = {index for index, obj in enumerate(lights)
              if properties.falloff_of(obj.data) == "POWER"}  # i0/d^k (rig.py alike)
     expression = model.model_color([o.data.type for o in lights], light_model, power)
     colors = [model.substitute(expression, {"P": input_(f"P{k}", VECTOR),
-                                            "N": input_(f"N{k}", VECTOR)})
+                                            "N": input_(f"N{k}", VECTOR),
+                                            "Camera": input_(f"Camera{k}", VECTOR)})
               for k in range(len(points))]
     factories = _ambient_sockets(b, world)
     for index, obj in enumerate(lights):
@@ -714,6 +724,21 @@ def build_shading_group(tree, mode, lights, world, light_model, world_keys) -> N
             node.location = (x + 200.0 * (row // 2), -200.0 * (row % 2))
     x = (writer.max_depth + 1) * loader.COLUMN_WIDTH
     group_out.location = (x + 700.0, 0.0)
+
+
+def _orthographic(b, scene):
+    """1 when *scene*'s camera is orthographic, else 0: a driver (no Python expression) on
+    the camera's type (PERSP 0, ORTHO 1, PANO 2); 0 without a scene or camera."""
+    value = b.node("ShaderNodeValue", "camera type")
+    value.outputs[0].default_value = 0.0
+    if scene is not None:
+        drivers.prop(value.outputs[0], None, "SCENE", scene, "camera.data.type")
+    equal = b.node("ShaderNodeMath", "orthographic")
+    equal.operation = "COMPARE"
+    b.tree.links.new(value.outputs[0], equal.inputs[0])
+    equal.inputs[1].default_value = 1.0
+    equal.inputs[2].default_value = 0.25
+    return equal.outputs[0]
 
 
 def _ambient_sockets(b, world) -> dict:
