@@ -943,3 +943,29 @@ def test_an_orthographic_camera_views_along_its_axis(bpy_clean):
     P, N = _face_centres(bpy, sphere)
     want, near = _reference(scene, sphere, camera, lights, P, N)
     assert np.abs(got - want[ids])[~near[ids]].max() <= VERTEX_TOL
+
+
+def test_a_control_linked_later_reaches_the_shading_group_at_relink(bpy_clean):
+    """A node linked into the lights group node's Object Color after the mode was set feeds
+    the shading group after Relink Phong Lights; a value edited on a control node is live."""
+    bpy = bpy_clean
+    from phong_nodes.addon.shading import modes  # noqa: PLC0415
+
+    scene, sphere, camera, lights = _scene(bpy, "VERTEX", ("POINT",))
+    tree = sphere.active_material.node_tree
+    group = tree.nodes[modes.SHADING_NODE]
+    rgb = tree.nodes.new("ShaderNodeRGB")
+    rgb.outputs[0].default_value = (0.1, 0.7, 0.2, 1.0)
+    for name in ("Object Color", "Ambient Object Color"):
+        tree.links.new(rgb.outputs[0], tree.nodes["phong_lights"].inputs[name])
+    assert group.inputs["Object Color"].links[0].from_node.name == "phong_object_color"
+    with bpy.context.temp_override(scene=scene):
+        assert bpy.ops.phong.relink_lights() == {"FINISHED"}
+    group = tree.nodes[modes.SHADING_NODE]
+    assert group.inputs["Object Color"].links[0].from_node == rgb
+    _domain, ids, got = _live(bpy, sphere)
+    P, N = _vertices(bpy, sphere)
+    # the reference reads the control node: give it the linked colour (after the render)
+    tree.nodes["phong_object_color"].outputs[0].default_value = (0.1, 0.7, 0.2, 1.0)
+    want, _near = _reference(scene, sphere, camera, lights, P, N)
+    assert np.abs(got - want[ids]).max() <= VERTEX_TOL
