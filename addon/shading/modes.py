@@ -133,16 +133,13 @@ def update(material, objects=None, groups=None) -> None:
     mode = mode_of(material)
     objects = users(material) if objects is None else objects
     if mode == PIXEL:
-        had = group_of(material)
+        had, geometry = group_of(material), geometry_tree()
         _surface_per_pixel(material)
-        for obj in objects:
-            if not needs_modifier(obj):
-                _remove_modifier(obj)
-        if had is not None and had.users == 0:
-            bpy.data.node_groups.remove(had)
-        geometry = geometry_tree()
-        if geometry is not None and geometry.users == 0:
-            bpy.data.node_groups.remove(geometry)
+        if geometry is not None:
+            for obj in objects:
+                if not needs_modifier(obj):
+                    _remove_modifier(obj, geometry)
+        _remove_unused(had, geometry)
         return
     group = shading_group(material, mode, groups)
     _surface_per_mesh(material, group)
@@ -183,11 +180,8 @@ def _prune() -> None:
         for obj in bpy.data.objects:
             if obj.library is None and obj.type == "MESH" and not needs_modifier(obj):
                 _remove_modifier(obj, geometry)
-        if geometry.users == 0:
-            bpy.data.node_groups.remove(geometry)
-    for tree in [t for t in bpy.data.node_groups
-                 if GROUP_MODE_KEY in t.keys() and t.library is None and t.users == 0]:
-        bpy.data.node_groups.remove(tree)
+    _remove_unused(geometry, *[t for t in bpy.data.node_groups
+                               if GROUP_MODE_KEY in t.keys() and t.library is None])
 
 
 _BUSY: list = []
@@ -258,27 +252,34 @@ def unregister():
             handlers.remove(function)
 
 
-def _light_set(material):
-    """(lights group, light objects, world, model) of *material*."""
+def _lights_group(material):
+    """The lights group *material* uses, or None."""
     node = material.node_tree.nodes.get(materials.LIGHTS_NODE)
-    group = node.node_tree if node is not None else None
+    return node.node_tree if node is not None else None
+
+
+def _light_set(group):
+    """(light objects, world, model) of the lights group *group* (None: no light)."""
     scene = rig.owner(group) if group is not None else None
     if scene is None:
-        return group, [], None, rig.MODELS[0]
+        return [], None, rig.MODELS[0]
     names = list(group.get("phong_lights", []))
     lights = [scene.objects.get(n) for n in names]
     lights = [o for o in lights if o is not None and o.type == "LIGHT"
               and o.data.type in model.LIGHT_GROUPS["seeds"]]
     light_model = group.get(rig.MODEL_KEY, rig.MODELS[0])
-    return (group, lights, scene.world,
-            light_model if light_model in model.MODELS else rig.MODELS[0])
+    return lights, scene.world, light_model if light_model in model.MODELS else rig.MODELS[0]
+
+
+def _modifiers(obj, tree) -> list:
+    """The modifiers of *obj* that run the Geometry Nodes group *tree*."""
+    return [m for m in obj.modifiers if m.type == "NODES" and m.node_group == tree]
 
 
 def _ensure_modifier(obj, tree) -> None:
     if obj.type != "MESH" or obj.library is not None:
         return
-    modifier = next((m for m in obj.modifiers if m.type == "NODES" and m.node_group == tree),
-                    None)
+    modifier = next(iter(_modifiers(obj, tree)), None)
     if modifier is None:
         modifier = obj.modifiers.new(MODIFIER_NAME, "NODES")
         modifier.node_group = tree
@@ -295,9 +296,8 @@ def modifiers_off(objects):
     off = []
     if tree is not None:
         for obj in objects:
-            for modifier in obj.modifiers:
-                if modifier.type == "NODES" and modifier.node_group == tree \
-                        and (modifier.show_viewport or modifier.show_render):
+            for modifier in _modifiers(obj, tree):
+                if modifier.show_viewport or modifier.show_render:
                     off.append((modifier, modifier.show_viewport, modifier.show_render))
                     modifier.show_viewport = modifier.show_render = False
     try:
@@ -307,12 +307,16 @@ def modifiers_off(objects):
             modifier.show_viewport, modifier.show_render = viewport, render
 
 
-def _remove_modifier(obj, tree=None) -> None:
-    tree = geometry_tree() if tree is None else tree
-    if tree is None:
-        return
-    for modifier in [m for m in obj.modifiers if m.type == "NODES" and m.node_group == tree]:
+def _remove_modifier(obj, tree) -> None:
+    for modifier in _modifiers(obj, tree):
         obj.modifiers.remove(modifier)
+
+
+def _remove_unused(*trees) -> None:
+    """Remove those of *trees* (None skipped) that nothing uses."""
+    for tree in trees:
+        if tree is not None and tree.users == 0:
+            bpy.data.node_groups.remove(tree)
 
 
 def _remove_legacy_trees() -> bool:
@@ -322,9 +326,7 @@ def _remove_legacy_trees() -> bool:
     for tree in legacy:
         for obj in bpy.data.objects:
             if obj.library is None and obj.type == "MESH":
-                for modifier in [m for m in obj.modifiers
-                                 if m.type == "NODES" and m.node_group == tree]:
-                    obj.modifiers.remove(modifier)
+                _remove_modifier(obj, tree)
         bpy.data.node_groups.remove(tree)
     return bool(legacy)
 
@@ -483,11 +485,13 @@ def build_geometry_tree(tree) -> None:
 
 def shading_group(material, mode, cache=None):
     """The shading group of *material*'s lights group for *mode*, made or rebuilt when its
-    lights, world or model changed."""
-    lights_group, lights, world, light_model = _light_set(material)
+    lights, world or model changed; *cache*: (lights group, mode) -> group, for the calls of
+    one refresh."""
+    lights_group = _lights_group(material)
     key = (lights_group.as_pointer() if lights_group is not None else None, mode)
     if cache is not None and key in cache:
         return cache[key]
+    lights, world, light_model = _light_set(lights_group)
     world_keys = tuple(lights_group.get(rig.WORLD_KEYS, ())) if lights_group is not None else ()
     signature = repr((GROUP_VERSION, mode, light_model, world.name if world else None,
                       [(o.name, o.data.type, properties.falloff_of(o.data)) for o in lights],
@@ -505,30 +509,14 @@ def shading_group(material, mode, cache=None):
             group[GROUP_LIGHTS_KEY] = lights_group
     if group.get(GROUP_SIGNATURE_KEY) != signature:
         scene = rig.owner(lights_group) if lights_group is not None else None
-        group = _rebuild(group, mode, lights, world, light_model, world_keys, scene)
+        group = rig.rewrite(group, lambda tree: build_shading_group(
+            tree, mode, lights, world, light_model, world_keys, scene))
         group[GROUP_SIGNATURE_KEY] = signature
     if not (group.name == name or group.name.startswith(name + ".")):
         group.name = name
     if cache is not None:
         cache[key] = group
     return group
-
-
-def _rebuild(group, *args):
-    """*group* rewritten; a group many materials show is built apart and takes over their
-    uses (Blender propagates every node edit to each material: ``rig.rebuild``)."""
-    if group.users <= 1:
-        build_shading_group(group, *args)
-        return group
-    fresh = bpy.data.node_groups.new(group.name + " (new)", "ShaderNodeTree")
-    for key in group.keys():
-        fresh[key] = group[key]
-    build_shading_group(fresh, *args)
-    name = group.name
-    group.user_remap(fresh)
-    bpy.data.node_groups.remove(group)
-    fresh.name = name
-    return fresh
 
 
 class _Writer(loader.NodeWriter):
