@@ -464,9 +464,9 @@ def _bake_chunk(scene, stage, chunk, settings: Settings, camera, scratch, temps,
         layer = stage.view_layers[0]
         for obj in chunk:
             obj.select_set(True, view_layer=layer)
-        with shading_modes.modifiers_off(chunk), bpy.context.temp_override(scene=stage, view_layer=layer, active_object=chunk[0],
-                                       object=chunk[0], selected_objects=list(chunk),
-                                       selected_editable_objects=list(chunk)):
+        with shading_modes.modifiers_off(chunk), bpy.context.temp_override(
+                scene=stage, view_layer=layer, active_object=chunk[0], object=chunk[0],
+                selected_objects=list(chunk), selected_editable_objects=list(chunk)):
             layer.update()  # the lights groups' drivers evaluated before Cycles reads them
             try:
                 bpy.ops.object.bake(type="EMIT", target=target, save_mode="INTERNAL",

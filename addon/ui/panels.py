@@ -88,8 +88,8 @@ class MATERIAL_PT_phong(bpy.types.Panel):
         if context.material.node_tree.nodes.get(OPACITY) is not None:
             layout.prop(context.material.phong, "opacity", slider=True)
         if context.material.phong.shading != "PIXEL":
-            layout.label(text="Evaluated by the Geometry Nodes modifier \"Phong Shading\"",
-                         icon="INFO")
+            layout.label(text="Evaluated in the shader, on the mesh data of the modifier "
+                              "\"Phong Shading\"", icon="INFO")
 
 
 def _draw_material_menu(self, context):
