@@ -252,6 +252,16 @@ def _render(bpy, scene, path):
     return {k: v[::-1] for k, v in be.read_multilayer_exr(str(path)).items()}  # row 0 = bottom
 
 
+def _seen(bpy, scene, obj, camera, lights):
+    """What a Cycles render shows of *obj* (``_live``) beside the reference at the same
+    vertices (Per Vertex) or face centres (Per Face): (ids, shown, expected, near), one row
+    per sample; *near*: the reference's spot-edge samples."""
+    domain, ids, got = _live(bpy, obj)
+    P, N = (_vertices if domain == "POINT" else _face_centres)(bpy, obj)
+    want, near = _reference(scene, obj, camera, lights, P, N)
+    return ids, got, want[ids], near[ids]
+
+
 def _barycentric(bpy, obj, points):
     """For world points on the mesh: (triangle index, barycentric weights (n, 3), the
     triangles' vertex indices (t, 3), their face indices)."""
@@ -388,18 +398,14 @@ def test_power_falloff_lights_per_vertex_and_per_face(bpy_clean):
         elif step == "point quadratic":
             point.data.phong.falloff = "QUADRATIC"
         bpy.context.view_layer.update()
-        _domain, ids, got = _live(bpy, sphere)
-        P, N = _vertices(bpy, sphere)
-        want, near = _reference(scene, sphere, camera, lights, P, N)
-        err = np.abs(got - want[ids])[~near[ids]].max()
+        _ids, got, want, near = _seen(bpy, scene, sphere, camera, lights)
+        err = np.abs(got - want)[~near].max()
         results.append(f"{step}: {err:.2e}")
         assert err <= VERTEX_TOL, (step, err)
     sphere.active_material.phong.shading = "FACE"
     bpy.context.view_layer.update()
-    _domain, ids, got = _live(bpy, sphere)
-    P, N = _face_centres(bpy, sphere)
-    want, near = _reference(scene, sphere, camera, lights, P, N)
-    assert np.abs(got - want[ids])[~near[ids]].max() <= VERTEX_TOL
+    _ids, got, want, near = _seen(bpy, scene, sphere, camera, lights)
+    assert np.abs(got - want)[~near].max() <= VERTEX_TOL
     be.report("[shading power falloff] " + "; ".join(results))
 
 
@@ -548,11 +554,9 @@ def test_a_light_added_is_followed(bpy_clean):
     sun = _light(bpy, scene, "Sun", "SUN", (0.0, 0.0, 5.0), (0.6, 0.3, 0.2))
     sun.data.phong.intensity = 0.5
     bpy.context.view_layer.update()  # the depsgraph handler relinks (as after a click)
-    _domain, ids, got = _live(bpy, sphere)
-    P, N = _vertices(bpy, sphere)
-    want, _near = _reference(scene, sphere, camera, sorted([*lights, sun], key=lambda o: o.name),
-                             P, N)
-    assert np.abs(got - want[ids]).max() <= VERTEX_TOL
+    _ids, got, want, _near = _seen(bpy, scene, sphere, camera,
+                                   sorted([*lights, sun], key=lambda o: o.name))
+    assert np.abs(got - want).max() <= VERTEX_TOL
 
 
 def test_the_phong_vs_gouraud_demo_is_live_and_its_bake_equals_the_live_colours(bpy_clean):
@@ -570,11 +574,9 @@ def test_the_phong_vs_gouraud_demo_is_live_and_its_bake_equals_the_live_colours(
     lamp = bpy.data.objects["lamp"]
     for location in (tuple(lamp.location), (2.0, -4.0, 3.0)):
         lamp.location = location
-        _domain, ids, live = _live(bpy, gouraud)
-        P, N = _vertices(bpy, gouraud)
-        want, _near = _reference(scene, gouraud, scene.camera, [lamp], P, N)
+        ids, live, want, _near = _seen(bpy, scene, gouraud, scene.camera, [lamp])
         assert len(np.unique(ids)) >= 20
-        assert np.abs(live - want[ids]).max() <= VERTEX_TOL, location
+        assert np.abs(live - want).max() <= VERTEX_TOL, location
     settings = lighting.Settings(target="VERTEX", view="CAMERA")
     show.bake_objects(scene, [gouraud], settings, display=False)
     baked = gouraud.data.attributes[lighting.ATTRIBUTE]
@@ -594,10 +596,8 @@ def test_a_camera_switch_is_followed(bpy_clean):
     _domain, ids_before, before = _live(bpy, sphere)
     second = be.add_persp_camera(scene, (-4.0, -2.0, 1.0), (0.0, 0.0, 0.0))  # sets scene.camera
     scene.camera = second
-    _domain, ids, got = _live(bpy, sphere)
-    P, N = _vertices(bpy, sphere)
-    want, _near = _reference(scene, sphere, second, lights, P, N)
-    assert np.abs(got - want[ids]).max() <= VERTEX_TOL
+    ids, got, want, _near = _seen(bpy, scene, sphere, second, lights)
+    assert np.abs(got - want).max() <= VERTEX_TOL
     seen_first = dict(zip(ids_before.tolist(), before))
     common = [i for i, v in enumerate(ids.tolist()) if v in seen_first]
     assert common and max(np.abs(got[i] - seen_first[ids[i]]).max() for i in common) > 0.05, \
@@ -818,10 +818,8 @@ def test_a_material_assigned_by_hand_and_a_modifier_added_later_are_followed(bpy
     other.data.materials[0] = sphere.active_material
     bpy.context.view_layer.update()
     assert [m.node_group for m in other.modifiers] == [modes.geometry_tree()]
-    _domain, ids, got = _live(bpy, other)
-    P, N = _vertices(bpy, other)
-    want, _near = _reference(scene, other, camera, lights, P, N)
-    assert len(np.unique(ids)) >= 10 and np.abs(got - want[ids]).max() <= VERTEX_TOL
+    ids, got, want, _near = _seen(bpy, scene, other, camera, lights)
+    assert len(np.unique(ids)) >= 10 and np.abs(got - want).max() <= VERTEX_TOL
     other.modifiers.new("Later", "SUBSURF")
     bpy.context.view_layer.update()
     assert [m.type for m in other.modifiers] == ["SUBSURF", "NODES"]
@@ -836,11 +834,9 @@ def test_linked_duplicates_are_each_lit_where_they_stand(bpy_clean):
     bpy.context.view_layer.update()
     lit = {}
     for obj in (sphere, twin):
-        _domain, ids, got = _live(bpy, obj)
-        P, N = _vertices(bpy, obj)
-        want, near = _reference(scene, obj, camera, lights, P, N)
+        ids, got, want, near = _seen(bpy, scene, obj, camera, lights)
         assert len(np.unique(ids)) >= 20
-        assert np.abs(got - want[ids])[~near[ids]].max() <= VERTEX_TOL, obj.name
+        assert np.abs(got - want)[~near].max() <= VERTEX_TOL, obj.name
         lit[obj.name] = dict(zip(ids.tolist(), got))
     common = set(lit[sphere.name]) & set(lit[twin.name])
     assert common and max(np.abs(lit[sphere.name][v] - lit[twin.name][v]).max()
@@ -869,12 +865,10 @@ def test_collection_instances_are_lit_where_they_stand(bpy_clean):
     matrix = _matrix(empty) @ np.array(twin.matrix_world, dtype=np.float64)
     _SEEN_AS[twin.name] = matrix
     try:
-        _domain, ids, got = _live(bpy, twin)
-        P, N = _vertices(bpy, twin)
-        want, near = _reference(scene, twin, camera, lights, P, N)
+        ids, got, want, near = _seen(bpy, scene, twin, camera, lights)
     finally:
         _SEEN_AS.clear()
-    err = np.abs(got - want[ids])[~near[ids]].max()
+    err = np.abs(got - want)[~near].max()
     be.report(f"[shading instance] {len(np.unique(ids))} vertices seen: max |Δ| {err:.2e}")
     assert len(np.unique(ids)) >= 20 and err <= VERTEX_TOL
 
@@ -918,10 +912,8 @@ def test_a_file_of_the_design_before_is_upgraded(bpy_clean):
     assert modes.LEGACY_ATTRIBUTE_NODE not in tree.nodes
     assert [m.node_group for m in sphere.modifiers] == [modes.geometry_tree()]
     assert material["phong_shading"] == "VERTEX" and modes.group_of(material) is not None
-    _domain, ids, got = _live(bpy, sphere)
-    P, N = _vertices(bpy, sphere)
-    want, _near = _reference(scene, sphere, camera, lights, P, N)
-    assert np.abs(got - want[ids]).max() <= VERTEX_TOL
+    _ids, got, want, _near = _seen(bpy, scene, sphere, camera, lights)
+    assert np.abs(got - want).max() <= VERTEX_TOL
 
 
 def test_an_orthographic_camera_views_along_its_axis(bpy_clean):
@@ -932,17 +924,13 @@ def test_an_orthographic_camera_views_along_its_axis(bpy_clean):
     camera.data.type = "ORTHO"
     camera.data.ortho_scale = 3.2
     bpy.context.view_layer.update()
-    _domain, ids, got = _live(bpy, sphere)
-    P, N = _vertices(bpy, sphere)
-    want, near = _reference(scene, sphere, camera, lights, P, N)
-    err = np.abs(got - want[ids])[~near[ids]].max()
+    ids, got, want, near = _seen(bpy, scene, sphere, camera, lights)
+    err = np.abs(got - want)[~near].max()
     be.report(f"[shading orthographic] {len(np.unique(ids))} vertices seen: max |Δ| {err:.2e}")
     assert len(np.unique(ids)) >= 20 and err <= VERTEX_TOL
     sphere.active_material.phong.shading = "FACE"
-    _domain, ids, got = _live(bpy, sphere)
-    P, N = _face_centres(bpy, sphere)
-    want, near = _reference(scene, sphere, camera, lights, P, N)
-    assert np.abs(got - want[ids])[~near[ids]].max() <= VERTEX_TOL
+    _ids, got, want, near = _seen(bpy, scene, sphere, camera, lights)
+    assert np.abs(got - want)[~near].max() <= VERTEX_TOL
 
 
 def test_a_control_linked_later_reaches_the_shading_group_at_relink(bpy_clean):
