@@ -25,7 +25,7 @@ import bpy
 from bpy.app.handlers import persistent
 
 from ..node_groups.expr import COLOR, Expr
-from ..node_groups.library import GROUPS, LIBRARY_VERSION, GroupDef
+from ..node_groups.library import GROUPS, LIBRARY_VERSION, RIG_GROUPS, GroupDef, definition
 
 STAMP_GROUP = "phong_nodes_group"
 STAMP_VERSION = "phong_nodes_version"
@@ -46,7 +46,7 @@ def load_all() -> dict:
 
 def ensure_group(name: str):
     """The group called *name*, created or upgraded as needed; returns (tree, status)."""
-    definition = GROUPS[name]
+    spec = definition(name)
     tree = _canonical(name)
     if tree is None:
         tree = bpy.data.node_groups.new(name, TREE_TYPE)
@@ -55,16 +55,16 @@ def ensure_group(name: str):
         version = int(tree.get(STAMP_VERSION, 0))
         if version > LIBRARY_VERSION:
             return tree, NEWER
-        if version == LIBRARY_VERSION and tree.get(STAMP_FINGERPRINT) == definition.fingerprint:
+        if version == LIBRARY_VERSION and tree.get(STAMP_FINGERPRINT) == spec.fingerprint:
             return tree, CURRENT
         status = UPGRADED
-    _write(tree, definition)
+    _write(tree, spec)
     return tree, status
 
 
 def write_group(tree, name: str) -> None:
     """Write the library's group *name* into *tree* (any file's data, e.g. temporary data)."""
-    _write(tree, GROUPS[name])
+    _write(tree, definition(name))
 
 
 def merge_copies() -> int:
@@ -74,7 +74,7 @@ def merge_copies() -> int:
     copies = {}
     for tree in bpy.data.node_groups:
         name = _stamped(tree)
-        if name in GROUPS and tree.name != name and tree.library is None:
+        if (name in GROUPS or name in RIG_GROUPS) and tree.name != name and tree.library is None:
             copies[name] = copies.get(name, 0) + 1
     for name in copies:
         _canonical(name)
@@ -182,6 +182,8 @@ class NodeWriter:
         node = self.tree.nodes.new(op.node)
         if op.operation is not None:
             node.operation = op.operation
+        if op.clamp:
+            node.use_clamp = True
         for name, value in op.settings:
             node.inputs[name].default_value = value
         depth = 0

@@ -63,6 +63,7 @@ class Op:
     inputs: tuple = (0, 1)
     output: object = 0
     settings: tuple = ()
+    clamp: bool = False  # the Math node's Clamp option: the result clamped to [0, 1]
 
     def __post_init__(self):
         if len(self.inputs) != len(self.operands):
@@ -112,6 +113,16 @@ def _identity(x):
     return x
 
 
+def _reflect(i, n):
+    """Vector Math REFLECT: i - 2(n̂·i)n̂ with n̂ = n/‖n‖ (the normal is normalized first)."""
+    unit = _normalize(n)
+    return i - 2.0 * _dot(unit, i)[..., None] * unit
+
+
+def _multiply_add(a, b, c):
+    return a * b + c
+
+
 _FF, _VV = (FLOAT, FLOAT), (VECTOR, VECTOR)
 
 #: Every operation of the expressions; a name may have a float and a vector form (the first
@@ -126,6 +137,8 @@ OPERATIONS = (
     Op("pow", FLOAT, _FF, _blender_pow, MATH, "POWER"),
     Op("lt", FLOAT, _FF, _less_than, MATH, "LESS_THAN"),
     Op("cos", FLOAT, (FLOAT,), np.cos, MATH, "COSINE", inputs=(0,)),
+    Op("madd", FLOAT, (FLOAT, FLOAT, FLOAT), _multiply_add, MATH, "MULTIPLY_ADD",
+       inputs=(0, 1, 2)),
     Op("add", VECTOR, _VV, np.add, VECTOR_MATH, "ADD", output="Vector"),
     Op("sub", VECTOR, _VV, np.subtract, VECTOR_MATH, "SUBTRACT", output="Vector"),
     Op("mul", VECTOR, _VV, np.multiply, VECTOR_MATH, "MULTIPLY", output="Vector"),
@@ -138,6 +151,7 @@ OPERATIONS = (
     Op("length", FLOAT, (VECTOR,), _length, VECTOR_MATH, "LENGTH", inputs=(0,), output="Value"),
     Op("normalize", VECTOR, (VECTOR,), _normalize, VECTOR_MATH, "NORMALIZE", inputs=(0,),
        output="Vector"),
+    Op("reflect", VECTOR, _VV, _reflect, VECTOR_MATH, "REFLECT", output="Vector"),
     Op("emission", SHADER, (COLOR,), _identity, EMISSION, inputs=("Color",), output="Emission",
        settings=(("Strength", 1.0),)),
 )
@@ -311,6 +325,39 @@ def normalize(a) -> Expr:
     return operation("normalize", a)
 
 
+def multiply_add(a, b, c) -> Expr:
+    """a·b + c in one node (Math MULTIPLY_ADD)."""
+    return operation("madd", a, b, c)
+
+
+def reflect_about(i, n) -> Expr:
+    """i - 2(n̂·i)n̂, n̂ = n/‖n‖ (Vector Math REFLECT): the mirror image of i about the plane
+    of normal n, so that -reflect_about(ℓ, n) = 2(ℓ·n)n - ℓ for a unit n."""
+    return operation("reflect", i, n)
+
+
+_CLAMPED: dict = {}
+
+
+def _clamped(op: Op) -> Op:
+    """*op* with the Math node's Clamp option: its result clamped to [0, 1]."""
+    if op.name not in _CLAMPED:
+        def numpy(*args, _f=op.numpy):
+            return np.clip(_f(*args), 0.0, 1.0)
+        _CLAMPED[op.name] = Op(f"{op.name}_clamp", op.kind, op.operands, numpy, op.node,
+                               op.operation, op.inputs, op.output, op.settings, clamp=True)
+    return _CLAMPED[op.name]
+
+
+def saturate(x) -> Expr:
+    """clamp(x, 0, 1) = min(max(x, 0), 1).  For a float computed by a Math node, the same
+    node with its Clamp option (one node instead of three)."""
+    x = const(x)
+    if x.kind == FLOAT and not x.is_leaf and x.op.node == MATH and not x.op.clamp:
+        return Expr(FLOAT, _clamped(x.op), x.args)
+    return minimum(maximum(x, 0.0), 1.0)
+
+
 def select(mask, if_one, if_zero) -> Expr:
     """mask·a + (1-mask)·b for a mask that is exactly 0 or 1."""
     return mask * if_one + (1.0 - mask) * if_zero
@@ -356,5 +403,6 @@ def evaluate(expr: Expr, inputs: dict, geometry_values: dict | None = None, _mem
 __all__ = [
     "Expr", "Op", "OPERATIONS", "FLOAT", "VECTOR", "COLOR", "SHADER", "LEAVES", "const",
     "input_", "geometry", "operation", "maximum", "minimum", "power", "less_than", "at_least", "cos",
-    "dot", "length", "normalize", "select", "emission", "evaluate",
+    "dot", "length", "normalize", "select", "emission", "evaluate", "multiply_add",
+    "reflect_about", "saturate",
 ]

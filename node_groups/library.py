@@ -19,7 +19,8 @@ from dataclasses import dataclass, field
 
 from .expr import (
     COLOR, FLOAT, SHADER, VECTOR, Expr, at_least, cos, dot, emission, evaluate, geometry, input_,
-    length, less_than, maximum, minimum, normalize, power, select,
+    length, less_than, maximum, minimum, multiply_add, normalize, power, reflect_about, saturate,
+    select,
 )
 
 #: Bump when any group changes: files with older groups are upgraded in place.
@@ -61,9 +62,8 @@ def phong_factor(l, n, v, e):
     r·v is taken as at most 1: exact for a unit ℓ (then |r| = 1 and r·v ≤ 1), and it keeps
     (r·v)^e finite for a Light Vector input that is not unit (‖ℓ‖ = 10⁶, e = 30 overflowed).
     """
-    rv = dot(reflect(l, n), v)
-    base = minimum(maximum(rv, 0.0), 1.0)
-    return both_at_least_zero(dot(l, n), rv) * power(base, maximum(e, 0.0))
+    rv = -dot(reflect_about(l, n), v)  # r·v, r = 2(ℓ·n)n - ℓ = -reflect_about(ℓ, n)
+    return both_at_least_zero(dot(l, n), rv) * power(saturate(rv), maximum(e, 0.0))
 
 
 def blinn_factor(l, n, v, e):
@@ -75,8 +75,10 @@ def blinn_factor(l, n, v, e):
 
 
 def falloff(i0, r, quadratic, linear, constant):
-    """i0/(αr² + βr + γ), denominator at least 1e-6 (docs/model.md §Point light)."""
-    return i0 / maximum(quadratic * r * r + linear * r + constant, MIN_DENOMINATOR)
+    """i0/(αr² + βr + γ), denominator at least 1e-6 (docs/model.md §Point light); the
+    denominator as (αr + β)r + γ, two multiply-adds."""
+    denominator = multiply_add(multiply_add(quadratic, r, linear), r, constant)
+    return i0 / maximum(denominator, MIN_DENOMINATOR)
 
 
 def clamp_add(a, b):
@@ -177,15 +179,23 @@ class GroupDef:
 
 
 GROUPS: dict = {}
+#: Groups that the scenes' lights groups are built from (``addon/lighting/rig.py``), not
+#: part of the library that users browse (docs/contract.md, "Several lights").
+RIG_GROUPS: dict = {}
 
 
-def group(name, description):
+def group(name, description, into=GROUPS):
     def register(fn):
         g = GroupDef(name, description)
         fn(g)
-        GROUPS[name] = g
+        into[name] = g
         return fn
     return register
+
+
+def definition(name: str) -> GroupDef:
+    """The definition of the library's or the lights groups' group *name*."""
+    return GROUPS[name] if name in GROUPS else RIG_GROUPS[name]
 
 
 # Tooltips used by several groups
@@ -379,6 +389,52 @@ def _shading(g):
     g.output("Shader", emission(color), "Emission of Color at strength 1: the model's colour in any engine")
 
 
+# -- the parts of a scene's lights group (addon/lighting/rig.py) ------------------------
+#
+# A lights group computes what one Phong Shading per light, summed with Phong Color Add,
+# computes (docs/contract.md, "Several lights"), with fewer nodes: every Eevee pass of every
+# material expands them again (issue 30: about 45 µs per node per material per render).  So
+# the normal and the view vector are resolved once for all lights (Phong Surface), each light
+# adds only its diffuse and specular terms (Phong Light Terms), and the ambient, the
+# irradiant and the clamp are taken once, in the lights group.  The products of values that
+# are constant in a material (strengths, light and material colours) stand in brackets of
+# their own, so Blender folds them into one value before it writes the shader.
+
+@group("Phong Surface", "The unit normal and view vector of the shaded point, once for all lights",
+       into=RIG_GROUPS)
+def _surface(g):
+    """The Normal / View Vector inputs as every Phong term reads them (GroupDef.normal, view)."""
+    g.output("Normal", g.normal(), "normalize(Normal), or Geometry ▸ Normal when it is zero")
+    g.output("View Vector", g.view(),
+             "normalize(View Vector), or Geometry ▸ Incoming when it is zero")
+
+
+@group("Phong Light Terms", "One light's diffuse and specular light, for a unit normal and view vector",
+       into=RIG_GROUPS)
+def _light_terms(g):
+    """Phong Shading's Diffuse and Specular terms of one light before the material's colours
+    (docs/model.md §Diffuse, §Specular (Phong), §Blinn-Phong, §Separate diffuse and specular
+    intensities): the lights group sums them over its lights, then multiplies the sums by the
+    Object Color and the Specular Color (once, not once per light).  Normal and View Vector
+    are taken as given (unit vectors from Phong Surface)."""
+    l = g.vector("Light Vector", ZERO, _L)
+    i = g.value("Light Intensity", 1.0, _I, min=0.0)
+    lc = g.color("Light Color", WHITE, _LC)
+    kd = g.value("Diffuse Strength", 1.0, "i_source,diff / i_source (seed 000 §3.5)", min=0.0)
+    ks = g.value("Specular Strength", 1.0, "i_source,spec / i_source (seed 000 §3.5)", min=0.0)
+    e = g.value("Exponent", 30.0, _E, min=0.0, max=10000.0)
+    blinn = g.value("Blinn", 0.0, "0 = Phong, 1 = Blinn-Phong, between = blend", min=0.0, max=1.0,
+                    subtype="FACTOR")
+    n = g.vector("Normal", (0.0, 0.0, 1.0), "Unit surface normal n (Phong Surface)")
+    v = g.vector("View Vector", (0.0, 0.0, 1.0), "Unit vector v toward the viewer (Phong Surface)")
+    factor = multiply_add(blinn, blinn_factor(l, n, v, e), (1.0 - blinn) * phong_factor(l, n, v, e))
+    g.output("Diffuse Light", (i * lambert(l, n)) * (kd * lc),
+             "i·max(ℓ·n, 0)·k_d·Cl_source: times Cl_objet, the diffuse term", color=True)
+    g.output("Specular Light", (i * factor) * (ks * lc),
+             "i·((1-Blinn)·(r·v)^e + Blinn·(h·n)^e)·k_s·Cl_source: times Cl_spec, the specular term",
+             color=True)
+
+
 # -- three.js (docs/threejs.md: three.js r181's shader chunks, npm three@0.181.0) ---------
 #
 # What three.js's MeshPhongMaterial and MeshLambertMaterial compute per light, so that a
@@ -394,9 +450,6 @@ THREEJS_SPECULAR = (((17 / 255 + 0.055) / 1.055) ** 2.4,) * 3
 RECIPROCAL_PI = 0.3183098861837907
 
 
-def saturate(x):
-    """clamp(x, 0, 1) (common: saturate)."""
-    return minimum(maximum(x, 0.0), 1.0)
 
 
 def distance_attenuation(r, cutoff, decay):

@@ -20,9 +20,9 @@ whose leaves are named inputs:
   ``Camera`` (the camera's world position): the groups' Geometry ▸ Position / Normal /
   Incoming become P, normalize(N) and normalize(Camera - P).
 
-The composition is the lights group's (rig.py): the ambient, then per light its light group
-and a Phong Shading (ambient off, the irradiant on the first only), added with Phong Color
-Add; in the three.js model the three.js groups and the irradiant (emissive) added as is.
+The composition is what the lights group (rig.py) computes, written as docs/contract.md
+("Several lights") defines it: the ambient, then per light its light group and a Phong
+Shading (ambient off, the irradiant on the first only), added with Phong Color Add; in the three.js model the three.js groups and the irradiant (emissive) added as is.
 Constants are folded and trivial operations (x·1, x+0) dropped, so the written nodes are
 only those that compute something.
 

@@ -161,9 +161,10 @@ def test_apply_is_idempotent_and_relink_follows_lights(bpy_clean):
     n_materials = len(bpy.data.materials)
     tree = lights_tree(plane.active_material)
     first, name = _counts(tree), tree.name
-    # one Phong Shading per light, one Phong Ambient, a Color Add for each shading
-    assert first[0]["Phong Shading"] == 3 and first[0]["Phong Color Add"] == 3
-    assert first[0]["Phong Ambient"] == 1
+    # one Phong Light Terms per light, one Phong Surface (normal and view once for all), one
+    # Phong Ambient, no Phong Shading (its ambient, irradiant and clamp are taken once)
+    assert first[0]["Phong Light Terms"] == 3 and first[0]["Phong Surface"] == 1
+    assert first[0]["Phong Ambient"] == 1 and "Phong Shading" not in first[0]
     for _ in range(2):
         assert bpy.ops.phong.apply_material() == {"FINISHED"}
         assert bpy.ops.phong.relink_lights() == {"FINISHED"}
@@ -177,7 +178,7 @@ def test_apply_is_idempotent_and_relink_follows_lights(bpy_clean):
     assert bpy.ops.phong.relink_lights() == {"FINISHED"}
     tree = lights_tree(plane.active_material)  # rebuilt apart and swapped in (two users)
     kinds, n = _counts(tree)
-    assert kinds["Phong Shading"] == 4 and kinds["Phong Point Light"] == 2
+    assert kinds["Phong Light Terms"] == 4 and kinds["Phong Point Light"] == 2
     assert n > first[1]
     _assert_drivers_ok(tree)
 
@@ -186,7 +187,7 @@ def test_apply_is_idempotent_and_relink_follows_lights(bpy_clean):
     assert bpy.ops.phong.relink_lights() == {"FINISHED"}
     tree = lights_tree(plane.active_material)
     assert list(tree["phong_lights"]) == ["Point", "Spot"]
-    assert _counts(tree)[0]["Phong Shading"] == 2
+    assert _counts(tree)[0]["Phong Light Terms"] == 2
 
     bpy.data.objects.remove(extra)
     for obj in lights:
@@ -194,8 +195,7 @@ def test_apply_is_idempotent_and_relink_follows_lights(bpy_clean):
     assert bpy.ops.phong.relink_lights() == {"FINISHED"}
     tree = lights_tree(plane.active_material)
     kinds, n = _counts(tree)
-    assert kinds["Phong Shading"] == 1 and kinds["Phong Color Add"] == 1
-    assert tree.nodes["shading:irradiant"].inputs["Light Intensity"].default_value == 0.0
+    assert "Phong Light Terms" not in kinds and kinds["Phong Ambient"] == 1
     assert n == 4, "only the world's ambient intensity and colour remain driven"
     _assert_drivers_ok(tree)
 

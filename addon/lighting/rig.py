@@ -15,13 +15,15 @@ the falloff is chosen when the group is built (a change relinks, ``lights.signat
 
 Inside (docs/contract.md, "Several lights"): one Phong Ambient of the World's ambient light
 and the Ambient Object Color (the colour the ambient light sees: MTL's Ka; a material links
-it from its Object Color unless it has its own), and per light a light-model group (Phong
-Point / Directional / Spot Light) and a Phong Shading with its ambient off, driven by the
-light without Python (``drivers.py``); irradiant on the first Phong Shading only.  Color is
-the Phong Color Add chain of the ambient and the shadings' colours (the clamped sum of all
-terms: min is taken once over non-negative terms), Diffuse and Specular the sums of the
-shadings' terms.  With no light: one Phong Shading with Light Intensity 0 for the irradiant
-(ambient + irradiant; black when both are zero: docs/model.md §No light at all).
+it from its Object Color unless it has its own), one Phong Surface (the Normal and View
+Vector resolved once), and per light a light-model group (Phong Point / Directional / Spot
+Light) and a Phong Light Terms (its diffuse and specular light), driven by the light
+without Python (``drivers.py``).  Diffuse and Specular are the sums of the lights' terms
+times the Object Color and the Specular Color; Color is min(irradiant + ambient + Diffuse +
+Specular, 1), what a Phong Shading per light chained with Phong Color Add gives (min taken
+once over non-negative terms) with fewer nodes: Eevee expands every node of a material
+again for each of its passes (issue 30).  With no light: ambient + irradiant (black when
+both are zero: docs/model.md §No light at all).
 
 In the three.js model (``scene["phong_model"] == "threejs"``, docs/threejs.md) each light
 is a three.js light group (Phong Directional Light, three.js Point / Spot Light) and a
@@ -51,7 +53,8 @@ from .lights import SUPPORTED
 SCENE_KEY = "phong_lights_scene"
 SET_KEY = "phong_lights_set"
 #: Bump when the layout of the lights group changes.
-RIG_VERSION = 4  # 4: lights' transforms from World custom properties (View Layer attributes)
+RIG_VERSION = 5  # 4: lights' transforms from World custom properties (View Layer attributes);
+# 5: one Phong Surface and a Phong Light Terms per light instead of a Phong Shading per light
 VERSION_KEY = "phong_lights_version"
 ALL = "*"
 #: The lighting models (docs/model.md, docs/threejs.md); a scene's is
@@ -200,11 +203,18 @@ def build(tree, lights, world, model=MODELS[0]) -> None:
         return
     group_in, group_out, out_x = _start(tree, lights)
     budget = [world, compat.VIEW_LAYER_LOOKUPS]
+    surface = _group_node(tree, "Phong Surface", "surface", (-600.0, 520.0))
+    for name in ("Normal", "View Vector"):
+        tree.links.new(group_in.outputs[name], surface.inputs[name])
     shadings = []
     for index, obj in enumerate(lights):
         y = -520.0 * index
         light_node = _light_node(tree, obj, (-600.0, y), MODELS[0], budget)
-        shading = _shading_node(tree, group_in, f"shading:{obj.name}", (-300.0, y), index == 0)
+        shading = _group_node(tree, "Phong Light Terms", f"shading:{obj.name}", (-300.0, y))
+        for name in ("Exponent", "Blinn"):
+            tree.links.new(group_in.outputs[name], shading.inputs[name])
+        for name in ("Normal", "View Vector"):
+            tree.links.new(surface.outputs[name], shading.inputs[name])
         tree.links.new(light_node.outputs["Light Vector"], shading.inputs["Light Vector"])
         tree.links.new(_power_falloff(tree, obj, light_node) or light_node.outputs["Intensity"],
                        shading.inputs["Light Intensity"])
@@ -213,19 +223,22 @@ def build(tree, lights, world, model=MODELS[0]) -> None:
             drivers.prop(shading.inputs[socket], None, "LIGHT", obj.data,
                          f'["{properties.LIGHT_KEYS[attr][0]}"]')
         shadings.append(shading)
-    if not lights:
-        shading = _shading_node(tree, group_in, "shading:irradiant", (-300.0, 0.0), True)
-        shading.inputs["Light Intensity"].default_value = 0.0
-        shadings.append(shading)
-    for index, shading in enumerate(shadings):
-        shading.inputs["Ambient Intensity"].default_value = 0.0
-        if index:
-            shading.inputs["Irradiant Color"].default_value = (0.0, 0.0, 0.0, 1.0)
     ambient = _group_node(tree, "Phong Ambient", "ambient", (-300.0, 520.0))
     tree.links.new(group_in.outputs["Ambient Object Color"], ambient.inputs["Object Color"])
     _drive_ambient(ambient, world)
-    _sums(tree, ambient, [s.outputs["Color"] for s in shadings], shadings,
-          shadings[0].outputs["Irradiant"], group_out, out_x)
+    totals = _term_sums(tree, shadings, group_out, {
+        "Diffuse": ("Diffuse Light", group_in.outputs["Object Color"]),
+        "Specular": ("Specular Light", group_in.outputs["Specular Color"])})
+    color = _vector_node(tree, "ADD", "color:base", (0.0, 300.0),
+                         group_in.outputs["Irradiant Color"], ambient.outputs["Color"])
+    for index, total in enumerate(t for t in totals if t is not None):
+        color = _vector_node(tree, "ADD", f"color:{index}", (180.0 * (index + 1), 300.0),
+                             color, total)
+    color = _vector_node(tree, "MINIMUM", "color", (180.0 * 3, 300.0), color, (1.0, 1.0, 1.0))
+    tree.links.new(color, group_out.inputs["Color"])
+    tree.links.new(group_in.outputs["Irradiant Color"], group_out.inputs["Irradiant"])
+    tree.links.new(ambient.outputs["Color"], group_out.inputs["Ambient"])
+    _emission(tree, color, group_out, out_x)
     _stamp(tree, lights, MODELS[0])
 
 
@@ -431,10 +444,48 @@ def _drive_ambient(node, world) -> None:
                   f'["{properties.AMBIENT_COLOR[0]}"]')
 
 
+def _vector_node(tree, operation, name, location, a, b):
+    """A Vector Math node *operation* of *a* and *b* (sockets, or a constant vector for *b*);
+    returns its Vector output."""
+    node = tree.nodes.new("ShaderNodeVectorMath")
+    node.name = node.label = name
+    node.operation = operation
+    node.location = location
+    tree.links.new(a, node.inputs[0])
+    if isinstance(b, tuple):
+        node.inputs[1].default_value = b
+    else:
+        tree.links.new(b, node.inputs[1])
+    return node.outputs["Vector"]
+
+
+def _term_sums(tree, shadings, group_out, sources=None) -> list:
+    """The Diffuse and Specular outputs: the sums of the shadings' terms (black without a
+    light); *sources* maps a term to (the shadings' output, a colour socket the sum is
+    multiplied by), default (the term, none).  Returns the two sums (None without a light)."""
+    totals = []
+    for row, term in enumerate(("Diffuse", "Specular")):
+        output, color = (sources or {}).get(term, (term, None))
+        total = None
+        for index, shading in enumerate(shadings):
+            total = shading.outputs[output] if total is None else _vector_node(
+                tree, "ADD", f"{term.lower()}:{index}", (180.0 * index, -200.0 - 160.0 * row),
+                total, shading.outputs[output])
+        if total is not None and color is not None:
+            total = _vector_node(tree, "MULTIPLY", f"{term.lower()}:color",
+                                 (180.0 * len(shadings), -200.0 - 160.0 * row), total, color)
+        if total is None:  # no light
+            group_out.inputs[term].default_value = (0.0, 0.0, 0.0, 1.0)
+        else:
+            tree.links.new(total, group_out.inputs[term])
+        totals.append(total)
+    return totals
+
+
 def _sums(tree, ambient, parts, shadings, irradiant, group_out, out_x) -> None:
-    """Color: the Phong Color Add chain of the ambient's colour and *parts*; Diffuse and
-    Specular: the sums of the shadings' terms (black without one); Irradiant: *irradiant*;
-    Ambient: the ambient node's; Shader: an emission of Color."""
+    """The three.js model's outputs. Color: the Phong Color Add chain of the ambient's colour
+    and *parts*; Diffuse and Specular: the sums of the shadings' terms (black without one);
+    Irradiant: *irradiant*; Ambient: the ambient node's; Shader: an emission of Color."""
     links = tree.links
     color = ambient.outputs["Color"]
     for index, part in enumerate(parts):
@@ -445,21 +496,5 @@ def _sums(tree, ambient, parts, shadings, irradiant, group_out, out_x) -> None:
     links.new(color, group_out.inputs["Color"])
     links.new(irradiant, group_out.inputs["Irradiant"])
     links.new(ambient.outputs["Color"], group_out.inputs["Ambient"])
-    for row, term in enumerate(("Diffuse", "Specular")):
-        total = None
-        for index, shading in enumerate(shadings):
-            if total is None:
-                total = shading.outputs[term]
-                continue
-            node = tree.nodes.new("ShaderNodeVectorMath")
-            node.name = f"{term.lower()}:{index}"
-            node.operation = "ADD"
-            node.location = (180.0 * index, -200.0 - 160.0 * row)
-            links.new(total, node.inputs[0])
-            links.new(shading.outputs[term], node.inputs[1])
-            total = node.outputs["Vector"]
-        if total is None:  # no light
-            group_out.inputs[term].default_value = (0.0, 0.0, 0.0, 1.0)
-        else:
-            links.new(total, group_out.inputs[term])
+    _term_sums(tree, shadings, group_out)
     _emission(tree, color, group_out, out_x)
