@@ -3,7 +3,7 @@
 Principled against Phong, side by side in one run (a process per case).
 
     .venv/bin/python -m phong_nodes.benchmarks.eevee_materials [--objects 1000] [--lights 4]
-        [--repeats 2] [--renders 1] [--cases principled,phong,phong_flat,...]
+        [--repeats 2] [--renders 1] [--cases principled,phong,phong_0_3,...]
 
 The scene is figure 6's artist scene (``measure.artist_scene``: cubes with their own mesh and
 Principled material, 4 lights cycling point, sun, spot, point) seen from above by an
@@ -19,12 +19,9 @@ are out of it: every F12 render pays the rest again).  Cases:
 * ``phong_noaov``: the same without the five AOV outputs of each material;
 * ``phong_ungrouped``: the lights group with every nested group node replaced by its nodes
   (the same nodes, no nesting; the lights' drivers dropped, their values frozen);
-* ``phong_flat``: the lights group written as one expression (``flat_expressions``): the
-  same formulas of ``node_groups/library.py``, shared sub-expressions once (the normal, the
-  view vector), the terms that are zero by construction left out (each Phong Shading's
-  ambient, the irradiant beyond the first), the colour clamped once; the lights' values
-  frozen as socket values where drivers would write them (a prototype for measuring: the
-  drivers are not written);
+* ``phong_0_3``: the lights group as version 0.3 built it, a Phong Shading per light summed
+  with Phong Color Add (``write_per_light_shading``; same light groups and values, the
+  drivers dropped): the layout this version replaced, measured beside it;
 * ``phong_lights0``, ``phong_lights1``: Apply with no light / one light (a smaller group);
 * ``phong_noshadow``: ``phong`` with the cubes' shadow visibility off (not a fix: it shows
   what one of the passes Eevee builds for each material costs).
@@ -45,7 +42,7 @@ import time
 
 from .measure import artist_scene, render, set_eevee, simple_material, worker_setup
 
-CASES = ("principled", "emission", "phong", "phong_noaov", "phong_ungrouped", "phong_flat",
+CASES = ("principled", "emission", "phong", "phong_noaov", "phong_ungrouped", "phong_0_3",
          "phong_lights0", "phong_lights1", "phong_noshadow")
 
 
@@ -101,8 +98,8 @@ def build(bpy, case, objects, n_lights):
                     tree.nodes.remove(node)
         elif case == "phong_ungrouped":
             ungroup_all(lights_group)
-        elif case == "phong_flat":
-            write_flat(lights_group)
+        elif case == "phong_0_3":
+            write_per_light_shading(lights_group)
         elif case == "phong_noshadow":  # Eevee then builds no shadow pass of the materials
             for obj in meshes:
                 obj.visible_shadow = False
@@ -205,143 +202,71 @@ def _ungroup(tree, group) -> None:
     tree.nodes.remove(group)
 
 
-# -- the lights group as one expression ----------------------------------------------------
+# -- the lights group of version 0.3 (a Phong Shading per light) ---------------------------
 
-def _substitute(expr, env, memo):
-    """*expr* with its group inputs replaced by the expressions of *env* (by name)."""
-    from phong_nodes.node_groups.expr import Expr  # noqa: PLC0415
+def write_per_light_shading(lights_group) -> None:
+    """Rewrite *lights_group* (a seeds'-model rig) as version 0.3 built it: per light a Phong
+    Shading (ambient off, the irradiant on the first only) instead of a Phong Light Terms,
+    no Phong Surface, the Color the Phong Color Add chain of the ambient and the shadings'
+    colours, Diffuse and Specular the sums of their terms.  The same light groups, Attribute
+    nodes and values; the drivers dropped (the values they wrote stay)."""
+    from phong_nodes.addon import loader  # noqa: PLC0415
 
-    key = expr.key
-    if key in memo:
-        return memo[key]
-    if expr.op == "input":
-        out = env[expr.value]
-    elif expr.is_leaf:
-        out = expr
-    else:
-        out = Expr(expr.kind, expr.op, tuple(_substitute(a, env, memo) for a in expr.args))
-        out = _fold_zero(out)
-    memo[key] = out
-    return out
-
-
-def _is_zero(expr) -> bool:
-    return expr.op == "const" and (expr.value == 0.0 or expr.value == (0.0, 0.0, 0.0))
-
-
-def _fold_zero(expr):
-    """x·0 = 0 and x + 0 = x (the terms that are zero by construction)."""
-    from phong_nodes.node_groups.expr import const  # noqa: PLC0415
-
-    name = expr.op.name
-    if name in ("mul", "scale") and any(_is_zero(a) for a in expr.args):
-        return const(0.0) if expr.kind == "float" else const((0.0, 0.0, 0.0))
-    if name == "add" and _is_zero(expr.args[1]):
-        return expr.args[0]
-    if name == "add" and _is_zero(expr.args[0]):
-        return expr.args[1]
-    return expr
-
-
-def flat_expressions(lights_group):
-    """The outputs of *lights_group* (a seeds'-model rig) as expressions of its group inputs,
-    of ``@name`` leaves (the sockets of its Attribute nodes) and of the values its lights'
-    nodes hold now (constants here; drivers would write them)."""
-    from phong_nodes.node_groups import library  # noqa: PLC0415
-    from phong_nodes.node_groups.expr import (  # noqa: PLC0415
-        COLOR, FLOAT, VECTOR, const, emission, input_, minimum)
-
-    group_inputs = {item.name: input_(item.name, FLOAT if item.socket_type == "NodeSocketFloat"
-                                      else COLOR if item.socket_type == "NodeSocketColor"
-                                      else VECTOR)
-                    for item in lights_group.interface.items_tree
-                    if item.item_type == "SOCKET" and item.in_out == "INPUT"}
-    nodes = lights_group.nodes
-
-    def env_of(node, extra):
-        env = {}
-        for socket in node.inputs:
-            if socket.is_linked:
-                link = socket.links[0]
-                if link.from_node.bl_idname == "ShaderNodeAttribute":
-                    env[socket.name] = input_(f"@{link.from_node.name}", VECTOR)
+    tree = lights_group
+    nodes, links = tree.nodes, tree.links
+    if tree.animation_data is not None:
+        tree.animation_data_clear()
+    group_in = next(n for n in nodes if n.bl_idname == "NodeGroupInput")
+    group_out = next(n for n in nodes if n.bl_idname == "NodeGroupOutput")
+    terms = [n for n in nodes if n.name.startswith("shading:")]
+    shadings = []
+    for index, old in enumerate(terms):
+        new = nodes.new("ShaderNodeGroup")
+        new.node_tree, _status = loader.ensure_group("Phong Shading")
+        for socket in old.inputs:
+            target = new.inputs[socket.name]
+            if socket.is_linked and socket.links[0].from_node.name != "surface":
+                links.new(socket.links[0].from_socket, target)
+            elif not socket.is_linked:
+                target.default_value = socket.default_value
+        for name in ("Object Color", "Specular Color", "Normal", "View Vector"):
+            links.new(group_in.outputs[name], new.inputs[name])
+        if index == 0:
+            links.new(group_in.outputs["Irradiant Color"], new.inputs["Irradiant Color"])
+        else:
+            new.inputs["Irradiant Color"].default_value = (0.0, 0.0, 0.0, 1.0)
+        new.inputs["Ambient Intensity"].default_value = 0.0
+        shadings.append(new)
+    for node in [n for n in nodes if n.name.startswith(("shading:", "surface", "color",
+                                                        "diffuse:", "specular:"))]:
+        nodes.remove(node)
+    color = nodes["ambient"].outputs["Color"]
+    for shading in shadings:
+        add = nodes.new("ShaderNodeGroup")
+        add.node_tree, _status = loader.ensure_group("Phong Color Add")
+        links.new(color, add.inputs["A"])
+        links.new(shading.outputs["Color"], add.inputs["B"])
+        color = add.outputs["Color"]
+    links.new(color, group_out.inputs["Color"])
+    links.new(color, nodes["emission"].inputs["Color"])
+    for term in ("Diffuse", "Specular"):
+        total = None
+        for shading in shadings:
+            if total is None:
+                total = shading.outputs[term]
                 continue
-            value = _value(socket)
-            env[socket.name] = const(value if not isinstance(value, tuple) else value[:3])
-        env.update(extra)
-        return env
-
-    def outputs(node, extra):
-        definition = library.GROUPS[node.node_tree.name]
-        env, memo = env_of(node, extra), {}
-        return {name: _substitute(e, env, memo) for name, e in definition.expressions.items()}
-
-    diffuse, specular = [], []
-    irradiant = group_inputs["Irradiant Color"]
-    for light in [n for n in nodes if n.name.startswith("light:")]:
-        name = light.name[len("light:"):]
-        out = outputs(light, {})
-        intensity = out["Intensity"]
-        falloff = nodes.get(f"falloff:{name}")
-        if falloff is not None:
-            intensity = outputs(falloff, {"Distance": out["Distance"],
-                                          "Intensity": intensity})["Intensity"]
-        shading = nodes[f"shading:{name}"]
-        extra = {socket: group_inputs[socket] for socket in
-                 ("Object Color", "Specular Color", "Exponent", "Blinn", "Normal",
-                  "View Vector")}
-        extra.update({"Light Vector": out["Light Vector"], "Light Intensity": intensity,
-                      "Irradiant Color": const((0.0, 0.0, 0.0)),
-                      "Ambient Intensity": const(0.0)})
-        terms = outputs(shading, extra)
-        diffuse.append(terms["Diffuse"])
-        specular.append(terms["Specular"])
-    ambient = outputs(nodes["ambient"], {"Object Color": group_inputs["Ambient Object Color"]})
-    total_d = total_s = None
-    for d, s in zip(diffuse, specular):
-        total_d = d if total_d is None else total_d + d
-        total_s = s if total_s is None else total_s + s
-    zero = const((0.0, 0.0, 0.0))
-    total_d = zero if total_d is None else total_d
-    total_s = zero if total_s is None else total_s
-    color = minimum(irradiant + ambient["Color"] + total_d + total_s, 1.0)
-    return {"Color": color, "Irradiant": irradiant, "Ambient": ambient["Color"],
-            "Diffuse": total_d, "Specular": total_s, "Shader": emission(color)}
-
-
-def write_flat(lights_group) -> None:
-    """Rewrite *lights_group* as ``flat_expressions`` says (its Attribute nodes kept)."""
-    from phong_nodes.addon.loader import NodeWriter  # noqa: PLC0415
-
-    expressions = flat_expressions(lights_group)
-    if lights_group.animation_data is not None:
-        lights_group.animation_data_clear()
-    attributes = {}
-    for node in list(lights_group.nodes):
-        if node.bl_idname == "ShaderNodeAttribute":
-            attributes[node.name] = (node.attribute_type, node.attribute_name)
-    lights_group.nodes.clear()
-    group_in = lights_group.nodes.new("NodeGroupInput")
-    group_out = lights_group.nodes.new("NodeGroupOutput")
-    writer = NodeWriter(lights_group, group_in)
-    for name, (kind, attribute_name) in attributes.items():
-        node = lights_group.nodes.new("ShaderNodeAttribute")
-        node.name = name
-        node.attribute_type = kind
-        node.attribute_name = attribute_name
-        writer.sockets[("vector", "input", f"@{name}", ())] = node.outputs["Vector"]
-        writer.depth[("vector", "input", f"@{name}", ())] = 0
-    kinds = {item.name: item.socket_type for item in lights_group.interface.items_tree
-             if item.item_type == "SOCKET" and item.in_out == "OUTPUT"}
-    for name, expression in expressions.items():
-        kind = {"NodeSocketColor": "color", "NodeSocketShader": "shader"}[kinds[name]]
-        writer.output(expression, group_out.inputs[name], kind)
-    writer.place_ends(group_out)
+            add = nodes.new("ShaderNodeVectorMath")
+            add.operation = "ADD"
+            links.new(total, add.inputs[0])
+            links.new(shading.outputs[term], add.inputs[1])
+            total = add.outputs["Vector"]
+        if total is not None:
+            links.new(total, group_out.inputs[term])
 
 
 # -- the picture -----------------------------------------------------------------------------
 
-def largest_difference(objects=16, n_lights=4, case="phong_flat", engine="cycles") -> float:
+def largest_difference(objects=16, n_lights=4, case="phong_0_3", engine="cycles") -> float:
     """The largest pixel difference between the render of the ``phong`` scene and that of
     *case* (16-bit PNGs, *engine* "cycles" or "eevee"), in this process."""
     import tempfile  # noqa: PLC0415
@@ -413,7 +338,7 @@ def main(argv=None) -> int:
     parser.add_argument("--lights", type=int, default=4)
     parser.add_argument("--repeats", type=int, default=2)
     parser.add_argument("--renders", type=int, default=1, help="timed renders per process")
-    parser.add_argument("--cases", default="principled,phong,phong_flat,phong_lights0")
+    parser.add_argument("--cases", default="principled,phong,phong_0_3,phong_lights0")
     parser.add_argument("--worker", help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
     if args.worker:

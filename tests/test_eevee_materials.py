@@ -24,9 +24,9 @@ def _run(code, timeout=300):
 
 
 @pytest.mark.cycles
-def test_the_flat_lights_group_shows_the_picture_of_the_lights_group():
-    """The prototype lights group written as one expression (point, sun, spot, point; the
-    fourth light's transform driven) renders what the lights group renders."""
+def test_the_0_3_lights_group_shows_the_picture_of_the_lights_group():
+    """The lights group as version 0.3 built it (a Phong Shading per light; point, sun,
+    spot, point, the fourth light's transform driven) renders what this version's renders."""
     difference = _run("from phong_nodes.benchmarks import eevee_materials as m; "
                       "print('RESULT ' + json.dumps(m.largest_difference(9, 4)), flush=True)")
     assert difference < 1e-4
@@ -37,12 +37,12 @@ def test_the_flat_lights_group_shows_the_picture_of_the_lights_group():
 def test_the_eevee_materials_benchmark_runs():
     result = _run("from phong_nodes.benchmarks import eevee_materials as m; "
                   "print('RESULT ' + json.dumps(m.run(4, 4, 1, ['principled', 'phong', "
-                  "'phong_flat'])), flush=True)", timeout=600)
-    assert set(result["render_s"]) == {"principled", "phong", "phong_flat"}
+                  "'phong_0_3'])), flush=True)", timeout=600)
+    assert set(result["render_s"]) == {"principled", "phong", "phong_0_3"}
     assert all(t > 0 for times in result["render_s"].values() for t in times)
     assert result["ratio_to_principled"]["principled"] == 1.0
     nodes = result["expanded_nodes"]
-    assert nodes["phong_flat"] < nodes["phong"]
+    assert nodes["phong"] < nodes["phong_0_3"]
 
 
 @pytest.mark.cycles
