@@ -110,3 +110,44 @@ def test_every_operation_gives_the_shape_of_its_declared_kind():
             out = op.numpy(*args)
         assert np.shape(out) == shapes[op.kind], f"{op.name} ({', '.join(op.operands)})"
         assert len(op.inputs) == len(op.operands)
+
+
+def test_the_lights_group_parts_give_what_phong_shading_gives():
+    """Phong Surface then Phong Light Terms (the parts a lights group is built from, rig 5),
+    the terms multiplied by the material's colours as the lights group does, equal the
+    independent reference's Phong Shading Diffuse and Specular for the same light and
+    material, whatever the Normal and View Vector inputs (zero: the geometry's)."""
+    rng = np.random.default_rng(30)
+    shading = library.GROUPS["Phong Shading"]
+    inputs, geometry = random_inputs(shading, rng), random_geometry(rng)
+    want = reference.GROUPS["Phong Shading"](inputs, geometry)
+    surface = library.RIG_GROUPS["Phong Surface"].evaluate(
+        {k: inputs[k] for k in ("Normal", "View Vector")}, geometry)
+    terms_inputs = {k: inputs[k] for k in ("Light Vector", "Light Color", "Diffuse Strength",
+                                           "Specular Strength", "Exponent", "Blinn")}
+    terms_inputs["Light Intensity"] = inputs["Light Intensity"]
+    terms = library.RIG_GROUPS["Phong Light Terms"].evaluate({**terms_inputs, **surface}, {})
+    diffuse = terms["Diffuse Light"] * inputs["Object Color"]
+    specular = terms["Specular Light"] * inputs["Specular Color"]
+    for got, expected, name in ((diffuse, want["Diffuse"], "Diffuse"),
+                                (specular, want["Specular"], "Specular")):
+        finite = np.isfinite(expected)
+        assert finite.mean() > 0.99 and np.abs(expected[finite]).max() > 0.1
+        np.testing.assert_allclose(got[finite], expected[finite], rtol=1e-9, atol=1e-9,
+                                   err_msg=name)
+
+
+def test_a_clamped_math_node_is_one_node_and_clamps():
+    """saturate(x) of a float Math operation is that operation with the Clamp option (one
+    node); of anything else, min(max(x, 0), 1)."""
+    from phong_nodes.node_groups import expr
+
+    a, b = expr.input_("a", expr.FLOAT), expr.input_("b", expr.FLOAT)
+    clamped = expr.saturate(a - b)
+    assert clamped.op.clamp and clamped.op.operation == "SUBTRACT"
+    x = np.array([-2.0, 0.25, 3.0])
+    np.testing.assert_array_equal(expr.evaluate(clamped, {"a": x, "b": np.zeros(3)}),
+                                  [0.0, 0.25, 1.0])
+    v = expr.input_("v", expr.VECTOR)
+    other = expr.saturate(expr.dot(v, v))  # a Vector Math node: no Clamp option
+    assert not other.op.clamp and other.op.name == "min"
