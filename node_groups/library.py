@@ -46,18 +46,14 @@ def lambert(l, n):
     return maximum(dot(l, n), 0.0)
 
 
-def reflect(l, n):
-    """r = 2(ℓ·n)n - ℓ, the mirror direction (docs/model.md §Specular (Phong), Lemma 1)."""
-    return 2.0 * dot(l, n) * n - l
-
-
 def both_at_least_zero(a, b):
     """1 where a ≥ 0 and b ≥ 0, else 0 (as min(a, b) ≥ 0: one comparison instead of two)."""
     return at_least(minimum(a, b), 0.0)
 
 
 def phong_factor(l, n, v, e):
-    """(r·v)^e where ℓ·n ≥ 0 and r·v ≥ 0, else 0 (docs/model.md §Specular (Phong)).
+    """(r·v)^e where ℓ·n ≥ 0 and r·v ≥ 0, else 0 (docs/model.md §Specular (Phong)), with the
+    mirror direction r = 2(ℓ·n)n - ℓ (Lemma 1) computed as -reflect_about(ℓ, n), one node.
 
     r·v is taken as at most 1: exact for a unit ℓ (then |r| = 1 and r·v ≤ 1), and it keeps
     (r·v)^e finite for a Light Vector input that is not unit (‖ℓ‖ = 10⁶, e = 30 overflowed).
@@ -393,12 +389,13 @@ def _shading(g):
 #
 # A lights group computes what one Phong Shading per light, summed with Phong Color Add,
 # computes (docs/contract.md, "Several lights"), with fewer nodes: every Eevee pass of every
-# material expands them again (issue 30: about 45 µs per node per material per render).  So
+# material expands them again (issue 30: about 40 µs per node per material per render).  So
 # the normal and the view vector are resolved once for all lights (Phong Surface), each light
-# adds only its diffuse and specular terms (Phong Light Terms), and the ambient, the
-# irradiant and the clamp are taken once, in the lights group.  The products of values that
-# are constant in a material (strengths, light and material colours) stand in brackets of
-# their own, so Blender folds them into one value before it writes the shader.
+# adds only its diffuse and specular light (Phong Light Terms), and the material colours, the
+# ambient, the irradiant and the clamp are taken once, in the lights group.  The products of
+# driven values (strengths, light colour) stand in brackets of their own, so Blender folds
+# them into one value before it writes the shader (it does not fold a material's RGB node:
+# hence the material colours multiply the sums, not each light).
 
 @group("Phong Surface", "The unit normal and view vector of the shaded point, once for all lights",
        into=RIG_GROUPS)
@@ -451,8 +448,6 @@ def _light_terms(g):
 THREEJS_SPECULAR = (((17 / 255 + 0.055) / 1.055) ** 2.4,) * 3
 #: 1/π as three.js writes it (common: RECIPROCAL_PI).
 RECIPROCAL_PI = 0.3183098861837907
-
-
 
 
 def distance_attenuation(r, cutoff, decay):
@@ -573,5 +568,5 @@ def _threejs_phong(g):
 
 NAMES = tuple(GROUPS)
 
-__all__ = ["GROUPS", "NAMES", "LIBRARY_VERSION", "GroupDef", "Socket", "lambert", "reflect",
+__all__ = ["GROUPS", "NAMES", "LIBRARY_VERSION", "GroupDef", "Socket", "lambert",
            "phong_factor", "blinn_factor", "falloff", "clamp_add"]

@@ -22,7 +22,8 @@ whose leaves are named inputs:
 
 The composition is what the lights group (rig.py) computes, written as docs/contract.md
 ("Several lights") defines it: the ambient, then per light its light group and a Phong
-Shading (ambient off, the irradiant on the first only), added with Phong Color Add; in the three.js model the three.js groups and the irradiant (emissive) added as is.
+Shading (ambient off, the irradiant on the first only), added with Phong Color Add; in the
+three.js model the three.js groups and the irradiant (emissive) added as is.
 Constants are folded and trivial operations (x·1, x+0) dropped, so the written nodes are
 only those that compute something.
 
