@@ -1,5 +1,12 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""Differences between the supported Blender versions (4.2 LTS to 5.2 LTS), in one place."""
+"""Differences between the supported Blender versions (4.2 LTS to 5.3), in one place.
+
+Sockets of Blender's own nodes are reached through :func:`input_socket` and
+:func:`output_socket`, by identifier, never by position: releases insert sockets before existing
+ones (5.3 put a hidden ``LightIndex`` before Vector Transform's ``Vector`` and two dispersion
+inputs in the middle of Principled BSDF), and Blender's own ``node.inputs["key"]`` skips
+sockets that are unavailable for the node's current mode.  ``tests/test_layout.py`` fails if
+positional socket access comes back in ``addon/`` or ``node_groups/``."""
 
 import os
 import sys
@@ -16,6 +23,51 @@ VERSION = bpy.app.version
 #: and 5.0.1 read them right in Cycles and Eevee, but that test ran past 4 minutes with 4
 #: lookups on each; there the lights keep drivers in the lights group (the rig of 0.2).
 VIEW_LAYER_LOOKUPS = 4 if VERSION >= (5, 2, 0) else 0
+
+
+def _socket(sockets, key: str, node, side: str):
+    """The socket of *sockets* whose identifier is *key*, else the first whose name is *key*
+    (available sockets first): identifiers are stable across releases for Blender's nodes
+    (``Value``, ``Value_001``, ``Vector``, ``Scale`` ...); a group node's sockets are found by
+    the names of its interface."""
+    if not isinstance(key, str):
+        raise TypeError(f"{side} sockets are looked up by identifier or name, not by {key!r}")
+    named = None
+    for socket in sockets:
+        if socket.identifier == key:
+            return socket
+        if named is None and socket.name == key and getattr(socket, "enabled", True):
+            named = socket
+    if named is None:
+        named = next((socket for socket in sockets if socket.name == key), None)
+    if named is None:
+        have = ", ".join(socket.identifier for socket in sockets)
+        raise KeyError(f"{node.bl_idname} '{node.name}' has no {side} socket {key!r} "
+                       f"(Blender {bpy.app.version_string}: {have})")
+    return named
+
+
+def input_socket(node, key: str):
+    """The input of *node* whose identifier (else name) is *key*: never by position."""
+    return _socket(node.inputs, key, node, "input")
+
+
+def output_socket(node, key: str):
+    """The output of *node* whose identifier (else name) is *key*: never by position."""
+    return _socket(node.outputs, key, node, "output")
+
+
+#: The one output of Blender's value nodes, by node type (a control of a Phong material is a
+#: Value or an RGB node).
+VALUE_OUTPUTS = {"ShaderNodeValue": "Value", "ShaderNodeRGB": "Color"}
+
+
+def value_output(node):
+    """The output of a Value or RGB node (the controls of a Phong material)."""
+    try:
+        return output_socket(node, VALUE_OUTPUTS[node.bl_idname])
+    except KeyError:
+        raise TypeError(f"{node.bl_idname} '{node.name}' is not a Value or RGB node") from None
 
 
 def exit_crashes() -> bool:

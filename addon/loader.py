@@ -25,6 +25,7 @@ import bpy
 from bpy.app.handlers import persistent
 
 from ..node_groups.expr import COLOR, Expr
+from . import compat
 from ..node_groups.library import GROUPS, LIBRARY_VERSION, RIG_GROUPS, GroupDef, definition
 
 STAMP_GROUP = "phong_nodes_group"
@@ -185,10 +186,10 @@ class NodeWriter:
         if op.clamp:
             node.use_clamp = True
         for name, value in op.settings:
-            node.inputs[name].default_value = value
+            compat.input_socket(node, name).default_value = value
         depth = 0
         for arg, kind, target_key in zip(expression.args, op.operands, op.inputs):
-            target = node.inputs[target_key]
+            target = compat.input_socket(node, target_key)
             source = self.socket(arg)
             if source is None:
                 target.default_value = _socket_value(kind, arg.value)
@@ -199,7 +200,7 @@ class NodeWriter:
         row = self.columns.get(depth + 1, 0)
         self.columns[depth + 1] = row + 1
         node.location = ((depth + 1) * COLUMN_WIDTH, -row * ROW_HEIGHT)
-        return node.outputs[op.output]
+        return compat.output_socket(node, op.output)
 
     def place_ends(self, group_output) -> None:
         """The group input and the Geometry node left of column 1, the output right of the last."""

@@ -43,6 +43,10 @@ LEAVES = ("const", "input", "geometry")
 MATH = "ShaderNodeMath"
 VECTOR_MATH = "ShaderNodeVectorMath"
 EMISSION = "ShaderNodeEmission"
+#: Each node's operand inputs in order and its default result, by identifier (stable across
+#: Blender releases, unlike positions).
+_SOCKETS = {MATH: (("Value", "Value_001", "Value_002"), "Value"),
+            VECTOR_MATH: (("Vector", "Vector_001", "Vector_002"), "Vector")}
 
 
 @dataclass(frozen=True, eq=False)
@@ -50,8 +54,11 @@ class Op:
     """One operation: what it computes on numpy arrays and which node computes it in Blender.
 
     ``operands`` are the kinds of the node inputs it reads (a COLOR operand takes a vector
-    expression), ``inputs`` the keys (index or name) of those inputs on the node, ``output``
-    the key of the node output that carries the result, ``settings`` fixed input values.
+    expression), ``inputs`` the identifiers of those inputs on the node (by default the node's
+    first inputs: ``Value``, ``Value_001``, ``Value_002`` on Math, ``Vector``, ``Vector_001``
+    on Vector Math), ``output`` the identifier of the node output that carries the result,
+    ``settings`` fixed input values.  Sockets are named, never numbered: Blender releases
+    insert sockets before existing ones (docs/releases.md).
     """
 
     name: str
@@ -60,12 +67,19 @@ class Op:
     numpy: Callable
     node: str
     operation: str | None = None
-    inputs: tuple = (0, 1)
-    output: object = 0
+    inputs: tuple | None = None
+    output: str | None = None
     settings: tuple = ()
     clamp: bool = False  # the Math node's Clamp option: the result clamped to [0, 1]
 
     def __post_init__(self):
+        first, result = _SOCKETS.get(self.node, ((), None))
+        if self.inputs is None:
+            object.__setattr__(self, "inputs", first[:len(self.operands)])
+        if self.output is None:
+            object.__setattr__(self, "output", result)
+        if not all(isinstance(key, str) for key in (*self.inputs, self.output)):
+            raise ValueError(f"{self.name}: sockets are identifiers, not positions")
         if len(self.inputs) != len(self.operands):
             raise ValueError(f"{self.name}: {len(self.operands)} operands, {len(self.inputs)} inputs")
 
@@ -136,21 +150,19 @@ OPERATIONS = (
     Op("min", FLOAT, _FF, np.minimum, MATH, "MINIMUM"),
     Op("pow", FLOAT, _FF, _blender_pow, MATH, "POWER"),
     Op("lt", FLOAT, _FF, _less_than, MATH, "LESS_THAN"),
-    Op("cos", FLOAT, (FLOAT,), np.cos, MATH, "COSINE", inputs=(0,)),
-    Op("madd", FLOAT, (FLOAT, FLOAT, FLOAT), _multiply_add, MATH, "MULTIPLY_ADD",
-       inputs=(0, 1, 2)),
+    Op("cos", FLOAT, (FLOAT,), np.cos, MATH, "COSINE"),
+    Op("madd", FLOAT, (FLOAT, FLOAT, FLOAT), _multiply_add, MATH, "MULTIPLY_ADD"),
     Op("add", VECTOR, _VV, np.add, VECTOR_MATH, "ADD", output="Vector"),
     Op("sub", VECTOR, _VV, np.subtract, VECTOR_MATH, "SUBTRACT", output="Vector"),
     Op("mul", VECTOR, _VV, np.multiply, VECTOR_MATH, "MULTIPLY", output="Vector"),
     Op("div", VECTOR, _VV, _safe_divide, VECTOR_MATH, "DIVIDE", output="Vector"),
     Op("max", VECTOR, _VV, np.maximum, VECTOR_MATH, "MAXIMUM", output="Vector"),
     Op("min", VECTOR, _VV, np.minimum, VECTOR_MATH, "MINIMUM", output="Vector"),
-    Op("scale", VECTOR, (VECTOR, FLOAT), _scale, VECTOR_MATH, "SCALE", inputs=(0, "Scale"),
+    Op("scale", VECTOR, (VECTOR, FLOAT), _scale, VECTOR_MATH, "SCALE", inputs=("Vector", "Scale"),
        output="Vector"),
     Op("dot", FLOAT, _VV, _dot, VECTOR_MATH, "DOT_PRODUCT", output="Value"),
-    Op("length", FLOAT, (VECTOR,), _length, VECTOR_MATH, "LENGTH", inputs=(0,), output="Value"),
-    Op("normalize", VECTOR, (VECTOR,), _normalize, VECTOR_MATH, "NORMALIZE", inputs=(0,),
-       output="Vector"),
+    Op("length", FLOAT, (VECTOR,), _length, VECTOR_MATH, "LENGTH", output="Value"),
+    Op("normalize", VECTOR, (VECTOR,), _normalize, VECTOR_MATH, "NORMALIZE"),
     Op("reflect", VECTOR, _VV, _reflect, VECTOR_MATH, "REFLECT", output="Vector"),
     Op("emission", SHADER, (COLOR,), _identity, EMISSION, inputs=("Color",), output="Emission",
        settings=(("Strength", 1.0),)),

@@ -47,6 +47,18 @@ def user_resources(create: bool = True) -> str | None:
     return _USER_RES[0] if _USER_RES else None
 
 
+def supported_releases() -> list:
+    """(bpy, python, flags) of each line of requirements/releases.txt (the one list of
+    supported Blender releases), in its order, newest first."""
+    rows = []
+    path = os.path.join(REPO_ROOT, "requirements", "releases.txt")
+    for line in open(path, encoding="utf-8"):
+        words = line.split("#")[0].split()
+        if words:
+            rows.append((words[0], words[1], set(words[2:])))
+    return rows
+
+
 def bpy_release() -> str:
     """The release of the installed bpy wheel, e.g. "5.2.3" (what PHONG_BPY takes)."""
     from importlib.metadata import version  # noqa: PLC0415

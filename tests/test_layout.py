@@ -163,3 +163,65 @@ def test_addon_rooms_import_only_the_rooms_below_them():
                 if name in ADDON_ROOMS and ADDON_ROOMS.index(name) > index:
                     bad.append(f"addon/{room}/{os.path.basename(path)} imports {name}")
     assert not bad, bad
+
+
+# -- sockets by identifier, never by position (issue 37) -----------------------------------
+
+SOCKET_COLLECTIONS = {"inputs", "outputs"}
+#: Owners of ``inputs`` / ``outputs`` that are the library's own data, not Blender nodes: a
+#: group definition's socket specs (node_groups/library.py) and an operation's identifiers.
+DATA_OWNERS = {"definition", "op"}
+
+
+def _positional_socket_access(source: str, path: str) -> list:
+    """Where *source* reaches a node's socket by position: ``x.inputs[0]``, ``x.outputs[-1]``,
+    ``x.inputs[:3]``, ``x.inputs[i + 1]``, ``list(x.outputs)[0]``, ``zip(x.inputs, ...)`` or
+    ``enumerate(x.outputs)`` (pairing sockets with positions).  A string, a name or an
+    attribute as the key (an identifier or an interface name) is allowed."""
+    found = []
+
+    def collection(node):
+        if isinstance(node, ast.Attribute) and node.attr in SOCKET_COLLECTIONS:
+            return not (isinstance(node.value, ast.Name) and node.value.id in DATA_OWNERS)
+        return (isinstance(node, ast.Call) and isinstance(node.func, ast.Name)
+                and node.func.id in ("list", "tuple") and node.args
+                and collection(node.args[0]))
+
+    for node in ast.walk(ast.parse(source, path)):
+        if isinstance(node, ast.Subscript) and collection(node.value):
+            key = node.slice
+            numeric = isinstance(key, ast.Slice) or (
+                isinstance(key, ast.Constant) and isinstance(key.value, int)) or (
+                isinstance(key, ast.UnaryOp) and isinstance(key.operand, ast.Constant)) or (
+                isinstance(key, ast.BinOp))
+            if numeric:
+                found.append(f"{path}:{node.lineno}: {ast.unparse(node)}")
+        elif (isinstance(node, ast.Call) and isinstance(node.func, ast.Name)
+              and node.func.id in ("zip", "enumerate")
+              and any(collection(arg) for arg in node.args)):
+            found.append(f"{path}:{node.lineno}: {ast.unparse(node)}")
+    return found
+
+
+def test_the_positional_socket_check_finds_what_it_should():
+    bad = ("a = node.inputs[0]\nb = node.outputs[-1]\nfor s in node.inputs[:3]: pass\n"
+           "c = list(node.outputs)[1]\nd = node.inputs[k + 1]\n"
+           "for s, v in zip(node.inputs, values): pass\nfor i, s in enumerate(n.outputs): pass\n")
+    assert len(_positional_socket_access(bad, "bad.py")) == 7
+    good = ('a = node.inputs["Value_001"]\nb = node.outputs[name]\nc = node.inputs[spec.name]\n'
+            'for s in node.inputs: pass\n')
+    assert _positional_socket_access(good, "good.py") == []
+
+
+def test_no_socket_is_reached_by_position():
+    """Blender 5.3 inserted sockets before existing ones (Vector Transform's LightIndex):
+    ``addon/`` and ``node_groups/`` reach sockets by identifier, through ``compat``."""
+    found = []
+    for package in ("addon", "node_groups"):
+        for folder, _dirs, files in os.walk(os.path.join(ROOT, package)):
+            for name in files:
+                if name.endswith(".py"):
+                    path = os.path.join(folder, name)
+                    found += _positional_socket_access(open(path, encoding="utf-8").read(),
+                                                       os.path.relpath(path, ROOT))
+    assert not found, "sockets reached by position:\n" + "\n".join(found)

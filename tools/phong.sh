@@ -6,27 +6,56 @@
 #   bash tools/phong.sh build [DIR]      DIR/<id>-<version>.zip (DIR: dist), validated by Blender's own tool
 #   bash tools/phong.sh setup            only create/refresh the virtual environment
 #   bash tools/phong.sh which            print the bpy release and Python it would use, change nothing
-# Which Blender: bpy 5.2.3 (Blender 5.2 LTS) on Python 3.13 where a Python 3.13 exists (on PATH,
-# or one of pyenv's interpreters), else bpy 5.0.1 on Python 3.11; the pins per Python are
-# requirements/python3.13.txt and requirements/python3.11.txt.  PHONG_BPY=4.2.23 (4.5.15,
-# 5.0.1, 5.1.2, 5.2.3, ...) uses that release instead, on the Python its wheels are built for,
-# in its own .venv-bpy<version>; PHONG_PYTHON=/path/to/python picks the interpreter.  The
-# default environment is .venv (or $PHONG_VENV), rebuilt when its pins or interpreter change.
+#   bash tools/phong.sh releases [FLAG]  the supported bpy releases (with FLAG, e.g. ci: those flagged)
+# Which Blender: the supported releases are requirements/releases.txt, one list; without
+# PHONG_BPY the `default` release of Python 3.13 where a Python 3.13 exists (on PATH, or one of
+# pyenv's interpreters), else the default of Python 3.11.  PHONG_BPY=4.2.23 (any bpy release,
+# listed or not) uses that release instead, on the Python its wheels are built for, in its own
+# .venv-bpy<version>; PHONG_PYTHON=/path/to/python picks the interpreter.  The pins beside bpy
+# are requirements/python<a.b>.txt.  The default environment is .venv (or $PHONG_VENV), rebuilt
+# when its pins or interpreter change.
 set -euo pipefail
 
 root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+releases_file=$root/requirements/releases.txt
 command=${1:-demo}
 [ $# -gt 0 ] && shift
 
-# The Python a.b that bpy release $1 is built for: 5.1 and later need 3.13, 4.2 to 5.0 need 3.11.
+# The supported releases: "bpy python flags..." lines of releases.txt, comments left out.
+releases() {
+  sed -e 's/#.*//' -e '/^[[:space:]]*$/d' "$releases_file"
+}
+
+# The bpy releases flagged $1 (all without $1), newest first.
+releases_flagged() {
+  releases | awk -v flag="${1:-}" '{ for (i = 3; i <= NF; i++) if ($i == flag) { print $1; next } } flag == "" { print $1 }'
+}
+
+# The default release of Python $1 (e.g. 3.13): the one flagged `default` on that Python.
+default_for_python() {
+  releases | awk -v py="$1" '$2 == py { for (i = 3; i <= NF; i++) if ($i == "default") { print $1; exit } }'
+}
+
+# The Python a.b that bpy release $1 is built for: its line in releases.txt; a release not
+# listed by Blender's rule (5.1 and later need 3.13, 4.2 to 5.0 need 3.11).
 python_for_bpy() {
+  local listed
+  listed=$(releases | awk -v bpy="$1" '$1 == bpy { print $2; exit }')
+  if [ -n "$listed" ]; then
+    echo "$listed"; return 0
+  fi
   case "$1" in
     4.*|5.0|5.0.*) echo 3.11 ;;
     5.*|[6-9].*) echo 3.13 ;;
-    *) echo "PHONG_BPY=$1: not a bpy release (expected e.g. 4.2.23, 4.5.15, 5.0.1 or 5.2.3)" >&2
+    *) echo "PHONG_BPY=$1: not a bpy release (expected one of: $(releases_flagged | tr '\n' ' ' | sed 's/ $//'))" >&2
        return 1 ;;
   esac
 }
+
+if [ "$command" = releases ]; then
+  releases_flagged "${1:-}"
+  exit 0
+fi
 
 # An interpreter of Python $1 (e.g. 3.13) that runs: python$1 on PATH, then pyenv's (its shims
 # refuse a version that is not selected, so its versions folder is searched too), then python3.
@@ -54,9 +83,11 @@ if [ -n "${PHONG_BPY:-}" ]; then
     echo "bpy $PHONG_BPY needs Python $pyver, which this machine lacks: install python$pyver and python$pyver-venv (or pyenv install $pyver)" >&2
     exit 2
   fi
-  pins=$(sed "s/^bpy==.*/bpy==$PHONG_BPY/" "$root/requirements/python$pyver.txt")
+  bpy_pin=$PHONG_BPY
   reason="PHONG_BPY"
 else
+  newest=$(default_for_python 3.13)
+  older=$(default_for_python 3.11)
   venv=${PHONG_VENV:-$root/.venv}
   if [ -n "${PHONG_PYTHON:-}" ]; then
     python=$PHONG_PYTHON
@@ -67,16 +98,16 @@ else
   elif python=$(find_python 3.11); then
     pyver=3.11; reason="no Python 3.13 found"
   else
-    echo "Phong Nodes needs Python 3.13 (bpy 5.2 LTS) or Python 3.11 (bpy 5.0.1): install python3.13 and python3.13-venv (Debian 13; elsewhere pyenv install 3.13)" >&2
+    echo "Phong Nodes needs Python 3.13 (bpy $newest) or Python 3.11 (bpy $older): install python3.13 and python3.13-venv (Debian 13; elsewhere pyenv install 3.13)" >&2
     exit 2
   fi
-  if [ ! -f "$root/requirements/python$pyver.txt" ]; then
-    echo "PHONG_PYTHON=$python is Python $pyver; Phong Nodes runs on Python 3.13 (bpy 5.2) or 3.11 (bpy 5.0.1)" >&2
+  bpy_pin=$(default_for_python "$pyver")
+  if [ -z "$bpy_pin" ] || [ ! -f "$root/requirements/python$pyver.txt" ]; then
+    echo "PHONG_PYTHON=$python is Python $pyver; Phong Nodes runs on Python 3.13 (bpy $newest) or 3.11 (bpy $older)" >&2
     exit 2
   fi
-  pins=$(cat "$root/requirements/python$pyver.txt")
 fi
-bpy_pin=$(sed -n 's/^bpy==//p' <<<"$pins")
+pins=$(printf 'bpy==%s\n%s\n' "$bpy_pin" "$(cat "$root/requirements/python$pyver.txt")")
 choice="bpy $bpy_pin on Python $pyver ($python; $reason)"
 if [ "$command" = which ]; then
   echo "$choice"

@@ -48,6 +48,7 @@ from dataclasses import dataclass
 import bpy
 
 from ...core import outputs
+from .. import compat
 from ..scene import render
 from ..scene.render import Overrides
 from ..lighting import materials
@@ -225,12 +226,12 @@ def _view_vector(tree, lights_node, camera, matrix=None) -> None:
     for axis in range(3):
         dot = tree.nodes.new("ShaderNodeVectorMath")
         dot.operation = "DOT_PRODUCT"
-        dot.inputs[1].default_value = tuple(-c for c in rows[axis])
-        tree.links.new(coords.outputs["Object"], dot.inputs[0])
-        tree.links.new(dot.outputs["Value"], combine.inputs[axis])
+        compat.input_socket(dot, "Vector_001").default_value = tuple(-c for c in rows[axis])
+        tree.links.new(coords.outputs["Object"], compat.input_socket(dot, "Vector"))
+        tree.links.new(dot.outputs["Value"], compat.input_socket(combine, "XYZ"[axis]))
     unit = tree.nodes.new("ShaderNodeVectorMath")
     unit.operation = "NORMALIZE"
-    tree.links.new(combine.outputs["Vector"], unit.inputs[0])
+    tree.links.new(combine.outputs["Vector"], compat.input_socket(unit, "Vector"))
     tree.links.new(unit.outputs["Vector"], socket)
 
 
@@ -245,13 +246,13 @@ def _emitted(tree, lights_node, settings: Settings):
     for term in ("Ambient", "Diffuse"):
         add = tree.nodes.new("ShaderNodeVectorMath")
         add.operation = "ADD"
-        tree.links.new(total, add.inputs[0])
-        tree.links.new(outputs[term], add.inputs[1])
+        tree.links.new(total, compat.input_socket(add, "Vector"))
+        tree.links.new(outputs[term], compat.input_socket(add, "Vector_001"))
         total = add.outputs["Vector"]
     clamp = tree.nodes.new("ShaderNodeVectorMath")
     clamp.operation = "MINIMUM"
-    clamp.inputs[1].default_value = (1.0, 1.0, 1.0)
-    tree.links.new(total, clamp.inputs[0])
+    compat.input_socket(clamp, "Vector_001").default_value = (1.0, 1.0, 1.0)
+    tree.links.new(total, compat.input_socket(clamp, "Vector"))
     return clamp.outputs["Vector"]
 
 
@@ -261,15 +262,12 @@ def bake_material(material, settings: Settings, camera, image=None, matrix=None)
     ``camera_matrix``); ``None`` *material*: one that emits black."""
     if material is None:
         copy = bpy.data.materials.new("Phong Bake (black)")
-        tree = copy.node_tree if copy.node_tree is not None else None
-        if tree is None:
-            copy.use_nodes = True
-            tree = copy.node_tree
+        tree = compat.new_material_tree(copy)
         tree.nodes.clear()
         output = tree.nodes.new("ShaderNodeOutputMaterial")
         emission = tree.nodes.new("ShaderNodeEmission")
         emission.inputs["Color"].default_value = (0.0, 0.0, 0.0, 1.0)
-        tree.links.new(emission.outputs[0], output.inputs["Surface"])
+        tree.links.new(compat.output_socket(emission, "Emission"), output.inputs["Surface"])
     else:
         copy = material.copy()
         copy.name = f"{material.name} (Phong bake)"
@@ -281,7 +279,7 @@ def bake_material(material, settings: Settings, camera, image=None, matrix=None)
         emission.inputs["Strength"].default_value = 1.0
         tree.links.new(_emitted(tree, lights_node, settings), emission.inputs["Color"])
         output = tree.nodes[materials.OUTPUT]
-        tree.links.new(emission.outputs[0], output.inputs["Surface"])
+        tree.links.new(compat.output_socket(emission, "Emission"), output.inputs["Surface"])
     copy[TEMP_KEY] = 1
     if image is not None:
         node = tree.nodes.new("ShaderNodeTexImage")

@@ -40,7 +40,7 @@ def _display_material(obj):
     output.location = (300.0, 0.0)
     background = tree.nodes.new("ShaderNodeBackground")
     background.inputs["Strength"].default_value = 1.0
-    tree.links.new(background.outputs[0], output.inputs["Surface"])
+    tree.links.new(compat.output_socket(background, "Background"), output.inputs["Surface"])
     if info["target"] == "IMAGE":
         image = obj.get(lighting.IMAGE_KEY)
         if not isinstance(image, bpy.types.Image):

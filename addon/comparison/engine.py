@@ -117,9 +117,9 @@ def _add_probes(tree) -> None:
     geometry = tree.nodes.new("ShaderNodeNewGeometry")
     info = tree.nodes.new("ShaderNodeObjectInfo")
     params = tree.nodes.new("ShaderNodeCombineXYZ")
-    tree.links.new(group_in.outputs["Exponent"], params.inputs[0])
-    tree.links.new(group_in.outputs["Blinn"], params.inputs[1])
-    tree.links.new(info.outputs["Object Index"], params.inputs[2])
+    tree.links.new(group_in.outputs["Exponent"], compat.input_socket(params, "X"))
+    tree.links.new(group_in.outputs["Blinn"], compat.input_socket(params, "Y"))
+    tree.links.new(info.outputs["Object Index"], compat.input_socket(params, "Z"))
     sources = {"P": geometry.outputs["Position"], "N": geometry.outputs["Normal"],
                "I": geometry.outputs["Incoming"], "normal": group_in.outputs["Normal"],
                "view": group_in.outputs["View Vector"],

@@ -141,27 +141,28 @@ def _controls(material, obj_data) -> None:
         "phong_irradiant_color": mat["irradiant"] if "irradiant" in terms else BLACK,
     }
     for name, color in values.items():
-        materials.set_quietly(nodes[name].outputs[0], (*color, 1.0))
-    materials.set_quietly(nodes["phong_exponent"].outputs[0], [mat["exponent"]])
-    materials.set_quietly(nodes["phong_blinn"].outputs[0], [mat["blinn"]])
+        materials.set_quietly(compat.value_output(nodes[name]), (*color, 1.0))
+    materials.set_quietly(compat.value_output(nodes["phong_exponent"]), [mat["exponent"]])
+    materials.set_quietly(compat.value_output(nodes["phong_blinn"]), [mat["blinn"]])
     # three.js: MeshLambertMaterial, or no specular term, is specularStrength 0 (a black
     # specular colour alone would keep three.js's Fresnel reflection)
     lambert = mat.get("type") == "lambert" or "specular" not in terms
-    materials.set_quietly(nodes["phong_specular_strength"].outputs[0], [0.0 if lambert else 1.0])
+    materials.set_quietly(compat.value_output(nodes["phong_specular_strength"]),
+                          [0.0 if lambert else 1.0])
     lights = nodes[materials.LIGHTS_NODE]
     color_feed = lights.inputs["Object Color"].links[0].from_socket
     textured = color_feed.node.name != "phong_object_color"
     # The ambient light sees the material's own Ambient Object Color control: the object
     # colour, or black without the ambient term (the same layout for every object).
-    ambient = color_feed if textured and "ambient" in terms else materials.control_node(
-        tree, materials.AMBIENT_CONTROL, "Ambient Object Color",
-        mat["color"] if "ambient" in terms else BLACK).outputs[0]
+    ambient = color_feed if textured and "ambient" in terms else compat.value_output(
+        materials.control_node(tree, materials.AMBIENT_CONTROL, "Ambient Object Color",
+                               mat["color"] if "ambient" in terms else BLACK))
     tree.links.new(ambient, lights.inputs[materials.AMBIENT_INPUT])
     control = nodes["phong_object_color"]
-    materials.set_quietly(control.outputs[0],
+    materials.set_quietly(compat.value_output(control),
                           (*(mat["color"] if "diffuse" in terms else BLACK), 1.0))
     if textured and "diffuse" not in terms:
-        tree.links.new(control.outputs[0], lights.inputs["Object Color"])
+        tree.links.new(compat.value_output(control), lights.inputs["Object Color"])
 
 
 def _link(light, reached, everyone) -> None:

@@ -20,6 +20,7 @@ import bpy
 import numpy as np
 
 from ...core import collada
+from .. import compat
 from ..lighting import materials as recipe
 from ..lighting import properties
 from . import collada_import as imp
@@ -38,7 +39,7 @@ def _feed(lights, name, material, warnings):
     if node.bl_idname == "ShaderNodeTexImage" and node.image is not None:
         return (1.0, 1.0, 1.0), node
     if node.bl_idname == "ShaderNodeRGB":
-        return tuple(float(c) for c in node.outputs[0].default_value[:3]), None
+        return tuple(float(c) for c in compat.value_output(node).default_value[:3]), None
     warnings.append(f"material {material.name}: {name} is fed by a {node.bl_idname} node, "
                     "which COLLADA cannot say; written black")
     return (0.0, 0.0, 0.0), None
@@ -55,7 +56,7 @@ def material_of(material, warnings) -> collada.Material:
         return out
     tree = material.node_tree
     lights = tree.nodes[recipe.LIGHTS_NODE]
-    blinn = float(tree.nodes["phong_blinn"].outputs[0].default_value)
+    blinn = float(compat.value_output(tree.nodes["phong_blinn"]).default_value)
     technique = material.get(imp.TECHNIQUE_KEY)
     if technique not in collada.TECHNIQUES:
         technique = "blinn" if blinn >= 0.5 else "phong"
@@ -75,7 +76,7 @@ def material_of(material, warnings) -> collada.Material:
             texcoord = uv.uv_map if uv is not None and uv.bl_idname == "ShaderNodeUVMap" \
                 else "UVMap"
             out.textures[element] = collada.Texture(path, path, texcoord, texture.image.name)
-    out.shininess = float(tree.nodes["phong_exponent"].outputs[0].default_value)
+    out.shininess = float(compat.value_output(tree.nodes["phong_exponent"]).default_value)
     opacity = recipe.opacity(material)
     mode = material.get(imp.OPAQUE_KEY)
     if mode in collada.OPAQUE_MODES and imp.TRANSPARENT_KEY in material.keys():

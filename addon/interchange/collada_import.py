@@ -34,6 +34,7 @@ import numpy as np
 from mathutils import Matrix
 
 from ...core import collada
+from .. import compat
 from ..lighting import materials as recipe
 from ..lighting import properties
 from ..lighting import sync as sync_mod
@@ -419,7 +420,7 @@ class _Builder:
         for index, (socket_name, (element, control)) in enumerate(INPUTS.items()):
             color = source.color(element)
             node = recipe.color_control(tree, control, color)
-            output = node.outputs[0]
+            output = compat.value_output(node)
             texture = source.texture(element)
             if texture is not None:
                 image = self.image(texture, source)
@@ -427,18 +428,18 @@ class _Builder:
                     output = self.texture_node(tree, socket_name, image, texture, uv_binding,
                                                index)
             tree.links.new(output, lights.inputs[socket_name])
-        tree.nodes["phong_exponent"].outputs[0].default_value = (
+        compat.value_output(tree.nodes["phong_exponent"]).default_value = (
             source.shininess if source.shininess is not None and source.technique in
             ("phong", "blinn") else 0.0)
-        tree.nodes["phong_blinn"].outputs[0].default_value = \
+        compat.value_output(tree.nodes["phong_blinn"]).default_value = \
             1.0 if source.technique == "blinn" else 0.0
         strength = tree.nodes.get("phong_specular_strength")
         if strength is not None:
-            strength.outputs[0].default_value = \
+            compat.value_output(strength).default_value = \
                 1.0 if source.technique in ("phong", "blinn") else 0.0
         if source.shininess is not None and source.shininess < 0.0:
             self.doc.warn(f"material {source.name}: shininess {source.shininess:g} read as 0")
-            tree.nodes["phong_exponent"].outputs[0].default_value = 0.0
+            compat.value_output(tree.nodes["phong_exponent"]).default_value = 0.0
         material[TECHNIQUE_KEY] = source.technique
         material[OPAQUE_KEY] = source.opaque
         if source.transparent is not None:

@@ -36,6 +36,7 @@ import bpy
 from mathutils import Matrix
 
 from ...core import fbx
+from .. import compat
 from ..lighting import materials as recipe
 from ..lighting import properties
 from ..lighting import sync as sync_mod
@@ -152,7 +153,7 @@ def _build(context, data: fbx.Scene, path, warnings) -> None:
     for source in data.materials:
         material = bpy.data.materials.new(source.name or "Material")
         if source.model == "OTHER":  # a plain material, as a stand-in for Blender's own
-            material.use_nodes = True
+            compat.new_material_tree(material)
         mats.setdefault(source.name, material)
     for node in data.nodes:
         thing = None
@@ -263,15 +264,15 @@ def apply_material(material, source: fbx.Material, warnings: list, images: dict,
         color = source.colors[name]
         node = recipe.color_control(tree, control, color)
         keep.add(control)
-        socket = node.outputs[0]
+        socket = compat.value_output(node)
         texture = source.textures.get(name)
         image = _image(texture, images, warnings, where) if texture is not None else None
         if image is not None:
             socket = obj_import._multiplied(tree, name, socket, image, index)
             keep |= {obj_import.MAP_NODE + name, obj_import.MULTIPLY_NODE + name}
         tree.links.new(socket, lights.inputs[name])
-    tree.nodes["phong_exponent"].outputs[0].default_value = source.exponent
-    tree.nodes["phong_blinn"].outputs[0].default_value = 1.0 if source.blinn else 0.0
+    compat.value_output(tree.nodes["phong_exponent"]).default_value = source.exponent
+    compat.value_output(tree.nodes["phong_blinn"]).default_value = 1.0 if source.blinn else 0.0
     recipe.set_opacity(material, source.opacity)
     if lights.inputs["Normal"].is_linked:
         tree.links.remove(lights.inputs["Normal"].links[0])

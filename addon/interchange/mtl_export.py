@@ -28,6 +28,7 @@ import os
 import bpy
 
 from ...core import mtl, outputs
+from .. import compat
 from ..lighting import materials as recipe
 from .obj_import import ILLUM_KEY
 
@@ -68,7 +69,7 @@ def _plain(value):
 def _source(material, input_name, control):
     """(value, node feeding the input when it is not the control) of a recipe input."""
     node = material.node_tree.nodes.get(control)
-    value = _plain(node.outputs[0].default_value) if node is not None else None
+    value = _plain(compat.value_output(node).default_value) if node is not None else None
     socket = _input(material, input_name)
     if socket is None:
         return value, None
@@ -105,7 +106,7 @@ def _map_or_value(material, input_name, control, mtl_folder, warnings):
         return (multiplied[0], _image_path(multiplied[1].image, mtl_folder),
                 _placement(material, multiplied[1], warnings))
     if feeder.bl_idname == "ShaderNodeRGB":
-        return tuple(feeder.outputs[0].default_value), None, {}
+        return tuple(compat.value_output(feeder).default_value), None, {}
     what = (f"packed image {feeder.image.name!r} (unpack it to write a map)"
             if getattr(feeder, "image", None) is not None else f"node {feeder.name!r}")
     warnings.append(f"{material.name}: {input_name} comes from {what}; the control's value "
@@ -143,14 +144,14 @@ def _colour_times_map(node):
     Math Multiply of an RGB node and an Image Texture), else None."""
     if node.bl_idname != "ShaderNodeVectorMath" or node.operation != "MULTIPLY":
         return None
-    a, b = node.inputs[0], node.inputs[1]
+    a, b = compat.input_socket(node, "Vector"), compat.input_socket(node, "Vector_001")
     if not (a.is_linked and b.is_linked):
         return None
     rgb, texture = a.links[0].from_node, b.links[0].from_node
     if rgb.bl_idname != "ShaderNodeRGB" or texture.bl_idname != "ShaderNodeTexImage" \
             or texture.image is None:
         return None
-    return tuple(rgb.outputs[0].default_value), texture
+    return tuple(compat.value_output(rgb).default_value), texture
 
 
 def to_mtl(material, mtl_folder, name=None):
@@ -231,7 +232,7 @@ def _colour_only(material, mtl_folder):
             upstream = socket.links[0].from_node
             if upstream.bl_idname != "ShaderNodeRGB":
                 return None
-            value = upstream.outputs[0].default_value
+            value = compat.value_output(upstream).default_value
         else:
             value = socket.default_value
         if any(float(v) != 0.0 for v in tuple(value)[:3]):

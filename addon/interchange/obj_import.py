@@ -32,6 +32,7 @@ import os
 import bpy
 
 from ...core import mtl
+from .. import compat
 from ..lighting import materials as recipe
 from ..lighting import sync as sync_mod
 
@@ -137,7 +138,7 @@ def apply_mtl(material, source: mtl.Material, warnings: list, missing: dict) -> 
         color = wanted["colors"][name]
         node = recipe.color_control(tree, control, color)
         keep.add(control)
-        socket = node.outputs[0]
+        socket = compat.value_output(node)
         texture = wanted["maps"][name]
         image = _image(texture, missing, user) if texture is not None else None
         if image is not None:
@@ -145,9 +146,9 @@ def apply_mtl(material, source: mtl.Material, warnings: list, missing: dict) -> 
             keep |= {MAP_NODE + name, MULTIPLY_NODE + name}
             keep |= _placed(tree, name, texture.placement())
         tree.links.new(socket, lights.inputs[name])
-    tree.nodes["phong_exponent"].outputs[0].default_value = (
+    compat.value_output(tree.nodes["phong_exponent"]).default_value = (
         30.0 if wanted["exponent"] is None else wanted["exponent"])
-    tree.nodes["phong_blinn"].outputs[0].default_value = wanted["blinn"]
+    compat.value_output(tree.nodes["phong_blinn"]).default_value = wanted["blinn"]
     material[ILLUM_KEY] = min(wanted["illum"], 2)
     bump = source.maps.get("bump")
     image = _image(bump, missing, user, non_color=True) if bump is not None else None
@@ -176,8 +177,8 @@ def _multiplied(tree, name, color_socket, image, index):
     multiply.name = MULTIPLY_NODE + name
     multiply.operation = "MULTIPLY"
     multiply.location = (-600.0, 200.0 - 300.0 * index)
-    tree.links.new(color_socket, multiply.inputs[0])
-    tree.links.new(texture.outputs["Color"], multiply.inputs[1])
+    tree.links.new(color_socket, compat.input_socket(multiply, "Vector"))
+    tree.links.new(texture.outputs["Color"], compat.input_socket(multiply, "Vector_001"))
     return multiply.outputs["Vector"]
 
 

@@ -29,6 +29,7 @@ import math
 import numpy as np
 
 from ...core import threejs
+from .. import compat
 from ..scene import describe
 from ..lighting import materials
 
@@ -47,14 +48,14 @@ def _input_value(node, name, warnings, material):
     if socket.is_linked:
         source = socket.links[0].from_node
         if source.bl_idname in ("ShaderNodeRGB", "ShaderNodeValue"):
-            value = source.outputs[0].default_value
+            value = compat.value_output(source).default_value
         else:
             control = {"Object Color": "phong_object_color"}.get(name)
             fallback = material.node_tree.nodes.get(control) if control else None
             warnings.append(f"{material.name}: {name} comes from a {source.bl_idname} node "
                             "(a texture); the page uses "
                             + ("its control's colour" if fallback else "the socket's value"))
-            value = (fallback.outputs[0].default_value if fallback is not None
+            value = (compat.value_output(fallback).default_value if fallback is not None
                      else socket.default_value)
     else:
         value = socket.default_value

@@ -225,7 +225,7 @@ def _controls(tree, base=None) -> dict:
             value = default
             if name == "phong_object_color" and base is not None:
                 value = (*tuple(base)[:3], 1.0)
-            node.outputs[0].default_value = value
+            compat.value_output(node).default_value = value
             node.parent = frame
             node.location = (-880.0, 260.0 - 190.0 * index)
         nodes[name] = node
@@ -243,7 +243,7 @@ def _opacity_node(tree, frame=None):
     node = tree.nodes.new(OPACITY_CONTROL[0])
     node.name = OPACITY
     node.label = OPACITY_CONTROL[1]
-    node.outputs[0].default_value = OPACITY_CONTROL[2]
+    compat.value_output(node).default_value = OPACITY_CONTROL[2]
     frame = frame if frame is not None else tree.nodes.get(FRAME)
     if frame is not None:
         node.parent = frame
@@ -256,7 +256,7 @@ def opacity(material) -> float:
     node = material.node_tree.nodes.get(OPACITY) if material.node_tree else None
     if node is None or node.bl_idname != OPACITY_CONTROL[0]:
         return 1.0
-    return float(node.outputs[0].default_value)
+    return float(compat.value_output(node).default_value)
 
 
 def set_opacity(material, value) -> float:
@@ -272,8 +272,9 @@ def set_opacity(material, value) -> float:
         raise ValueError("opacity must be a number, not NaN")
     value = min(max(value, 0.0), 1.0)
     node = _opacity_node(material.node_tree)
-    if float(node.outputs[0].default_value) != value:
-        node.outputs[0].default_value = value
+    control = compat.value_output(node)
+    if float(control.default_value) != value:
+        control.default_value = value
     apply_opacity(material)
     return value
 
@@ -302,10 +303,10 @@ def apply_opacity(material) -> None:
     transparent = named_node(tree, OPACITY_TRANSPARENT, "ShaderNodeBsdfTransparent",
                              (-50.0, 300.0))
     transparent.inputs["Color"].default_value = (1.0, 1.0, 1.0, 1.0)
-    tree.links.new(tree.nodes[OPACITY].outputs[0], mix.inputs[0])
-    tree.links.new(transparent.outputs[0], mix.inputs[1])
-    tree.links.new(_shader(tree, lights), mix.inputs[2])
-    tree.links.new(mix.outputs[0], output.inputs["Surface"])
+    tree.links.new(compat.value_output(tree.nodes[OPACITY]), compat.input_socket(mix, "Fac"))
+    tree.links.new(compat.output_socket(transparent, "BSDF"), compat.input_socket(mix, "Shader"))
+    tree.links.new(_shader(tree, lights), compat.input_socket(mix, "Shader_001"))
+    tree.links.new(compat.output_socket(mix, "Shader"), output.inputs["Surface"])
     _render_method(material, "BLENDED")
 
 
@@ -314,7 +315,7 @@ def _shader(tree, lights):
     shading (``shading/modes.py``) the Emission of the stored colour."""
     emission = tree.nodes.get(SHADING_EMISSION)
     if emission is not None and emission.bl_idname == "ShaderNodeEmission":
-        return emission.outputs[0]
+        return compat.output_socket(emission, "Emission")
     return lights.outputs["Shader"]
 
 
@@ -383,7 +384,7 @@ def control_node(tree, name, label, color):
     if node != before and frame is not None:  # a new control goes into the frame
         node.parent = frame
     node.label = label
-    set_quietly(node.outputs[0], (*tuple(color)[:3], 1.0))
+    set_quietly(compat.value_output(node), (*tuple(color)[:3], 1.0))
     return node
 
 
@@ -417,7 +418,7 @@ def wire(material, lights_group, object_color=None) -> None:
     node.label = "Phong Lights"
     for control, (_kind, _label, _default, target) in CONTROLS.items():
         if not node.inputs[target].is_linked:
-            tree.links.new(controls[control].outputs[0], node.inputs[target])
+            tree.links.new(compat.value_output(controls[control]), node.inputs[target])
     if object_color is not None:
         tree.links.new(object_color, node.inputs["Object Color"])
     ambient = node.inputs[AMBIENT_INPUT]
@@ -466,7 +467,7 @@ def from_source(source, name, lights_group, template=None):
         material.name = name
         value = base_color(source)
         default = CONTROLS["phong_object_color"][2]
-        set_quietly(material.node_tree.nodes["phong_object_color"].outputs[0],
+        set_quietly(compat.value_output(material.node_tree.nodes["phong_object_color"]),
                     default if value is None else (*value[:3], 1.0))
     else:
         material = new_material(name, lights_group, base_color(source))
@@ -482,8 +483,7 @@ def from_source(source, name, lights_group, template=None):
 
 def _socket_in_copy(material, socket):
     node = material.node_tree.nodes[socket.node.name]
-    return node.outputs[socket.identifier] if socket.identifier in node.outputs else \
-        next(o for o in node.outputs if o.name == socket.name)
+    return compat.output_socket(node, socket.identifier)
 
 
 def _strip_to_texture(material, texture_socket):

@@ -451,11 +451,11 @@ def _vector_node(tree, operation, name, location, a, b):
     node.name = node.label = name
     node.operation = operation
     node.location = location
-    tree.links.new(a, node.inputs[0])
+    tree.links.new(a, compat.input_socket(node, "Vector"))
     if isinstance(b, tuple):
-        node.inputs[1].default_value = b
+        compat.input_socket(node, "Vector_001").default_value = b
     else:
-        tree.links.new(b, node.inputs[1])
+        tree.links.new(b, compat.input_socket(node, "Vector_001"))
     return node.outputs["Vector"]
 
 

@@ -49,7 +49,10 @@ def opacity_getter(node_name):
     def get(self):
         tree = self.id_data.node_tree
         node = tree.nodes.get(node_name) if tree is not None else None
-        return float(node.outputs[0].default_value) if node is not None and node.outputs else 1.0
+        # the Value node's output by identifier (compat.value_output, which imports bpy)
+        value = next((s for s in node.outputs if s.identifier == "Value"), None) \
+            if node is not None else None
+        return float(value.default_value) if value is not None else 1.0
     return get
 
 

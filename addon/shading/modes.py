@@ -38,7 +38,7 @@ from bpy.app.handlers import persistent
 
 from ...node_groups import shading_modes as model
 from ...node_groups.expr import VECTOR, input_
-from .. import loader
+from .. import compat, loader
 from ..lighting import drivers, materials, properties, rig
 
 #: Custom property of the material: its shading mode (docs/contract.md).
@@ -438,17 +438,17 @@ def build_geometry_tree(tree) -> None:
         x[0] += 200.0
         return node.outputs["Geometry"]
 
-    geometry = new("NodeGroupInput").outputs[0]
+    geometry = compat.output_socket(new("NodeGroupInput"), "Geometry")
     x[0] += 200.0
-    position = new("GeometryNodeInputPosition").outputs[0]
-    normal = new("GeometryNodeInputNormal").outputs[0]
+    position = compat.output_socket(new("GeometryNodeInputPosition"), "Position")
+    normal = compat.output_socket(new("GeometryNodeInputNormal"), "Normal")
     # the face: its centre (the mean of its corners) and normal, before triangulation
     geometry = store(geometry, FACE_CENTRE, "FACE", position)
     geometry = store(geometry, FACE_NORMAL, "FACE", normal)
     geometry = store(geometry, _POINT_NORMAL, "POINT", normal)  # the vertex normal
     triangulate = new("GeometryNodeTriangulate")
-    links.new(geometry, triangulate.inputs[0])
-    geometry = triangulate.outputs[0]
+    links.new(geometry, compat.input_socket(triangulate, "Mesh"))
+    geometry = compat.output_socket(triangulate, "Mesh")
     x[0] += 200.0
     vertex_normal = new("GeometryNodeInputNamedAttribute", data_type="FLOAT_VECTOR")
     vertex_normal.inputs["Name"].default_value = _POINT_NORMAL
@@ -469,16 +469,16 @@ def build_geometry_tree(tree) -> None:
     basis = new("ShaderNodeCombineXYZ")
     for k in range(3):
         equal = new("ShaderNodeMath", operation="COMPARE")
-        links.new(index_in_face, equal.inputs[0])
-        equal.inputs[1].default_value = float(k)
-        equal.inputs[2].default_value = 0.25
-        links.new(equal.outputs[0], basis.inputs[k])
-    geometry = store(geometry, WEIGHTS, "CORNER", basis.outputs[0])
+        links.new(index_in_face, compat.input_socket(equal, "Value"))
+        compat.input_socket(equal, "Value_001").default_value = float(k)
+        compat.input_socket(equal, "Value_002").default_value = 0.25
+        links.new(compat.output_socket(equal, "Value"), compat.input_socket(basis, "XYZ"[k]))
+    geometry = store(geometry, WEIGHTS, "CORNER", compat.output_socket(basis, "Vector"))
     remove = new("GeometryNodeRemoveAttribute")
     links.new(geometry, remove.inputs["Geometry"])
     remove.inputs["Name"].default_value = _POINT_NORMAL
     x[0] += 200.0
-    links.new(remove.outputs["Geometry"], new("NodeGroupOutput").inputs[0])
+    links.new(remove.outputs["Geometry"], compat.input_socket(new("NodeGroupOutput"), "Geometry"))
 
 
 # -- the shading group (per lights group and mode) ------------------------------------------
@@ -546,26 +546,27 @@ class _Builder:
 
     def value(self, name, id_type, id_block, path, scale=None):
         node = self.node("ShaderNodeValue", name)
-        drivers.prop(node.outputs[0], None, id_type, id_block, path, scale)
-        return node.outputs[0]
+        drivers.prop(compat.value_output(node), None, id_type, id_block, path, scale)
+        return compat.value_output(node)
 
     def constant(self, name, value):
         node = self.node("ShaderNodeValue", name)
-        node.outputs[0].default_value = float(value)
-        return node.outputs[0]
+        compat.value_output(node).default_value = float(value)
+        return compat.value_output(node)
 
     def vector(self, name, id_type, id_block, path):
         """A vector of three driven channels: path[0], path[1], path[2]."""
         node = self.node("ShaderNodeCombineXYZ", name)
-        for index, socket in enumerate(node.inputs[:3]):
-            drivers.prop(socket, None, id_type, id_block, f"{path}[{index}]")
-        return node.outputs[0]
+        for index, axis in enumerate("XYZ"):
+            drivers.prop(compat.input_socket(node, axis), None, id_type, id_block,
+                         f"{path}[{index}]")
+        return compat.output_socket(node, "Vector")
 
     def constant_vector(self, name, value):
         node = self.node("ShaderNodeCombineXYZ", name)
-        for index, socket in enumerate(node.inputs[:3]):
-            socket.default_value = float(value[index])
-        return node.outputs[0]
+        for index, axis in enumerate("XYZ"):
+            compat.input_socket(node, axis).default_value = float(value[index])
+        return compat.output_socket(node, "Vector")
 
     def attribute(self, name, attribute_type="GEOMETRY"):
         node = self.node("ShaderNodeAttribute", name, x=-1300.0)
@@ -577,8 +578,8 @@ class _Builder:
         node = self.node("ShaderNodeVectorTransform", x=-1100.0)
         node.vector_type = vector_type
         node.convert_from, node.convert_to = "OBJECT", "WORLD"
-        self.tree.links.new(socket, node.inputs[0])
-        return node.outputs[0]
+        self.tree.links.new(socket, compat.input_socket(node, "Vector"))
+        return compat.output_socket(node, "Vector")
 
     def normal_to_world(self, socket):
         """Object-space normal *socket* in world space: M^-T n = cof(M) n / det(M), from the
@@ -590,26 +591,26 @@ class _Builder:
                 node = self.node("ShaderNodeVectorTransform", x=-1300.0)
                 node.vector_type = "VECTOR"
                 node.convert_from, node.convert_to = "OBJECT", "WORLD"
-                node.inputs[0].default_value = axis
-                axes.append(node.outputs[0])
+                compat.input_socket(node, "Vector").default_value = axis
+                axes.append(compat.output_socket(node, "Vector"))
             columns = [self.math("CROSS_PRODUCT", axes[(i + 1) % 3], axes[(i + 2) % 3])
                        for i in range(3)]  # cof(M) = [M e2 x M e3, M e3 x M e1, M e1 x M e2]
             det = self.node("ShaderNodeVectorMath", x=-1000.0)
             det.operation = "DOT_PRODUCT"
-            self.tree.links.new(axes[0], det.inputs[0])
-            self.tree.links.new(columns[0], det.inputs[1])
+            self.tree.links.new(axes[0], compat.input_socket(det, "Vector"))
+            self.tree.links.new(columns[0], compat.input_socket(det, "Vector_001"))
             inverse = self.node("ShaderNodeMath", x=-900.0)
             inverse.operation = "DIVIDE"
-            inverse.inputs[0].default_value = 1.0
-            self.tree.links.new(det.outputs["Value"], inverse.inputs[1])
-            self._cofactors = (columns, inverse.outputs[0])
+            compat.input_socket(inverse, "Value").default_value = 1.0
+            self.tree.links.new(det.outputs["Value"], compat.input_socket(inverse, "Value_001"))
+            self._cofactors = (columns, compat.output_socket(inverse, "Value"))
         columns, inverse_det = self._cofactors
         split = self.node("ShaderNodeSeparateXYZ", x=-1100.0)
-        self.tree.links.new(socket, split.inputs[0])
+        self.tree.links.new(socket, compat.input_socket(split, "Vector"))
         total = None
         for k in range(3):
             term = self.math("SCALE", columns[k], (0.0, 0.0, 0.0))
-            self.tree.links.new(split.outputs[k], term.node.inputs["Scale"])
+            self.tree.links.new(compat.output_socket(split, "XYZ"[k]), term.node.inputs["Scale"])
             total = term if total is None else self.math("ADD", total, term)
         out = self.math("SCALE", total, (0.0, 0.0, 0.0))
         self.tree.links.new(inverse_det, out.node.inputs["Scale"])
@@ -618,7 +619,8 @@ class _Builder:
     def math(self, operation, a, b, name=None):
         node = self.node("ShaderNodeVectorMath", name, x=-1000.0)
         node.operation = operation
-        for socket, value in zip(node.inputs, (a, b)):
+        for key, value in (("Vector", a), ("Vector_001", b)):
+            socket = compat.input_socket(node, key)
             if isinstance(value, bpy.types.NodeSocket):
                 self.tree.links.new(value, socket)
             else:
@@ -687,24 +689,25 @@ def build_shading_group(tree, mode, lights, world, light_model, world_keys, scen
         writer.output(colors[0], group_out.inputs["Color"], "color")
     else:
         weights = b.node("ShaderNodeSeparateXYZ", x=-1000.0)
-        tree.links.new(b.attribute(WEIGHTS), weights.inputs[0])
+        tree.links.new(b.attribute(WEIGHTS), compat.input_socket(weights, "Vector"))
         total, mixing = None, []
         for k, color in enumerate(colors):
             scaled = tree.nodes.new("ShaderNodeVectorMath")
             scaled.operation = "SCALE"
             scaled.name = scaled.label = f"vertex {k}"
-            writer.output(color, scaled.inputs[0], "vector")
+            writer.output(color, compat.input_socket(scaled, "Vector"), "vector")
             writer.output(color, group_out.inputs[VERTEX_OUTPUTS[k]], "color")
-            tree.links.new(weights.outputs[k], scaled.inputs["Scale"])
+            tree.links.new(compat.output_socket(weights, "XYZ"[k]), scaled.inputs["Scale"])
             mixing.append(scaled)
             if total is None:
-                total = scaled.outputs[0]
+                total = compat.output_socket(scaled, "Vector")
                 continue
             add = tree.nodes.new("ShaderNodeVectorMath")
             add.operation = "ADD"
-            tree.links.new(total, add.inputs[0])
-            tree.links.new(scaled.outputs[0], add.inputs[1])
-            total = add.outputs[0]
+            tree.links.new(total, compat.input_socket(add, "Vector"))
+            tree.links.new(compat.output_socket(scaled, "Vector"),
+                           compat.input_socket(add, "Vector_001"))
+            total = compat.output_socket(add, "Vector")
             mixing.append(add)
         tree.links.new(total, group_out.inputs["Color"])
         x = (writer.max_depth + 1) * loader.COLUMN_WIDTH
@@ -718,15 +721,15 @@ def _orthographic(b, scene):
     """1 when *scene*'s camera is orthographic, else 0: a driver (no Python expression) on
     the camera's type (PERSP 0, ORTHO 1, PANO 2); 0 without a scene or camera."""
     value = b.node("ShaderNodeValue", "camera type")
-    value.outputs[0].default_value = 0.0
+    compat.value_output(value).default_value = 0.0
     if scene is not None:
-        drivers.prop(value.outputs[0], None, "SCENE", scene, "camera.data.type")
+        drivers.prop(compat.value_output(value), None, "SCENE", scene, "camera.data.type")
     equal = b.node("ShaderNodeMath", "orthographic")
     equal.operation = "COMPARE"
-    b.tree.links.new(value.outputs[0], equal.inputs[0])
-    equal.inputs[1].default_value = 1.0
-    equal.inputs[2].default_value = 0.25
-    return equal.outputs[0]
+    b.tree.links.new(compat.value_output(value), compat.input_socket(equal, "Value"))
+    compat.input_socket(equal, "Value_001").default_value = 1.0
+    compat.input_socket(equal, "Value_002").default_value = 0.25
+    return compat.output_socket(equal, "Value")
 
 
 def _ambient_sockets(b, world) -> dict:
@@ -761,10 +764,10 @@ def _light_sockets(b, index, obj, world_keys) -> dict:
             return socket
         node = b.node("ShaderNodeVectorMath", name)
         node.operation = "ADD"
-        node.inputs[1].default_value = (0.0, 0.0, 0.0)
+        compat.input_socket(node, "Vector_001").default_value = (0.0, 0.0, 0.0)
         (drivers.world_location if kind == "LOCATION" else drivers.world_minus_z)(
-            node.inputs[0], obj)
-        return node.outputs[0]
+            compat.input_socket(node, "Vector"), obj)
+        return compat.output_socket(node, "Vector")
 
     factories = {prefix + "Position": lambda: transform("LOCATION"),
                  prefix + "Direction": lambda: transform("AXIS"),
