@@ -120,6 +120,32 @@ def light_at(light, P, model="seeds"):
     return out["Light Vector"], _power(out, light) if power else out["Intensity"], edge
 
 
+def x3d_light_at(light, P):
+    """(ℓ, intensity I, ambient intensity Ia, ambiguous) of one light of the X3D / VRML97
+    model (docs/x3d.md) at the points P (N, 3): both attenuated, spotted and cut at the
+    radius.  Ambiguous: within 1e-5 of the radius, and of a spot's cut-off angle where the
+    edge is hard (beamWidth ≥ cutOffAngle)."""
+    kind = light["type"]
+    if kind == "directional":
+        out = ref.x3d_directional_light(light["direction"], light["intensity"],
+                                        light.get("ambient", 0.0), geometry_position=P)
+        return out["Light Vector"], out["Intensity"], out["Ambient"], np.zeros(len(P), bool)
+    falloff = (light.get("ambient", 0.0), light["constant"], light["linear"], light["quadratic"],
+               light.get("radius", 100.0))
+    if kind == "point":
+        out = ref.x3d_point_light(light["position"], light["intensity"], *falloff,
+                                  geometry_position=P)
+        edge = np.zeros(len(P), bool)
+    else:
+        cut = math.radians(light["half_angle"])
+        beam = light.get("beam_width", cut)
+        out = ref.x3d_spot_light(light["position"], light["direction"], beam, cut,
+                                 light["intensity"], *falloff, geometry_position=P)
+        edge = (np.abs(out["Spot Angle"] - cut) < AMBIGUOUS) & (beam >= cut)
+    edge |= np.abs(out["Distance"] - falloff[-1]) < AMBIGUOUS
+    return out["Light Vector"], out["Intensity"], out["Ambient"], edge
+
+
 def _power(out, light):
     """The intensity of a light's group output *out* (no falloff) divided by d^k."""
     return ref.power_falloff(out["Distance"], out["Intensity"],
@@ -162,6 +188,7 @@ def reference_image(scene: dict, aovs: dict) -> dict:
 
     amb = scene["ambient"]
     threejs = scene.get("model") == "threejs"
+    x3d = scene.get("model") == "x3d"
     ambient = (ref.threejs_ambient if threejs else ref.ambient)(
         amb["intensity"], amb["color"], ambient_color)["Color"]
     sums = {"Irradiant": np.broadcast_to(irradiant, P.shape).copy(), "Ambient": ambient,
@@ -169,8 +196,19 @@ def reference_image(scene: dict, aovs: dict) -> dict:
     ambiguous = np.zeros(len(P), bool)
     n = ref.resolve_normal(normal, N)
     strength = probe("strength", 1)[hit][..., 0].astype(np.float64) if threejs else None
+    v = ref.resolve_view(view, I) if x3d else None
     for k, light in enumerate(scene["lights"]):
         on = reach[idx, k]
+        if x3d:  # docs/x3d.md: per-light ambient, Blinn highlights without the N·L condition
+            ell, intensity, ambient_i, edge = x3d_light_at(light, P)
+            ambiguous |= edge & on
+            out = ref.x3d_light_terms(ell, np.where(on, intensity, 0.0),
+                                      np.where(on, ambient_i, 0.0), light["color"], exponent,
+                                      n, v)
+            sums["Diffuse"] += out["Diffuse Light"] * color
+            sums["Specular"] += out["Specular Light"] * spec_color
+            sums["Ambient"] += out["Ambient Light"] * ambient_color
+            continue
         ell, intensity, edge = light_at(light, P, scene.get("model", "seeds"))
         if threejs:
             ambiguous |= edge & on

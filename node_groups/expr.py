@@ -123,6 +123,11 @@ def _normalize(v):
     return np.where(n != 0, v / np.where(n != 0, n, 1.0), 0.0)
 
 
+def _acos(x):
+    """Math ARCCOSINE: acos of x clamped to [-1, 1] (Blender's safe_acosf)."""
+    return np.arccos(np.clip(x, -1.0, 1.0))
+
+
 def _identity(x):
     return x
 
@@ -151,6 +156,7 @@ OPERATIONS = (
     Op("pow", FLOAT, _FF, _blender_pow, MATH, "POWER"),
     Op("lt", FLOAT, _FF, _less_than, MATH, "LESS_THAN"),
     Op("cos", FLOAT, (FLOAT,), np.cos, MATH, "COSINE"),
+    Op("acos", FLOAT, (FLOAT,), _acos, MATH, "ARCCOSINE"),
     Op("madd", FLOAT, (FLOAT, FLOAT, FLOAT), _multiply_add, MATH, "MULTIPLY_ADD"),
     Op("add", VECTOR, _VV, np.add, VECTOR_MATH, "ADD", output="Vector"),
     Op("sub", VECTOR, _VV, np.subtract, VECTOR_MATH, "SUBTRACT", output="Vector"),
@@ -324,6 +330,11 @@ def cos(a) -> Expr:
     return operation("cos", a)
 
 
+def acos(a) -> Expr:
+    """The angle whose cosine is *a* (clamped to [-1, 1] first), in radians."""
+    return operation("acos", a)
+
+
 def dot(a, b) -> Expr:
     return operation("dot", a, b)
 
@@ -415,6 +426,7 @@ def evaluate(expr: Expr, inputs: dict, geometry_values: dict | None = None, _mem
 __all__ = [
     "Expr", "Op", "OPERATIONS", "FLOAT", "VECTOR", "COLOR", "SHADER", "LEAVES", "const",
     "input_", "geometry", "operation", "maximum", "minimum", "power", "less_than", "at_least", "cos",
+    "acos",
     "dot", "length", "normalize", "select", "emission", "evaluate", "multiply_add",
     "reflect_about", "saturate",
 ]

@@ -18,7 +18,8 @@ import math
 from dataclasses import dataclass, field
 
 from .expr import (
-    COLOR, FLOAT, SHADER, VECTOR, Expr, at_least, cos, dot, emission, evaluate, geometry, input_,
+    COLOR, FLOAT, SHADER, VECTOR, Expr, acos, at_least, cos, dot, emission, evaluate, geometry,
+    input_,
     length, less_than, maximum, minimum, multiply_add, normalize, power, reflect_about, saturate,
     select,
 )
@@ -564,6 +565,113 @@ def _threejs_phong(g):
     g.output("Diffuse", diffuse, "saturate(n·ℓ)·i·light ⊗ color/π", color=True)
     g.output("Specular", specular, "saturate(n·ℓ)·i·light ⊗ F·G·D · specular strength", color=True)
     g.output("Color", diffuse + specular, "Diffuse + Specular (not clamped)", color=True)
+
+
+# -- X3D / VRML97 (docs/x3d.md: ISO/IEC 19775-1 §17.2.2.4, ISO/IEC 14772-1 §4.14.4) ------
+#
+# The standards' lighting equation is this project's model with a few additions, each a
+# formula here: every light brings its own ambient light (ambientIntensity × its colour,
+# attenuated and spotted like its direct light), the attenuation is clamped (never above 1),
+# a point or spot light reaches only the points within its radius, a spot fades linearly in
+# the angle from beamWidth to cutOffAngle, and the highlight is Blinn's without the N·L
+# condition: I = O_E + Σ attenuation·spot·IL ⊗ (Ia·O_a + I·O_d·max(N·L, 0) +
+# I·O_s·max(N·H, 0)^(128·shininess)).
+
+#: X3D's SpotLight defaults (VRML97's swap them: beamWidth π/2, cutOffAngle π/4; the reader
+#: of each standard gives its own).
+X3D_BEAM_WIDTH = 0.7854
+X3D_CUT_OFF_ANGLE = 1.570796
+#: X3D's PointLight / SpotLight radius default.
+X3D_RADIUS = 100.0
+_X_IA = "X3D ambientIntensity: the light's ambient light, attenuated and spotted as its direct light"
+
+
+def x3d_attenuation(d, constant, linear, quadratic):
+    """1/max(a0 + a1·d + a2·d², 1), the denominator as (a2·d + a1)·d + a0."""
+    return 1.0 / maximum(multiply_add(multiply_add(quadratic, d, linear), d, constant), 1.0)
+
+
+def _x3d_falloff_inputs(g):
+    i = g.value("Intensity", 1.0, "X3D intensity of the direct light", min=0.0)
+    ia = g.value("Ambient Intensity", 0.0, _X_IA, min=0.0)
+    a0 = g.value("Constant", 1.0, "a0 of 1/max(a0 + a1·d + a2·d², 1)", min=0.0)
+    a1 = g.value("Linear", 0.0, "a1 of 1/max(a0 + a1·d + a2·d², 1)", min=0.0)
+    a2 = g.value("Quadratic", 0.0, "a2 of 1/max(a0 + a1·d + a2·d², 1)", min=0.0)
+    radius = g.value("Radius", X3D_RADIUS, "The light reaches only the points within this "
+                     "distance (negative: everywhere)")
+    return i, ia, a0, a1, a2, radius
+
+
+def _x3d_near(s, i, ia, a0, a1, a2, radius):
+    """(ℓ, d, attenuation × the radius's cut-off) of a point or spot light at S."""
+    to_light = s - geometry("Position")
+    d = length(to_light)
+    reach = maximum(at_least(radius, d), less_than(radius, 0.0))
+    return normalize(to_light), d, x3d_attenuation(d, a0, a1, a2) * reach
+
+
+@group("X3D Directional Light", "X3D / VRML97 DirectionalLight: direct and ambient light, the same everywhere")
+def _x3d_directional(g):
+    """docs/x3d.md §Lights."""
+    u = g.vector("Direction", DOWN, "Direction u in which the rays travel")
+    i = g.value("Intensity", 1.0, "X3D intensity of the direct light", min=0.0)
+    ia = g.value("Ambient Intensity", 0.0, _X_IA, min=0.0)
+    g.output("Light Vector", -normalize(u), "ℓ = -u/‖u‖")
+    g.output("Intensity", i, "I, the same everywhere")
+    g.output("Ambient", ia, "Ia, the same everywhere")
+
+
+@group("X3D Point Light", "X3D / VRML97 PointLight: 1/max(a0 + a1·d + a2·d², 1) within a radius")
+def _x3d_point(g):
+    """docs/x3d.md §Lights."""
+    s = g.vector("Position", ZERO, _POS)
+    i, ia, a0, a1, a2, radius = _x3d_falloff_inputs(g)
+    l, d, factor = _x3d_near(s, i, ia, a0, a1, a2, radius)
+    g.output("Light Vector", l, "ℓ = (S-P)/‖S-P‖")
+    g.output("Intensity", i * factor, "I/max(a0 + a1·d + a2·d², 1) where d ≤ radius, else 0")
+    g.output("Ambient", ia * factor, "Ia/max(a0 + a1·d + a2·d², 1) where d ≤ radius, else 0")
+    g.output("Distance", d, "d = ‖S-P‖")
+
+
+@group("X3D Spot Light", "X3D / VRML97 SpotLight: a point light with a linear ramp from beamWidth to cutOffAngle")
+def _x3d_spot(g):
+    """docs/x3d.md §Lights: spot = 1 where ω ≤ beamWidth, 0 where ω ≥ cutOffAngle, linear in
+    ω between (a hard edge at cutOffAngle when beamWidth ≥ cutOffAngle)."""
+    s = g.vector("Position", ZERO, _POS)
+    u = g.vector("Direction", DOWN, "Axis u of the cone (normalized inside)")
+    beam = g.value("Beam Width", X3D_BEAM_WIDTH, "X3D beamWidth: full intensity within this "
+                   "angle of the axis", min=0.0, max=math.pi, subtype="ANGLE")
+    cut = g.value("Cut Off Angle", X3D_CUT_OFF_ANGLE, "X3D cutOffAngle: no light beyond this "
+                  "angle of the axis", min=0.0, max=math.pi, subtype="ANGLE")
+    i, ia, a0, a1, a2, radius = _x3d_falloff_inputs(g)
+    l, d, factor = _x3d_near(s, i, ia, a0, a1, a2, radius)
+    w = acos(-dot(l, normalize(u)))
+    ramp = saturate((w - cut) / (beam - cut))
+    spot = less_than(w, cut) * maximum(at_least(beam, w), ramp)
+    g.output("Light Vector", l, "ℓ = (S-P)/‖S-P‖")
+    g.output("Intensity", (i * factor) * spot, "the point light's intensity times the spot factor")
+    g.output("Ambient", (ia * factor) * spot, "the point light's ambient times the spot factor")
+    g.output("Distance", d, "d = ‖S-P‖")
+    g.output("Spot Angle", w, "ω = acos(-ℓ·u), the angle from the axis")
+
+
+@group("X3D Light Terms", "One X3D light's diffuse, specular and ambient light, for a unit normal and view vector",
+       into=RIG_GROUPS)
+def _x3d_light_terms(g):
+    """The lights group (rig.py) sums these over its lights and multiplies the sums by the
+    material's diffuse (Object Color), specular (Specular Color) and ambient (Ambient Object
+    Color = ambientIntensity × diffuseColor) colours."""
+    l = g.vector("Light Vector", ZERO, _L)
+    i = g.value("Intensity", 1.0, "I at the point (from an X3D light group)", min=0.0)
+    ia = g.value("Ambient", 0.0, "Ia at the point (from an X3D light group)", min=0.0)
+    lc = g.color("Light Color", WHITE, _LC)
+    e = g.value("Exponent", 25.6, "128 × the X3D shininess", min=0.0, max=10000.0)
+    n = g.vector("Normal", (0.0, 0.0, 1.0), "Unit surface normal n (Phong Surface)")
+    v = g.vector("View Vector", (0.0, 0.0, 1.0), "Unit vector v toward the viewer (Phong Surface)")
+    highlight = power(maximum(dot(normalize(l + v), n), 0.0), maximum(e, 0.0))
+    g.output("Diffuse Light", (i * lambert(l, n)) * lc, "I·max(N·L, 0)·IL", color=True)
+    g.output("Specular Light", (i * highlight) * lc, "I·max(N·H, 0)^e·IL", color=True)
+    g.output("Ambient Light", ia * lc, "Ia·IL", color=True)
 
 
 NAMES = tuple(GROUPS)

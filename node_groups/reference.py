@@ -75,6 +75,11 @@ __all__ = [
     "threejs_spot_light",
     "threejs_ambient",
     "threejs_phong",
+    "x3d_attenuation",
+    "x3d_directional_light",
+    "x3d_point_light",
+    "x3d_spot_light",
+    "x3d_light_terms",
     "GROUPS",
     "DEFAULTS",
 ]
@@ -473,6 +478,101 @@ def threejs_phong(light_vector=_ZERO3, intensity=1.0, light_color=_ONE3, diffuse
 
 
 # ---------------------------------------------------------------------------
+# X3D / VRML97 (docs/x3d.md): the ISO lighting equations per light
+# ---------------------------------------------------------------------------
+# Restated from ISO/IEC 19775-1 (X3D) §17.2.2.4 "Lighting equations" and ISO/IEC 14772-1
+# (VRML97) §4.14.4, not from node_groups/library.py:
+#
+#   I = O_E + Σ_i on_i · attenuation_i · spot_i · IL_i ⊗ (ambient_i + diffuse_i + specular_i)
+#   attenuation_i = 1 / max(a0 + a1·d + a2·d², 1)          (directional lights: 1)
+#   spot_i        = 0 where ω ≥ cutOffAngle, 1 where ω ≤ beamWidth, else
+#                   (ω - cutOffAngle) / (beamWidth - cutOffAngle)   (ω = acos(-ℓ·u))
+#   ambient_i     = Ia_i · O_a,  O_a = material ambientIntensity × diffuseColor
+#   diffuse_i     = I_i · O_d · max(N·L, 0)
+#   specular_i    = I_i · O_s · max(N·H, 0)^(128 × shininess),  H = normalize(L + V)
+#
+# a point or spot light reaches only the points within its radius (d ≤ radius).  The
+# specular term has no N·L condition (the standards have none).
+
+
+def x3d_attenuation(distance, constant=1.0, linear=0.0, quadratic=0.0):
+    """1 / max(a0 + a1·d + a2·d², 1): never above 1 (the clamp of both standards)."""
+    d = _sca(distance)
+    return 1.0 / np.maximum(_sca(constant) + _sca(linear) * d + _sca(quadratic) * d * d, 1.0)
+
+
+def _x3d_reach(distance, radius):
+    """1 where the point is within the radius (d ≤ radius; a negative radius: everywhere)."""
+    r = _sca(radius)
+    return ((_sca(distance) <= r) | (r < 0.0)).astype(np.float64)
+
+
+def x3d_directional_light(direction=(0.0, 0.0, -1.0), intensity=1.0, ambient_intensity=0.0,
+                          geometry_position=_ZERO3):
+    """X3D DirectionalLight: ℓ = -u/‖u‖ everywhere, no attenuation, no radius."""
+    ell = -normalize(direction)
+    shape = np.broadcast_shapes(np.shape(_vec(geometry_position)), np.shape(ell))
+    return {"Light Vector": np.broadcast_to(ell, shape).copy(),
+            "Intensity": _sca(intensity) + np.zeros(shape[:-1]),
+            "Ambient": _sca(ambient_intensity) + np.zeros(shape[:-1])}
+
+
+def x3d_point_light(position=_ZERO3, intensity=1.0, ambient_intensity=0.0, constant=1.0,
+                    linear=0.0, quadratic=0.0, radius=100.0, geometry_position=_ZERO3):
+    """X3D PointLight: Intensity = I·attenuation and Ambient = Ia·attenuation within the
+    radius, 0 beyond it."""
+    to_light = _vec(position) - _vec(geometry_position)
+    d = _length(to_light)
+    factor = x3d_attenuation(d, constant, linear, quadratic) * _x3d_reach(d, radius)
+    return {"Light Vector": normalize(to_light), "Intensity": _sca(intensity) * factor,
+            "Ambient": _sca(ambient_intensity) * factor, "Distance": d}
+
+
+def x3d_spot_factor(spot_angle, beam_width, cut_off_angle):
+    """spot_i of the standards: a linear ramp in the angle from the beam to the cut-off."""
+    w, beam, cut = np.broadcast_arrays(_sca(spot_angle), _sca(beam_width), _sca(cut_off_angle))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ramp = np.where(beam != cut, (w - cut) / np.where(beam != cut, beam - cut, 1.0), 0.0)
+    return np.where(w >= cut, 0.0, np.where(w <= beam, 1.0, ramp))
+
+
+def x3d_spot_light(position=_ZERO3, direction=(0.0, 0.0, -1.0), beam_width=0.7854,
+                   cut_off_angle=1.570796, intensity=1.0, ambient_intensity=0.0,
+                   constant=1.0, linear=0.0, quadratic=0.0, radius=100.0,
+                   geometry_position=_ZERO3):
+    """X3D SpotLight (X3D's defaults as the standard writes them: beamWidth 0.7854,
+    cutOffAngle 1.570796; VRML97's are the other way round, which its reader gives): the
+    point light times spot_i of ω = acos(-ℓ·u)."""
+    point = x3d_point_light(position, intensity, ambient_intensity, constant, linear, quadratic,
+                            radius, geometry_position)
+    cos_w = np.clip(-dot(point["Light Vector"], normalize(direction)), -1.0, 1.0)
+    w = np.arccos(cos_w)
+    spot = x3d_spot_factor(w, beam_width, cut_off_angle)
+    return {"Light Vector": point["Light Vector"], "Intensity": point["Intensity"] * spot,
+            "Ambient": point["Ambient"] * spot, "Distance": point["Distance"],
+            "Spot Angle": w}
+
+
+def x3d_light_terms(light_vector=_ZERO3, intensity=1.0, ambient=0.0, light_color=_ONE3,
+                    exponent=25.6, normal=_UP, view_vector=_UP):
+    """One light's share of the X3D lighting equation before the material's colours, for a
+    unit normal and view vector: Diffuse Light = I·max(N·L, 0)·IL, Specular Light =
+    I·max(N·H, 0)^e·IL (no N·L condition; e = 128 × shininess, 0^0 = 1), Ambient Light =
+    Ia·IL (Ia already attenuated and spotted)."""
+    ell, n, v = _vec(light_vector), _vec(normal), _vec(view_vector)
+    color = _col(light_color)
+    i = _sca(intensity)
+    diffuse = (i * np.maximum(dot(n, ell), 0.0))[..., None] * color
+    nh = np.maximum(dot(n, normalize(ell + v)), 0.0)
+    e = np.maximum(_sca(exponent), 0.0)
+    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+        highlight = np.where(e == 0.0, 1.0, np.power(nh, e))
+    specular = (i * highlight)[..., None] * color
+    return {"Diffuse Light": diffuse, "Specular Light": specular,
+            "Ambient Light": _sca(ambient)[..., None] * color}
+
+
+# ---------------------------------------------------------------------------
 # generic table: group name -> f(inputs, geometry)
 # ---------------------------------------------------------------------------
 
@@ -552,6 +652,27 @@ _TABLE = {
          "Shininess": "shininess", "Specular Strength": "specular_strength",
          "Normal": "normal", "View Vector": "view_vector"},
         {"Normal": "geometry_normal", "Incoming": "incoming"},
+    ),
+    "X3D Directional Light": (
+        x3d_directional_light,
+        {"Direction": "direction", "Intensity": "intensity",
+         "Ambient Intensity": "ambient_intensity"},
+        {"Position": "geometry_position"},
+    ),
+    "X3D Point Light": (
+        x3d_point_light,
+        {"Position": "position", "Intensity": "intensity",
+         "Ambient Intensity": "ambient_intensity", "Constant": "constant", "Linear": "linear",
+         "Quadratic": "quadratic", "Radius": "radius"},
+        {"Position": "geometry_position"},
+    ),
+    "X3D Spot Light": (
+        x3d_spot_light,
+        {"Position": "position", "Direction": "direction", "Beam Width": "beam_width",
+         "Cut Off Angle": "cut_off_angle", "Intensity": "intensity",
+         "Ambient Intensity": "ambient_intensity", "Constant": "constant", "Linear": "linear",
+         "Quadratic": "quadratic", "Radius": "radius"},
+        {"Position": "geometry_position"},
     ),
     "Phong Color Add": (color_add, {"A": "a", "B": "b"}, {}),
     "Phong Color Multiply": (color_multiply, {"A": "a", "B": "b", "Factor": "factor"}, {}),

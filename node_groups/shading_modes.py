@@ -34,18 +34,20 @@ from __future__ import annotations
 
 import numpy as np
 
-from .expr import FLOAT, SHADER, VECTOR, Expr, evaluate, input_, normalize
-from .library import BLACK, GROUPS, WHITE, ZERO, clamp_add
+from .expr import FLOAT, SHADER, VECTOR, Expr, evaluate, input_, minimum, normalize
+from .library import BLACK, GROUPS, WHITE, ZERO, clamp_add, definition
 
 #: The values of ``material["phong_shading"]`` (docs/contract.md), the default first.
 MODES = ("PIXEL", "VERTEX", "FACE")
-MODELS = ("seeds", "threejs")
+MODELS = ("seeds", "threejs", "x3d")
 
 #: Light type -> its light group, per model (as rig.LIGHT_GROUPS).
 LIGHT_GROUPS = {"seeds": {"POINT": "Phong Point Light", "SUN": "Phong Directional Light",
                           "SPOT": "Phong Spot Light"},
                 "threejs": {"POINT": "three.js Point Light", "SUN": "Phong Directional Light",
-                            "SPOT": "three.js Spot Light"}}
+                            "SPOT": "three.js Spot Light"},
+                "x3d": {"POINT": "X3D Point Light", "SUN": "X3D Directional Light",
+                        "SPOT": "X3D Spot Light"}}
 
 #: The material's controls: name -> kind (a colour is a vector in formulas).
 CONTROLS = {"Object Color": VECTOR, "Specular Color": VECTOR, "Exponent": FLOAT,
@@ -132,12 +134,13 @@ def substitute(expr: Expr, inputs: dict, geometry_values: dict | None = None,
 
 
 def _group(name: str, output: str, inputs: dict, geometry_values: dict) -> Expr:
-    """Output *output* of the library group *name* with *inputs* (defaults for the rest)."""
-    definition = GROUPS[name]
-    values = {s.name: s.default for s in definition.inputs}
+    """Output *output* of the library group *name* (or a lights-group part) with *inputs*
+    (defaults for the rest)."""
+    group = definition(name)
+    values = {s.name: s.default for s in group.inputs}
     values.update(inputs)
     values = {k: (v[:3] if isinstance(v, tuple) and len(v) == 4 else v) for k, v in values.items()}
-    return substitute(definition.expressions[output], values, geometry_values)
+    return substitute(group.expressions[output], values, geometry_values)
 
 
 # -- the model ---------------------------------------------------------------------------
@@ -164,6 +167,8 @@ def model_color(light_types, model: str = "seeds", power=()) -> Expr:
         raise ValueError(f"unknown lighting model {model!r}: expected one of {MODELS}")
     geo = world_geometry()
     controls = {name: _input(name, kind) for name, kind in {**CONTROLS, **AMBIENT}.items()}
+    if model == "x3d":
+        return _x3d_color(light_types, geo, controls)
     normal_view = {"Normal": ZERO, "View Vector": ZERO}
     if model == "threejs":
         color = _group("three.js Ambient", "Color", {
@@ -213,6 +218,35 @@ def model_color(light_types, model: str = "seeds", power=()) -> Expr:
     for part in parts:
         color = substitute(clamp_add(color, part), {}, None, memo)
     return color
+
+
+def _x3d_color(light_types, geo, controls) -> Expr:
+    """The X3D / VRML97 model as rig.py builds it: per light an X3D light group and an X3D
+    Light Terms (the unit normal and view vector of the point); the sums times the material's
+    colours, the World's ambient light added, min(…, 1)."""
+    unit = {"Normal": geo["Normal"], "View Vector": geo["Incoming"]}
+    ambient = _group("Phong Ambient", "Color", {
+        "Intensity": controls["Ambient Intensity"], "Light Color": controls["Ambient Color"],
+        "Object Color": controls["Ambient Object Color"]}, geo)
+    sums = {"Diffuse Light": None, "Specular Light": None, "Ambient Light": None}
+    for index, light_type in enumerate(light_types):
+        group_name = LIGHT_GROUPS["x3d"][light_type]
+        light = light_group_inputs(index, group_name)
+        terms = {"Light Vector": _group(group_name, "Light Vector", light, geo),
+                 "Intensity": _group(group_name, "Intensity", light, geo),
+                 "Ambient": _group(group_name, "Ambient", light, geo),
+                 "Light Color": _input(light_input(index, "Color"), VECTOR),
+                 "Exponent": controls["Exponent"], **unit}
+        for output in sums:
+            part = _group("X3D Light Terms", output, terms, geo)
+            sums[output] = part if sums[output] is None else sums[output] + part
+    color = controls["Irradiant Color"] + ambient
+    for output, material_color in (("Ambient Light", "Ambient Object Color"),
+                                   ("Diffuse Light", "Object Color"),
+                                   ("Specular Light", "Specular Color")):
+        if sums[output] is not None:
+            color = color + sums[output] * controls[material_color]
+    return substitute(minimum(color, 1.0), {}, None, {})
 
 
 def leaves(expression: Expr) -> set:

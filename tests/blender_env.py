@@ -344,6 +344,20 @@ SPEC_GROUPS = {
          ("Specular Color", V), ("Shininess", S), ("Specular Strength", S), ("Normal", V),
          ("View Vector", V)],
         [("Diffuse", V), ("Specular", V), ("Color", V)]),
+    # X3D / VRML97 (docs/x3d.md)
+    "X3D Directional Light": (
+        [("Direction", V), ("Intensity", S), ("Ambient Intensity", S)],
+        [("Light Vector", V), ("Intensity", S), ("Ambient", S)]),
+    "X3D Point Light": (
+        [("Position", V), ("Intensity", S), ("Ambient Intensity", S), ("Constant", S),
+         ("Linear", S), ("Quadratic", S), ("Radius", S)],
+        [("Light Vector", V), ("Intensity", S), ("Ambient", S), ("Distance", S)]),
+    "X3D Spot Light": (
+        [("Position", V), ("Direction", V), ("Beam Width", S), ("Cut Off Angle", S),
+         ("Intensity", S), ("Ambient Intensity", S), ("Constant", S), ("Linear", S),
+         ("Quadratic", S), ("Radius", S)],
+        [("Light Vector", V), ("Intensity", S), ("Ambient", S), ("Distance", S),
+         ("Spot Angle", S)]),
 }
 
 

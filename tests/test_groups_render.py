@@ -60,6 +60,9 @@ EEVEE_PACKS = {
     "three.js Spot Light": [["Light Vector"], ["Intensity", "Distance", "Cos Angle"]],
     "three.js Ambient": [["Color"]],
     "three.js Phong": [["Diffuse"], ["Specular"], ["Color"]],
+    "X3D Directional Light": [["Light Vector"], ["Intensity", "Ambient"]],
+    "X3D Point Light": [["Light Vector"], ["Intensity", "Ambient", "Distance"]],
+    "X3D Spot Light": [["Light Vector"], ["Intensity", "Ambient", "Distance"], ["Spot Angle"]],
 }
 TILES = [(g, k) for g in GROUPS for k in range(len(EEVEE_PACKS[g]))]
 COLS = 5
@@ -71,8 +74,9 @@ CURVED_RES = 160  # picture height; spheres in CURVED_COLS columns of two rows
 CURVED_COLS = 3
 
 GEO_POS_SOCKETS = {"Phong Point Light": "Position", "Phong Spot Light": "Position",
-                   "three.js Point Light": "Position", "three.js Spot Light": "Position"}
-SPOTS = ("Phong Spot Light", "three.js Spot Light")
+                   "three.js Point Light": "Position", "three.js Spot Light": "Position",
+                   "X3D Point Light": "Position", "X3D Spot Light": "Position"}
+SPOTS = ("Phong Spot Light", "three.js Spot Light", "X3D Spot Light")
 
 
 # ============================================================== random inputs
@@ -140,6 +144,11 @@ def gen_inputs(group, rng, n, P, N, I, curved=False):
                 s[rng.random(n) < 0.3] = 2.0
             elif name == "Angle":
                 s = rng.uniform(0.05, math.pi / 2.0, n)
+            elif name in ("Beam Width", "Cut Off Angle"):  # either may be the larger
+                s = rng.uniform(0.0, math.pi / 2.0, n)
+            elif name == "Radius":  # negative: no cut-off; 0: only at the light
+                s = rng.uniform(-1.0, 8.0, n)
+                s[rng.random(n) < 0.1] = 100.0
             elif name == "Penumbra":
                 s = rng.uniform(0.0, 1.0, n)
                 s[rng.random(n) < 0.3] = 0.0
@@ -421,6 +430,18 @@ def near_discontinuity(group, vals, geo):
         ell = _norm(vals["Position"] - geo["Position"])
         cw = -np.sum(ell * _norm(vals["Direction"]), axis=1)
         bad |= np.abs(cw - np.cos(vals["Angle"])) < EPS_DISC
+    if group in ("X3D Point Light", "X3D Spot Light"):  # the radius is a step
+        d = np.linalg.norm(vals["Position"] - geo["Position"], axis=1)
+        bad |= np.abs(d - vals["Radius"]) < EPS_DISC
+    if group == "X3D Spot Light":
+        ell = _norm(vals["Position"] - geo["Position"])
+        cw = -np.sum(ell * _norm(vals["Direction"]), axis=1)
+        w = np.arccos(np.clip(cw, -1.0, 1.0))
+        # a step at the cut-off when beamWidth >= cutOffAngle; acos is ill-conditioned near
+        # the axis (a float32 cosine moves ω by ~sqrt(1e-7)) and the opposite way
+        bad |= np.abs(w - vals["Cut Off Angle"]) < EPS_DISC
+        bad |= np.abs(w - vals["Beam Width"]) < EPS_DISC
+        bad |= np.abs(cw) > 1.0 - 1e-6
     if group == "Phong Spot Light":
         ell = _norm(vals["Position"] - geo["Position"])
         u = _norm(vals["Direction"])

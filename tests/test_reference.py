@@ -32,6 +32,7 @@ SPEC_GROUPS = [
     "Phong Irradiant", "Phong Ambient", "Phong Diffuse", "Phong Specular",
     "Phong Blinn Specular", "Phong Color Add", "Phong Color Multiply", "Phong Shading",
     "three.js Point Light", "three.js Spot Light", "three.js Ambient", "three.js Phong",
+    "X3D Directional Light", "X3D Point Light", "X3D Spot Light",
 ]
 
 

@@ -639,6 +639,62 @@ def _threejs_reference(scene, obj, camera, lights, P, N):
     return total
 
 
+def _x3d_reference(scene, obj, camera, lights, P, N):
+    """The X3D / VRML97 model (docs/x3d.md) from reference.py's X3D functions: the World's
+    ambient ⊗ Ka + emissive + Σ per light (Ia·IL ⊗ Ka + I·max(N·L, 0)·IL ⊗ Kd +
+    I·max(N·H, 0)^e·IL ⊗ Ks), min(…, 1)."""
+    from phong_nodes.node_groups import reference as ref  # noqa: PLC0415
+
+    nodes = obj.active_material.node_tree.nodes
+    value = lambda n: nodes[n].outputs[0].default_value  # noqa: E731
+    color = lambda n: np.array(value(n)[:3], dtype=np.float64)  # noqa: E731
+    kd = color("phong_object_color")
+    ka = kd  # the recipe's Ambient Object Color follows the Object Color
+    eye = _matrix(camera)[:3, 3]
+    v = (eye - P) / np.linalg.norm(eye - P, axis=1)[:, None]
+    n = N / np.linalg.norm(N, axis=1)[:, None]
+    world = scene.world.phong
+    total = ref.ambient(world.ambient_intensity, tuple(world.ambient_color), ka)["Color"] \
+        + color("phong_irradiant_color")
+    for light in lights:
+        mw = _matrix(light)
+        s = light.data.phong
+        near = (s.ambient, s.constant, s.linear, s.quadratic, s.radius)
+        if light.data.type == "SUN":
+            out = ref.x3d_directional_light(-mw[:3, 2], s.intensity, s.ambient, P)
+        elif light.data.type == "POINT":
+            out = ref.x3d_point_light(mw[:3, 3], s.intensity, *near, P)
+        else:
+            out = ref.x3d_spot_light(mw[:3, 3], -mw[:3, 2], s.beam_width,
+                                     light.data.spot_size / 2.0, s.intensity, *near, P)
+        terms = ref.x3d_light_terms(out["Light Vector"], out["Intensity"], out["Ambient"],
+                                    tuple(light.data.color), float(value("phong_exponent")), n, v)
+        total = total + terms["Ambient Light"] * ka + terms["Diffuse Light"] * kd \
+            + terms["Specular Light"] * color("phong_specular_color")
+    return np.minimum(total, 1.0)
+
+
+def test_per_vertex_in_the_x3d_model_equals_its_reference(bpy_clean):
+    bpy = bpy_clean
+    scene, sphere, camera, lights = _scene(bpy, "VERTEX", model="x3d")
+    point, spot, sun = (bpy.data.objects[name] for name in ("Point", "Spot", "Sun"))
+    point.data.phong.radius = 4.3          # the far side of the sphere is out of its reach
+    point.data.phong.constant, point.data.phong.quadratic = 0.5, 0.3
+    spot.data.phong.beam_width = math.radians(12.0)   # a ramp to the 30° cut-off
+    sun.data.phong.ambient = 0.3
+    spot.data.phong.ambient = 0.2
+    _domain, ids, got = _live(bpy, sphere)
+    P, N = _vertices(bpy, sphere)
+    want = _x3d_reference(scene, sphere, camera, lights, P, N)
+    err = np.abs(got - want[ids]).max()
+    be.report(f"[shading vertex X3D] {len(np.unique(ids))} vertices seen: max |Δ| {err:.2e}")
+    assert err <= VERTEX_TOL and want.std() > 0.02
+    d = np.linalg.norm(P - _matrix(point)[:3, 3], axis=1)
+    assert (d > 4.3).any() and (d < 4.3).any()  # the radius cuts the sphere
+    assert sphere.active_material.node_tree.nodes["phong_lights"].node_tree.name.startswith(
+        "X3D Lights")
+
+
 def test_per_vertex_in_the_threejs_model_equals_its_reference(bpy_clean):
     bpy = bpy_clean
     scene, sphere, camera, lights = _scene(bpy, "VERTEX", model="threejs")

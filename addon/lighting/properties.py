@@ -13,7 +13,7 @@ setters live in ``forwarding``, a module that holds no ``bpy`` (see there why).
 import bpy
 from bpy.props import FloatProperty, FloatVectorProperty, PointerProperty
 
-from ...node_groups.library import FALLOFF_DEFAULTS
+from ...node_groups.library import FALLOFF_DEFAULTS, X3D_BEAM_WIDTH, X3D_RADIUS
 from . import forwarding
 
 #: (attribute, custom property key, label, default, min, soft max, description)
@@ -41,7 +41,18 @@ LIGHT_SETTINGS = (
      "three.js penumbra: the share of the cone's angle that fades out (Spot)"),
     ("power_k", "phong_power_k", "Power k", 2.0, 0.0, 4.0,
      "k in i0/d^k when the falloff is Power: 2 physical, 1 softer, 0 none (Point and Spot)"),
+    # the X3D / VRML97 model (docs/x3d.md); intensity and the three falloffs are shared
+    ("ambient", "phong_light_ambient", "Ambient", 0.0, 0.0, 1.0,
+     "X3D ambientIntensity: the light's own ambient light, attenuated and spotted like its "
+     "direct light"),
+    ("radius", "phong_radius", "Radius", X3D_RADIUS, 0.0, 1000.0,
+     "X3D radius: the light reaches only the points within this distance (Point and Spot)"),
+    ("beam_width", "phong_beam_width", "Beam Width", X3D_BEAM_WIDTH, 0.0, 3.14159265,
+     "X3D beamWidth: full intensity within this angle of the axis, fading linearly to 0 at "
+     "the cut-off angle (half the Spot Size) (Spot)"),
 )
+#: Settings shown as angles (radians inside, degrees in the panel).
+ANGLE_SETTINGS = ("beam_width",)
 #: The seeds' distance falloff of a Point or Spot light: ``light["phong_falloff"]`` (a
 #: string; missing means QUADRATIC).  It chooses the nodes of the light in its lights group,
 #: so a change relinks the scene (``lights.signature`` holds it), as a change of light type.
@@ -81,6 +92,14 @@ MODEL_SETTINGS = {
                 ("distance", _NEAR, None, "Distance"),
                 ("decay", _NEAR, None, "Decay"),
                 ("penumbra", ("SPOT",), None, "Penumbra")),
+    # the X3D attenuation 1/max(a0 + a1·d + a2·d², 1): a0, a1, a2 are the seeds' γ, β, α
+    "x3d": (("intensity", _EVERY, None, "Intensity"),
+            ("ambient", _EVERY, None, "Ambient Intensity"),
+            ("constant", _NEAR, None, "Constant"),
+            ("linear", _NEAR, None, "Linear"),
+            ("quadratic", _NEAR, None, "Quadratic"),
+            ("radius", _NEAR, None, "Radius"),
+            ("beam_width", ("SPOT",), None, "Beam Width")),
 }
 
 
@@ -107,9 +126,11 @@ LIGHT_KEYS = {attr: (key, default) for attr, key, _l, default, *_ in LIGHT_SETTI
 def _light_annotations():
     ann = {}
     for attr, key, label, default, vmin, soft_max, desc in LIGHT_SETTINGS:
+        angle = {"subtype": "ANGLE"} if attr in ANGLE_SETTINGS else {}
         ann[attr] = FloatProperty(
             name=label, description=desc, default=default, min=vmin, soft_max=soft_max,
-            get=forwarding.float_getter(key, default), set=forwarding.float_setter(key))
+            get=forwarding.float_getter(key, default), set=forwarding.float_setter(key),
+            **angle)
     ann["falloff"] = bpy.props.EnumProperty(
         name="Falloff", items=FALLOFF_ITEMS,
         description="Distance falloff of a Point or Spot light in the seeds' model (changing "
@@ -147,6 +168,9 @@ MODEL_ITEMS = (
     ("threejs", "three.js",
      "What three.js r181's MeshPhongMaterial / MeshLambertMaterial show: Lambert/π, "
      "normalised Blinn-Phong with Fresnel, distance/decay lights, smoothstep penumbra"),
+    ("x3d", "X3D / VRML97",
+     "The ISO lighting equation of X3D and VRML97: per-light ambient, attenuation "
+     "1/max(a0 + a1·d + a2·d², 1) within a radius, a linear spot ramp, Blinn highlights"),
 )
 MODEL_KEY = "phong_model"
 

@@ -31,6 +31,15 @@ three.js Phong (MeshPhongMaterial; Specular Strength 0 is MeshLambertMaterial), 
 ambient is a three.js Ambient and the Irradiant Color is three.js's emissive, added as is.
 Blinn is not used there; the seeds' model does not use Specular Strength.
 
+In the X3D / VRML97 model (``"x3d"``, docs/x3d.md) each light is an X3D light group (X3D
+Directional / Point / Spot Light: intensity and ambient intensity, attenuation
+1/max(a0 + a1·d + a2·d², 1) within a radius, the linear spot ramp) and an X3D Light Terms
+(its diffuse, Blinn specular without the N·L condition, and ambient light); the sums are
+multiplied by the Object Color, the Specular Color and the Ambient Object Color (X3D's
+ambientIntensity × diffuseColor), the World's Phong ambient is added as in the seeds' model
+(an imported X3D file sets it to 0), and Color is min(irradiant + ambient + diffuse +
+specular, 1).  Blinn and Specular Strength are not used there.
+
 The number of drivers depends on the lights (about 12 per light), not on the objects.  A
 light's location and axis are not driven in the group: drivers on the World write them as
 World custom properties that Attribute nodes (View Layer) read (``WORLD_PREFIX``), so moving
@@ -116,7 +125,7 @@ def prune_world_keys(worlds=None) -> int:
 
 
 def model_of(scene) -> str:
-    """The lighting model of *scene*: "seeds" (default) or "threejs"."""
+    """The lighting model of *scene*: "seeds" (default), "threejs" or "x3d"."""
     model = scene.get(MODEL_KEY, MODELS[0]) if scene is not None else MODELS[0]
     return model if model in MODELS else MODELS[0]
 
@@ -144,8 +153,12 @@ def groups_of(scene) -> list:
     return [t for t in bpy.data.node_groups if t.library is None and owner(t) == scene]
 
 
+#: The first word of a lights group's name, per model.
+GROUP_PREFIX = {"seeds": "Phong", "threejs": "three.js", "x3d": "X3D"}
+
+
 def group_name(scene, lights, key: str) -> str:
-    name = f"{'three.js' if model_of(scene) == 'threejs' else 'Phong'} Lights {scene.name}"
+    name = f"{GROUP_PREFIX[model_of(scene)]} Lights {scene.name}"
     if key != ALL:
         name += f" [{', '.join(o.name for o in lights) or 'no light'}]"
     return name
@@ -200,6 +213,9 @@ def build(tree, lights, world, model=MODELS[0]) -> None:
     _interface(tree)
     if model == "threejs":
         _build_threejs(tree, lights, world)
+        return
+    if model == "x3d":
+        _build_x3d(tree, lights, world)
         return
     group_in, group_out, out_x = _start(tree, lights)
     budget = [world, compat.VIEW_LAYER_LOOKUPS]
@@ -266,8 +282,10 @@ def _start(tree, lights):
 #: that drive the other inputs: ``properties.MODEL_SETTINGS``).
 LIGHT_GROUPS = {"seeds": SUPPORTED,
                 "threejs": {"POINT": "three.js Point Light", "SUN": "Phong Directional Light",
-                            "SPOT": "three.js Spot Light"}}
-SPOT_ANGLE = {"seeds": "Half Angle", "threejs": "Angle"}
+                            "SPOT": "three.js Spot Light"},
+                "x3d": {"POINT": "X3D Point Light", "SUN": "X3D Directional Light",
+                        "SPOT": "X3D Spot Light"}}
+SPOT_ANGLE = {"seeds": "Half Angle", "threejs": "Angle", "x3d": "Cut Off Angle"}
 #: three.js model: the three.js Phong input fed by each input of the lights group.
 THREEJS_SHADING = {"Object Color": "Diffuse Color", "Specular Color": "Specular Color",
                    "Exponent": "Shininess", "Specular Strength": "Specular Strength",
@@ -297,6 +315,60 @@ def _build_threejs(tree, lights, world) -> None:
     _sums(tree, ambient, [irradiant] + [s.outputs["Color"] for s in shadings], shadings,
           irradiant, group_out, out_x)
     _stamp(tree, lights, "threejs")
+
+
+def _build_x3d(tree, lights, world) -> None:
+    """The X3D / VRML97 model (docs/x3d.md): per light an X3D light group and an X3D Light
+    Terms; Diffuse = Σ diffuse light ⊗ Object Color, Specular = Σ specular light ⊗ Specular
+    Color, Ambient = (the World's ambient light + Σ the lights' ambient light) ⊗ Ambient
+    Object Color, Color = min(Irradiant + Ambient + Diffuse + Specular, 1)."""
+    group_in, group_out, out_x = _start(tree, lights)
+    budget = [world, compat.VIEW_LAYER_LOOKUPS]
+    surface = _group_node(tree, "Phong Surface", "surface", (-600.0, 520.0))
+    for name in ("Normal", "View Vector"):
+        tree.links.new(group_in.outputs[name], surface.inputs[name])
+    terms = []
+    for index, obj in enumerate(lights):
+        y = -520.0 * index
+        light_node = _light_node(tree, obj, (-600.0, y), "x3d", budget)
+        shading = _group_node(tree, "X3D Light Terms", f"shading:{obj.name}", (-300.0, y))
+        tree.links.new(group_in.outputs["Exponent"], shading.inputs["Exponent"])
+        for name in ("Normal", "View Vector"):
+            tree.links.new(surface.outputs[name], shading.inputs[name])
+        for source, target in (("Light Vector", "Light Vector"), ("Intensity", "Intensity"),
+                               ("Ambient", "Ambient")):
+            tree.links.new(light_node.outputs[source], shading.inputs[target])
+        drivers.color(shading.inputs["Light Color"], "LIGHT", obj.data, "color")
+        terms.append(shading)
+    world_ambient = _group_node(tree, "Phong Ambient", "ambient", (-300.0, 520.0))
+    tree.links.new(group_in.outputs["Ambient Object Color"], world_ambient.inputs["Object Color"])
+    _drive_ambient(world_ambient, world)
+    totals = _term_sums(tree, terms, group_out, {
+        "Diffuse": ("Diffuse Light", group_in.outputs["Object Color"]),
+        "Specular": ("Specular Light", group_in.outputs["Specular Color"])})
+    ambient = world_ambient.outputs["Color"]
+    lights_ambient = None
+    for index, shading in enumerate(terms):
+        lights_ambient = shading.outputs["Ambient Light"] if lights_ambient is None else \
+            _vector_node(tree, "ADD", f"ambient:{index}", (180.0 * index, 520.0),
+                         lights_ambient, shading.outputs["Ambient Light"])
+    if lights_ambient is not None:
+        lights_ambient = _vector_node(tree, "MULTIPLY", "ambient:color",
+                                      (180.0 * len(terms), 520.0), lights_ambient,
+                                      group_in.outputs["Ambient Object Color"])
+        ambient = _vector_node(tree, "ADD", "ambient:sum", (180.0 * (len(terms) + 1), 520.0),
+                               ambient, lights_ambient)
+    color = _vector_node(tree, "ADD", "color:base", (0.0, 300.0),
+                         group_in.outputs["Irradiant Color"], ambient)
+    for index, total in enumerate(t for t in totals if t is not None):
+        color = _vector_node(tree, "ADD", f"color:{index}", (180.0 * (index + 1), 300.0),
+                             color, total)
+    color = _vector_node(tree, "MINIMUM", "color", (180.0 * 3, 300.0), color, (1.0, 1.0, 1.0))
+    tree.links.new(color, group_out.inputs["Color"])
+    tree.links.new(group_in.outputs["Irradiant Color"], group_out.inputs["Irradiant"])
+    tree.links.new(ambient, group_out.inputs["Ambient"])
+    _emission(tree, color, group_out, out_x)
+    _stamp(tree, lights, "x3d")
 
 
 def _emission(tree, color, group_out, out_x) -> None:

@@ -773,10 +773,13 @@ def _light_sockets(b, index, obj, world_keys) -> dict:
                  prefix + "Direction": lambda: transform("AXIS"),
                  prefix + "Color": lambda: b.vector(prefix + "Color", "LIGHT", light, "color")}
     for attr in ("intensity", "quadratic", "linear", "constant", "edge_exponent", "diffuse",
-                 "specular", "distance", "decay", "penumbra", "power_k"):
+                 "specular", "distance", "decay", "penumbra", "power_k", "radius",
+                 "beam_width"):
         name = prefix + attr.replace("_", " ").title()
         factories[name] = lambda n=name, a=attr: b.value(n, "LIGHT", light, keys[a])
-    for name in ("Half Angle", "Angle"):
+    factories[prefix + "Ambient Intensity"] = (  # the X3D model's light ambient
+        lambda n=prefix + "Ambient Intensity": b.value(n, "LIGHT", light, keys["ambient"]))
+    for name in ("Half Angle", "Angle", "Cut Off Angle"):
         factories[prefix + name] = (lambda n=prefix + name:
                                     b.value(n, "LIGHT", light, "spot_size", scale=0.5))
     return factories

@@ -157,7 +157,9 @@ originals are kept)"""
                 "changed)"),
                ("SEEDS", "Seeds", "The textbook Phong model of the lecture notes"),
                ("THREEJS", "three.js", "three.js r181's MeshPhongMaterial / "
-                "MeshLambertMaterial (docs/threejs.md)")),
+                "MeshLambertMaterial (docs/threejs.md)"),
+               ("X3D", "X3D / VRML97", "The ISO lighting equation of X3D and VRML97 "
+                "(docs/x3d.md)")),
         description="Lighting model of the scene's Phong materials (one per scene: the "
                     "lights are shared)")
 

@@ -38,6 +38,8 @@ class DATA_PT_phong_light(bpy.types.Panel):
             col.prop(settings, attr)
         if model == "threejs" and light.type == "SPOT":  # docs/threejs.md
             layout.label(text="Angle: half the spot size", icon="INFO")
+        if model == "x3d" and light.type == "SPOT":  # docs/x3d.md
+            layout.label(text="Cut-off angle: half the spot size", icon="INFO")
         layout.label(text="Colour, position, direction and spot size come from the light",
                      icon="INFO")
         layout.operator(PHONG_OT_relink_lights.bl_idname, icon="FILE_REFRESH")

@@ -1,0 +1,141 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""The X3D / VRML97 lighting model (docs/x3d.md): its lights-group parts against the
+independent numpy reference, and a scene in the model rendered by Cycles and Eevee and compared
+pixel by pixel with the standard's lighting equation (reference.py's X3D functions): per-light
+ambient, the clamped attenuation, the radius, the linear spot ramp, Blinn highlights without
+the N·L condition."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import blender_env as be
+from phong_nodes.node_groups import library
+from phong_nodes.node_groups import reference as ref
+
+
+def _unit(rng, n):
+    v = rng.normal(size=(n, 3))
+    return v / np.linalg.norm(v, axis=1, keepdims=True)
+
+
+def test_x3d_light_terms_equal_the_reference():
+    rng = np.random.default_rng(7)
+    n = 4000
+    inputs = {"Light Vector": _unit(rng, n), "Intensity": rng.uniform(0.0, 2.0, n),
+              "Ambient": rng.uniform(0.0, 1.0, n), "Light Color": rng.uniform(0.0, 1.0, (n, 3)),
+              "Exponent": np.where(rng.random(n) < 0.2, 0.0, rng.uniform(0.0, 128.0, n)),
+              "Normal": _unit(rng, n), "View Vector": _unit(rng, n)}
+    got = library.definition("X3D Light Terms").evaluate(inputs)
+    want = ref.x3d_light_terms(inputs["Light Vector"], inputs["Intensity"], inputs["Ambient"],
+                               inputs["Light Color"], inputs["Exponent"], inputs["Normal"],
+                               inputs["View Vector"])
+    for name in ("Diffuse Light", "Specular Light", "Ambient Light"):
+        assert np.abs(got[name] - want[name]).max() < 1e-9, name
+    # the standards' specular has no N·L condition: light from behind still gives a highlight
+    behind = (np.sum(inputs["Light Vector"] * inputs["Normal"], axis=1) < 0) \
+        & (want["Specular Light"].max(axis=1) > 1e-3)
+    assert behind.any()
+
+
+def test_the_spot_ramp_and_the_clamp_by_hand():
+    """Values worked out by hand from the standard's formulas."""
+    # a spot straight above a point, 45° ... 60°: the point at 50° is 1/3 down the ramp
+    p = np.array([[math.tan(math.radians(50.0)), 0.0, 0.0]])
+    out = ref.x3d_spot_light((0.0, 0.0, 1.0), (0.0, 0.0, -1.0), math.radians(45.0),
+                             math.radians(60.0), 2.0, 0.5, 1.0, 0.0, 0.0, 100.0, p)
+    assert out["Spot Angle"][0] == pytest.approx(math.radians(50.0))
+    assert out["Intensity"][0] == pytest.approx(2.0 * (50.0 - 60.0) / (45.0 - 60.0))
+    assert out["Ambient"][0] == pytest.approx(0.5 * 2.0 / 3.0)
+    # attenuation 1/max(0.2 + 0.1·d, 1): 1 close by (clamped), 1/1.2 at d = 10
+    near = ref.x3d_point_light((0.0, 0.0, 1.0), 1.0, 0.0, 0.2, 0.1, 0.0, 100.0,
+                               np.array([[0.0, 0.0, 0.0], [0.0, 0.0, -9.0]]))
+    assert near["Intensity"] == pytest.approx([1.0, 1.0 / 1.2])
+    # the radius: nothing beyond it
+    far = ref.x3d_point_light((0.0, 0.0, 0.0), 1.0, 1.0, 1.0, 0.0, 0.0, 3.0,
+                              np.array([[2.9, 0.0, 0.0], [3.1, 0.0, 0.0]]))
+    assert list(far["Intensity"]) == [1.0, 0.0] and list(far["Ambient"]) == [1.0, 0.0]
+
+
+def _x3d_scene(bpy):
+    """A plane and a sphere in the X3D model under a Point (clamped attenuation, a radius
+    that cuts the plane), a Spot (a ramp from 15° to 35°, its own ambient) and a Sun (ambient
+    only on the lit side's colour): each rule of the standard shows in the picture."""
+    scene = be.new_scene("X3D model", 96, 72, "cycles")
+    bpy.context.window.scene = scene
+    scene.world.phong.ambient_intensity = 0.0   # X3D has no global ambient light
+    be.add_persp_camera(scene, (0.0, -6.0, 4.5), (0.0, 0.0, 0.0))
+    mesh = bpy.data.meshes.new("Floor")
+    mesh.from_pydata([(-4, -3, 0), (4, -3, 0), (4, 3, 0), (-4, 3, 0)], [], [(0, 1, 2, 3)])
+    floor = bpy.data.objects.new("Floor", mesh)
+    scene.collection.objects.link(floor)
+    old = bpy.data.materials.new("Ball")
+    be.compat().new_material_tree(old)
+    ball = be.add_uv_sphere(scene, "Ball", (0.5, 0.5, 0.8), 0.8, old, segments=32, rings=16)
+
+    def light(name, kind, location, rotation=(0.0, 0.0, 0.0)):
+        obj = bpy.data.objects.new(name, bpy.data.lights.new(name, kind))
+        scene.collection.objects.link(obj)
+        obj.location, obj.rotation_euler = location, rotation
+        return obj
+
+    point = light("Point", "POINT", (-2.0, -0.5, 1.5))
+    point.data.color = (1.0, 0.8, 0.6)
+    spot = light("Spot", "SPOT", (1.5, -1.0, 3.0), (0.3, 0.2, 0.0))
+    spot.data.color = (0.7, 0.9, 1.0)
+    spot.data.spot_size = math.radians(70.0)           # cutOffAngle 35°
+    sun = light("Sun", "SUN", (0.0, 0.0, 5.0), (0.7, -0.4, 0.3))
+    sun.data.color = (0.5, 0.5, 0.6)
+    for obj in scene.objects:
+        obj.select_set(obj in (floor, ball))
+    bpy.context.view_layer.objects.active = ball
+    assert bpy.ops.phong.apply_material() == {"FINISHED"}
+    scene.phong.model = "x3d"
+    settings = {point: {"intensity": 0.5, "ambient": 0.1, "constant": 0.4, "linear": 0.1,
+                        "quadratic": 0.3, "radius": 3.5},
+                spot: {"intensity": 0.6, "ambient": 0.25, "constant": 1.0, "linear": 0.0,
+                       "quadratic": 0.05, "radius": 100.0, "beam_width": math.radians(15.0)},
+                sun: {"intensity": 0.25, "ambient": 0.3}}
+    for obj, values in settings.items():
+        for attr, value in values.items():
+            setattr(obj.data.phong, attr, value)
+    for obj in (floor, ball):
+        nodes = obj.active_material.node_tree.nodes
+        nodes["phong_exponent"].outputs[0].default_value = 128.0 * 0.2
+        nodes["phong_specular_color"].outputs[0].default_value = (0.6, 0.6, 0.5, 1.0)
+    ball.active_material.node_tree.nodes["phong_object_color"].outputs[0].default_value = (
+        0.8, 0.3, 0.2, 1.0)
+    assert bpy.ops.phong.relink_lights() == {"FINISHED"}
+    return scene, point, spot, sun
+
+
+@pytest.mark.slow
+@pytest.mark.cycles
+@pytest.mark.eevee
+def test_a_scene_in_the_x3d_model_matches_the_standards_equation(bpy_clean, tmp_path):
+    bpy = bpy_clean
+    from phong_nodes.addon.comparison import engine  # noqa: PLC0415
+    from phong_nodes.addon.lighting import materials  # noqa: PLC0415
+    scene, point, spot, _sun = _x3d_scene(bpy)
+    groups = {m.node_tree.nodes[materials.LIGHTS_NODE].node_tree.name
+              for m in materials.phong_materials()}
+    assert groups == {"X3D Lights X3D model"}
+    metrics = engine.run(scene, str(tmp_path / "x3d"))
+    cycles = metrics["pairs"]["cycles-reference"]["max_abs"]
+    eevee = metrics["pairs"]["eevee-reference"]["share_over_1_255"]
+    be.report(f"[x3d model] Cycles max |Δ| {cycles:.2e}, Eevee {1 - eevee:.3%} within 1/255, "
+              f"{metrics['pixels']['compared']} pixels")
+    assert metrics["ok"], metrics["verdict"]
+    assert cycles <= 1e-4 and max(t["max_abs"] for t in metrics["terms"].values()) <= 1e-4
+    assert metrics["pixels"]["compared"] > 1500
+    lights = {light["name"]: light for light in metrics["parameters"]["lights"]}
+    assert lights["Spot"]["beam_width"] == pytest.approx(math.radians(15.0))
+    assert lights["Point"]["radius"] == pytest.approx(3.5)
+    # the picture is not saturated: most of it is below the clamp at 1
+    import OpenImageIO as oiio  # noqa: PLC0415
+    picture = oiio.ImageBuf(str(tmp_path / "x3d" / "reference.png")).get_pixels(oiio.FLOAT)
+    lit = picture[..., :3].max(axis=-1) > 0.02
+    assert lit.mean() > 0.5 and (picture[..., :3].max(axis=-1)[lit] < 0.999).mean() > 0.9
