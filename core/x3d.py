@@ -143,6 +143,7 @@ import re
 import warnings as _warnings
 import xml.etree.ElementTree as ET
 import xml.parsers.expat as expat
+import zlib
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -164,6 +165,11 @@ MAX_PROTO_DEPTH = 32
 MAX_INLINE_DEPTH = 8
 #: Largest magnitude of a number kept (larger ones are clamped, with a warning).
 MAX_ABS = 1e30
+#: Most groups that flattening visits (shared groups count once per use unless they can be
+#: placed whole); with MAX_INSTANCES this bounds the time DEF/USE can cost.
+MAX_VISITS = 1_000_000
+#: A flattened instance's ``path`` keeps the names of at most this many innermost groups.
+PATH_LIMIT = 32
 #: Segments around a tessellated Sphere, Cylinder or Cone (a Sphere has half as many rings).
 SEGMENTS = 32
 
@@ -460,35 +466,44 @@ _VALUE_BYTES = _NUMERIC_BYTES.copy()
 _VALUE_BYTES[list(b",\t\n\r\x0b\x0c ")] = False
 
 
-def _bulk_numbers(text: str):
-    """The numbers of *text* (whitespace or commas between them) as one numpy array, int64
-    when every one is written as an integer, else float64; None when *text* holds anything
-    that is not a plain decimal number.  numpy checks and parses the whole text at C speed
-    (a byte table for long texts, where a regular expression would be slower)."""
-    if len(text) < 512:
-        if _NOT_NUMERIC.search(text):
+def _bulk_numbers(text: str, start: int = 0, end: int | None = None):
+    """The numbers of ``text[start:end]`` (whitespace or commas between them) as one numpy
+    array, int64 when every one is written as an integer, else float64; None when it holds
+    anything that is not a plain decimal number.  numpy checks (a byte table, 64 K characters
+    at a time, stopping at the first chunk that is not numbers) and parses at C speed."""
+    end = len(text) if end is None else end
+    if end - start < 512:
+        part = text[start:end]
+        if _NOT_NUMERIC.search(part):
             return None
-        if "," in text:
-            text = text.replace(",", " ")
-        if not text.strip():
+        if "," in part:
+            part = part.replace(",", " ")
+        if not part.strip():
             return np.zeros(0)
-        integral = not _NOT_INTEGRAL.search(text)
+        integral = not _NOT_INTEGRAL.search(part)
+        data = part
     else:
-        try:
-            raw = text.encode("ascii")
-        except UnicodeEncodeError:
-            return None
-        codes = np.frombuffer(raw, dtype=np.uint8)
-        if not _NUMERIC_BYTES[codes].all():
-            return None
-        if not _VALUE_BYTES[codes].any():
+        chunks, integral, values = [], True, False
+        for at in range(start, end, 65536):
+            try:
+                raw = text[at:min(at + 65536, end)].encode("ascii")
+            except UnicodeEncodeError:
+                return None
+            codes = np.frombuffer(raw, dtype=np.uint8)
+            if not _NUMERIC_BYTES[codes].all():
+                return None
+            integral = integral and not _FLOAT_BYTES[codes].any()
+            values = values or bool(_VALUE_BYTES[codes].any())
+            chunks.append(raw)
+        if not values:
             return np.zeros(0)
-        integral = not _FLOAT_BYTES[codes].any()
-        text = raw.replace(b",", b" ") if b"," in raw else raw
+        data = b"".join(chunks)
+        if b"," in data:
+            data = data.replace(b",", b" ")
     try:
         with _warnings.catch_warnings():
             _warnings.simplefilter("error")
-            return np.fromstring(text, dtype=np.int64 if integral else np.float64, sep=" ")
+            return np.fromstring(data, dtype=np.int64 if integral else np.float64, sep=" ")
     except (ValueError, DeprecationWarning, OverflowError):
         return None
 
@@ -563,15 +578,34 @@ def _translation(v) -> np.ndarray:
     return out
 
 
+def _rotation3(axis, angle) -> np.ndarray:
+    x, y, z = (float(v) for v in axis[:3])
+    norm = math.sqrt(x * x + y * y + z * z)
+    if norm == 0.0 or not math.isfinite(norm) or angle == 0.0:
+        return np.eye(3)
+    x, y, z = x / norm, y / norm, z / norm
+    c, s = math.cos(angle), math.sin(angle)
+    t = 1.0 - c
+    return np.array([[t * x * x + c, t * x * y - s * z, t * x * z + s * y],
+                     [t * x * y + s * z, t * y * y + c, t * y * z - s * x],
+                     [t * x * z - s * y, t * y * z + s * x, t * z * z + c]])
+
+
 def transform_matrix(translation=(0, 0, 0), rotation=(0, 0, 1, 0), scale=(1, 1, 1),
                      scale_orientation=(0, 0, 1, 0), center=(0, 0, 0)) -> np.ndarray:
     """A Transform's local matrix exactly as ISO/IEC 14772-1 §6.52 and 19775-1 §10.4.4
     compose it: P' = T × C × R × SR × S × -SR × -C × P (rotations as axis + angle)."""
-    sr = rotation_matrix(scale_orientation[:3], scale_orientation[3])
-    return (_translation(translation) @ _translation(center)
-            @ rotation_matrix(rotation[:3], rotation[3]) @ sr
-            @ np.diag([scale[0], scale[1], scale[2], 1.0]) @ sr.T
-            @ _translation(-np.asarray(center, dtype=np.float64)))
+    out = np.eye(4)
+    a = np.diag([float(scale[0]), float(scale[1]), float(scale[2])])
+    if scale_orientation[3] != 0.0 and not (scale[0] == scale[1] == scale[2]):
+        sr = _rotation3(scale_orientation, scale_orientation[3])
+        a = sr @ a @ sr.T
+    if rotation[3] != 0.0:
+        a = _rotation3(rotation, rotation[3]) @ a
+    out[:3, :3] = a
+    c = np.array([float(v) for v in center[:3]])
+    out[:3, 3] = np.array([float(v) for v in translation[:3]]) + c - a @ c
+    return out
 
 
 def _axis_angle(rot: np.ndarray) -> tuple:
@@ -749,6 +783,9 @@ _STRIP = re.compile(r'"(?:[^"\\]|\\.)*"|#[^\n\r]*', re.S)
 _TOKEN = re.compile(r'[\s,]*(?:([{}\[\]])|"((?:[^"\\]|\\.)*)"|([^\s,{}\[\]"]+)|("))', re.S)
 _BLOCK = re.compile(r'[{}\[\]"]')
 _UNESCAPE = re.compile(r"\\(.)", re.S)
+_STRING_END = re.compile(r'(?:[^"\\]|\\.)*"', re.S)
+_OPENERS = np.array([ord("{"), ord("[")], dtype=np.uint32)
+_CLOSERS = np.array([ord("}"), ord("]")], dtype=np.uint32)
 
 
 def _strip_comments(text: str) -> str:
@@ -769,9 +806,15 @@ class _Classic:
         self.reader = reader
         self.scope = src.scope
         self.truncated = False
+        self.line_at, self.line_no = 0, 1
+        self.peeked = None          # (position, token, position after): the last peek
 
     # tokens --------------------------------------------------------------------------
     def next(self):
+        if self.peeked is not None and self.peeked[0] == self.pos:
+            _start, token, self.pos = self.peeked
+            self.peeked = None
+            return token
         m = _TOKEN.match(self.text, self.pos)
         if m is None:
             self.pos = len(self.text)
@@ -792,29 +835,58 @@ class _Classic:
 
     def peek(self):
         pos = self.pos
+        if self.peeked is not None and self.peeked[0] == pos:
+            return self.peeked[1]
         tok = self.next()
+        self.peeked = (pos, tok, self.pos)
         self.pos = pos
         return tok
 
     def line(self) -> int:
-        return self.text.count("\n", 0, self.pos) + 1
+        """The line of the current position (for warnings), counted from the last one asked
+        for, so that asking as the reading goes on costs the file's length once."""
+        pos = self.pos
+        if pos >= self.line_at:
+            self.line_no += self.text.count("\n", self.line_at, pos)
+        else:
+            self.line_no -= self.text.count("\n", pos, self.line_at)
+        self.line_at = pos
+        return self.line_no
 
     def skip_block(self, opener):
-        """Skip to the bracket closing *opener* (already read), counting, without recursion."""
+        """Skip to the bracket closing *opener* (already read), counting brackets without
+        recursion: 64 K characters at a time with numpy where they hold no string."""
         depth = 1
         text = self.text
+        n = len(text)
         while depth:
+            chunk = text[self.pos:self.pos + 65536]
+            if not chunk:
+                self.truncated = True
+                return
+            if '"' not in chunk:
+                codes = np.frombuffer(chunk.encode("utf-32-le"), dtype=np.uint32)
+                change = (np.isin(codes, _OPENERS).astype(np.int64)
+                          - np.isin(codes, _CLOSERS).astype(np.int64))
+                level = depth + np.cumsum(change)
+                closed = np.flatnonzero(level <= 0)
+                if len(closed):
+                    self.pos += int(closed[0]) + 1
+                    return
+                depth = int(level[-1])
+                self.pos += len(chunk)
+                continue
             m = _BLOCK.search(text, self.pos)
             if m is None:
-                self.pos = len(text)
+                self.pos = n
                 self.truncated = True
                 return
             c = m.group(0)
             self.pos = m.end()
             if c == '"':
-                end = re.compile(r'(?:[^"\\]|\\.)*"', re.S).match(text, self.pos)
+                end = _STRING_END.match(text, self.pos)
                 if end is None:
-                    self.pos = len(text)
+                    self.pos = n
                     self.truncated = True
                     return
                 self.pos = end.end()
@@ -951,7 +1023,6 @@ class _Classic:
     def node(self, depth, field_name=None):
         """A node statement (``DEF n Type {...}``, ``USE n``, ``Type {...}``); None when there
         is none (with a warning) or it is nested too deep."""
-        line = self.line()
         kind, word = self.next()
         if kind != "w":
             return None
@@ -960,7 +1031,7 @@ class _Classic:
             if kind != "w":
                 return None
             found = self.scope.defs.get(name)
-            return found if found is not None else _Use(name, self.scope, line)
+            return found if found is not None else _Use(name, self.scope)
         name = None
         if word == "DEF":
             kind, name = self.next()
@@ -968,14 +1039,14 @@ class _Classic:
                 return None
             if self.peek()[0] == "{":     # DEF without a node type: its field implies one
                 self.notes.add("DEF without a node type: the type its field implies",
-                               f"{name} line {line}")
+                               f"{name} line {self.line()}")
                 type_ = _IMPLIED.get(field_name or "", "Group")
             else:
                 kind, type_ = self.next()
         else:
             type_ = word
         if self.peek()[0] != "{":
-            self.notes.add("words that are not nodes skipped", f"{type_} line {line}")
+            self.notes.add("words that are not nodes skipped", f"{type_} line {self.line()}")
             return None
         self.next()
         if depth > MAX_DEPTH:
@@ -988,7 +1059,7 @@ class _Classic:
             if proto is not None:
                 self.notes.add("node and field names read regardless of case",
                                f"{type_} → {proto.name}")
-        node = _N(type_, name, proto, self.src, (), line)
+        node = _N(type_, name, proto, self.src)
         self.body(node, depth)
         if name is not None:
             self.scope.defs[name] = node
@@ -1053,7 +1124,7 @@ class _Classic:
             type_ = _IMPLIED.get(field_name or "", "Group")
             self.notes.add("nodes without a type: the type their field implies",
                            f"{field_name} line {self.line()}")
-            node = _N(type_, None, None, self.src, (), self.line())
+            node = _N(type_, None, None, self.src)
             self.body(node, depth)
             return node
         if kind != "w":
@@ -1094,7 +1165,7 @@ class _Classic:
         text = self.text
         end = text.find("]", self.pos)
         if end >= 0:
-            values = _bulk_numbers(text[self.pos:end])
+            values = _bulk_numbers(text, self.pos, end)
             if values is not None:
                 self.pos = end + 1
                 return values
@@ -1232,28 +1303,34 @@ def _read_file(path: str) -> bytes:
 
 
 def _gunzip(data: bytes, path: str, notes) -> bytes:
-    """*data* decompressed when it is gzip (by its magic bytes, whatever the file's name),
-    at most MAX_BYTES; a truncated stream keeps what decompressed, with a warning."""
+    """*data* decompressed when it is gzip (by its magic bytes, whatever the file's name;
+    members one after the other), at most MAX_BYTES; a stream that breaks off keeps what
+    decompressed, with a warning."""
     if not data.startswith(_GZIP_MAGIC):
         return data
-    out = io.BytesIO()
-    try:
-        with gzip.GzipFile(fileobj=io.BytesIO(data)) as stream:
-            while True:
-                chunk = stream.read(1 << 20)
-                if not chunk:
-                    break
-                out.write(chunk)
-                if out.tell() > MAX_BYTES:
-                    raise X3DError(path, f"decompresses to more than {MAX_BYTES} bytes; refused")
-    except (OSError, EOFError, ValueError) as error:
-        if isinstance(error, X3DError):
-            raise
-        if out.tell() == 0:
-            raise X3DError(path, f"gzip data that cannot be decompressed ({error})") from None
-        notes.add("a gzip stream that ends early: the part decompressed is read",
-                  os.path.basename(path))
-    return out.getvalue()
+    parts, total, rest = [], 0, data
+    while rest.startswith(_GZIP_MAGIC):
+        stream = zlib.decompressobj(16 + zlib.MAX_WBITS)
+        try:
+            chunk = stream.decompress(rest, MAX_BYTES + 1 - total)
+        except zlib.error as error:
+            if not total:
+                raise X3DError(path, f"gzip data that cannot be decompressed ({error})") from None
+            notes.add("gzip streams that break off: the part decompressed is read",
+                      os.path.basename(path))
+            break
+        parts.append(chunk)
+        total += len(chunk)
+        if total > MAX_BYTES or stream.unconsumed_tail:
+            raise X3DError(path, f"decompresses to more than {MAX_BYTES} bytes; refused")
+        if not stream.eof:
+            if not total:
+                raise X3DError(path, "gzip data that ends before anything decompressed")
+            notes.add("gzip streams that break off: the part decompressed is read",
+                      os.path.basename(path))
+            break
+        rest = stream.unused_data
+    return b"".join(parts)
 
 
 class _Started(Exception):
@@ -2083,10 +2160,11 @@ class _Reader:
             kids = [kids[which]] if 0 <= which < len(kids) else []
         elif t == "LOD":
             kids = (self.node_values(n, "level") or self.node_values(n, "children"))[:1]
-        elif t == "CADFace":
-            kids = self.node_values(n, "shape")
+        elif t == "CADFace":        # XML files often leave the Shape's containerField out
+            kids = self.node_values(n, "shape") or self.node_values(n, "children")
         elif t == "HAnimHumanoid":
-            kids = self.node_values(n, "skeleton") + self.node_values(n, "skin")
+            kids = (self.node_values(n, "skeleton") + self.node_values(n, "skin")
+                    or self.node_values(n, "children"))
         else:
             kids = self.node_values(n, "children")
             if t == "Billboard":
@@ -2858,41 +2936,25 @@ def _weights(root, count) -> dict:
 
 def _local_matrices(root) -> tuple:
     """({id(group): its local matrix as float64, or None for the identity},
-    {id(group): how many times groups name it as a child}, {id(group): its height}), once a
-    shared group, iteratively."""
-    local, refs, order = {}, {}, []
+    {id(group): how many times groups name it as a child}), once a shared group,
+    iteratively."""
+    local, refs = {}, {}
     stack = [root]
     while stack:
         node = stack.pop()
         if id(node) in local:
             continue
         m = np.asarray(node.matrix, dtype=np.float64)
-        local[id(node)] = None if np.array_equal(m, np.eye(4)) else m
-        order.append(node)
+        local[id(node)] = None if m.shape == (4, 4) and m.tobytes() == _EYE_BYTES else m
         for child in node.children:
             if isinstance(child, Transform):
                 refs[id(child)] = refs.get(id(child), 0) + 1
                 if id(child) not in local:
                     stack.append(child)
-    height = {}
-    pending = [(root, False)]
-    while pending:
-        node, done = pending.pop()
-        if done:
-            height[id(node)] = 1 + max((height.get(id(c), 0) for c in node.children
-                                        if isinstance(c, Transform)), default=0)
-            continue
-        if id(node) in height:
-            continue
-        height[id(node)] = MAX_DEPTH + 1        # in progress (a cycle reads as too deep)
-        pending.append((node, True))
-        pending.extend((c, False) for c in node.children
-                       if isinstance(c, Transform) and id(c) not in height)
-    return local, refs, height
+    return local, refs
 
 
-#: a shared group's instances are computed once relative to it when it is at most this high
-_BLOCK_HEIGHT = 32
+_EYE_BYTES = np.eye(4).tobytes()
 
 
 class _Block:
@@ -2909,7 +2971,8 @@ def _flatten(doc, notes) -> None:
     graph iteratively: groups with nothing to show below them are skipped by their counts
     (computed once per shared group), and a shared group that fits the budget is flattened
     once relative to itself and placed with one batched matrix product a use.  At most
-    MAX_INSTANCES shape and light instances, in document order."""
+    MAX_INSTANCES shape and light instances, in document order, and MAX_VISITS groups
+    visited; paths keep the PATH_LIMIT innermost names."""
     viewpoint = doc.viewpoint
 
     def counted(child):
@@ -2920,17 +2983,41 @@ def _flatten(doc, notes) -> None:
         return 1 if viewpoint is not None and child is viewpoint else 0
 
     weights = _weights(doc.root, counted)
-    local, refs, height = _local_matrices(doc.root)
+    local, refs = _local_matrices(doc.root)
     blocks = {}
     eye = np.eye(4)
     no_matrices = np.zeros((0, 4, 4))
+    visits = [0]
 
-    def block(group):
-        """_Block of a group (recursively: its height is at most _BLOCK_HEIGHT); cached for
-        shared groups; None when a matrix is not finite."""
-        key = id(group)
-        if key in blocks:
-            return blocks[key]
+    def compose(group, done):
+        """_Block of *group* from the blocks of its child groups (in *done* or cached)."""
+        counted_children = [c for c in group.children if (weights.get(id(c)) if
+                            isinstance(c, Transform) else counted(c))]
+        if len(counted_children) == 1 and isinstance(counted_children[0], Transform):
+            # a group around one group (common, and DEF/USE chains): its block moved
+            child = counted_children[0]
+            inner = blocks[id(child)] if id(child) in blocks else done.get(id(child))
+            if inner is None:
+                return None
+            m = local[id(child)]
+            out = _Block()
+            out.shapes, out.lights = inner.shapes, inner.lights
+            prefix = (child.name,) if child.name else ()
+            out.paths = inner.paths if not prefix else [(prefix + p)[-PATH_LIMIT:]
+                                                        for p in inner.paths]
+            out.light_paths = inner.light_paths if not prefix else [
+                (prefix + p)[-PATH_LIMIT:] for p in inner.light_paths]
+            out.scopes = inner.scopes
+            if m is None:
+                out.rel, out.light_rel, out.viewpoint = (inner.rel, inner.light_rel,
+                                                         inner.viewpoint)
+                return out
+            out.rel = np.matmul(m, inner.rel)
+            out.light_rel = np.matmul(m, inner.light_rel) if inner.lights else no_matrices
+            out.viewpoint = None if inner.viewpoint is None else np.dot(m, inner.viewpoint)
+            if not (np.isfinite(out.rel).all() and np.isfinite(out.light_rel).all()):
+                return None
+            return out
         shapes, rels, paths = [], [], []
         lights, light_rels, scopes, light_paths = [], [], [], []
         seen_viewpoint = None
@@ -2939,7 +3026,7 @@ def _flatten(doc, notes) -> None:
             if isinstance(child, Transform):
                 if not weights.get(id(child)):
                     continue
-                inner = block(child)
+                inner = blocks[id(child)] if id(child) in blocks else done.get(id(child))
                 if inner is None:
                     return None
                 m = local[id(child)]
@@ -2947,14 +3034,15 @@ def _flatten(doc, notes) -> None:
                 prefix = (child.name,) if child.name else ()
                 shapes.extend(inner.shapes)
                 rels.append(inner.rel if m is None else np.matmul(m, inner.rel))
-                paths.extend(inner.paths if not prefix else [prefix + p for p in inner.paths])
+                paths.extend(inner.paths if not prefix else
+                             [(prefix + p)[-PATH_LIMIT:] for p in inner.paths])
                 if inner.lights:
                     lights.extend(inner.lights)
                     light_rels.append(inner.light_rel if m is None
                                       else np.matmul(m, inner.light_rel))
                     scopes.append(np.where(inner.scopes >= 0, inner.scopes + offset, -1))
-                    light_paths.extend(inner.light_paths if not prefix
-                                       else [prefix + p for p in inner.light_paths])
+                    light_paths.extend(inner.light_paths if not prefix else
+                                       [(prefix + p)[-PATH_LIMIT:] for p in inner.light_paths])
                 if seen_viewpoint is None and inner.viewpoint is not None:
                     seen_viewpoint = inner.viewpoint if m is None else np.dot(m, inner.viewpoint)
             elif isinstance(child, Shape):
@@ -2979,16 +3067,44 @@ def _flatten(doc, notes) -> None:
         out.scopes[own_scoped] = (0, len(shapes))
         out.viewpoint = seen_viewpoint
         if not (np.isfinite(out.rel).all() and np.isfinite(out.light_rel).all()):
-            out = None
-        if refs.get(key, 0) > 1:
-            blocks[key] = out
+            return None
         return out
+
+    def block(group):
+        """_Block of a shared group, computed iteratively (children first) and cached for
+        every shared group met; None when a matrix is not finite."""
+        if id(group) in blocks:
+            return blocks[id(group)]
+        done, busy = {}, set()
+        stack = [(group, False)]
+        while stack:
+            node, finished = stack.pop()
+            key = id(node)
+            if finished:
+                busy.discard(key)
+                visits[0] += 1
+                result = compose(node, done)
+                if refs.get(key, 0) > 1:
+                    blocks[key] = result
+                else:
+                    done[key] = result
+                for child in node.children:     # a child used once is needed no more
+                    if isinstance(child, Transform) and refs.get(id(child), 0) <= 1:
+                        done.pop(id(child), None)
+                continue
+            if key in blocks or key in done or key in busy:
+                continue
+            busy.add(key)
+            stack.append((node, True))
+            stack.extend((c, False) for c in node.children if isinstance(c, Transform)
+                         and weights.get(id(c)) and id(c) not in blocks and id(c) not in done)
+        return blocks[id(group)] if id(group) in blocks else done.get(id(group))
 
     instances, lights = [], []
     doc.instances, doc.lights = instances, lights
     doc.viewpoint_matrix = np.eye(4)
     found_viewpoint = False
-    truncated = too_deep = broken = 0
+    truncated = stopped = broken = 0
     # a bound on |world entries|: |(A·B)ij| ≤ 4·max|A|·max|B|
     scale = {key: 4.0 * float(np.abs(m).max()) + 1.0 for key, m in local.items() if m is not None}
     root_matrix = local[id(doc.root)]
@@ -3011,9 +3127,10 @@ def _flatten(doc, notes) -> None:
                 weight = weights.get(id(child))
                 if not weight:
                     continue
-                if len(stack) > MAX_DEPTH:
-                    too_deep += 1
-                    continue
+                visits[0] += 1
+                if visits[0] > MAX_VISITS:
+                    stopped = 1
+                    break
                 m = local[id(child)]
                 bound = frame[6]
                 if m is None:
@@ -3026,23 +3143,25 @@ def _flatten(doc, notes) -> None:
                             broken += 1
                             continue
                         bound = float(np.abs(world).max()) * 4.0 + 1.0
-                path = frame[5] + (child.name,) if child.name else frame[5]
-                if refs.get(id(child), 0) > 1 and weight <= budget - len(instances) - len(lights) \
-                        and height[id(child)] <= min(_BLOCK_HEIGHT, MAX_DEPTH - len(stack)):
+                path = (frame[5] + (child.name,))[-PATH_LIMIT:] if child.name else frame[5]
+                if refs.get(id(child), 0) > 1 \
+                        and weight <= budget - len(instances) - len(lights):
                     shared = block(child)
                     if shared is not None:
                         mats = np.matmul(world, shared.rel)
                         if np.isfinite(mats).all():
                             base = len(instances)
                             instances.extend(
-                                ShapeInstance(base + k, s, mats[k], path + p if path else p)
+                                ShapeInstance(base + k, s, mats[k],
+                                              (path + p)[-PATH_LIMIT:] if p else path)
                                 for k, (s, p) in enumerate(zip(shared.shapes, shared.paths)))
                             if shared.lights:
                                 lmats = np.matmul(world, shared.light_rel)
                                 ranges = (shared.scopes + base).tolist()
                                 lights.extend(
                                     LightInstance(light, lmats[k], None if scope[0] < base
-                                                  else range(*scope), path + lpath)
+                                                  else range(*scope),
+                                                  (path + lpath)[-PATH_LIMIT:])
                                     for k, (light, scope, lpath) in enumerate(
                                         zip(shared.lights, ranges, shared.light_paths)))
                             if shared.viewpoint is not None and not found_viewpoint:
@@ -3069,17 +3188,18 @@ def _flatten(doc, notes) -> None:
                 if child is viewpoint and not found_viewpoint:
                     doc.viewpoint_matrix = matrix
                     found_viewpoint = True
-    if truncated:
+    if truncated or stopped:
         for frame in stack:
             for light in frame[4]:
                 light.scope = range(frame[3], len(instances))
+    if truncated:
         total = _weights(doc.root, lambda c: 1 if isinstance(c, (Shape, Light))
                          and (not isinstance(c, Shape) or c.geometry is not None) else 0)
         notes.add(f"the scene holds {total.get(id(doc.root), 0):,} shape and light instances "
                   f"(DEF/USE multiplies them): the first {MAX_INSTANCES:,} are kept")
-    if too_deep:
-        notes.add(f"groups nested deeper than {MAX_DEPTH} levels (through DEF/USE) left out",
-                  n=too_deep)
+    if stopped:
+        notes.add(f"flattening stopped after {MAX_VISITS:,} groups (DEF/USE nests them "
+                  f"deeply): the {len(instances):,} shape instances before are kept")
     if broken:
         notes.add("groups whose world matrix is not finite left out", n=broken)
 

@@ -560,3 +560,500 @@ def test_cylinder_and_cone_sizes_caps_and_texture():
     side = [c for c in rim if abs(cone.normals[c, 1]) < 0.99]
     assert np.allclose(cone.normals[side[0]], np.array([0, 2 / 3, -1]) / math.hypot(2 / 3, 1))
     assert len(geometry("Cone { bottom FALSE }").face_sizes) == x3d.SEGMENTS
+
+
+# -- scoped lights -------------------------------------------------------------------------
+
+def test_vrml97_directional_light_lights_its_group_and_point_lights_everything():
+    doc = read(VRML + """
+    DEF A Group { children [
+      DirectionalLight { direction 0 -1 0 }
+      DEF S1 Shape { geometry Box {} }
+      Group { children [ DEF S2 Shape { geometry Sphere {} } ] }
+    ] }
+    DEF S3 Shape { geometry Cone {} }
+    DEF B Transform { translation 5 0 0 children [ USE A ] }
+    PointLight { location 0 1 0 }
+    """)
+    assert kinds(doc) == ["Box", "Sphere", "Cone", "Box", "Sphere"]
+    first, second, point = doc.lights
+    assert first.light is second.light
+    assert list(first.scope) == [0, 1] and list(second.scope) == [3, 4]
+    assert second.matrix[:3, 3].tolist() == [5, 0, 0] and second.path == ("B", "A")
+    assert point.scope is None
+    assert np.allclose(second.world_direction(), [0, -1, 0])
+
+
+def test_x3d_global_field_decides_the_scope():
+    for text in (X3DV + """
+        Group { children [ DirectionalLight { global TRUE } PointLight { global FALSE }
+                           Shape { geometry Box {} } ] }
+        Shape { geometry Sphere {} }""",
+                 xml("<Group><DirectionalLight global='true'/><PointLight global='false'/>"
+                     "<Shape><Box/></Shape></Group><Shape><Sphere/></Shape>")):
+        directional, point = read(text).lights
+        assert directional.scope is None and list(point.scope) == [0]
+
+
+def test_a_light_at_the_root_lights_the_whole_file_and_world_location_follows_the_matrix():
+    doc = read(VRML + """DirectionalLight {} Shape { geometry Box {} }
+    Transform { translation 1 2 3 rotation 0 1 0 3.141592653589793 children [
+      PointLight { location 1 0 0 } Shape { geometry Box {} } ] }""")
+    assert list(doc.lights[0].scope) == [0, 1]
+    assert np.allclose(doc.lights[1].world_location(), [0, 2, 3])
+
+
+# -- units, axes, the Phong mapping ----------------------------------------------------------
+
+UNITS_CLASSIC = X3DV + """UNIT length millimetres 0.001
+UNIT angle degrees 0.017453292519943295
+Transform { rotation 0 0 1 90 children [
+  PointLight { attenuation 1 2 3 radius 500 }
+  SpotLight { beamWidth 30 cutOffAngle 60 }
+  Shape { geometry IndexedFaceSet { creaseAngle 45 coord Coordinate { point [0 0 0, 1 0 0, 0 1 0] }
+                                    coordIndex [0 1 2] } } ] }
+Viewpoint { fieldOfView 40 orientation 0 1 0 180 }
+"""
+
+
+def test_unit_statements_scale_lengths_and_convert_angles():
+    doc = read(UNITS_CLASSIC)
+    assert doc.meter == 0.001 and doc.unit_name == "millimetres"
+    assert np.allclose(doc.instances[0].matrix[:3, :3], [[0, -1, 0], [1, 0, 0], [0, 0, 1]])
+    spot = doc.lights[1].light
+    assert math.isclose(spot.beam_width, math.pi / 6) and math.isclose(spot.cut_off_angle,
+                                                                       math.pi / 3)
+    assert math.isclose(doc.instances[0].shape.geometry.crease_angle, math.pi / 4)
+    assert math.isclose(doc.viewpoint.field_of_view, 40 * math.pi / 180)
+    assert math.isclose(doc.viewpoint.orientation[3], math.pi)
+    values = x3d.light_values(doc, doc.lights[0].light)
+    # 1/(a0 + a1·d + a2·d²) with d in mm equals 1/(a0 + a1'·d' + a2'·d'²) with d' = d/1000 m
+    assert np.allclose(values["attenuation"], (1, 2000, 3e6)) and math.isclose(values["radius"],
+                                                                                 0.5)
+    m = 0.001
+    assert np.allclose(x3d.to_blender_matrix(doc), [[m, 0, 0, 0], [0, 0, -m, 0], [0, m, 0, 0],
+                                                    [0, 0, 0, 1]])
+    head = "<unit category='length' name='millimetres' conversionFactor='0.001'/>"
+    assert read(xml("<Shape><Box/></Shape>", head)).meter == 0.001
+
+
+def test_to_blender_matrix_turns_y_up_into_z_up():
+    doc = read(VRML + "Shape { geometry Box {} }")
+    turn = x3d.to_blender_matrix(doc)
+    assert np.allclose(turn @ [0, 1, 0, 0], [0, 0, 1, 0]), "X3D's up is Blender's up"
+    assert np.allclose(turn @ [0, 0, 1, 0], [0, -1, 0, 0]), "towards the viewer: Blender's -Y"
+    assert np.allclose(doc.instances[0].matrix, np.eye(4)), "the parsed data is not converted"
+
+
+def test_phong_values_of_materials_textures_and_colours():
+    mat = x3d.Material(diffuse=(0.5, 0.4, 0.2), ambient_intensity=0.5, specular=(0.1, 0.2, 0.3),
+                       emissive=(0.05, 0, 0), shininess=0.25, transparency=0.25)
+    values = x3d.phong_values(mat)
+    assert values["Kd"] == (0.5, 0.4, 0.2) and values["Ka"] == (0.25, 0.2, 0.1)
+    assert values["Ks"] == (0.1, 0.2, 0.3) and values["Ke"] == (0.05, 0, 0)
+    assert values["exponent"] == 32 and values["blinn"] == 1 and values["opacity"] == 0.75
+    assert values["lit"] and values["source"] == "material"
+    assert x3d.phong_values(mat, texture_components=3)["source"] == "texture"
+    assert x3d.phong_values(mat, texture_components=1)["source"] == "texture*material"
+    assert x3d.phong_values(mat, texture_components=1, colors=True)["source"] == "texture*colors"
+    assert x3d.phong_values(mat, colors=True)["source"] == "colors"
+    unlit = x3d.phong_values(None)
+    assert not unlit["lit"] and unlit["Ke"] == (1, 1, 1) and unlit["Kd"] == (0, 0, 0)
+
+
+def test_x3d4_materials_and_two_sided_material():
+    doc = read(xml("""
+      <Shape><Appearance><TwoSidedMaterial DEF='T' diffuseColor='1 0 0' separateBackColor='true'
+              backDiffuseColor='0 0 1' backShininess='0.5'/></Appearance><Box/></Shape>
+      <Shape><Appearance><UnlitMaterial emissiveColor='0 1 0' transparency='0.5'/></Appearance>
+             <Box/></Shape>
+      <Shape><Appearance><PhysicalMaterial baseColor='0.2 0.3 0.4' metallic='0.5'/></Appearance>
+             <Box/></Shape>""", version="4.0"))
+    two, unlit, physical = (i.shape.material for i in doc.instances)
+    assert two.kind == "two_sided" and two.diffuse == (1, 0, 0)
+    assert two.back.diffuse == (0, 0, 1) and two.back.shininess == 0.5
+    assert unlit.kind == "unlit" and unlit.emissive == (0, 1, 0) and unlit.diffuse == (0, 0, 0)
+    assert x3d.phong_values(unlit)["Ke"] == (0, 1, 0) and not x3d.phong_values(unlit)["lit"]
+    assert physical.kind == "physical" and physical.diffuse == (0.2, 0.3, 0.4)
+    assert physical.metallic == 0.5
+    warned(doc, "PhysicalMaterial")
+
+
+def test_material_names_come_from_def_else_appearance_shape_or_group():
+    doc = read(VRML + """
+    DEF Grp Group { children [
+      Shape { appearance DEF App Appearance { material Material {} } geometry Box {} }
+      DEF Shp Shape { appearance Appearance { material Material {} } geometry Box {} }
+      Shape { appearance Appearance { material Material {} } geometry Box {} }
+      Shape { appearance Appearance { material DEF Own Material {} } geometry Box {} } ] }
+    Shape { appearance Appearance { material Material {} } geometry Box {} }
+    Shape { geometry Box {} }""")
+    assert [i.shape.material.name if i.shape.material else None for i in doc.instances] == \
+        ["App", "Shp", "Grp", "Own", "Material", None]
+
+
+def test_textures_keep_every_url_candidate_and_find_the_file(tmp_path):
+    os.makedirs(os.path.join(tmp_path, "maps"))
+    write(tmp_path, os.path.join("maps", "wood.png"), b"\x89PNG")
+    doc = read(VRML + """Shape { appearance Appearance {
+        texture DEF Wood ImageTexture { url [ "http://example.com/wood.png" "maps/nothere.png"
+                                              "maps/wood.png" ] repeatS FALSE }
+        textureTransform TextureTransform { translation 0.5 0 rotation 1.5707963267948966
+                                            scale 2 2 center 0.5 0.5 } }
+      geometry Box {} }""", folder=tmp_path)
+    tex = doc.instances[0].shape.texture
+    assert tex.name == "Wood" and tex.urls[0] == "http://example.com/wood.png"
+    assert tex.path == os.path.join(tmp_path, "maps", "wood.png")
+    assert os.path.join(tmp_path, "maps", "nothere.png") in tex.paths
+    assert (tex.repeat_s, tex.repeat_t) == (False, True)
+    tt = doc.instances[0].shape.texture_transform
+    # Tc' = -C·S·R·C·T·Tc for Tc (0, 0): T → (0.5, 0), C → (1, 0.5), R 90° → (-0.5, 1),
+    # S → (-1, 2), -C → (-1.5, 1.5)
+    assert np.allclose(x3d.apply_texture_transform(np.array([[0.0, 0.0]]), tt), [[-1.5, 1.5]])
+    assert not doc.warnings
+
+
+def test_pixel_texture_image_is_decoded():
+    doc = read(VRML + "Shape { appearance Appearance { texture PixelTexture { "
+                      "image 2 1 3 0xFF0000 0x00FF80 } } geometry Box {} }")
+    tex = doc.instances[0].shape.texture
+    assert tex.components == 3 and tex.image.tolist() == [[[255, 0, 0], [0, 255, 128]]]
+
+
+def test_bindable_nodes_first_of_the_main_file(tmp_path):
+    write(tmp_path, "part.wrl", VRML + "NavigationInfo { headlight TRUE } "
+                                       "Viewpoint { position 9 9 9 }")
+    doc = read(VRML + """
+    WorldInfo { title "A title" info [ "one" "two" ] }
+    Inline { url "part.wrl" }
+    Background { skyColor [ 0.1 0.2 0.3, 0.4 0.5 0.6 ] }
+    NavigationInfo { headlight FALSE type [ "FLY" ] }
+    NavigationInfo { headlight TRUE }
+    Transform { translation 0 0 5 children DEF VP Viewpoint { position 1 2 3
+                fieldOfView 0.5 description "front" } }
+    Viewpoint { position 7 7 7 }
+    """, folder=tmp_path)
+    assert doc.title == "A title" and doc.info == ["one", "two"]
+    assert doc.background == (0.1, 0.2, 0.3)
+    assert doc.headlight is False and doc.navigation_types == ["FLY"]
+    vp = doc.viewpoint
+    assert (vp.name, vp.position, vp.field_of_view, vp.description) == ("VP", (1, 2, 3), 0.5,
+                                                                         "front")
+    assert doc.viewpoint_matrix[:3, 3].tolist() == [0, 0, 5]
+    assert np.allclose((doc.viewpoint_matrix @ vp.matrix())[:3, 3], [1, 2, 8])
+
+
+def test_ortho_viewpoint_and_grouping_nodes_of_cad_and_hanim():
+    doc = read(xml("""
+      <OrthoViewpoint fieldOfView='-2 -1 2 1' position='0 0 4'/>
+      <CADAssembly><CADLayer><CADPart translation='1 0 0'><CADFace><Shape><Box/></Shape></CADFace>
+      </CADPart></CADLayer></CADAssembly>
+      <HAnimHumanoid translation='0 1 0'><HAnimJoint containerField='skeleton' translation='0 0 2'>
+        <HAnimSegment><Shape><Sphere/></Shape></HAnimSegment></HAnimJoint></HAnimHumanoid>
+      <StaticGroup><Collision><Billboard><Shape><Cone/></Shape></Billboard></Collision>
+      </StaticGroup>"""))
+    assert doc.viewpoint.kind == "OrthoViewpoint" and doc.viewpoint.ortho_field == (-2, -1, 2, 1)
+    assert kinds(doc) == ["Box", "Sphere", "Cone"]
+    assert [i.matrix[:3, 3].tolist() for i in doc.instances] == [[1, 0, 0], [0, 1, 2], [0, 0, 0]]
+    warned(doc, "Billboard")
+
+
+# -- encodings ------------------------------------------------------------------------------------
+
+def test_gzip_is_found_by_its_magic_bytes_whatever_the_name(tmp_path):
+    text = VRML + "Shape { geometry Box { size 1 2 3 } }"
+    for name in ("plain.wrl", "packed.wrz", "packed.gz"):
+        path = write(tmp_path, name, gzip.compress(text.encode()))
+        assert x3d.load(path).instances[0].shape.geometry.primitive == {"size": (1, 2, 3)}
+    path = write(tmp_path, "scene.x3dz", gzip.compress(xml("<Shape><Sphere/></Shape>").encode()))
+    assert kinds(x3d.load(path)) == ["Sphere"]
+    cones = "".join(f" Transform {{ translation {k} {k * 7 % 13} 0 children Shape "
+                    "{ geometry Cone {} } }" for k in range(3000))
+    packed = gzip.compress((text + cones).encode())
+    doc = x3d.load(write(tmp_path, "cut.wrz", packed[:len(packed) // 2]))
+    assert kinds(doc)[0] == "Box" and 100 < len(doc.instances) < 3001
+    warned(doc, "gzip", "break off")
+    with pytest.raises(x3d.X3DError, match="gzip"):
+        x3d.load(write(tmp_path, "header.wrz", packed[:12]))
+
+
+SAME_CLASSIC = """
+NavigationInfo { headlight FALSE }
+DEF Top Transform { translation 1 2 3 rotation 0 1 0 0.5 scale 2 2 2 children [
+  DEF L SpotLight { location 0 1 0 direction 0 -1 0 beamWidth 0.2 cutOffAngle 0.4 }
+  DEF S Shape {
+    appearance Appearance { material DEF M Material { diffuseColor 0.1 0.2 0.3
+        specularColor 0.4 0.5 0.6 shininess 0.7 transparency 0.1 } }
+    geometry IndexedFaceSet { solid FALSE creaseAngle 1
+      coord Coordinate { point [0 0 0, 1 0 0, 1 1 0, 0 1 0] } coordIndex [0 1 2 -1 0 2 3 -1]
+      color Color { color [1 0 0, 0 1 0] } colorPerVertex FALSE
+      normal Normal { vector [0 0 1] } normalIndex [0 0 0 -1 0 0 0 -1] } } ] }
+Transform { translation -1 0 0 children [ USE S ] }
+Viewpoint { position 0 0 7 }
+"""
+SAME_XML = """<NavigationInfo headlight='false'/>
+<Transform DEF='Top' translation='1 2 3' rotation='0 1 0 0.5' scale='2 2 2'>
+ <SpotLight DEF='L' location='0 1 0' direction='0 -1 0' beamWidth='0.2' cutOffAngle='0.4'/>
+ <Shape DEF='S'><Appearance><Material DEF='M' diffuseColor='0.1 0.2 0.3'
+   specularColor='0.4 0.5 0.6' shininess='0.7' transparency='0.1'/></Appearance>
+  <IndexedFaceSet solid='false' creaseAngle='1' coordIndex='0 1 2 -1 0 2 3 -1'
+    colorPerVertex='false' normalIndex='0 0 0 -1 0 0 0 -1'>
+   <Coordinate point='0 0 0, 1 0 0, 1 1 0, 0 1 0'/><Color color='1 0 0, 0 1 0'/>
+   <Normal vector='0 0 1'/></IndexedFaceSet></Shape></Transform>
+<Transform translation='-1 0 0'><Shape USE='S'/></Transform>
+<Viewpoint position='0 0 7'/>"""
+
+
+def summary(doc) -> dict:
+    """The plain values of a document, to compare two readings."""
+    out = {"headlight": doc.headlight, "viewpoint": (doc.viewpoint.position,
+                                                     doc.viewpoint.orientation,
+                                                     doc.viewpoint.field_of_view)}
+    out["instances"] = []
+    for inst in doc.instances:
+        shape, mesh = inst.shape, inst.shape.geometry
+        mat = shape.material
+        out["instances"].append((
+            np.round(inst.matrix, 12).tolist(), inst.path, shape.name,
+            None if mat is None else (mat.name, mat.diffuse, mat.ambient_intensity, mat.specular,
+                                      mat.emissive, mat.shininess, mat.transparency),
+            mesh.kind, mesh.positions.tolist(), mesh.face_sizes.tolist(), mesh.corners.tolist(),
+            None if mesh.normals is None else np.round(mesh.normals, 12).tolist(),
+            None if mesh.colors is None else mesh.colors.tolist(),
+            None if mesh.uvs is None else np.round(mesh.uvs, 12).tolist(),
+            mesh.solid, mesh.ccw, mesh.crease_angle))
+    out["lights"] = [(np.round(li.matrix, 12).tolist(), li.light.name, li.light.kind,
+                      li.light.on, li.light.intensity, li.light.ambient_intensity,
+                      li.light.color, li.light.location, li.light.direction,
+                      li.light.attenuation, li.light.radius, li.light.beam_width,
+                      li.light.cut_off_angle, li.light.is_global,
+                      None if li.scope is None else tuple(li.scope)) for li in doc.lights]
+    return out
+
+
+def test_the_xml_and_classic_encodings_of_one_scene_give_the_same_data():
+    classic, other = read(X3DV + SAME_CLASSIC), read(xml(SAME_XML))
+    assert summary(classic) == summary(other)
+    assert classic.instances[0].shape is classic.instances[1].shape
+    assert other.instances[0].shape is other.instances[1].shape
+    assert not classic.warnings and not other.warnings
+
+
+# -- liberal reading ---------------------------------------------------------------------------
+
+def test_slips_other_browsers_accept_are_read_with_one_warning_each():
+    doc = read(VRML + """
+    Transform { translation 1,2,3 children [
+      Shape { appearance Appearance { material Material { diffusecolor 0.5 0.25 0.125 } }
+              geometry IndexedFaceset { coord DEF C { point [0 0 0, 1 0 0, 0 1 0] }
+                                        coordIndex [0,1,2,-1,] } }
+      Shape { geometry IndexedFaceSet { coord USE Later coordIndex [0 1 2] } }
+      Frobnicator { children [ Shape { geometry Box {} } ] }
+      Frobnicator { size 3 }
+    ] }
+    Group { children [ DEF Later Coordinate { point [0 0 0, 0 0 1, 1 0 0] } ] }
+    """)
+    first, second, third = doc.instances
+    assert first.matrix[:3, 3].tolist() == [1, 2, 3]
+    assert first.shape.material.diffuse == (0.5, 0.25, 0.125)
+    assert first.shape.geometry.kind == "IndexedFaceSet"
+    assert first.shape.geometry.positions.tolist() == [[0, 0, 0], [1, 0, 0], [0, 1, 0]]
+    assert second.shape.geometry.positions.tolist() == [[0, 0, 0], [0, 0, 1], [1, 0, 0]], \
+        "USE before DEF, resolved at the end"
+    assert third.shape.geometry.kind == "Box", "an unknown node's children are read"
+    warned(doc, "regardless of case", "diffusecolor", "IndexedFaceset")
+    warned(doc, "DEF without a node type")
+    warned(doc, "unknown node types", "Frobnicator ×2")
+
+
+def test_xml_booleans_and_mfstrings_with_or_without_quotes():
+    doc = read(xml("""
+      <Shape><Appearance><ImageTexture url='plain.png' repeatS='FALSE'/></Appearance>
+        <IndexedFaceSet solid='FALSE' ccw='False' coordIndex='0 1 2'>
+          <Coordinate point='0 0 0 1 0 0 0 1 0'/></IndexedFaceSet></Shape>
+      <Shape><Appearance><ImageTexture url='"a.png" "b b.png"' repeatT='false'/></Appearance>
+        <Box solid='true'/></Shape>
+      <NavigationInfo type='"EXAMINE" "ANY"' headlight='TRUE'/>"""))
+    first, second = (i.shape for i in doc.instances)
+    assert first.texture.urls == ["plain.png"] and first.texture.repeat_s is False
+    assert (first.geometry.solid, first.geometry.ccw) == (False, False)
+    assert second.texture.urls == ["a.png", "b b.png"] and second.texture.repeat_t is False
+    assert doc.navigation_types == ["EXAMINE", "ANY"] and doc.headlight is True
+
+
+def test_behaviour_nodes_are_named_once_and_the_rest_is_read():
+    doc = read(X3DV + """
+    DEF T TimeSensor { loop TRUE cycleInterval 5 }
+    DEF I PositionInterpolator { key [0 1] keyValue [0 0 0, 1 1 1] }
+    DEF SC Script {
+      inputOnly SFFloat set_fraction
+      outputOnly SFVec3f value_changed
+      initializeOnly SFNode target USE T
+      initializeOnly MFFloat values [ 1 2 3 ]
+      url "javascript: function set_fraction(f) { value_changed = new SFVec3f(f, f, f); }"
+    }
+    ROUTE T.fraction_changed TO I.set_fraction
+    ROUTE I . value_changed TO Moved . set_translation
+    Fog { color 1 1 1 }
+    DEF Moved Transform { children Shape { geometry Box {} } }
+    Shape { appearance Appearance { shaders ComposedShader { language "GLSL" } }
+            geometry Sphere {} }
+    """)
+    assert kinds(doc) == ["Box", "Sphere"]
+    line = warned(doc, "not imported")
+    for word in ("Script", "ROUTE ×2", "TimeSensor", "PositionInterpolator", "Fog",
+                 "ComposedShader"):
+        assert word in line
+    assert len(doc.warnings) == 1
+
+
+def test_a_file_without_header_is_read_with_a_warning_but_vrml1_and_other_files_are_refused():
+    doc = read("Shape { geometry Box {} }")
+    assert kinds(doc) == ["Box"]
+    warned(doc, "without a '#VRML V2.0 utf8' header")
+    with pytest.raises(x3d.X3DError, match="VRML 1.0"):
+        read("#VRML V1.0 ascii\nSeparator { Cube {} }")
+    for text in ("hello world", "", "<COLLADA/>", "<X3D"):
+        with pytest.raises(x3d.X3DError):
+            read(text)
+    with pytest.raises(x3d.X3DError, match="No such file"):
+        x3d.load("/nonexistent-folder/missing.wrl")
+
+
+# -- hostile files: bounded time and memory, one error or warnings -------------------------------
+
+def test_xml_declaring_entities_is_refused_before_parsing():
+    laughs = ('<?xml version="1.0"?><!DOCTYPE X3D [<!ENTITY a "aaaaaaaaaa">'
+              + "".join(f'<!ENTITY {chr(98 + k)} "{("&" + chr(97 + k) + ";") * 10}">'
+                        for k in range(9))
+              + ']><X3D><Scene><WorldInfo title="&j;"/></Scene></X3D>')
+    with pytest.raises(x3d.X3DError, match="entities"):
+        timed(read, laughs, "laughs.x3d", limit=1.0)
+    external = ('<?xml version="1.0"?><!DOCTYPE X3D [<!ENTITY e SYSTEM "file:///etc/passwd">]>'
+                '<X3D><Scene><WorldInfo title="&e;"/></Scene></X3D>')
+    with pytest.raises(x3d.X3DError, match="entities"):
+        read(external, "external.x3d")
+
+
+def bomb(levels=40, leaf="Shape { geometry Box {} }"):
+    lines = [VRML, "DEF G0 Group { children [ %s ] }" % leaf]
+    lines += [f"DEF G{i} Transform {{ translation 1 0 0 children [ USE G{i - 1} USE G{i - 1} ] }}"
+              for i in range(1, levels + 1)]
+    return "\n".join(lines)
+
+
+def test_a_def_use_bomb_keeps_the_first_instances_quickly_and_says_how_many_there_are():
+    doc = timed(read, bomb(), limit=1.5)
+    assert len(doc.instances) == x3d.MAX_INSTANCES
+    # the file's top level holds G0 ... G40: G_k holds 2^k boxes, 2^41 - 1 in all
+    warned(doc, f"{2 ** 41 - 1:,} shape and light instances", f"first {x3d.MAX_INSTANCES:,}")
+    # G_k at the top level (k = 0 ... 15) adds 2^k instances: G16 starts at 2^16 - 1, below
+    # G16, G15 ... G0, 16 translations of 1 along x
+    assert doc.instances[2 ** 16 - 1].path == tuple(f"G{k}" for k in range(16, -1, -1))
+    assert doc.instances[2 ** 16 - 1].matrix[0, 3] == 16
+    assert all(i.shape is doc.instances[0].shape for i in doc.instances)
+    doc = timed(read, bomb(leaf="DirectionalLight {} Shape { geometry Box {} }"), limit=1.5)
+    assert len(doc.instances) + len(doc.lights) == x3d.MAX_INSTANCES
+    assert all(list(light.scope) == [light_index] for light_index, light in enumerate(doc.lights))
+
+
+def test_a_proto_inside_itself_and_proto_fan_out_end_quickly():
+    doc = timed(read, VRML + "PROTO A [] { Group { children [ A {} Shape { geometry Box {} } ] } }"
+                             "\nA {}")
+    assert kinds(doc) == ["Box"]
+    warned(doc, "inside themselves")
+    doc = timed(read, VRML + "PROTO A [ field SFFloat r 1 ] { Group { children [ A { r IS r } "
+                             "Shape { geometry Sphere { radius IS r } } ] } }\nA { r 2 }")
+    assert kinds(doc) == ["Sphere"]
+    warned(doc, "PROTO instances inside their own PROTO")
+    lines = [VRML, "PROTO P0 [ field SFColor c 1 0 0 ] { Shape { appearance Appearance { "
+                   "material Material { diffuseColor IS c } } geometry Box {} } }"]
+    lines += [f"PROTO P{i} [ field SFColor c 1 0 0 ] {{ Group {{ children [ "
+              + f"P{i - 1} {{ c IS c }} " * 10 + "] } }" for i in range(1, 10)]
+    doc = timed(read, "\n".join(lines) + "\nP9 { c 0 1 0 }", limit=4.0)
+    assert doc.instances[0].shape.material.diffuse == (0, 1, 0)
+    warned(doc, "PROTO expansion beyond")
+
+
+def test_indices_out_of_range_absurd_counts_and_nan_never_reach_the_data():
+    doc = read(VRML + """
+    Transform { translation nan 1 inf scale 1e35 1 1 children [
+      Shape { geometry IndexedFaceSet {
+        coord Coordinate { point [0 0 0, 1 NaN 0, 0 1 0, 1 1 1] }
+        coordIndex [0 1 2 -1 0 1 4611686018427387904 -1 3 2 1.5 -1 -7 0 1 2]
+        normal Normal { vector [0 0 1] } normalIndex [0 0 0 -1 0 0 0 -1 0 0 0 -1 -1 0 99 0] } }
+      Shape { geometry ElevationGrid { xDimension 1000000000 zDimension 1000000000 height [1 2] } }
+      Shape { geometry IndexedTriangleFanSet { index [0 1 999] coord Coordinate { point [0 0 0] } } }
+      Shape { geometry TriangleFanSet { fanCount [1000000000] coord Coordinate { point [0 0 0] } } }
+      Shape { appearance Appearance { texture PixelTexture { image 100000 100000 3 1 2 3 } }
+              geometry Box { size 1 -inf 1 } } ] }
+    """)
+    mesh = doc.instances[0].shape.geometry
+    assert mesh.corners.tolist() == [0, 1, 2, 0, 1, 2], "the faces naming 2^62, 1.5 are dropped"
+    assert mesh.normals is None, "normalIndex 99 is out of range"
+    for inst in doc.instances:
+        assert np.isfinite(inst.matrix).all()
+        geo = inst.shape.geometry
+        for values in (geo.positions, geo.normals, geo.uvs, geo.colors):
+            assert values is None or np.isfinite(values).all()
+    assert doc.instances[0].matrix[:3, 3].tolist() == [0, 1, 0]
+    assert doc.instances[-1].shape.texture.image is None
+    for words in (("not finite",), ("larger than",), ("coordinate index out of range",),
+                  ("normals left out", "out of range"),
+                  ("ElevationGrid",), ("PixelTexture",), ("fan or strip counts",),
+                  ("not integers",)):
+        warned(doc, *words)
+
+
+def test_deep_nesting_is_cut_without_recursion_errors():
+    deep = 100_000
+    doc = timed(read, VRML + "Group { children [ " * deep + "Shape { geometry Box {} }"
+                + " ] }" * deep)
+    assert doc.instances == []
+    warned(doc, f"deeper than {x3d.MAX_DEPTH}")
+    doc = timed(read, xml("<Group>" * deep + "<Shape><Box/></Shape>" + "</Group>" * deep),
+                "deep.x3d")
+    warned(doc, f"deeper than {x3d.MAX_DEPTH}")
+    doc = timed(read, VRML + "Group { children " + "[" * deep + "]" * deep + " }"
+                + " Shape { geometry Box {} }")
+    assert kinds(doc) == ["Box"]
+    doc = timed(read, VRML + "Group { children [ " * deep)
+    warned(doc, "truncated")
+    # DEF/USE nests C_k k deep: 20,000 groups each shown at the top level and inside the next
+    chain = [VRML, "DEF C0 Shape { geometry Box {} }"]
+    chain += [f"DEF C{k} Transform {{ translation 1 0 0 children USE C{k - 1} }}"
+              for k in range(1, 20_000)]
+    doc = timed(read, "\n".join(chain), limit=6.0)
+    assert len(doc.instances) == 20_000 and not doc.warnings
+    last = doc.instances[-1]
+    assert last.matrix[0, 3] == 19_999 and len(last.path) == x3d.PATH_LIMIT
+    # the innermost names: C32 ... C1 above the shape C0
+    assert last.path == tuple(f"C{k}" for k in range(x3d.PATH_LIMIT, 0, -1))
+
+
+def test_a_node_used_inside_itself_is_left_out():
+    doc = timed(read, VRML + "DEF A Group { children [ Shape { geometry Box {} } USE A ] }")
+    assert kinds(doc) == ["Box"]
+    warned(doc, "used inside themselves")
+
+
+def test_truncated_files_keep_what_came_before():
+    doc = read(VRML + "Shape { geometry Box {} } Shape { geometry IndexedFaceSet { coord "
+                      "Coordinate { point [0 0 0, 1 0 0, 0 1 0] } coordIndex [0 1 2")
+    assert kinds(doc) == ["Box", "IndexedFaceSet"]
+    warned(doc, "truncated")
+    doc = read(VRML + 'WorldInfo { title "never ends')
+    warned(doc, "truncated")
+    doc = read(xml("<Shape><Box/></Shape><Shape><Sphere/></Shape>")[:-20], "cut.x3d")
+    assert kinds(doc) == ["Box", "Sphere"]
+    warned(doc, "not well-formed")
+
+
+def test_files_beyond_the_size_limit_are_refused(tmp_path, monkeypatch):
+    monkeypatch.setattr(x3d, "MAX_BYTES", 1000)
+    path = write(tmp_path, "big.wrl", VRML + "Shape { geometry Box {} }" + " " * 2000)
+    with pytest.raises(x3d.X3DError, match="larger than"):
+        x3d.load(path)
+    path = write(tmp_path, "bomb.wrz", gzip.compress((VRML + " " * 100_000).encode()))
+    with pytest.raises(x3d.X3DError, match="decompresses to more than"):
+        timed(x3d.load, path)
