@@ -2289,8 +2289,6 @@ class _Reader:
                     tex.paths.append(candidate)
                 if tex.path is None and os.path.isfile(candidate):
                     tex.path = candidate
-        if not tex.name and tex.urls:
-            tex.name = os.path.basename(tex.urls[0].replace("\\", "/")) or tex.urls[0]
         if tex.path is None:
             self.notes.add("texture files not found", (tex.urls or ["(no url)"])[0])
         return tex
@@ -3627,7 +3625,9 @@ class _Emit:
                 .add("scale", "vec", t.scale).add("translation", "vec", t.translation))
 
     def geometry(self, mesh: Mesh):
-        kind = mesh.kind if mesh.kind in _PRIMITIVES and mesh.primitive else \
+        # VRML97's primitives are always solid: a two-sided one is written as its faces
+        primitive = mesh.kind in _PRIMITIVES and mesh.primitive and (self.x3d or mesh.solid)
+        kind = mesh.kind if primitive else \
             ("PointSet" if mesh.kind == "PointSet" else
              "IndexedLineSet" if mesh.edges is not None else "IndexedFaceSet")
         w, use = self.define(mesh, kind)
@@ -3877,8 +3877,9 @@ def save(doc: Document, path: str) -> str:
     lower = path.lower()
     gz = lower.endswith(".gz")
     stem = lower[:-3] if gz else lower
-    if stem.endswith((".x3dz", ".x3dvz", ".wrz")):
-        gz, stem = True, stem[:-1]
+    for packed, plain in ((".x3dz", ".x3d"), (".x3dvz", ".x3dv"), (".wrz", ".wrl")):
+        if stem.endswith(packed):
+            gz, stem = True, stem[:-len(packed)] + plain
     if stem.endswith(".x3d"):
         text = dumps_x3d(doc)
     elif stem.endswith(".x3dv"):

@@ -806,9 +806,9 @@ SAME_XML = """<NavigationInfo headlight='false'/>
 
 def summary(doc) -> dict:
     """The plain values of a document, to compare two readings."""
-    out = {"headlight": doc.headlight, "viewpoint": (doc.viewpoint.position,
-                                                     doc.viewpoint.orientation,
-                                                     doc.viewpoint.field_of_view)}
+    vp = doc.viewpoint
+    out = {"headlight": doc.headlight,
+           "viewpoint": vp and (vp.position, vp.orientation, vp.field_of_view)}
     out["instances"] = []
     for inst in doc.instances:
         shape, mesh = inst.shape, inst.shape.geometry
@@ -1057,3 +1057,221 @@ def test_files_beyond_the_size_limit_are_refused(tmp_path, monkeypatch):
     path = write(tmp_path, "bomb.wrz", gzip.compress((VRML + " " * 100_000).encode()))
     with pytest.raises(x3d.X3DError, match="decompresses to more than"):
         timed(x3d.load, path)
+
+
+# -- flattening against a reference walk -----------------------------------------------------
+
+def reference_flatten(doc, limit):
+    """Shape and light instances by a plain recursive walk (written here): (shape, matrix,
+    path) and (light, matrix, scope), the first *limit* shapes and lights in document order."""
+    shapes, lights, count = [], [], [0]
+
+    def walk(group, matrix, path):
+        start, scoped = len(shapes), []
+        for child in group.children:
+            if count[0] >= limit:
+                break
+            if isinstance(child, x3d.Transform):
+                walk(child, matrix @ child.matrix, path + ((child.name,) if child.name else ()))
+            elif isinstance(child, x3d.Shape):
+                shapes.append((child, matrix, path))
+                count[0] += 1
+            elif isinstance(child, x3d.Light):
+                entry = [child, matrix, None]
+                lights.append(entry)
+                count[0] += 1
+                if not child.is_global:
+                    scoped.append(entry)
+        for entry in scoped:
+            entry[2] = (start, len(shapes))
+
+    walk(doc.root, np.eye(4), ())
+    return shapes, lights
+
+
+def random_graph(seed):
+    rng = random.Random(seed)
+    shapes = [x3d.Shape(name=f"S{k}", geometry=x3d.Mesh()) for k in range(3)]
+    groups = []
+    for k in range(12):
+        children = [rng.choice(shapes) for _ in range(rng.randint(0, 2))]
+        children += [rng.choice(groups) for _ in range(rng.randint(0, 3)) if groups]
+        if rng.random() < 0.4:
+            children.insert(rng.randint(0, len(children)),
+                            x3d.Light(kind=rng.choice(["directional", "point"]),
+                                      is_global=rng.random() < 0.5))
+        rng.shuffle(children)
+        matrix = x3d.transform_matrix([rng.uniform(-1, 1) for _ in range(3)],
+                                      (0, 1, 0, rng.uniform(0, 3)), (1, rng.uniform(0.5, 2), 1))
+        groups.append(x3d.Transform(name=rng.choice(["", f"G{k}"]), matrix=matrix,
+                                    children=children))
+    return x3d.Document(root=x3d.Transform(kind="Scene", children=groups[-3:]))
+
+
+@pytest.mark.parametrize("seed", range(8))
+def test_flattening_equals_a_plain_walk_also_when_the_budget_cuts_it(seed, monkeypatch):
+    for limit in (x3d.MAX_INSTANCES, 37):
+        monkeypatch.setattr(x3d, "MAX_INSTANCES", limit)
+        doc = random_graph(seed)
+        doc.flatten()
+        shapes, lights = reference_flatten(doc, limit)
+        assert [i.id for i in doc.instances] == list(range(len(shapes)))
+        assert [i.shape for i in doc.instances] == [s for s, _m, _p in shapes]
+        assert all(np.allclose(i.matrix, m, atol=1e-9) for i, (_s, m, _p) in
+                   zip(doc.instances, shapes))
+        assert [i.path for i in doc.instances] == [p for _s, _m, p in shapes]
+        assert [li.light for li in doc.lights] == [entry[0] for entry in lights]
+        assert all(np.allclose(li.matrix, entry[1], atol=1e-9)
+                   for li, entry in zip(doc.lights, lights))
+        assert [None if li.scope is None else (li.scope.start, li.scope.stop)
+                for li in doc.lights] == [entry[2] for entry in lights]
+
+
+# -- writing ---------------------------------------------------------------------------------
+
+def built_document():
+    """A scene as the Blender side would build one: names that are not identifiers, a shared
+    shape, a transform with non-uniform scale and a mirror, colours with alpha, every light."""
+    mesh = x3d.Mesh(name="Roof mesh", positions=np.array(
+        [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [0.5, 1.5, 0.25]], float),
+        face_sizes=np.array([4, 3]), corners=np.array([0, 1, 2, 3, 3, 2, 4]),
+        normals=np.array([[0, 0, 1]] * 4 + [[0, 0.6, 0.8]] * 3, float),
+        colors=np.array([[1, 0, 0, 1], [0, 1, 0, 0.5], [0, 0, 1, 1], [1, 1, 1, 1],
+                         [0.5, 0.5, 0.5, 0.25], [0.1, 0.2, 0.3, 1], [0, 0, 0, 1]]),
+        uvs=np.array([[0, 0], [1, 0], [1, 1], [0, 1], [0, 1], [1, 1], [0.5, 1.5]]),
+        solid=False, crease_angle=0.5)
+    material = x3d.Material(name="Red Paint.001", diffuse=(0.8, 0.1, 0.1), ambient_intensity=0.3,
+                            specular=(0.5, 0.5, 0.5), emissive=(0.01, 0.02, 0.03),
+                            shininess=0.25, transparency=0.125)
+    appearance = x3d.Appearance(material=material, texture=x3d.Texture(
+        urls=["maps/brick wall.png"], repeat_t=False), texture_transform=x3d.TextureTransform(
+        center=(0.5, 0.5), rotation=0.25, scale=(2, 3), translation=(0.1, 0.2)))
+    house = x3d.Shape(name="House #1", geometry=mesh, appearance=appearance)
+    ball = x3d.Shape(name="Ball", geometry=geometry("Sphere { radius 2 }"),
+                     appearance=x3d.Appearance(material=x3d.Material(name="Plain")))
+    spot = x3d.Light(kind="spot", name="Key Light", intensity=0.75, ambient_intensity=0.1,
+                     color=(1, 0.9, 0.8), location=(1, 2, 3), direction=(0, -1, 0),
+                     attenuation=(1, 0.5, 0.25), radius=50, beam_width=0.4, cut_off_angle=0.8)
+    sun = x3d.Light(kind="directional", name="Sun", intensity=0.5, direction=(0, -1, -1),
+                    is_global=False)
+    bulb = x3d.Light(kind="point", name="Bulb", on=False, location=(0, 3, 0),
+                     attenuation=(0, 0, 1), radius=10)
+    camera = x3d.Viewpoint(name="Cam", position=(0, 1, 10), orientation=(1, 0, 0, -0.2),
+                           field_of_view=0.6, description="Main view")
+    sheared = x3d.transform_matrix((1, 2, 3), (0, 1, 0, 0.3), (1, 2, -3), (1, 0, 0, 0.4))
+    root = x3d.Transform(kind="Scene", children=[
+        x3d.Transform(name="Obj 1", matrix=sheared, children=[house]),
+        x3d.Transform(name="Obj 1", matrix=move((5, 0, 0)), children=[house]),
+        x3d.Transform(name="Lamps", matrix=move((0, 5, 0)), children=[
+            spot, sun, bulb, x3d.Transform(children=[ball])]),
+        x3d.Transform(name="Rig", matrix=move((0, 0, 2)), children=[camera])])
+    doc = x3d.Document(root=root, headlight=False, navigation_types=["EXAMINE", "ANY"],
+                       viewpoint=camera, title="Round trip", background=(0.1, 0.2, 0.3))
+    doc.flatten()
+    return doc
+
+
+def assert_same_scene(a, b, alpha=True):
+    assert (a.headlight, a.navigation_types, a.title, a.background) == \
+        (b.headlight, b.navigation_types, b.title, b.background)
+    va, vb = a.viewpoint, b.viewpoint
+    assert (va.name, va.position, va.orientation, va.field_of_view, va.description) == \
+        (vb.name, vb.position, vb.orientation, vb.field_of_view, vb.description)
+    assert np.allclose(a.viewpoint_matrix, b.viewpoint_matrix, atol=1e-12)
+    assert len(a.instances) == len(b.instances)
+    for x, y in zip(a.instances, b.instances):
+        assert x.path == y.path and x.shape.name == y.shape.name
+        assert np.allclose(x.matrix, y.matrix, atol=1e-12)
+        mx, my = x.shape.material, y.shape.material
+        assert (mx.name, mx.diffuse, mx.ambient_intensity, mx.specular, mx.emissive,
+                mx.shininess, mx.transparency) == (my.name, my.diffuse, my.ambient_intensity,
+                                                   my.specular, my.emissive, my.shininess,
+                                                   my.transparency)
+        gx, gy = x.shape.geometry, y.shape.geometry
+        assert (gx.name, gx.kind, gx.solid, gx.ccw, gx.crease_angle, gx.primitive) == \
+            (gy.name, gy.kind, gy.solid, gy.ccw, gy.crease_angle, gy.primitive)
+        assert np.array_equal(gx.positions, gy.positions)
+        assert np.array_equal(gx.face_sizes, gy.face_sizes)
+        assert np.array_equal(gx.corners, gy.corners)
+        assert np.array_equal(gx.normals, gy.normals) and np.array_equal(gx.uvs, gy.uvs)
+        if gx.colors is not None:
+            width = 4 if alpha else 3
+            assert np.array_equal(gx.colors[:, :width], gy.colors[:, :width])
+        tx, ty = x.shape.texture, y.shape.texture
+        assert (tx is None) == (ty is None)
+        if tx is not None:
+            assert (tx.urls, tx.repeat_s, tx.repeat_t) == (ty.urls, ty.repeat_s, ty.repeat_t)
+            fx, fy = x.shape.texture_transform, y.shape.texture_transform
+            assert (fx.center, fx.rotation, fx.scale, fx.translation) == \
+                (fy.center, fy.rotation, fy.scale, fy.translation)
+    assert len(a.lights) == len(b.lights)
+    for x, y in zip(a.lights, b.lights):
+        lx, ly = x.light, y.light
+        assert (lx.kind, lx.name, lx.on, lx.intensity, lx.ambient_intensity, lx.color,
+                lx.location, lx.direction, lx.attenuation, lx.radius, lx.is_global) == \
+            (ly.kind, ly.name, ly.on, ly.intensity, ly.ambient_intensity, ly.color,
+             ly.location, ly.direction, ly.attenuation, ly.radius, ly.is_global)
+        if lx.kind == "spot":
+            assert (lx.beam_width, lx.cut_off_angle) == (ly.beam_width, ly.cut_off_angle)
+        assert np.allclose(x.matrix, y.matrix, atol=1e-12) and x.scope == y.scope
+
+
+@pytest.mark.parametrize("writer, name, alpha", [(x3d.dumps_x3d, "back.x3d", True),
+                                                 (x3d.dumps_x3dv, "back.x3dv", True),
+                                                 (x3d.dumps_vrml, "back.wrl", False)])
+def test_written_scenes_read_back_with_the_same_values_names_and_sharing(writer, name, alpha):
+    doc = built_document()
+    text = writer(doc)
+    back = read(text, name)
+    assert back.warnings == ["texture files not found: maps/brick wall.png"]
+    assert_same_scene(doc, back, alpha=alpha)
+    assert back.instances[0].shape is back.instances[1].shape, "a shared shape stays shared"
+    assert back.instances[0].shape.material.name == "Red Paint.001"
+    assert back.instances[0].path == ("Obj 1",) and back.instances[1].path == ("Obj 1",)
+    defs = [m.split("=")[1].strip("'\"") if "=" in m else m.split()[1]
+            for m in __import__("re").findall(r"DEF=\"[^\"]*\"|DEF \S+", text)]
+    assert len(defs) == len(set(defs)), "DEF names are unique"
+    assert all(__import__("re").fullmatch(r"[A-Za-z_][A-Za-z0-9_\-]*", d) for d in defs)
+    assert_same_scene(back, read(writer(back), name), alpha=alpha)
+
+
+def test_vrml97_writes_other_units_as_a_scale_and_x3d_as_unit_statements():
+    doc = read(UNITS_CLASSIC)
+    for writer, name in ((x3d.dumps_x3d, "u.x3d"), (x3d.dumps_x3dv, "u.x3dv")):
+        back = read(writer(doc), name)
+        assert back.meter == 0.001 and np.allclose(back.instances[0].matrix,
+                                                   doc.instances[0].matrix)
+        assert np.allclose(back.lights[1].light.beam_width, math.pi / 6)
+    back = read(x3d.dumps_vrml(doc), "u.wrl")
+    assert back.meter == 1.0
+    assert np.allclose(back.instances[0].matrix, np.diag([0.001] * 3 + [1])
+                       @ doc.instances[0].matrix)
+
+
+def test_real_files_write_back_to_the_same_data(tmp_path):
+    for name in ("x3dom_Drum55Gallon.x3d", "threejs_meshWithLines.wrl",
+                 "kicad_R_0805_2012Metric_excerpt.wrl", "choreonoid_box1.wrl"):
+        doc = x3d.load(os.path.join(DATA, name))
+        for writer, out in ((x3d.dumps_x3d, "o.x3d"), (x3d.dumps_vrml, "o.wrl")):
+            back = read(writer(doc), out, folder=tmp_path)
+            expected = summary(doc)["instances"]
+            if out == "o.wrl":      # VRML97's primitives are solid: a two-sided one is faces
+                expected = [e[:4] + ("IndexedFaceSet",) + e[5:] if e[4] in x3d._PRIMITIVES
+                            and not e[11] else e for e in expected]
+            assert summary(back)["instances"] == expected, (name, out)
+
+
+def test_save_picks_the_encoding_by_extension_gzips_and_leaves_no_temporary_file(tmp_path):
+    doc = built_document()
+    for name, start in (("a.x3d", b"<?xml"), ("a.x3dv", b"#X3D V3.3"), ("a.wrl", b"#VRML V2.0"),
+                        ("a.x3dz", b"\x1f\x8b"), ("a.wrz", b"\x1f\x8b"), ("a.x3dvz", b"\x1f\x8b"),
+                        ("a.wrl.gz", b"\x1f\x8b")):
+        path = x3d.save(doc, os.path.join(tmp_path, name))
+        with open(path, "rb") as handle:
+            assert handle.read().startswith(start), name
+        assert_same_scene(doc, x3d.load(path), alpha=not name.startswith("a.wrl")
+                          and not name.startswith("a.wrz"))
+    assert sorted(os.listdir(tmp_path)) == sorted(["a.x3d", "a.x3dv", "a.wrl", "a.x3dz",
+                                                   "a.wrz", "a.x3dvz", "a.wrl.gz"])
+    with pytest.raises(ValueError):
+        x3d.save(doc, os.path.join(tmp_path, "a.obj"))
