@@ -1275,3 +1275,185 @@ def test_save_picks_the_encoding_by_extension_gzips_and_leaves_no_temporary_file
                                                    "a.wrz", "a.x3dvz", "a.wrl.gz"])
     with pytest.raises(ValueError):
         x3d.save(doc, os.path.join(tmp_path, "a.obj"))
+
+
+# -- real files (tests/data/x3d; origins and licences in tests/data/README.md) ---------------
+
+def real(name):
+    return x3d.load(os.path.join(DATA, name))
+
+
+def test_kicad_model_materials_defined_in_shapes_without_geometry():
+    doc = real("kicad_R_0805_2012Metric_excerpt.wrl")
+    assert doc.encoding == "vrml97" and not doc.warnings
+    assert [s.geometry for s in doc.roots[:3]] == [None, None, None]
+    pin, res, plastic = (s.material for s in doc.roots[:3])
+    assert (pin.name, pin.ambient_intensity, pin.diffuse, pin.specular, pin.emissive,
+            pin.transparency, pin.shininess) == ("PIN-01", 0.271, (0.824, 0.82, 0.781),
+                                                 (0.328, 0.258, 0.172), (0, 0, 0), 0, 0.7)
+    assert (res.name, res.ambient_intensity, res.diffuse, res.specular, res.shininess) == \
+        ("RES-SMD-01", 0.638, (0.082, 0.086, 0.094), (0.066, 0.063, 0.063), 0.3)
+    assert (plastic.name, plastic.ambient_intensity, plastic.diffuse, plastic.shininess) == \
+        ("PLASTIC-WHITE-01", 0.494, (0.895, 0.891, 0.813), 0.25)
+    assert [i.shape.material for i in doc.instances] == [pin, plastic, res, res]
+    assert doc.materials() == [pin, plastic, res]
+    meshes = [i.shape.geometry for i in doc.instances]
+    assert [len(m.face_sizes) for m in meshes] == [2, 6, 2, 2]
+    assert [len(m.positions) for m in meshes] == [4, 8, 4, 4]
+    assert meshes[0].positions[1].tolist() == [-0.394, -0.236, 0.159]
+    assert meshes[0].corners.tolist() == [0, 1, 2, 2, 1, 3]
+    assert all(m.crease_angle == 0.5 and m.solid for m in meshes)
+    assert all(np.array_equal(i.matrix, np.eye(4)) for i in doc.instances)
+
+
+def test_choreonoid_openhrp_protos():
+    doc = real("choreonoid_box1.wrl")
+    (inst,) = doc.instances
+    assert inst.shape.geometry.primitive == {"size": (0.2, 0.8, 0.2)}
+    mat = inst.shape.material
+    assert mat.diffuse == (1, 1, 0) and mat.ambient_intensity == 0.2 and mat.name == "BODY"
+    assert inst.path == ("box1", "WAIST", "BODY") and np.allclose(inst.matrix, np.eye(4))
+    assert doc.headlight is True and doc.navigation_types == ["EXAMINE", "ANY"]
+    assert doc.background == (0.4, 0.6, 0.4)
+    assert doc.viewpoint.position == (3, 0, 0.835)
+    assert doc.viewpoint.orientation == (0.577, 0.5775, 0.5775, 2.0935)
+    # three ROUTEs in the bodies of the (unused) CylinderSensor PROTOs
+    assert doc.warnings == ["not imported (animation, interaction, scripts, sound, shaders, "
+                            "fog): ROUTE ×3"]
+
+
+def test_choreonoid_table_nested_transforms_scale_orientation_and_texture_transform():
+    doc = real("choreonoid_table.wrl")
+    box, leg1, leg2 = doc.instances
+    assert (box.shape.geometry.kind, leg1.shape.geometry.kind, leg2.shape.geometry.kind) == \
+        ("Box", "Cylinder", "Cylinder")
+    assert box.shape.material is None, "a shape without Material is unlit"
+    tex = box.shape.texture
+    assert tex.urls == ["textures/wood.4.png"] and tex.path is None
+    assert os.path.join(DATA, "textures", "wood.4.png") in tex.paths
+    tt = box.shape.texture_transform
+    assert (tt.scale, tt.center, tt.rotation, tt.translation) == ((1.0139, 1.90015), (0.5, 0.5),
+                                                                 0, (0, 0))
+    assert (leg1.shape.material.ambient_intensity, leg1.shape.material.diffuse,
+            leg1.shape.material.shininess) == (0.574468, (1, 0.769946, 0.418716), 0.414894)
+    assert leg2.shape.material.diffuse == (1, 0.75361, 0.353117)
+    outer = (move((0, 2.5, 0)) @ rot((1, 0, 0), 1.57)
+             @ move((0.81736, -0.000393301, 3.09967)) @ rot((0, 1, 0), 1.57295)
+             @ move((3.12287, 0, -0.934591)) @ rot((0, 1, 0), 4.7022)
+             @ np.diag([0.999999, 0.999998, 0.999999, 1]))
+    axis = (1.84775e-06, 1, -1.84775e-06)
+    so = rot((2.97959e-08, 1, -1.87755e-06), 1.5708)
+    assert np.allclose(box.matrix, outer @ move((2.02399, 0.815218, 1.0783)) @ rot(axis, 4.71239)
+                       @ np.diag([1, 0.02, 0.6, 1]), atol=1e-12)
+    assert np.allclose(leg1.matrix, outer @ move((2, 0.3952, 1.7)) @ rot(axis, 4.71239) @ so
+                       @ np.diag([0.15, 0.4, 0.15, 1]) @ so.T, atol=1e-12)
+    assert np.allclose(leg2.matrix, outer @ move((2, 0.3952, 0.5))
+                       @ np.diag([0.15, 0.4, 0.15, 1]), atol=1e-12)
+    assert doc.warnings == ["texture files not found: textures/wood.4.png"]
+
+
+def test_choreonoid_file_without_header_and_with_trailing_commas():
+    doc = real("choreonoid_HAND_L.wrl")
+    (inst,) = doc.instances
+    mesh = inst.shape.geometry
+    assert len(mesh.positions) == 8 and mesh.face_sizes.tolist() == [3] * 12
+    assert mesh.positions[7].tolist() == [-0.015, 0.09, 0.01]
+    assert faces(mesh)[:2] == [[7, 2, 3], [4, 7, 3]]
+    mat = inst.shape.material
+    assert (mat.name, mat.diffuse, mat.ambient_intensity) == ("FL", (0.85, 0.85, 0.85), 1.0)
+    assert np.allclose(inst.matrix @ [0, 1, 0, 0], [0, 0, 1, 0], atol=1e-12)
+    assert doc.warnings == ["files without a '#VRML V2.0 utf8' header, read as vrml97: "
+                            "choreonoid_HAND_L.wrl"]
+
+
+def test_choreonoid_fog_and_tunnel_light():
+    doc = real("choreonoid_fog.wrl")
+    assert doc.instances[0].shape.geometry.primitive == {"radius": 90}
+    assert doc.instances[0].shape.material.diffuse == (1, 1, 1)
+    assert doc.warnings == ["not imported (animation, interaction, scripts, sound, shaders, "
+                            "fog): Fog"]
+    doc = real("choreonoid_TunnelLight.wrl")
+    (light,) = doc.lights
+    assert (light.light.kind, light.light.ambient_intensity, light.light.color,
+            light.light.direction, light.light.intensity, light.light.on) == \
+        ("directional", 0.2, (1, 1, 1), (0, 0, -1), 0.7, True)
+    assert light.matrix[:3, 3].tolist() == [0, 0, 5] and light.scope == range(0, 0)
+
+
+def test_threejs_camera_file_with_vrml1_cameras_and_an_anchor():
+    doc = real("threejs_camera.wrl")
+    sphere, box = doc.instances
+    assert sphere.shape.geometry.primitive == {"radius": 2.3}
+    assert sphere.shape.material.diffuse == (0, 0, 1)
+    assert sphere.matrix[:3, 3].tolist() == [3, 0, 1]
+    assert box.shape.geometry.primitive == {"size": (2, 2, 2)}
+    assert box.shape.material.emissive == (1, 1, 0) and box.shape.material.diffuse == \
+        (0.8, 0.8, 0.8)
+    assert box.matrix[:3, 3].tolist() == [2, 2.5, 1.25]
+    (light,) = doc.lights
+    assert light.light.direction == (1, 0, -1) and list(light.scope) == [0, 1]
+    assert doc.viewpoint is None
+    assert doc.warnings == ["unknown node types skipped (their children read where they have "
+                            "them): OrthographicCamera, PerspectiveCamera"]
+
+
+def test_threejs_3ds_max_export_with_texture_indices():
+    doc = real("threejs_meshWithTexture.wrl")
+    (inst,) = doc.instances
+    mesh = inst.shape.geometry
+    assert mesh.name == "Plane001FACES" and inst.shape.material.name == "Plane001"
+    assert (inst.shape.material.diffuse, inst.shape.material.ambient_intensity,
+            inst.shape.material.shininess) == ((0.5882, 0.5882, 0.5882), 1.0, 0.145)
+    assert len(mesh.positions) == 25 and mesh.face_sizes.tolist() == [3] * 32
+    assert np.array_equal(mesh.normals, np.tile([0, 1, 0], (96, 1)))
+    # first face: coordIndex 5 0 6, texCoordIndex 15 10 16
+    assert mesh.corners[:3].tolist() == [5, 0, 6]
+    assert mesh.uvs[:3].tolist() == [[0, 0.25], [0, 0], [0.25, 0.25]]
+    # scale 0.1 then 1.571 about +X (written as -1.571 about -X): (-20.27, 0, 21.37) → about
+    # (-2.027, -2.137, 0)
+    corner = inst.matrix @ np.append(mesh.positions[0], 1)
+    assert np.allclose(corner[:3], [-2.027, -2.137, 0], atol=2e-3)
+    assert doc.warnings == ["texture files not found: map.gif"]
+
+
+def test_threejs_catia_export_with_shared_coordinates_lines_and_viewpoints():
+    doc = real("threejs_meshWithLines.wrl")
+    assert len(doc.instances) == 18 and not doc.warnings
+    faces_ = [i.shape.geometry for i in doc.instances[:6]]
+    lines = [i.shape.geometry for i in doc.instances[6:]]
+    assert all(m.positions is faces_[0].positions for m in faces_), "one Coordinate USE'd"
+    assert [faces(m) for m in faces_[:2]] == [[[7, 5, 6], [5, 4, 6]], [[6, 2, 7], [2, 3, 7]]]
+    assert all(not m.solid for m in faces_)
+    assert all(m.edges.tolist() == [[0, 1]] and len(m.positions) == 2 for m in lines)
+    assert lines[0].positions.tolist() == [[-12, -13.5, -1.8], [-12, -13.5, 0]]
+    first, line = doc.instances[0].shape.material, doc.instances[6].shape.material
+    assert (first.name, first.diffuse) == ("_material0", (0.866667, 0.666667, 0.266667))
+    assert (line.name, line.emissive, line.diffuse) == ("_material1", (0, 0, 0), (0.8, 0.8, 0.8))
+    assert all(np.allclose(i.matrix, np.diag([0.1, 0.1, 0.1, 1])) for i in doc.instances)
+    assert doc.instances[0].path == ("_000000002D59E720",)
+    vp = doc.viewpoint
+    assert (vp.position, vp.field_of_view, vp.description) == \
+        ((0.411502, 0.183945, 0.216403), 0.471225, "Main Viewpoint")
+    assert doc.navigation_types == ["EXAMINE", "WALK", "FLY"] and doc.headlight is True
+    assert doc.background == (0, 0, 0) and doc.info == ["File created using CATIA"]
+
+
+def test_x3dom_savage_drum_cylinders_and_shared_shapes():
+    doc = real("x3dom_Drum55Gallon.x3d")
+    assert (doc.encoding, doc.version, doc.profile) == ("x3d-xml", "3.2", "Interchange")
+    assert doc.meta["title"] == "Drum55Gallon.x3d" and not doc.warnings
+    shapes = [i.shape for i in doc.instances]
+    assert [s.name for s in shapes] == ["", "Bunghole", "Rim", "MidProtrusions",
+                                        "MidProtrusions", "BottomRim"]
+    assert shapes[3] is shapes[4]
+    assert [i.matrix[1, 3] for i in doc.instances] == [0, 0.42775, 0.433, 0.13, -0.13, -0.42]
+    blue = shapes[0].material
+    assert blue.name == "Blue" and blue.diffuse == (0.062745, 0, 0.8)
+    assert all(s.material is blue for s in shapes if s.name != "Bunghole")
+    assert shapes[1].material.name == "Bunghole" and shapes[1].material.diffuse == (0.8,) * 3
+    drum, rim = shapes[0].geometry, shapes[2].geometry
+    assert drum.name == "Drum" and drum.primitive == {"radius": 0.28575, "height": 0.8509,
+                                                      "top": True, "bottom": True, "side": True}
+    assert np.allclose(sorted(set(np.round(drum.positions[:, 1], 12))), [-0.42545, 0.42545])
+    assert rim.primitive["top"] is False and rim.solid is False
+    assert len(rim.face_sizes) == x3d.SEGMENTS + 1
