@@ -171,7 +171,7 @@ def test_def_use_gives_the_same_objects_and_separate_instances():
     assert doc.materials() == [a.shape.material]
 
 
-# -- PROTO, EXTERNPROTO, Inline ----------------------------------------------------------------------------
+# -- PROTO, EXTERNPROTO, Inline -------------------------------------------------------------
 
 LAMP = """
 PROTO Lamp [
@@ -241,7 +241,8 @@ def test_externproto_reads_the_proto_from_a_local_file(tmp_path):
 
 def test_inline_shares_the_inlined_files_objects_and_warns_once_for_a_missing_file(tmp_path):
     write(tmp_path, "part.wrl", VRML + "DEF P Shape { appearance Appearance { material DEF PM "
-                                       "Material { diffuseColor 0 1 0 } } geometry Box { size 1 2 3 } }")
+                                       "Material { diffuseColor 0 1 0 } } "
+                                       "geometry Box { size 1 2 3 } }")
     doc = read(VRML + """
     Transform { translation 10 0 0 children Inline { url "part.wrl" } }
     Inline { url [ "missing.wrl" "part.wrl" ] }
@@ -276,7 +277,8 @@ def test_inline_that_includes_itself_ends_quickly_with_a_warning(tmp_path):
 def test_switch_shows_its_chosen_child_and_lod_its_first_level():
     for header, field_ in ((VRML, "choice"), (X3DV, "children")):
         doc = read(header + f"""
-        Switch {{ whichChoice 1 {field_} [ Shape {{ geometry Box {{}} }} Shape {{ geometry Sphere {{}} }} ] }}
+        Switch {{ whichChoice 1 {field_} [ Shape {{ geometry Box {{}} }}
+                                          Shape {{ geometry Sphere {{}} }} ] }}
         Switch {{ {field_} [ Shape {{ geometry Box {{}} }} ] }}
         Switch {{ whichChoice 5 {field_} [ Shape {{ geometry Box {{}} }} ] }}
         LOD {{ {"level" if header == VRML else "children"} [ Shape {{ geometry Cone {{}} }}
@@ -970,7 +972,7 @@ def test_a_proto_inside_itself_and_proto_fan_out_end_quickly():
                    "material Material { diffuseColor IS c } } geometry Box {} } }"]
     lines += [f"PROTO P{i} [ field SFColor c 1 0 0 ] {{ Group {{ children [ "
               + f"P{i - 1} {{ c IS c }} " * 10 + "] } }" for i in range(1, 10)]
-    doc = timed(read, "\n".join(lines) + "\nP9 { c 0 1 0 }", limit=4.0)
+    doc = timed(read, "\n".join(lines) + "\nP9 { c 0 1 0 }", limit=3.0)
     assert doc.instances[0].shape.material.diffuse == (0, 1, 0)
     warned(doc, "PROTO expansion beyond")
 
@@ -983,7 +985,8 @@ def test_indices_out_of_range_absurd_counts_and_nan_never_reach_the_data():
         coordIndex [0 1 2 -1 0 1 4611686018427387904 -1 3 2 1.5 -1 -7 0 1 2]
         normal Normal { vector [0 0 1] } normalIndex [0 0 0 -1 0 0 0 -1 0 0 0 -1 -1 0 99 0] } }
       Shape { geometry ElevationGrid { xDimension 1000000000 zDimension 1000000000 height [1 2] } }
-      Shape { geometry IndexedTriangleFanSet { index [0 1 999] coord Coordinate { point [0 0 0] } } }
+      Shape { geometry IndexedTriangleFanSet { index [0 1 999]
+                                               coord Coordinate { point [0 0 0] } } }
       Shape { geometry TriangleFanSet { fanCount [1000000000] coord Coordinate { point [0 0 0] } } }
       Shape { appearance Appearance { texture PixelTexture { image 100000 100000 3 1 2 3 } }
               geometry Box { size 1 -inf 1 } } ] }
@@ -1019,14 +1022,14 @@ def test_deep_nesting_is_cut_without_recursion_errors():
     assert kinds(doc) == ["Box"]
     doc = timed(read, VRML + "Group { children [ " * deep)
     warned(doc, "truncated")
-    # DEF/USE nests C_k k deep: 20,000 groups each shown at the top level and inside the next
+    # DEF/USE nests C_k k deep: 5,000 groups each shown at the top level and inside the next
     chain = [VRML, "DEF C0 Shape { geometry Box {} }"]
     chain += [f"DEF C{k} Transform {{ translation 1 0 0 children USE C{k - 1} }}"
-              for k in range(1, 20_000)]
-    doc = timed(read, "\n".join(chain), limit=6.0)
-    assert len(doc.instances) == 20_000 and not doc.warnings
+              for k in range(1, 5000)]
+    doc = timed(read, "\n".join(chain))
+    assert len(doc.instances) == 5000 and not doc.warnings
     last = doc.instances[-1]
-    assert last.matrix[0, 3] == 19_999 and len(last.path) == x3d.PATH_LIMIT
+    assert last.matrix[0, 3] == 4999 and len(last.path) == x3d.PATH_LIMIT
     # the innermost names: C32 ... C1 above the shape C0
     assert last.path == tuple(f"C{k}" for k in range(x3d.PATH_LIMIT, 0, -1))
 
@@ -1457,3 +1460,118 @@ def test_x3dom_savage_drum_cylinders_and_shared_shapes():
     assert np.allclose(sorted(set(np.round(drum.positions[:, 1], 12))), [-0.42545, 0.42545])
     assert rim.primitive["top"] is False and rim.solid is False
     assert len(rim.face_sizes) == x3d.SEGMENTS + 1
+
+
+# -- more of the encodings --------------------------------------------------------------------
+
+def test_xml_proto_declare_instance_and_extern_proto(tmp_path):
+    write(tmp_path, "lib.x3d", xml("""
+      <ProtoDeclare name='Ball'><ProtoInterface>
+        <field name='r' type='SFFloat' accessType='initializeOnly' value='1'/></ProtoInterface>
+        <ProtoBody><Shape><Sphere><IS><connect nodeField='radius' protoField='r'/></IS></Sphere>
+        </Shape></ProtoBody></ProtoDeclare>"""))
+    doc = read(xml("""
+      <ExternProtoDeclare name='Ball' url='"lib.x3d#Ball"'>
+        <field name='r' type='SFFloat' accessType='initializeOnly'/></ExternProtoDeclare>
+      <ProtoDeclare name='Post'>
+        <ProtoInterface>
+          <field name='where' type='SFVec3f' accessType='inputOutput' value='0 0 0'/>
+          <field name='tint' type='SFColor' accessType='inputOutput' value='1 0 0'/>
+          <field name='extra' type='MFNode' accessType='inputOutput'/>
+        </ProtoInterface>
+        <ProtoBody>
+          <Transform><IS><connect nodeField='translation' protoField='where'/></IS>
+            <Shape><Appearance><Material><IS><connect nodeField='diffuseColor' protoField='tint'/>
+            </IS></Material></Appearance><Box/></Shape>
+            <Group><IS><connect nodeField='children' protoField='extra'/></IS></Group></Transform>
+          <Script DEF='S'><field name='n' type='SFNode' accessType='initializeOnly'><Group/></field>
+            <![CDATA[ecmascript: function initialize() {}]]></Script>
+        </ProtoBody>
+      </ProtoDeclare>
+      <ProtoInstance name='Post' DEF='P1'>
+        <fieldValue name='where' value='1 2 3'/>
+        <fieldValue name='extra'><Shape><Cone/></Shape></fieldValue>
+      </ProtoInstance>
+      <ProtoInstance name='Post'><fieldValue name='tint' value='0 0 1'/></ProtoInstance>
+      <ProtoInstance name='Ball'><fieldValue name='r' value='4'/></ProtoInstance>
+      <Transform translation='0 9 0'><ProtoInstance USE='P1'/></Transform>"""), "main.x3d",
+               folder=tmp_path)
+    assert kinds(doc) == ["Box", "Cone", "Box", "Sphere", "Box", "Cone"]
+    box, cone = doc.instances[:2]
+    assert box.matrix[:3, 3].tolist() == [1, 2, 3] and box.shape.material.diffuse == (1, 0, 0)
+    assert doc.instances[2].shape.material.diffuse == (0, 0, 1)
+    assert doc.instances[3].shape.geometry.primitive == {"radius": 4}
+    assert doc.instances[4].shape is box.shape and doc.instances[4].matrix[1, 3] == 11
+    assert cone.path == ("P1",)
+
+
+def test_classic_header_statements_are_read_or_skipped_cleanly():
+    doc = read("""#X3D V4.0 utf8
+    PROFILE Interchange
+    COMPONENT Geometry3D:2
+    COMPONENT CADGeometry : 1
+    META "creator" "someone"
+    UNIT length centimetre 0.01
+    IMPORT Inlined.Exported AS Local
+    EXPORT Shown AS Seen
+    DEF Shown Shape { geometry Box {} }
+    EXPORT Shown
+    """, "header.x3dv")
+    assert (doc.encoding, doc.version, doc.profile, doc.meter) == ("x3d-classic", "4.0",
+                                                                  "Interchange", 0.01)
+    assert doc.meta == {"creator": "someone"} and kinds(doc) == ["Box"] and not doc.warnings
+
+
+def test_urls_resolve_relative_to_the_file_and_other_schemes_are_not_fetched(tmp_path):
+    base = str(tmp_path)
+    assert x3d.resolve_local("maps/a b.png", base) == os.path.join(base, "maps", "a b.png")
+    assert x3d.resolve_local("maps/a%20b.png", base) == os.path.join(base, "maps", "a b.png")
+    assert x3d.resolve_local("part.wrl#Viewpoint1", base) == os.path.join(base, "part.wrl")
+    assert x3d.resolve_local("file:///data/x.png", base) == "/data/x.png"
+    assert x3d.resolve_local("maps\\wood.png", base) == os.path.join(base, "maps", "wood.png")
+    for url in ("http://example.com/a.wrl", "https://x/y.png", "urn:web3d:media:a", ""):
+        assert x3d.resolve_local(url, base) is None
+    seen = []
+
+    def resolver(url, folder):
+        seen.append((url, folder))
+        return None
+
+    doc = x3d.loads(VRML + 'Inline { url "part.wrl" }', os.path.join(base, "main.wrl"),
+                    resolver=resolver)
+    assert seen == [("part.wrl", base)]
+    warned(doc, "Inline files not found")
+
+
+def test_a_file_that_is_not_utf8_is_read_as_latin1():
+    doc = read(VRML.encode() + 'WorldInfo { title "Caf\xe9" } Shape { geometry Box {} }'
+               .encode("latin-1"))
+    assert doc.title == "Café" and kinds(doc) == ["Box"]
+    warned(doc, "Latin-1")
+
+
+def test_large_numeric_arrays_are_read_in_bulk(tmp_path):
+    """About 10 MB: 200,000 positions and 200,000 triangles, read within a few seconds (a 50 MB
+    file took about 2 s on the development machine; see the report of issue 36)."""
+    rng = np.random.default_rng(5)
+    points = np.round(rng.random((200_000, 3)) * 100, 4)
+    tris = rng.integers(0, len(points), (200_000, 3))
+    text = (VRML + "Shape { geometry IndexedFaceSet { coord Coordinate { point [\n"
+            + ",\n".join(" ".join(map(repr, p)) for p in points.tolist())
+            + "] }\ncoordIndex [\n"
+            + "\n".join(f"{a} {b} {c} -1" for a, b, c in tris.tolist()) + "] } }")
+    path = write(tmp_path, "big.wrl", text)
+    doc = timed(x3d.load, path, limit=8.0)
+    mesh = doc.instances[0].shape.geometry
+    assert np.array_equal(mesh.positions, points)
+    assert np.array_equal(mesh.corners, tris.reshape(-1)) and len(mesh.face_sizes) == 200_000
+
+
+def test_a_cycle_in_a_graph_built_by_hand_is_cut():
+    inner = x3d.Transform(name="a")
+    outer = x3d.Transform(name="b", children=[inner, x3d.Shape(geometry=x3d.Mesh())])
+    inner.children.append(outer)
+    doc = x3d.Document(root=x3d.Transform(kind="Scene", children=[inner]))
+    timed(doc.flatten)
+    assert [i.path for i in doc.instances] == [("a", "b")]
+    warned(doc, "cycle")
