@@ -132,3 +132,18 @@ def black_world(world) -> None:
     background = world.node_tree.nodes.get("Background") if world.node_tree else None
     if background is not None:
         background.inputs["Color"].default_value = (0.0, 0.0, 0.0, 1.0)
+
+
+def set_corner_normals(mesh, normals) -> None:
+    """Custom normals of *mesh*, one unit vector per corner (*normals*: float32 (corners, 3)).
+    Blender 4.5 and later hold them as the float vector attribute ``custom_normal`` of the
+    corners, written at once; before, ``normals_split_custom_set`` (which reads a numpy array
+    fastest there; 1.6 M corners: seconds through a list of tuples)."""
+    if VERSION >= (4, 5, 0):
+        old = mesh.attributes.get("custom_normal")
+        if old is not None:
+            mesh.attributes.remove(old)
+        attribute = mesh.attributes.new("custom_normal", "FLOAT_VECTOR", "CORNER")
+        attribute.data.foreach_set("vector", normals.reshape(-1))
+    else:
+        mesh.normals_split_custom_set(normals.reshape(-1, 3))

@@ -77,6 +77,11 @@ OPACITY_MIX = "phong_opacity_mix"
 #: The Emission node of Per Vertex / Per Face shading (``shading/modes.py``).
 SHADING_EMISSION = "phong_shading_emission"
 OPACITY_TRANSPARENT = "phong_opacity_transparent"
+#: An opacity map (issue 35): the Math node that ends an importer's chain of an opacity texture
+#: (COLLADA ``<transparent><texture>``, FBX TransparentColor / TransparencyFactor maps).  Its
+#: Value output feeds the Mix Shader's Fac in place of the Opacity control, and the material
+#: blends whatever the control's value (the value the file states, kept for export).
+OPACITY_MAP = "phong_opacity_map"
 #: The nodes of the recipe itself (controls, lights group, output, opacity): what an importer
 #: that strips the nodes it replaced must keep.
 RECIPE_NODES = frozenset(CONTROLS) | {LIGHTS_NODE, OUTPUT, OPACITY, OPACITY_MIX,
@@ -283,15 +288,17 @@ def apply_opacity(material) -> None:
     """The nodes and Eevee settings of *material* for the value of its Opacity control:
     below 1 a Mix Shader (Fac = Opacity) of a Transparent BSDF and the lights group's
     Shader feeds the output and Eevee blends (render method Blended); at 1 the lights
-    group's Shader feeds the output directly, as in every opaque Phong material."""
+    group's Shader feeds the output directly, as in every opaque Phong material.  An opacity
+    map (``OPACITY_MAP``, an imported texture) feeds Fac instead, whatever the value."""
     tree = material.node_tree
     lights = tree.nodes.get(LIGHTS_NODE)
     output = tree.nodes.get(OUTPUT)
     if lights is None or output is None:
         return
     value = opacity(material)
+    mapped = _opacity_map(tree)
     mix, transparent = tree.nodes.get(OPACITY_MIX), tree.nodes.get(OPACITY_TRANSPARENT)
-    if value >= 1.0:
+    if value >= 1.0 and mapped is None:
         for node in (mix, transparent):
             if node is not None:
                 tree.nodes.remove(node)
@@ -303,7 +310,8 @@ def apply_opacity(material) -> None:
     transparent = named_node(tree, OPACITY_TRANSPARENT, "ShaderNodeBsdfTransparent",
                              (-50.0, 300.0))
     transparent.inputs["Color"].default_value = (1.0, 1.0, 1.0, 1.0)
-    tree.links.new(compat.value_output(tree.nodes[OPACITY]), compat.input_socket(mix, "Fac"))
+    fac = mapped if mapped is not None else compat.value_output(tree.nodes[OPACITY])
+    tree.links.new(fac, compat.input_socket(mix, "Fac"))
     tree.links.new(compat.output_socket(transparent, "BSDF"), compat.input_socket(mix, "Shader"))
     tree.links.new(_shader(tree, lights), compat.input_socket(mix, "Shader_001"))
     tree.links.new(compat.output_socket(mix, "Shader"), output.inputs["Surface"])
@@ -319,9 +327,20 @@ def _shader(tree, lights):
     return lights.outputs["Shader"]
 
 
+def _opacity_map(tree):
+    """The Value output of the opacity map of *tree* (``OPACITY_MAP``), or None."""
+    node = tree.nodes.get(OPACITY_MAP)
+    if node is None or node.bl_idname != "ShaderNodeMath":
+        return None
+    return compat.output_socket(node, "Value")
+
+
 def opacity_in_step(material) -> bool:
-    """Whether *material*'s nodes already match the value of its Opacity control."""
-    return (material.node_tree.nodes.get(OPACITY_MIX) is not None) == (opacity(material) < 1.0)
+    """Whether *material*'s nodes already match the value of its Opacity control (or its
+    opacity map)."""
+    tree = material.node_tree
+    blends = opacity(material) < 1.0 or _opacity_map(tree) is not None
+    return (tree.nodes.get(OPACITY_MIX) is not None) == blends
 
 
 @persistent
