@@ -13,6 +13,10 @@ turns what it reads into plain data, by the FBX SDK's rules:
   SpecularColor × SpecularFactor (Lambert: black), Exponent = ShininessExponent (else the
   legacy Shininess), Irradiant = EmissiveColor × EmissiveFactor, opacity = the stored
   ``Opacity``, else 1 − TransparencyFactor × mean(TransparentColor) (the FBX SDK's rule);
+* a texture connected to a property multiplies it: a colour by the texture's colour, a
+  scalar (TransparencyFactor, ShininessExponent) by the mean of its RGB; with a map on
+  TransparentColor or TransparencyFactor the opacity is that formula with the maps (a stored
+  ``Opacity`` is one number and cannot hold a map);
 * a light's colour, Intensity / 100, DecayType as the falloff 1/dᵏ (k = 0, 1, 2, 3) and a
   spot's OuterAngle / InnerAngle (FBX 6.1: ``Cone angle`` / ``HotSpot``), full cone angles in
   degrees;
@@ -37,6 +41,7 @@ import os
 import subprocess
 import sys
 import tempfile
+import time
 from dataclasses import asdict, dataclass, field
 
 #: FBX SDK class defaults of FbxSurfaceLambert / FbxSurfacePhong (what the SDK writes in its
@@ -71,7 +76,13 @@ TEXTURE_SLOTS = {"DiffuseColor": "Object Color", "AmbientColor": "Ambient Object
                  "SpecularColor": "Specular Color", "EmissiveColor": "Irradiant Color",
                  # the legacy names some older files connect textures to
                  "Diffuse": "Object Color", "Ambient": "Ambient Object Color",
-                 "Specular": "Specular Color", "Emissive": "Irradiant Color"}
+                 "Specular": "Specular Color", "Emissive": "Irradiant Color",
+                 # scalar and opacity slots (issue 35): the map multiplies its property
+                 "TransparentColor": "TransparentColor", "TransparencyFactor": "TransparencyFactor",
+                 "ShininessExponent": "Exponent", "Shininess": "Exponent"}
+#: The keys of ``Material.textures`` that are not colour inputs of the lights group: the two
+#: properties of the opacity (1 − TransparencyFactor × mean(TransparentColor)) and the exponent.
+OPACITY_MAPS = ("TransparentColor", "TransparencyFactor")
 #: Embedded textures larger than this are left out (bounded memory), with a warning.
 MAX_EMBEDDED = 256 * 1024 * 1024
 #: Limits of the child process that reads a file: seconds, and bytes of address space.
@@ -115,6 +126,8 @@ class Material:
     exponent: float = 20.0
     opacity: float = 1.0
     blinn: bool = False
+    transparent_color: tuple = (0.0, 0.0, 0.0)   # TransparentColor (for its map)
+    transparency_factor: float = 0.0             # TransparencyFactor (for its map)
     textures: dict = field(default_factory=dict)  # lights-group input -> Texture
     unsupported: list = field(default_factory=list)
 
@@ -301,8 +314,9 @@ def read_material(mat, base="", textures=None) -> Material:
         out.raw["ShininessExponent"], out.sources["ShininessExponent"] = exponent, source
         out.exponent = max(float(exponent), 0.0)
     opacity, source = lookup(mat.props, ("Opacity",), None, 1, own)
+    tc, tf = get("TransparentColor", 3), get("TransparencyFactor", 1)
+    out.transparent_color, out.transparency_factor = tuple(tc), float(tf)
     if opacity is None:
-        tc, tf = get("TransparentColor", 3), get("TransparencyFactor", 1)
         opacity = 1.0 - tf * sum(tc) / 3.0
     else:
         out.raw["Opacity"], out.sources["Opacity"] = opacity, source
@@ -315,7 +329,7 @@ def read_material(mat, base="", textures=None) -> Material:
     links = [(link.material_prop, link.texture.typed_id) for link in items(mat.textures)]
     for prop, index in links:
         slot = TEXTURE_SLOTS.get(prop)
-        if slot is None or (lambert and slot == "Specular Color"):
+        if slot is None or (lambert and slot in ("Specular Color", "Exponent")):
             out.unsupported.append(f"texture on {prop}")
             continue
         if textures is None:
@@ -571,36 +585,70 @@ def _python() -> str:
     return sys.executable
 
 
-def read(path: str, geometry: bool = False, timeout: float | None = None) -> Scene:
-    """Materials, lights and ambient of the FBX file *path* (with *geometry*: its nodes and
-    meshes too, Z up and metres), read by ufbx in a child process; raises :class:`FbxError`."""
-    path = os.path.abspath(path)
-    if not os.path.isfile(path):
-        raise FbxError(path, "file not found")
-    with tempfile.TemporaryDirectory(prefix="phong_fbx_") as folder:
-        result = os.path.join(folder, "result")
+class Reading:
+    """A read of an FBX file by ufbx under way in a child process (:func:`start`), so that
+    the caller can do other work meanwhile (Blender's own importer reads the same file);
+    :meth:`result` waits for it, :meth:`close` ends it."""
+
+    def __init__(self, path: str, geometry: bool = False, timeout: float | None = None):
+        self.path = os.path.abspath(path)
+        if not os.path.isfile(self.path):
+            raise FbxError(self.path, "file not found")
+        self.limit = TIME_LIMIT if timeout is None else timeout
+        self.folder = tempfile.TemporaryDirectory(prefix="phong_fbx_")
+        self.output = os.path.join(self.folder.name, "result")
         env = dict(os.environ)
         env["PYTHONPATH"] = os.pathsep.join(p for p in sys.path if p)
         command = [_python(), "-s", os.path.abspath(__file__),
-                   path, result, "1" if geometry else "0"]
+                   self.path, self.output, "1" if geometry else "0"]
+        self.started = time.monotonic()
         try:
-            done = subprocess.run(command, env=env, stdin=subprocess.DEVNULL,
-                                  stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
-                                  timeout=TIME_LIMIT if timeout is None else timeout,
-                                  preexec_fn=_limits if os.name == "posix" else None)
-        except subprocess.TimeoutExpired:
-            limit = TIME_LIMIT if timeout is None else timeout
-            raise FbxError(path, f"reading took longer than {limit:g} s") from None
+            self.process = subprocess.Popen(
+                command, env=env, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
+                stderr=subprocess.PIPE, preexec_fn=_limits if os.name == "posix" else None)
         except OSError as error:
-            raise FbxError(path, f"could not start the FBX reader ({error})") from None
-        if not os.path.isfile(result + ".json"):
-            tail = done.stderr.decode("utf-8", "replace").strip().splitlines()[-1:] or [""]
-            raise FbxError(path, f"the FBX reader stopped (exit status {done.returncode}) "
-                                 f"{tail[0][:200]}".strip())
-        payload = _read_payload(result)
-    if "error" in payload:
-        raise FbxError(path, payload["error"].removeprefix(f"{path}: "))
-    return _rebuild(payload)
+            self.folder.cleanup()
+            raise FbxError(self.path, f"could not start the FBX reader ({error})") from None
+
+    def result(self) -> Scene:
+        """The plain data of the file; raises :class:`FbxError` (and ends the child)."""
+        try:
+            left = self.limit - (time.monotonic() - self.started)
+            try:
+                _out, err = self.process.communicate(timeout=max(left, 1e-3))
+            except subprocess.TimeoutExpired:
+                self.process.kill()
+                self.process.communicate()
+                raise FbxError(self.path, f"reading took longer than {self.limit:g} s") from None
+            if not os.path.isfile(self.output + ".json"):
+                tail = err.decode("utf-8", "replace").strip().splitlines()[-1:] or [""]
+                raise FbxError(self.path, f"the FBX reader stopped (exit status "
+                                          f"{self.process.returncode}) {tail[0][:200]}".strip())
+            payload = _read_payload(self.output)
+        finally:
+            self.close()
+        if "error" in payload:
+            raise FbxError(self.path, payload["error"].removeprefix(f"{self.path}: "))
+        return _rebuild(payload)
+
+    def close(self) -> None:
+        """End the child (when it still runs) and remove its folder."""
+        if self.process.poll() is None:
+            self.process.kill()
+            self.process.communicate()
+        self.folder.cleanup()
+
+
+def start(path: str, geometry: bool = False, timeout: float | None = None) -> Reading:
+    """Start reading the FBX file *path* (see :func:`read`) in a child process; raises
+    :class:`FbxError` for a missing file."""
+    return Reading(path, geometry, timeout)
+
+
+def read(path: str, geometry: bool = False, timeout: float | None = None) -> Scene:
+    """Materials, lights and ambient of the FBX file *path* (with *geometry*: its nodes and
+    meshes too, Z up and metres), read by ufbx in a child process; raises :class:`FbxError`."""
+    return start(path, geometry, timeout).result()
 
 
 def _rebuild(payload) -> Scene:

@@ -27,6 +27,7 @@ reads back as the same float32, Blender's precision).
 from __future__ import annotations
 
 import math
+import mmap
 import os
 import re
 from dataclasses import dataclass, field
@@ -394,13 +395,44 @@ def load(path: str, warnings: list | None = None) -> list:
     return parse(_read(path), path, warnings)
 
 
+def _obj_head(obj_path: str) -> str:
+    """The text of the OBJ file *obj_path* up to the end of the last line that holds
+    ``mtllib`` (and the lines a ``\\`` at its end continues it with): no statement after
+    it can name a library, so the vertices and faces of a large file are never decoded
+    (found in the mapped file by ``rfind``; decoded as :func:`_read` decodes)."""
+    try:
+        with open(obj_path, "rb") as handle:
+            size = os.fstat(handle.fileno()).st_size
+            if not size:
+                return ""
+            with mmap.mmap(handle.fileno(), 0, access=mmap.ACCESS_READ) as view:
+                last = view.rfind(b"mtllib")
+                if last < 0:
+                    return ""
+                end = view.find(b"\n", last)
+                while end >= 0:   # a line ending in a backslash goes on in the next one
+                    line = view[view.rfind(b"\n", 0, end) + 1:end]
+                    if not line.split(b"#", 1)[0].rstrip().endswith(b"\\"):
+                        break
+                    end = view.find(b"\n", end + 1)
+                data = view[:size if end < 0 else end + 1]
+    except (OSError, ValueError) as error:
+        raise MtlError(obj_path, 0, f"cannot read {obj_path}: "
+                       f"{getattr(error, 'strerror', None) or error}") from None
+    try:
+        return data.decode("utf-8-sig")
+    except UnicodeDecodeError:
+        return data.decode("latin-1")
+
+
 def libraries(obj_path: str) -> list:
     """(MTL path, line) of every ``mtllib`` file that the OBJ file *obj_path* names, looked up
     as :func:`find_file` does (the first place looked at when it is nowhere).  One statement
     may name several files; a name with spaces is accepted when the whole rest of the line
-    names an existing file."""
+    names an existing file.  Only the head of the file that can hold ``mtllib`` is read
+    (:func:`_obj_head`)."""
     out = []
-    for line, statement in _logical_lines(_read(obj_path)):
+    for line, statement in _logical_lines(_obj_head(obj_path)):
         keyword, rest = _statement(statement)
         if keyword != "mtllib":
             continue

@@ -267,11 +267,11 @@ def test_mtl_d_imports_as_opacity_and_exports_as_d(bpy_clean, tmp_path, capfd):
     logged = "".join(capfd.readouterr())
     assert "transparency" not in logged, logged
     materials = _materials()
-    got = {name: materials.opacity(bpy.data.materials[f"Phong {name}"])
+    got = {name: materials.opacity(bpy.data.materials[name])
            for name in ("glass", "window", "wall")}
     assert got == {"glass": 0.5, "window": 0.75, "wall": 1.0}
-    assert bpy.data.materials["Phong glass"].surface_render_method == "BLENDED"
-    assert "phong_opacity_mix" not in bpy.data.materials["Phong wall"].node_tree.nodes
+    assert bpy.data.materials["glass"].surface_render_method == "BLENDED"
+    assert "phong_opacity_mix" not in bpy.data.materials["wall"].node_tree.nodes
     out = tmp_path / "out.mtl"
     assert bpy.ops.phong.export_mtl(filepath=str(out)) == {"FINISHED"}
     text = out.read_text()

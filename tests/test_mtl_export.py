@@ -151,7 +151,7 @@ def test_obj_export_option_writes_exact_phong_entries_and_keeps_the_others(bpy_c
     scene = be.new_scene("Back", 8, 8)
     bpy.context.window.scene = scene
     assert bpy.ops.phong.import_obj(filepath=str(out)) == {"FINISHED"}
-    back = bpy.data.materials["Phong Red_clay"].node_tree.nodes
+    back = bpy.data.materials["Red_clay"].node_tree.nodes
     assert tuple(back["phong_object_color"].outputs[0].default_value)[:3] == \
         _f32((0.7, 0.3, 0.1))
     assert back["phong_exponent"].outputs[0].default_value == 12.5

@@ -92,10 +92,12 @@ def test_each_illumination_model_renders_the_mtl_formula(bpy_clean, blender_tmp)
     for column, name in ((11, "flat"), (33, "matte"), (55, "shiny")):
         got = passes["Phong Color"][10, column, :3]
         np.testing.assert_allclose(got, expected(ILLUM[name]), atol=ATOL, err_msg=name)
-    # the importer's materials are kept as the sources: Restore puts them back
-    material = objects["shiny"].active_material
-    assert material.name == "Phong shiny" and bpy.data.materials[material["phong_source"]] in set(
-        bpy.data.materials) - before
+    # the file's materials under the file's names, Phong from birth, nothing else: no
+    # Principled copy, no source to restore (issue 35)
+    added = set(bpy.data.materials) - before
+    assert sorted(m.name for m in added) == ["flat", "matte", "shiny"]
+    assert all(m.get("phong_nodes_material") and "phong_source" not in m.keys() for m in added)
+    assert objects["shiny"].active_material.name == "shiny"
 
 
 def test_files_from_blender_and_trimesh_import_with_their_values(bpy_clean, capfd):
@@ -135,7 +137,7 @@ def test_round_trip_import_export_import(bpy_clean, tmp_path):
     bpy = bpy_clean
     _lit_scene(bpy, "Trip")
     assert _import(bpy, os.path.join(DATA, "illum.obj")) == {"FINISHED"}
-    first = {m.name: _controls(m) for m in bpy.data.materials if m.name.startswith("Phong ")}
+    first = {m.name: _controls(m) for m in bpy.data.materials if m.get("phong_nodes_material")}
     out = tmp_path / "again.mtl"
     assert bpy.ops.phong.export_mtl(filepath=str(out)) == {"FINISHED"}
     text = out.read_text()
@@ -160,7 +162,7 @@ def test_round_trip_import_export_import(bpy_clean, tmp_path):
     be.reset_empty_file()
     _lit_scene(bpy, "Trip again")
     assert _import(bpy, str(obj)) == {"FINISHED"}
-    again = {m.name: _controls(m) for m in bpy.data.materials if m.name.startswith("Phong ")}
+    again = {m.name: _controls(m) for m in bpy.data.materials if m.get("phong_nodes_material")}
     assert again == first
     assert bpy.ops.phong.export_mtl(filepath=str(tmp_path / "third.mtl")) == {"FINISHED"}
     assert (tmp_path / "third.mtl").read_text() == text
@@ -181,7 +183,7 @@ def test_maps_multiply_their_colour_and_missing_files_are_named(bpy_clean, tmp_p
     capfd.readouterr()
     assert _import(bpy, str(tmp_path / "m.obj")) == {"FINISHED"}
     logged = "".join(capfd.readouterr())
-    matte = bpy.data.materials["Phong matte"].node_tree
+    matte = bpy.data.materials["matte"].node_tree
     feed = matte.nodes["phong_lights"].inputs["Object Color"].links[0].from_node
     assert feed.bl_idname == "ShaderNodeVectorMath" and feed.operation == "MULTIPLY"
     image_used = feed.inputs[1].links[0].from_node.image
@@ -195,7 +197,7 @@ def test_maps_multiply_their_colour_and_missing_files_are_named(bpy_clean, tmp_p
             f"{tmp_path / 'gone.png'}); left out of shiny") in logged
     # d is the material's Opacity now (tests/test_controls.py renders it): no warning
     assert "(shiny): not representable" not in logged and "transparency" not in logged
-    shiny = bpy.data.materials["Phong shiny"].node_tree.nodes
+    shiny = bpy.data.materials["shiny"].node_tree.nodes
     assert shiny["phong_opacity"].outputs[0].default_value == 0.5
     out = tmp_path / "maps.mtl"
     assert bpy.ops.phong.export_mtl(filepath=str(out)) == {"FINISHED"}
@@ -233,8 +235,8 @@ def test_statements_that_cannot_be_read_are_left_out_with_a_warning(bpy_clean, t
     assert f"{mtl_path}:2: Kd: 'oops' is not a number; left out" in logged
     assert (f"{mtl_path}:6: illum '12' is not an illumination model (0 to 10); read as "
             "illum 2") in logged
-    assert _controls(bpy.data.materials["Phong flat"])["Object Color"] == (0.25,) * 3
-    assert _controls(bpy.data.materials["Phong matte"])["Blinn"] == 1.0
+    assert _controls(bpy.data.materials["flat"])["Object Color"] == (0.25,) * 3
+    assert _controls(bpy.data.materials["matte"])["Blinn"] == 1.0
 
 
 def test_missing_obj_file(bpy_clean, tmp_path):
@@ -313,7 +315,7 @@ def test_3ds_max_file_with_tabs_and_a_texture_found_by_its_bare_name(bpy_clean, 
     assert logged.count("texture cars/texture-y.jpg not found") == 1, logged
     assert ("; left out of _mustang01Car_interior, wire_028089177" in logged)
     assert "not representable" not in logged, "Ni 1.5, d 1, Tr 0, Tf 1 1 1: neutral"
-    wire = _controls(bpy.data.materials["Phong wire_028089177"])
+    wire = _controls(bpy.data.materials["wire_028089177"])
     assert wire["Specular Color"] == pytest.approx(tuple(np.float32([0.35] * 3)), abs=0)
     assert wire["Exponent"] == 32.0
     # the texture beside the MTL
@@ -327,7 +329,7 @@ def test_3ds_max_file_with_tabs_and_a_texture_found_by_its_bare_name(bpy_clean, 
     assert _import(bpy, obj) == {"FINISHED"}
     ours = [l for l in "".join(capfd.readouterr()).splitlines() if "Import OBJ as Phong" in l]
     assert not [line for line in ours if "texture" in line], ours
-    tree = bpy.data.materials["Phong wire_028089177"].node_tree
+    tree = bpy.data.materials["wire_028089177"].node_tree
     feed = tree.nodes["phong_lights"].inputs["Object Color"].links[0].from_node
     used = feed.inputs[1].links[0].from_node.image
     assert os.path.samefile(bpy.path.abspath(used.filepath), tmp_path / "texture-y.jpg")
@@ -343,7 +345,7 @@ def test_windows_texture_paths(bpy_clean, tmp_path):
     image.file_format = "PNG"
     image.save()
     assert _import(bpy, _obj(tmp_path / "spider.obj", "spider.mtl", ["Skin"])) == {"FINISHED"}
-    tree = bpy.data.materials["Phong Skin"].node_tree
+    tree = bpy.data.materials["Skin"].node_tree
     feed = tree.nodes["phong_lights"].inputs["Object Color"].links[0].from_node
     assert feed.bl_idname == "ShaderNodeVectorMath"
 
@@ -378,13 +380,13 @@ def test_forms_other_readers_accept_are_read(bpy_clean, tmp_path, capfd):
             "'height.png'") in logged
     ours = [line for line in logged.splitlines() if "Import OBJ as Phong: /" in line]
     assert len(ours) == 2, ours   # nothing else to say
-    old = _controls(bpy.data.materials["Phong Old Blender"])
+    old = _controls(bpy.data.materials["Old Blender"])
     assert old["Exponent"] == 0.0 and old["Object Color"] == tuple(np.float32([0.64] * 3))
-    flat = _controls(bpy.data.materials["Phong color_16089887"])
+    flat = _controls(bpy.data.materials["color_16089887"])
     assert flat["Irradiant Color"] == tuple(np.float32(
         [0.9372549019607843, 0.3764705882352941, 0.19215686274509805]))
     assert flat["Object Color"] == flat["Specular Color"] == (0.0, 0.0, 0.0)
-    painted = bpy.data.materials["Phong painted"].node_tree.nodes["phong_lights"]
+    painted = bpy.data.materials["painted"].node_tree.nodes["phong_lights"]
     assert painted.inputs["Normal"].links[0].from_node.inputs["Strength"].default_value == 0.25
 
 
@@ -403,7 +405,7 @@ def test_files_of_other_programs_round_trip(bpy_clean, tmp_path, library):
     source = mtl.load(str(tmp_path / "source.mtl"))
     obj = _obj(tmp_path / "m.obj", "source.mtl", [m.name for m in source])
     assert _import(bpy, obj) == {"FINISHED"}
-    first = {m.name: _controls(m) for m in bpy.data.materials if m.name.startswith("Phong ")}
+    first = {m.name: _controls(m) for m in bpy.data.materials if m.get("phong_nodes_material")}
     out = tmp_path / "written.mtl"
     assert bpy.ops.phong.export_mtl(filepath=str(out)) == {"FINISHED"}
     written = {m.name: m for m in mtl.load(str(out))}
@@ -425,7 +427,7 @@ def test_files_of_other_programs_round_trip(bpy_clean, tmp_path, library):
     _lit_scene(bpy, "Real trip again")
     assert _import(bpy, obj) == {"FINISHED"}
     assert {m.name: _controls(m) for m in bpy.data.materials
-            if m.name.startswith("Phong ")} == first
+            if m.get("phong_nodes_material")} == first
 
 
 @pytest.mark.cycles

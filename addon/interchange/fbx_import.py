@@ -20,8 +20,13 @@ FBX SDK's rules (see there), and:
                         Phong Edge Exponent from both (core.fbx.spot_edge_exponent)
     World               Phong ambient colour = GlobalSettings AmbientColor, intensity 1
 
-Materials of other shading models (PBR, Arnold, ShaderFX) keep Blender's import (or a plain
-material on the ufbx path), named in one warning.  Any failure raises
+Every material is a Phong material under the file's name (``.001`` where the scene already
+holds it), and the import adds nothing else (``native.py``): Blender's importer's
+Principled materials are replaced, the materials and images nothing uses are removed.
+Materials of other shading models (PBR, Arnold, ShaderFX) are made as Apply Phong Material
+makes them from Blender's import (default values on the ufbx path), named in one warning.
+Maps on TransparentColor / TransparencyFactor give the opacity, a map on ShininessExponent
+the exponent (``native.opacity_map``, ``native.exponent_map``).  Any failure raises
 :class:`core.fbx.FbxError` and removes what the import had added.
 """
 
@@ -40,7 +45,7 @@ from .. import compat
 from ..lighting import materials as recipe
 from ..lighting import properties
 from ..lighting import sync as sync_mod
-from . import obj_import
+from . import native, obj_import
 
 FbxError = fbx.FbxError
 #: lights-group input -> control node of the recipe (or ours, for the ambient colour)
@@ -145,23 +150,22 @@ def _mesh(item: fbx.MeshData, name, warnings, path):
     return mesh
 
 
-def _build(context, data: fbx.Scene, path, warnings) -> None:
+def _build(context, data: fbx.Scene, path, warnings) -> list:
     """The scene of *data* (read with geometry) in Blender, as Blender's FBX importer makes
-    it: objects in the active collection, Z up, metres."""
+    it: objects in the active collection, Z up, metres.  Returns the material slots to fill,
+    (mesh, index, material name) or (object, index, name) for a slot linked to the object
+    (the materials are made afterwards, Phong from birth: :func:`_finish`)."""
     collection = context.collection or context.scene.collection
-    mats, meshes, made = {}, {}, {}
-    for source in data.materials:
-        material = bpy.data.materials.new(source.name or "Material")
-        if source.model == "OTHER":  # a plain material, as a stand-in for Blender's own
-            compat.new_material_tree(material)
-        mats.setdefault(source.name, material)
+    meshes, names, made, slots = {}, {}, {}, []
     for node in data.nodes:
         thing = None
         if node.kind == "MESH":
             if node.mesh not in meshes:
                 meshes[node.mesh] = _mesh(data.meshes[node.mesh], node.data, warnings, path)
-                for name in node.materials:
-                    meshes[node.mesh].materials.append(mats.get(name))
+                for index, name in enumerate(node.materials):
+                    meshes[node.mesh].materials.append(None)
+                    slots.append((meshes[node.mesh], index, name))
+                names[node.mesh] = list(node.materials)
             thing = meshes[node.mesh]
         elif node.kind == "LIGHT":
             thing = bpy.data.lights.new(node.data or node.name, node.light["type"])
@@ -180,9 +184,9 @@ def _build(context, data: fbx.Scene, path, warnings) -> None:
         collection.objects.link(obj)
         if node.kind == "MESH":  # per-object materials, as the file assigns them to the node
             for index, name in enumerate(node.materials[:len(obj.material_slots)]):
-                if obj.material_slots[index].material is not mats.get(name):
+                if names[node.mesh][index] != name:
                     obj.material_slots[index].link = "OBJECT"
-                    obj.material_slots[index].material = mats.get(name)
+                    slots.append((obj, index, name))
         made[node.id] = obj
     context.view_layer.update()  # (after a rollback of Blender's importer's objects)
     for obj in list(context.view_layer.objects):  # the imported ones selected, as Blender does
@@ -201,6 +205,7 @@ def _build(context, data: fbx.Scene, path, warnings) -> None:
                 obj.hide_set(True)
             except RuntimeError:  # not in the view layer
                 obj.hide_viewport = True
+    return slots
 
 
 # -- materials ---------------------------------------------------------------------------------
@@ -211,17 +216,40 @@ def _safe_name(name: str) -> str:
     return base
 
 
-def _image(texture, images, warnings, where):
+def _image(texture, images, warnings, where, non_color=False):
     """A Blender image of *texture*: its file, else its embedded data (packed), else None
-    with one warning per texture file."""
+    with one warning per texture file.  *non_color*: a scalar map, read as data (Non-Color);
+    a file read both as a colour and as data gets an image of each colour space."""
     key = (texture.name, texture.content is not None)
-    if key in images:
-        return images[key]
+    data = key + ("data",)
+    if non_color:
+        if data not in images:
+            image = images[key] if key in images else _load(texture, images, warnings, where)
+            if image is None:
+                images[key] = None   # named once
+            elif image.colorspace_settings.name != native.NON_COLOR:
+                if images.get(key) is image:   # also read as a colour
+                    image = image.copy()
+                image.colorspace_settings.name = native.NON_COLOR
+            images[data] = image
+        return images[data]
+    if key not in images:
+        image = _load(texture, images, warnings, where)
+        if image is not None and images.get(data) is image:   # also read as data
+            image = image.copy()
+        if image is not None and image.colorspace_settings.name == native.NON_COLOR:
+            image.colorspace_settings.name = "sRGB"   # (Blender's importer read it as a map)
+        images[key] = image
+    return images[key]
+
+
+def _load(texture, images, warnings, where):
+    """The image of *texture*: the one Blender's importer made (``images[""]``), its file,
+    else its embedded data (packed), else None with a warning."""
     base = _safe_name(texture.name)
     image = next((i for i in images.get("", ()) if i.name == base or _safe_name(
         bpy.path.basename(i.filepath)) == base), None)  # Blender's importer read it already
     if image is not None:
-        images[key] = image
         return image
     found = texture.resolved
     if found is not None:
@@ -250,7 +278,6 @@ def _image(texture, images, warnings, where):
     if image is None:
         warnings.append(f"{where}: texture {texture.name} not found (looked for "
                         f"{' and '.join(texture.candidates) or texture.name}); left out")
-    images[key] = image
     return image
 
 
@@ -277,9 +304,57 @@ def apply_material(material, source: fbx.Material, warnings: list, images: dict,
     if lights.inputs["Normal"].is_linked:
         tree.links.remove(lights.inputs["Normal"].links[0])
     obj_import._prune(tree, keep)
+    texture = source.textures.get("Exponent")
+    image = _image(texture, images, warnings, where, non_color=True) \
+        if texture is not None else None
+    if image is not None:
+        native.exponent_map(material, image)
+    _opacity_maps(material, source, images, warnings, where)
     material[SOURCE_KEY] = path
     if source.unsupported:
         warnings.append(f"{where}: not representable, left out: " + ", ".join(source.unsupported))
+
+
+def _opacity_maps(material, source, images, warnings, where) -> None:
+    """A map on TransparentColor or TransparencyFactor: the opacity 1 − TF·t_f ×
+    mean(TC ⊗ t_c), t_c the TransparentColor map's colour (a colour, as the colour maps are
+    read), t_f the mean RGB of the TransparencyFactor map (a scalar: read as data), as an
+    opacity map (``native.opacity_map``).  A factor of 0 makes the maps change nothing."""
+    maps = {key: source.textures.get(key) for key in fbx.OPACITY_MAPS}
+    if not any(maps.values()) or source.transparency_factor == 0.0:
+        return
+    tree = material.node_tree
+    color = maps["TransparentColor"]
+    color = _image(color, images, warnings, where) if color is not None else None
+    factor = maps["TransparencyFactor"]
+    factor = _image(factor, images, warnings, where, non_color=True) \
+        if factor is not None else None
+    if color is None and factor is None:
+        return
+    tc = source.transparent_color
+    native.straight(color)
+    native.straight(factor)
+    if color is not None:
+        node = native.image_node(tree, "transparent color", color, (-1450.0, 800.0))
+        scaled = native._node(tree, native.MAP_NODE + "transparent color x TC",
+                              "ShaderNodeVectorMath", (-1150.0, 800.0))
+        scaled.operation = "MULTIPLY"
+        tree.links.new(compat.output_socket(node, "Color"), compat.input_socket(scaled, "Vector"))
+        compat.input_socket(scaled, "Vector_001").default_value = tuple(tc)
+        mean_tc = native.mean_rgb(tree, "transparent mean", compat.output_socket(scaled, "Vector"),
+                                  (-900.0, 800.0))
+    else:
+        mean_tc = sum(tc) / 3.0
+    tf = source.transparency_factor
+    if factor is not None:
+        node = native.image_node(tree, "transparency factor", factor, (-1450.0, 500.0))
+        tf = native.math(tree, native.MAP_NODE + "transparency factor x TF", "MULTIPLY",
+                         native.mean_rgb(tree, "factor mean", compat.output_socket(node, "Color"),
+                                         (-1150.0, 500.0)), tf, (-900.0, 500.0))
+    transparency = native.math(tree, native.MAP_NODE + "transparency", "MULTIPLY", tf, mean_tc,
+                               (-650.0, 650.0))
+    native.opacity_map(material, native.math(tree, native.MAP_NODE + "1 - transparency",
+                                              "SUBTRACT", 1.0, transparency, (-500.0, 650.0)))
 
 
 # -- lights -------------------------------------------------------------------------------------
@@ -321,26 +396,19 @@ def apply_light(light, source: fbx.Light, warnings: list, path) -> None:
 
 def import_file(filepath, context) -> list:
     """Import the FBX file *filepath* into *context*'s scene; returns the warnings.  Raises
-    :class:`core.fbx.FbxError` (and leaves the scene as it was) when it cannot."""
+    :class:`core.fbx.FbxError` (and leaves the scene as it was) when it cannot.
+
+    A binary file of FBX 7100 and later is read by Blender's own importer while ufbx reads
+    its values in the child process (``fbx.start``); other files are built from ufbx."""
     path = os.path.abspath(bpy.path.abspath(filepath))
-    binary, unread = _binary_7100(path), False
-    try:
-        data = fbx.read(path, geometry=not binary)
-    except FbxError as error:
-        if not (binary and _ensure_fbx_addon()):
-            raise
-        # never refuse what Blender's importer opens: its scene, its materials converted as
-        # Apply Phong Material converts them (the file's own values could not be read)
-        unread = True
-        data = fbx.Scene(path, 7100, False, "", (0.0, 0.0, 0.0), [], [], [
-            f"{error}; imported by Blender's FBX importer, its materials converted as Apply "
-            "Phong Material does (not the file's own Phong values)"])
-    warnings = list(data.warnings)
+    blender = _binary_7100(path) and _ensure_fbx_addon()
+    reading = fbx.start(path, geometry=not blender)   # FbxError: file not found
     before = _snapshot()
     objects_before = set(context.scene.objects)
+    later, unread = [], False
     try:
         used_blender = False
-        if _blender_reads(data) and _ensure_fbx_addon():
+        if blender:
             try:
                 result = bpy.ops.import_scene.fbx(filepath=path)
                 used_blender = result == {"FINISHED"}
@@ -348,34 +416,73 @@ def import_file(filepath, context) -> list:
                 lines = [ln.strip() for ln in str(error).splitlines() if ln.strip()]
                 said = [ln for ln in lines if "Error" in ln.split(":")[0]] or lines
                 last = said[-1][:200] if said else "no message"
-                warnings.append(f"{path}: Blender's FBX importer failed ({last}); "
-                                "the scene is built from ufbx")
+                later.append(f"{path}: Blender's FBX importer failed ({last}); "
+                             "the scene is built from ufbx")
             if not used_blender:
                 _rollback(before)
+        try:
+            data = reading.result()
+        except FbxError as error:
+            if not used_blender:
+                if blender:
+                    raise FbxError(path, "neither ufbx nor Blender's FBX importer could read "
+                                         f"it ({error})") from None
+                raise
+            # never refuse what Blender's importer opens: its scene, its materials converted
+            # as Apply Phong Material converts them (the file's own values could not be read)
+            unread = True
+            data = fbx.Scene(path, 7100, False, "", (0.0, 0.0, 0.0), [], [], [
+                f"{error}; imported by Blender's FBX importer, its materials converted as "
+                "Apply Phong Material does (not the file's own Phong values)"])
+        warnings = list(data.warnings) + later
+        slots = None
         if not used_blender:
-            if unread:
-                raise FbxError(path, "neither ufbx nor Blender's FBX importer could read it")
             if not data.nodes:
                 data = fbx.read(path, geometry=True)
-            _build(context, data, path, warnings)
+            slots = _build(context, data, path, warnings)
         new = [o for o in context.scene.objects if o not in objects_before]
-        fresh = [i for i in bpy.data.images if i not in before["images"]]
-        _finish(context, data, new, warnings, path, fresh, convert_all=unread)
+        _finish(context, data, new, warnings, path, before, slots, convert_all=unread)
     except FbxError:
         _rollback(before)
         raise
     except Exception as error:  # noqa: BLE001 - any failure: nothing stays, one clear error
         _rollback(before)
         raise FbxError(path, f"import failed ({type(error).__name__}: {error})") from None
+    finally:
+        reading.close()
     return warnings
 
 
-def _finish(context, data: fbx.Scene, new, warnings, path, fresh=(), convert_all=False):
-    by_name = {m.name: m for m in data.materials}
+def _sources(made, data: fbx.Scene) -> dict:
+    """{material Blender's importer made: the file's material of that name, or None}: the
+    name itself, else without the ``.001`` Blender added where the scene held the name."""
+    by_name = {}
+    for material in data.materials:
+        by_name.setdefault(material.name, material)
+    out = {}
+    for material in made:
+        source = by_name.get(material.name) or by_name.get(_base_name(material.name))
+        if source is None:
+            same = [m for n, m in by_name.items()
+                    if _base_name(n) == _base_name(material.name)]
+            source = same[0] if len(same) == 1 else None
+        out[material] = source
+    return out
+
+
+def _finish(context, data: fbx.Scene, new, warnings, path, before, slots=None,
+            convert_all=False):
+    """Lights, Phong materials (of the file's values, under the file's names), the World's
+    ambient.  *slots*: the material slots of the scene built from ufbx (``_build``), filled
+    with Phong materials made here; without it the materials of Blender's importer are
+    replaced (``native.take_place``).  Whatever the import made that nothing uses is removed."""
     others = sorted({m.name for m in data.materials if m.model == "OTHER"})
     if others:
-        warnings.append(f"{path}: materials of other shading models keep Blender's import: "
-                        + ", ".join(others))
+        made_as = ("as Apply Phong Material makes them from Blender's import (its base colour "
+                   "and base colour texture)" if slots is None else
+                   "with the default values (Object Color 0.8)")
+        warnings.append(f"{path}: materials of other shading models (not Phong or Lambert) "
+                        f"are Phong materials made {made_as}: " + ", ".join(others))
     lights_by_node = {}
     for light in data.lights:
         for node in light.nodes:
@@ -387,29 +494,39 @@ def _finish(context, data: fbx.Scene, new, warnings, path, fresh=(), convert_all
                 apply_light(obj.data, source, warnings, path)
     sync = sync_mod.Sync(context.scene, context.view_layer)
     sync.rebuild_groups()
-    done, images = {}, {"": list(fresh)}  # "": the images Blender's importer made
-    for obj in new:
-        if obj.type != "MESH":
-            continue
-        sources = [by_name.get(slot.material.name) or by_name.get(_base_name(slot.material.name))
-                   if slot.material else None for slot in obj.material_slots]
-        if convert_all:  # ufbx could not read the file: Apply Phong Material's conversion
-            sync.apply(obj)
-            continue
-        if not any(s is not None and s.model != "OTHER" for s in sources):
-            continue
-        slots = list(obj.material_slots)
-        keep = {i: slot.material for i, (slot, s) in enumerate(zip(slots, sources))
-                if s is None or s.model == "OTHER"}
-        phong = sync.apply(obj)
-        for index, material in keep.items():  # other shading models: Blender's material
-            obj.material_slots[index].material = material
-        for index, (material, source) in enumerate(zip(phong, sources)):
-            if source is None or source.model == "OTHER":
-                continue
-            if material.name not in done:
-                apply_material(material, source, warnings, images, path)
-                done[material.name] = material
+    meshes = [o for o in new if o.type == "MESH"]
+    group = sync.group(*sync.light_set(meshes[0])) if meshes else None
+    images = {"": native.added(before, "images")}  # "": the images Blender's importer made
+    if slots is not None:  # the scene built from ufbx: Phong materials from birth
+        by_name, made = {}, {}
+        for material in data.materials:
+            by_name.setdefault(material.name, material)
+        for target, index, name in slots:
+            material = made.get(name)
+            if material is None:
+                material = made[name] = recipe.new_material(name or "Material", group)
+                source = by_name.get(name)
+                if source is not None and source.model != "OTHER":
+                    apply_material(material, source, warnings, images, path)
+            if isinstance(target, bpy.types.Mesh):
+                target.materials[index] = material
+            else:
+                target.material_slots[index].material = material
+    elif group is not None:  # Blender's importer's materials, each replaced
+        fresh = sorted(native.added(before, "materials"), key=lambda m: m.name)
+        sources = _sources(fresh, data)
+        for made in fresh:
+            if made.users == 0:
+                continue   # a material no object uses: removed below
+            source = sources[made]
+            if convert_all or source is None or source.model == "OTHER":
+                phong = recipe.from_source(made, made.name, group)
+                native.forget_source(phong, made)
+            else:
+                phong = recipe.new_material(made.name, group)
+                apply_material(phong, source, warnings, images, path)
+            native.take_place(made, phong)
+    native.remove_unused(before)
     sync.relink(context.scene.objects)
     sync.finish()
     sync_mod.remember(context.scene, context.view_layer)
@@ -430,10 +547,13 @@ values (binary 7100+ through Blender's importer, ASCII and FBX 6.1 through ufbx)
     bl_options = {"REGISTER", "UNDO"}
 
     filename_ext = ".fbx"
-    filepath: bpy.props.StringProperty(subtype="FILE_PATH")
+    # not remembered between runs: a path set before invoke is a file dropped on the viewport
+    filepath: bpy.props.StringProperty(subtype="FILE_PATH", options={"SKIP_SAVE"})
     filter_glob: bpy.props.StringProperty(default="*.fbx", options={"HIDDEN"})
 
     def invoke(self, context, _event):
+        if self.filepath:   # dropped on the viewport (ui/fbx_ui.py's FileHandler)
+            return self.execute(context)
         context.window_manager.fileselect_add(self)
         return {"RUNNING_MODAL"}
 

@@ -3,9 +3,8 @@
 
 Blender's own OBJ importer reads the geometry (and makes Principled approximations of the
 materials); the MTL libraries are read first by ``core/mtl.py``, so a missing library refuses the
-import before anything is added.  Every imported material is then converted by the same path
-as Apply Phong Material (``lighting/sync.py``: the Principled material is kept as the source,
-Restore Original Materials puts it back) and given the MTL's values, term by term:
+import before anything is added.  Every material of the importer is then replaced by a Phong
+material with the MTL's values, term by term:
 
     illum 0   colour only: Irradiant Color = Kd (Object Color, Ambient, Specular black)
     illum 1   Ka ambient + Kd Lambert: Specular Color black
@@ -23,6 +22,10 @@ refraction, other illumination models, other maps, map options not applied) is r
 per material; a missing texture file is named in one warning, with every material it is left
 out of.  Only an unreadable library refuses the import (``core/mtl.py`` reads the rest as other
 readers do, with a warning for what it leaves out or changes).
+
+Each material of the import is a Phong material from birth, under the MTL's name (``.001``
+where the scene already holds it, as Blender's importer names it), and the import adds nothing
+else (``native.py``): no Principled copy, no material or image that nothing uses.
 """
 
 from __future__ import annotations
@@ -35,6 +38,7 @@ from ...core import mtl
 from .. import compat
 from ..lighting import materials as recipe
 from ..lighting import sync as sync_mod
+from . import native
 
 #: lights-group input -> (MTL colour, MTL map, control node of the recipe or our own)
 COLOR_INPUTS = {
@@ -225,25 +229,41 @@ def _bump(tree, lights, image, strength) -> set:
 def import_obj(context, filepath):
     """Import *filepath*; returns (new objects, Phong materials, warnings, the Sync run).  Raises
     ``mtl.MtlError`` (nothing imported) for a missing or unreadable OBJ file or library,
-    RuntimeError when Blender's importer fails."""
+    RuntimeError when Blender's importer fails.
+
+    Blender's importer makes the geometry and a Principled material per ``usemtl`` name (with
+    ``.001`` where the file already holds the name); each of those is replaced by a Phong
+    material of the MTL's values under the same name (``native.take_place``), and what the
+    importer made that nothing uses any more (its images) is removed: the file's materials
+    are added, nothing else."""
     if not os.path.isfile(filepath):
         raise mtl.MtlError(filepath, 0, "file not found")
     by_name, warnings = mtl.load_for_obj(filepath)
-    before = set(bpy.data.objects)
+    before = native.snapshot()
     result = bpy.ops.wm.obj_import(filepath=filepath)
     if result != {"FINISHED"}:
         raise RuntimeError(f"Blender's OBJ importer returned {sorted(result)}")
-    new = [o for o in bpy.data.objects if o not in before and o.type == "MESH"]
+    new = [o for o in native.added(before, "objects") if o.type == "MESH"]
     sync = sync_mod.Sync(context.scene, context.view_layer)
     sync.rebuild_groups()
+    group = sync.group(*sync.light_set(new[0])) if new else None
     done, missing = {}, {}
-    for obj in new:
-        sources = [_mtl_name(slot.material, by_name) if slot.material else None
-                   for slot in obj.material_slots]
-        for phong, source in zip(sync.apply(obj), sources):
-            if source is not None and phong.name not in done:
-                apply_mtl(phong, source, warnings, missing)
-                done[phong.name] = phong
+    for made in sorted(native.added(before, "materials"), key=lambda m: m.name):
+        source = _mtl_name(made, by_name)
+        if made.users == 0 or group is None:
+            continue   # a material no object uses: removed below
+        phong = recipe.new_material(made.name, group)
+        if source is not None:
+            apply_mtl(phong, source, warnings, missing)
+        else:  # a usemtl name that no library defines: Blender's default, as Phong
+            warnings.append(f"{filepath}: material {made.name!r} is defined in no MTL "
+                            "library; a default Phong material used")
+        native.take_place(made, phong)
+        done[phong.name] = phong
+    for obj in new:  # an object without a material gets a default one, as Apply gives it
+        if not obj.material_slots or any(slot.material is None for slot in obj.material_slots):
+            sync.apply(obj)
+    native.remove_unused(before)
     warnings += missing_warnings(missing)
     sync.relink(context.scene.objects)
     sync.finish()

@@ -1,0 +1,151 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""What every importer leaves behind, as Blender's own importers leave it (issue 35).
+
+An import adds exactly the file's materials, under the file's names (Blender's ``.001``
+only where the file already holds the name), each a Phong material from birth, and nothing
+else: no Principled copy, no unused material, no image nothing uses.  OBJ and binary FBX
+take their geometry from Blender's own importers, which make Principled materials; those are
+replaced here: the Phong material takes every user of the importer's material
+(``user_remap``), the importer's material is removed and the Phong material takes its name.
+An imported material has no "original" to restore (Apply Phong Material on a user's own
+materials keeps its source, see ``lighting/materials.py``).
+
+Only data blocks that did not exist before the import are ever touched (:func:`snapshot`).
+"""
+
+from __future__ import annotations
+
+import bpy
+
+from .. import compat
+from ..lighting import materials as recipe
+
+#: The ``bpy.data`` collections an import may add to.
+KINDS = ("objects", "meshes", "materials", "images", "node_groups", "lights", "cameras",
+         "collections", "worlds", "textures", "armatures", "actions", "curves")
+
+
+def snapshot() -> dict:
+    """{collection name: the set of its data blocks} of every kind an import may add to."""
+    return {kind: set(getattr(bpy.data, kind)) for kind in KINDS if hasattr(bpy.data, kind)}
+
+
+def added(before: dict, kind: str) -> list:
+    """The data blocks of *kind* that did not exist at *before*."""
+    return [block for block in getattr(bpy.data, kind) if block not in before[kind]]
+
+
+def take_place(old, new) -> None:
+    """The Phong material *new* in the place of the importer's material *old*: every user
+    of *old* uses *new*, *old* is removed and *new* takes its name (the file's name, with
+    the ``.001`` Blender gave it where the file already held that name)."""
+    name = old.name
+    old.user_remap(new)
+    bpy.data.materials.remove(old)
+    new.name = name
+
+
+def forget_source(material, source) -> None:
+    """A Phong material made from the importer's material *source*
+    (``materials.from_source``, which keeps the source with a fake user) as a material of its
+    own: it names no source to restore, and the source keeps no fake user (it is removed)."""
+    for key in (recipe.SOURCE_KEY, recipe.SOURCE_TOKEN, recipe.EMPTY_SOURCE_KEY):
+        if key in material.keys():
+            del material[key]
+    if source is not None:
+        source.use_fake_user = False
+
+
+def remove_unused(before: dict) -> list:
+    """Remove the materials and then the images that the import added and that nothing uses
+    (a material the file defines for no object, the images only the importer's materials
+    used); returns their names.  Data blocks that existed before are never touched."""
+    gone = []
+    for kind in ("materials", "images"):
+        collection = getattr(bpy.data, kind)
+        for block in added(before, kind):
+            if block.users == 0 or (block.users == 1 and block.use_fake_user):
+                gone.append(block.name)
+                collection.remove(block)
+    return gone
+
+
+# -- maps on the opacity and the exponent (issue 35, item 2) -----------------------------------
+
+#: Node names of the map chains (+ a suffix per chain); the chain of the opacity ends in
+#: ``materials.OPACITY_MAP``.
+MAP_NODE = "phong_map:"
+MEAN = (1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0)
+NON_COLOR = "Non-Color"
+
+
+def _node(tree, name, kind, location):
+    node = recipe.named_node(tree, name, kind, location)
+    node.label = name.removeprefix(MAP_NODE)
+    return node
+
+
+def image_node(tree, key, image, location):
+    """An Image Texture node of *image* (named ``phong_map:<key>``); returns it."""
+    node = _node(tree, MAP_NODE + key, "ShaderNodeTexImage", location)
+    node.image = image
+    return node
+
+
+def straight(image) -> None:
+    """*image*'s colour read apart from its alpha (Blender's Channel Packed alpha mode): a map
+    whose RGB is read as a number (a mean) must not be multiplied by its alpha, which the
+    Image Texture node's Color output otherwise is in a render (measured: Cycles 5.3 gives
+    linear(sRGB × alpha) for an 8-bit RGBA PNG)."""
+    if image is not None and image.alpha_mode != "CHANNEL_PACKED":
+        image.alpha_mode = "CHANNEL_PACKED"
+
+
+def mean_rgb(tree, key, color, location):
+    """mean(r, g, b) of the colour output *color*: a Vector Math Dot Product with
+    (1/3, 1/3, 1/3) (exact to float32, in every engine alike); returns its Value output."""
+    node = _node(tree, MAP_NODE + key, "ShaderNodeVectorMath", location)
+    node.operation = "DOT_PRODUCT"
+    tree.links.new(color, compat.input_socket(node, "Vector"))
+    compat.input_socket(node, "Vector_001").default_value = MEAN
+    return compat.output_socket(node, "Value")
+
+
+def math(tree, name, operation, a, b, location, clamp=False):
+    """A Math node *operation* of *a* and *b* (each an output socket or a number); returns
+    its Value output."""
+    node = recipe.named_node(tree, name, "ShaderNodeMath", location)
+    node.operation = operation
+    node.use_clamp = clamp
+    for identifier, value in (("Value", a), ("Value_001", b)):
+        socket = compat.input_socket(node, identifier)
+        if isinstance(value, (int, float)):
+            socket.default_value = float(value)
+        else:
+            tree.links.new(value, socket)
+    return compat.output_socket(node, "Value")
+
+
+def exponent_map(material, image) -> None:
+    """The lights group's Exponent = the Exponent control × mean(RGB) of *image* (a scalar
+    map: read as data, Non-Color); the control keeps the file's value for export."""
+    tree = material.node_tree
+    lights = tree.nodes[recipe.LIGHTS_NODE]
+    straight(image)
+    texture = image_node(tree, "exponent map", image, (-1450.0, -1400.0))
+    mean = mean_rgb(tree, "exponent map mean", compat.output_socket(texture, "Color"),
+                    (-1150.0, -1400.0))
+    value = compat.value_output(tree.nodes["phong_exponent"])
+    product = math(tree, MAP_NODE + "exponent x map", "MULTIPLY", value, mean,
+                   (-900.0, -1400.0))
+    tree.links.new(product, lights.inputs["Exponent"])
+
+
+def opacity_map(material, opacity, location=(-400.0, 600.0)) -> None:
+    """*opacity* (an output socket: the file's formula of its maps) clamped to [0, 1] as the
+    material's opacity map (``materials.OPACITY_MAP``): it feeds the Mix Shader's Fac in place
+    of the Opacity control, which keeps the file's value."""
+    tree = material.node_tree
+    math(tree, recipe.OPACITY_MAP, "MULTIPLY", opacity, 1.0, location, clamp=True)
+    tree.nodes[recipe.OPACITY_MAP].label = "Opacity map"
+    recipe.apply_opacity(material)
