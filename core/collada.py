@@ -31,6 +31,7 @@ from __future__ import annotations
 import math
 import os
 import re
+import warnings
 import xml.etree.ElementTree as ET
 import xml.parsers.expat as expat
 from dataclasses import dataclass, field
@@ -125,6 +126,7 @@ class Material:
     transparent: tuple | None = None  # (r, g, b, a), None when absent
     transparency: float | None = None
     effect_id: str = ""
+    transparent_texture: Texture | None = None   # <transparent><texture> (issue 35)
 
     def color(self, element) -> tuple:
         """The colour of *element* (RGB) as the technique uses it: black when the effect
@@ -148,10 +150,12 @@ class Material:
         return float(np.mean(channels)) if self.opaque.startswith("RGB") else channels[0]
 
     def opacity_channels(self) -> tuple:
-        if self.transparent is None:
+        """Per channel (see :meth:`opacity`); a ``<transparent>`` texture counts as a white
+        opaque texel here (the map itself: :meth:`opacity_of_texel`)."""
+        if self.transparent is None and self.transparent_texture is None:
             return (1.0, 1.0, 1.0)
         t = 1.0 if self.transparency is None else float(self.transparency)
-        r, g, b, a = self.transparent
+        r, g, b, a = self.transparent if self.transparent is not None else (1.0, 1.0, 1.0, 1.0)
         if self.opaque == "RGB_ZERO":
             return tuple(1.0 - c * t for c in (r, g, b))
         if self.opaque == "RGB_ONE":
@@ -159,6 +163,16 @@ class Material:
         if self.opaque == "A_ZERO":
             return (1.0 - a * t,) * 3
         return (a * t,) * 3
+
+    def opacity_of_texel(self, rgba) -> float:
+        """The opacity where the ``<transparent>`` texture's texel is *rgba*: the spec's
+        formulas of :meth:`opacity` with the texel for the colour, the RGB modes' mean taken
+        (what the imported material computes per pixel)."""
+        t = 1.0 if self.transparency is None else float(self.transparency)
+        r, g, b, a = (float(v) for v in rgba)
+        mean = (r + g + b) / 3.0
+        return {"A_ONE": a * t, "A_ZERO": 1.0 - a * t, "RGB_ZERO": 1.0 - mean * t,
+                "RGB_ONE": mean * t}[self.opaque]
 
 
 @dataclass
@@ -196,13 +210,14 @@ class Mesh:
     name: str
     positions: np.ndarray
     face_sizes: np.ndarray          # (faces,) int
-    face_symbols: list              # (faces,) index into symbols
+    face_symbols: np.ndarray        # (faces,) index into symbols
     symbols: list                   # material symbols in order of first use
     corners: np.ndarray             # (corners,) position indices
     normals: np.ndarray | None = None          # (corners, 3)
     uvs: dict = field(default_factory=dict)    # set number -> (corners, 2)
     colors: dict = field(default_factory=dict)  # set number -> (corners, 4)
     from_strips: bool = False       # faces of <tristrips> / <trifans> (stitched strips)
+    edges: np.ndarray | None = None  # (edges, 2) position indices of <lines> / <linestrips>
 
 
 def drop_degenerate(mesh: "Mesh") -> int:
@@ -211,17 +226,21 @@ def drop_degenerate(mesh: "Mesh") -> int:
     sizes = np.asarray(mesh.face_sizes, dtype=np.int64)
     if not len(sizes):
         return 0
-    face_of = np.repeat(np.arange(len(sizes)), sizes)
-    keys = face_of * (int(mesh.corners.max(initial=0)) + 1) + mesh.corners
-    unique_faces = face_of[np.unique(keys, return_index=True)[1]]
-    distinct = np.bincount(unique_faces, minlength=len(sizes))
-    keep = distinct == sizes
+    if np.all(sizes == 3):   # triangles (the usual case): three comparisons, no sort
+        corners = mesh.corners.reshape(-1, 3)
+        keep = ((corners[:, 0] != corners[:, 1]) & (corners[:, 1] != corners[:, 2])
+                & (corners[:, 0] != corners[:, 2]))
+    else:
+        face_of = np.repeat(np.arange(len(sizes)), sizes)
+        keys = face_of * (int(mesh.corners.max(initial=0)) + 1) + mesh.corners
+        unique_faces = face_of[np.unique(keys, return_index=True)[1]]
+        keep = np.bincount(unique_faces, minlength=len(sizes)) == sizes
     dropped = int((~keep).sum())
     if not dropped:
         return 0
     corner_keep = np.repeat(keep, sizes)
     mesh.face_sizes = sizes[keep]
-    mesh.face_symbols = [s for s, k in zip(mesh.face_symbols, keep) if k]
+    mesh.face_symbols = np.asarray(mesh.face_symbols)[keep]
     mesh.corners = mesh.corners[corner_keep]
     if mesh.normals is not None:
         mesh.normals = mesh.normals[corner_keep]
@@ -300,6 +319,37 @@ def _ref(url) -> str:
     return url[1:] if url.startswith("#") else url
 
 
+#: Texts shorter than this are read by the plain path (``str.split``); longer ones by numpy's
+#: C parsers first (:func:`_bulk_floats`, :func:`_bulk_ints`), with the plain path behind.
+BULK = 2048
+
+
+def _bulk_floats(text: str):
+    """The numbers of a long *text* of plain whitespace-separated decimals, read by numpy's C
+    parser (``loadtxt``, correctly rounded as ``float()``), or None where it cannot read the
+    text: the caller's liberal path reads it then (decimal commas, ...)."""
+    flat = text.replace("\n", " ").replace("\r", " ").replace("\t", " ")
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")
+            return np.loadtxt([flat], dtype=np.float64, comments=None, ndmin=1)
+    except (ValueError, TypeError, UserWarning, DeprecationWarning):
+        return None
+
+
+def _bulk_ints(text: str):
+    """The integers of a long *text* read by numpy's C parser (``fromstring``), or None
+    where it cannot read the text (the caller's path reads it then)."""
+    if not text.strip():
+        return np.zeros(0, np.int64)   # (fromstring reads blank text as [-1])
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")
+            return np.fromstring(text, dtype=np.int64, sep=" ")
+    except (ValueError, TypeError, DeprecationWarning):
+        return None
+
+
 class _Reader:
     def __init__(self, doc: Document, root):
         self.doc = doc
@@ -315,11 +365,13 @@ class _Reader:
     def floats(self, element, where, expected=None):
         """The numbers of *element*'s text (decimal commas repaired with one warning)."""
         text = (element.text or "") if element is not None else ""
-        words = text.split()
-        try:
-            values = np.array(words, dtype=np.float64) if words else np.zeros(0)
-        except ValueError:
-            values = None
+        values = _bulk_floats(text) if len(text) >= BULK else None
+        if values is None:
+            words = text.split()
+            try:
+                values = np.array(words, dtype=np.float64) if words else np.zeros(0)
+            except ValueError:
+                values = None
         if values is None and "," in text:
             dotted = text.replace(",", ".").split()
             spaced = text.replace(",", " ").split()
@@ -346,6 +398,9 @@ class _Reader:
 
     def ints(self, element, where):
         text = (element.text or "") if element is not None else ""
+        values = _bulk_ints(text) if len(text) >= BULK else None
+        if values is not None:
+            return values
         try:
             return np.array(text.split(), dtype=np.int64)
         except (ValueError, OverflowError):
@@ -455,23 +510,26 @@ class _Reader:
             return None
         positions = positions[:, :3].copy()
         acc = {"sizes": [], "face_symbols": [], "symbols": [], "corners": [], "normals": [],
-               "uvs": {}, "colors": {}, "n_corners": 0, "has_normals": False}
+               "uvs": {}, "colors": {}, "n_corners": 0, "has_normals": False, "edges": []}
         for prim in mesh:
             kind = prim.tag
             if kind in ("lines", "linestrips"):
-                self.doc.warn(f"{where}: <{kind}> skipped (lines are not surfaces)")
+                self.lines(prim, kind, positions, acc, where)
                 continue
             if kind not in ("triangles", "polylist", "polygons", "tristrips", "trifans"):
                 continue
             self.primitive(prim, kind, positions, vertex_extra, acc, where)
+        edges = np.concatenate(acc["edges"]) if acc["edges"] else None
         if not acc["sizes"]:
             empty = np.zeros(0, np.int64)
-            return Mesh(ident, name, positions, empty, [], [], empty.copy())
+            return Mesh(ident, name, positions, empty, np.zeros(0, np.int32), acc["symbols"],
+                        empty.copy(), edges=edges)
         total = acc["n_corners"]
         out = Mesh(ident, name, positions, np.concatenate(acc["sizes"]),
-                   [s for chunk in acc["face_symbols"] for s in chunk], acc["symbols"],
+                   np.concatenate(acc["face_symbols"]), acc["symbols"],
                    np.concatenate(acc["corners"]))
         out.from_strips = acc.get("strips", False)
+        out.edges = edges
         if acc["has_normals"]:
             out.normals = np.concatenate(acc["normals"])
         for key, target in (("uvs", out.uvs), ("colors", out.colors)):
@@ -482,6 +540,55 @@ class _Reader:
                     full[start:start + len(block)] = block
                 target[channel] = full
         return out
+
+    def lines(self, prim, kind, positions, acc, where):
+        """``<lines>`` (a pair of vertices per line) and ``<linestrips>`` (one ``<p>`` per
+        strip) as edges between positions (loose edges in Blender, as Blender's own OBJ and
+        4.2's COLLADA importers keep lines); their material symbol becomes a slot of the
+        mesh.  A line with an index out of range, or from a vertex to itself, is left out."""
+        symbol = prim.get("material", "")
+        label = f"{where}: <{kind} material=\"{symbol}\">"
+        offsets = []
+        for inp in prim.findall("input"):
+            try:
+                offsets.append(((inp.get("semantic") or "").upper(), int(inp.get("offset", "0"))))
+            except ValueError:
+                self.doc.warn(f"{label}: an input's offset is not a number; left out")
+                return
+        vertex = [offset for semantic, offset in offsets if semantic == "VERTEX"]
+        if not vertex:
+            self.doc.warn(f"{label}: no VERTEX input; left out")
+            return
+        stride = max(offset for _semantic, offset in offsets) + 1
+        if stride > 64:
+            self.doc.warn(f"{label}: {stride} index offsets; left out")
+            return
+        strips = []
+        for p in prim.findall("p"):
+            values = self.ints(p, label)
+            if values is None:
+                return
+            strips.append(values[:len(values) - len(values) % stride].reshape(-1, stride)
+                          [:, vertex[0]])
+        if sum(len(v) for v in strips) > MAX_INDICES:
+            self.doc.warn(f"{label}: more than {MAX_INDICES} indices; left out")
+            return
+        if kind == "lines":
+            points = np.concatenate(strips) if strips else np.zeros(0, np.int64)
+            pairs = points[:len(points) - len(points) % 2].reshape(-1, 2)
+        else:
+            pairs = np.concatenate([np.stack([v[:-1], v[1:]], axis=1) for v in strips
+                                    if len(v) >= 2] or [np.zeros((0, 2), np.int64)])
+        outside = np.any((pairs < 0) | (pairs >= len(positions)), axis=1)
+        if np.any(outside):
+            self.doc.warn(f"{label}: {int(outside.sum())} line(s) with position indices out "
+                          "of range left out")
+        pairs = pairs[~outside & (pairs[:, 0] != pairs[:, 1])]
+        if not len(pairs):
+            return
+        acc["edges"].append(pairs)
+        if symbol and symbol not in acc["symbols"]:
+            acc["symbols"].append(symbol)
 
     def primitive(self, prim, kind, positions, vertex_extra, acc, where):
         symbol = prim.get("material", "")
@@ -594,7 +701,7 @@ class _Reader:
         if symbol not in acc["symbols"]:
             acc["symbols"].append(symbol)
         acc["sizes"].append(sizes)
-        acc["face_symbols"].append([acc["symbols"].index(symbol)] * len(sizes))
+        acc["face_symbols"].append(np.full(len(sizes), acc["symbols"].index(symbol), np.int32))
         acc["corners"].append(position_index)
         normals = None
         missing = []
@@ -690,8 +797,7 @@ class _Reader:
                         mode = "A_ONE"
                     out.opaque = mode
                     if texture is not None:
-                        self.doc.warn(f"{where}: a transparent texture is not applied "
-                                      "(imported opaque)")
+                        out.transparent_texture = texture
                     elif color is not None:
                         out.transparent = color
                     continue

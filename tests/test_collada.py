@@ -265,17 +265,29 @@ def test_indices_out_of_range_and_absurd_counts_are_left_out_with_a_warning():
     assert time.perf_counter() - start < 1.0
 
 
-def test_lines_are_skipped_with_a_warning_and_unknown_profiles_import_black():
+def test_lines_are_edges_with_their_material_and_unknown_profiles_import_black():
+    """<lines> (pairs) and <linestrips> (one <p> per strip) become edges between positions
+    (issue 35: loose edges, as Blender's OBJ importer and 4.2's COLLADA importer keep lines);
+    a line's material symbol is a slot of the mesh; a line out of range or from a vertex to
+    itself is left out, with one warning for the first."""
     data = _doc("""<library_geometries><geometry id="g" name="wire"><mesh>
-      <source id="pos"><float_array id="pa" count="6">0 0 0 1 0 0</float_array>
-      <technique_common><accessor source="#pa" count="2" stride="3"/></technique_common></source>
+      <source id="pos"><float_array id="pa" count="12">0 0 0 1 0 0 1 1 0 0 1 0</float_array>
+      <technique_common><accessor source="#pa" count="4" stride="3"/></technique_common></source>
       <vertices id="v"><input semantic="POSITION" source="#pos"/></vertices>
-      <lines count="1"><input semantic="VERTEX" source="#v" offset="0"/><p>0 1</p></lines>
-      </mesh></geometry></library_geometries><library_effects><effect id="fx"><profile_GLSL/>
-      </effect></library_effects><library_materials><material id="m" name="Shader">
-      <instance_effect url="#fx"/></material></library_materials>""")
+      <lines count="3" material="ink"><input semantic="VERTEX" source="#v" offset="0"/>
+      <input semantic="NORMAL" source="#pos" offset="1"/><p>0 9 1 9 2 9 2 9 3 9 7 9</p></lines>
+      <linestrips count="1"><input semantic="VERTEX" source="#v" offset="0"/><p>3 0 1</p>
+      </linestrips></mesh></geometry></library_geometries><library_effects><effect id="fx">
+      <profile_GLSL/></effect></library_effects><library_materials><material id="m"
+      name="Shader"><instance_effect url="#fx"/></material></library_materials>""")
     doc = collada.parse_bytes(data)
-    assert "geometry wire: <lines> skipped (lines are not surfaces)" in doc.warnings
+    mesh = doc.meshes["g"]
+    # pairs (0, 1), (2, 2): a vertex to itself, (3, 7): out of range; strip 3-0-1
+    assert mesh.edges.tolist() == [[0, 1], [3, 0], [0, 1]]
+    assert mesh.symbols == ["ink"] and len(mesh.face_sizes) == 0
+    assert "geometry wire: <lines material=\"ink\">: 1 line(s) with position indices out of " \
+        "range left out" in doc.warnings
+    assert not [w for w in doc.warnings if "skipped" in w]
     assert any(w.startswith("material Shader: no profile_COMMON (profile_GLSL)")
                for w in doc.warnings)
 
@@ -1040,7 +1052,10 @@ def test_instance_node_fan_out_is_bounded(bpy_clean, monkeypatch, tmp_path, capf
     capfd.readouterr()
     assert bpy.ops.phong.import_collada(filepath=str(path)) == {"FINISHED"}
     assert time.perf_counter() - start < 30.0
-    assert "".join(capfd.readouterr()).count("more than 200 nodes; the rest left out") == 1
+    # the root and n0 ... n30, each instance doubling: 1 + (2^31 - 1) objects asked for
+    asked = 1 + sum(2 ** k for k in range(31))
+    assert "".join(capfd.readouterr()).count(
+        f"would make {asked:,} objects, more than 200; the first 200 imported") == 1
     assert len(bpy.data.objects) == 200
 
 

@@ -38,6 +38,7 @@ from .. import compat
 from ..lighting import materials as recipe
 from ..lighting import properties
 from ..lighting import sync as sync_mod
+from . import native
 
 #: Custom properties of an imported material, so that export writes the file's technique
 #: and transparency back.
@@ -53,11 +54,30 @@ INPUTS = {"Irradiant Color": ("emission", "phong_irradiant_color"),
           recipe.AMBIENT_INPUT: ("ambient", recipe.AMBIENT_CONTROL),
           "Object Color": ("diffuse", "phong_object_color"),
           "Specular Color": ("specular", "phong_specular_color")}
-MAX_NODES = 100_000
+#: The most objects one import makes: the file's nodes with their ``instance_node`` copies
+#: (and an object per instance of a node that holds several).  A file whose instances would
+#: make more (a few kilobytes can ask for 2^40: each library node instantiating the next one
+#: twice) imports the first MAX_NODES, with one warning giving the number it asks for;
+#: counted before anything is made (:func:`object_count`), so such a file ends in seconds.
+MAX_NODES = 10_000
+#: The deepest nesting of nodes (children and instance_node) that is imported.
 MAX_DEPTH = 256
 #: bpy.data collections an import adds to, in the order a failed import empties them
 _ROLLBACK = ("objects", "meshes", "lights", "cameras", "materials", "node_groups", "images",
              "worlds")
+
+
+def _set_attribute(mesh, name, data_type, domain, key, values, fallback) -> None:
+    """*values* into the attribute *name* of *mesh* at once (``foreach_set`` of the attribute
+    data: the corners' vertices, the faces' material index, a UV map), made when missing;
+    *fallback(values)* where the attribute is not of that kind."""
+    attribute = mesh.attributes.get(name)
+    if attribute is None and not name.startswith("."):
+        attribute = mesh.attributes.new(name, data_type, domain)
+    if attribute is None or attribute.data_type != data_type or attribute.domain != domain:
+        fallback(values)
+    else:
+        attribute.data.foreach_set(key, values)
 
 
 class ColladaImportError(RuntimeError):
@@ -89,6 +109,34 @@ def import_collada(context, filepath, literal_transparency=False):
     return builder.objects, list(builder.materials.values()), doc.warnings, builder.sync
 
 
+def object_count(doc, by_id) -> int:
+    """How many nodes the visual scene makes with every ``instance_node`` copy (and the extra
+    object of each instance where a node holds several), counted once per library node
+    (memoised: a 2^40 fan-out is 40 look-ups); an instance of a node on its own path (a cycle,
+    left out by the import) counts nothing."""
+    memo, busy = {}, set()
+
+    def count(node, depth):
+        key = id(node)
+        if key in memo:
+            return memo[key]
+        if depth > MAX_DEPTH or key in busy:
+            return 0
+        busy.add(key)
+        shown = [i for i in node.instances if i.kind != "node"]
+        total = 1 + (len(shown) if len(shown) > 1 else 0)
+        total += sum(count(child, depth + 1) for child in node.children)
+        for inst in node.instances:
+            target = by_id.get(inst.url) if inst.kind == "node" else None
+            if target is not None:
+                total += count(target, depth + 1)
+        busy.discard(key)
+        memo[key] = total
+        return total
+
+    return sum(count(node, 0) for node in doc.nodes)
+
+
 class _Builder:
     def __init__(self, context, doc, literal):
         self.context = context
@@ -102,6 +150,7 @@ class _Builder:
         self.materials = {}        # material id -> Phong material
         self.uses = []             # (object, instance, mesh)
         self.images = {}
+        self.uv_names = {}         # mesh -> {texture coordinate set: its UV map's name}
         self.sync = None
         self.world_before = None
         self.camera_before = self.scene.camera
@@ -144,6 +193,10 @@ class _Builder:
         self.by_id = by_id
         target = self.context.collection or self.scene.collection
         self.collection = target
+        wanted = object_count(doc, by_id)
+        if wanted > MAX_NODES:
+            self.doc.warn(f"the file's nodes and instance_node copies would make {wanted:,} "
+                          f"objects, more than {MAX_NODES:,}; the first {MAX_NODES:,} imported")
         for node in doc.nodes:
             self.node(node, None, True, ())
         self.ambient()
@@ -163,8 +216,7 @@ class _Builder:
     def node(self, node, parent, root, seen, depth=0):
         self.count += 1
         if self.count > MAX_NODES:
-            self.doc.warn(f"more than {MAX_NODES} nodes; the rest left out")
-            return
+            return   # (named in one warning: build)
         if depth > MAX_DEPTH:
             self.doc.warn(f"nodes nested more than {MAX_DEPTH} deep (through instance_node); "
                           "the deeper ones left out")
@@ -274,19 +326,31 @@ class _Builder:
         positions = np.asarray(source.positions, dtype=np.float64) * m
         mesh.vertices.add(len(positions))
         mesh.vertices.foreach_set("co", positions.astype(np.float32).reshape(-1))
+        if source.edges is not None and len(source.edges):   # <lines>: loose edges
+            mesh.edges.add(len(source.edges))
+            mesh.edges.foreach_set("vertices", source.edges.astype(np.int32).reshape(-1))
         sizes = np.asarray(source.face_sizes, dtype=np.int64)
         if len(sizes):
             mesh.loops.add(int(sizes.sum()))
-            mesh.loops.foreach_set("vertex_index", source.corners.astype(np.int32))
+            _set_attribute(mesh, ".corner_vert", "INT", "CORNER", "value",
+                           source.corners.astype(np.int32),
+                           lambda values: mesh.loops.foreach_set("vertex_index", values))
             mesh.polygons.add(len(sizes))
             starts = np.concatenate([[0], np.cumsum(sizes)[:-1]]).astype(np.int32)
             mesh.polygons.foreach_set("loop_start", starts)
-            mesh.polygons.foreach_set("material_index",
-                                      np.asarray(source.face_symbols, dtype=np.int32))
+            symbols = np.asarray(source.face_symbols, dtype=np.int32)
+            if symbols.any():
+                _set_attribute(mesh, "material_index", "INT", "FACE", "value", symbols,
+                               lambda values: mesh.polygons.foreach_set("material_index",
+                                                                        values))
+        self.uv_names[mesh] = {}
         for index, channel in enumerate(sorted(source.uvs)):
             layer = mesh.uv_layers.new(name="UVMap" if index == 0 else f"UVMap{channel}")
             if layer is not None:
-                layer.data.foreach_set("uv", source.uvs[channel].astype(np.float32).reshape(-1))
+                self.uv_names[mesh][channel] = layer.name
+                values = source.uvs[channel].astype(np.float32).reshape(-1)
+                _set_attribute(mesh, layer.name, "FLOAT2", "CORNER", "vector", values,
+                               lambda values, layer=layer: layer.data.foreach_set("uv", values))
         for index, channel in enumerate(sorted(source.colors)):
             name = "Col" if index == 0 else f"Col{channel}"
             attribute = mesh.color_attributes.new(name, "FLOAT_COLOR", "CORNER")
@@ -301,10 +365,12 @@ class _Builder:
                           "its faces)")
         elif source.normals is not None and len(sizes):
             normals = np.asarray(source.normals, dtype=np.float64)
-            length = np.linalg.norm(normals, axis=1, keepdims=True)
+            length = np.sqrt(np.einsum("ij,ij->i", normals, normals))[:, None]
             normals = np.where(length > 0, normals / np.where(length > 0, length, 1), 0.0)
-            mesh.polygons.foreach_set("use_smooth", np.ones(len(mesh.polygons), dtype=bool))
-            mesh.normals_split_custom_set([tuple(n) for n in normals])
+            sharp = mesh.attributes.get("sharp_face")
+            if sharp is not None:   # smooth faces: the custom normals are used
+                mesh.attributes.remove(sharp)
+            compat.set_corner_normals(mesh, normals.astype(np.float32))
         mesh[SYMBOLS_KEY] = list(source.symbols)
         return mesh
 
@@ -391,7 +457,11 @@ class _Builder:
                     if source is None and symbol:
                         self.doc.warn(f"geometry {mesh.name}: material symbol {symbol!r} "
                                       "bound to no material; a default Phong material used")
-                wanted.append(self.material(source, group, inst.uv_bindings.get(symbol, {})))
+                uv_names = self.uv_names.get(mesh, {})
+                binding = {semantic: uv_names.get(channel, f"UVMap{channel}" if channel
+                                                  else "UVMap")
+                           for semantic, channel in inst.uv_bindings.get(symbol, {}).items()}
+                wanted.append(self.material(source, group, binding))
             if not symbols:
                 wanted.append(self.material(None, group, {}))
             if len(mesh.materials) == 0:
@@ -448,6 +518,10 @@ class _Builder:
             material[TRANSPARENCY_KEY] = float(source.transparency)
         opacity = source.opacity()
         channels = source.opacity_channels()
+        mapped = self.transparent_map(material, source, uv_binding)
+        if mapped:   # the texture's opacity per pixel; the control keeps a white texel's
+            recipe.set_opacity(material, opacity)
+            return
         if max(channels) - min(channels) > 1e-6:
             self.doc.warn(f"material {source.name}: {source.opaque} opacity differs per "
                           f"channel {tuple(round(c, 4) for c in channels)}; their mean "
@@ -459,6 +533,35 @@ class _Builder:
                           "imported opaque, as its exporter most likely meant")
             opacity = 1.0
         recipe.set_opacity(material, opacity)  # clamped to [0, 1] there
+
+    def transparent_map(self, material, source, uv_binding) -> bool:
+        """A ``<transparent><texture>`` as the material's opacity map, the spec's formula of
+        its mode with the texel for the colour: A_ONE a·t, A_ZERO 1 − a·t, RGB_ZERO
+        1 − mean(rgb)·t, RGB_ONE mean(rgb)·t (``Material.opacity_of_texel``); returns whether
+        the map was made.  With t = 0 the texture changes nothing (the formula is constant:
+        the scalar path reads it), and a missing image is named in the texture warning."""
+        texture = source.transparent_texture
+        t = 1.0 if source.transparency is None else float(source.transparency)
+        if texture is None or t == 0.0:
+            return False
+        image = self.image(texture, source)
+        if image is None:
+            return False
+        tree = material.node_tree
+        node = self.texture_node(tree, "transparent", image, texture, uv_binding, 5).node
+        if source.opaque.startswith("A_"):
+            value = compat.output_socket(node, "Alpha")
+        else:
+            native.straight(image)   # the spec's RGB, not multiplied by the texel's alpha
+            value = native.mean_rgb(tree, "transparent mean", compat.output_socket(node, "Color"),
+                                    (-900.0, -1300.0))
+        scaled = native.math(tree, native.MAP_NODE + "transparent x t", "MULTIPLY", value, t,
+                             (-700.0, -1300.0))
+        if source.opaque.endswith("_ZERO"):
+            scaled = native.math(tree, native.MAP_NODE + "1 - transparent", "SUBTRACT", 1.0,
+                                 scaled, (-550.0, -1300.0))
+        native.opacity_map(material, scaled)
+        return True
 
     def image(self, texture, source):
         if texture.resolved in self.images:
@@ -481,11 +584,11 @@ class _Builder:
         node.label = f"{socket_name} texture"
         node.image = image
         node.location = (-1150.0, 200.0 - 300.0 * index)
-        channel = uv_binding.get(texture.texcoord)
-        if channel:   # a set other than the first: its own UV map
+        layer = uv_binding.get(texture.texcoord)   # the UV map of the bound set
+        if layer and layer != "UVMap":   # not the mesh's first (active) map: its own node
             uv = tree.nodes.new("ShaderNodeUVMap")
             uv.name = UVMAP_NODE + socket_name
-            uv.uv_map = f"UVMap{channel}"
+            uv.uv_map = layer
             uv.location = (-1450.0, 200.0 - 300.0 * index)
             tree.links.new(uv.outputs["UV"], node.inputs["Vector"])
         return node.outputs["Color"]
