@@ -1552,7 +1552,7 @@ def test_a_file_that_is_not_utf8_is_read_as_latin1():
 
 def test_large_numeric_arrays_are_read_in_bulk(tmp_path):
     """About 10 MB: 200,000 positions and 200,000 triangles, read within a few seconds (a 50 MB
-    file took about 2 s on the development machine; see the report of issue 36)."""
+    file took about 1 s on the development machine)."""
     rng = np.random.default_rng(5)
     points = np.round(rng.random((200_000, 3)) * 100, 4)
     tris = rng.integers(0, len(points), (200_000, 3))
