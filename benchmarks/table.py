@@ -27,7 +27,7 @@ def rows(figures, meta):
     return [*cycles_rows(figures), *eevee_rows(figures), *quality_rows(figures),
             *scale_rows(figures, meta["config"]["scale_objects"]),
             *artist_rows(figures["artist_scale"]), *demo_rows(figures.get("demo_eevee")),
-            *shading_rows(figures.get("shading_modes"))]
+            *shading_rows(figures.get("shading_modes")), *import_rows(figures.get("import_speed"))]
 
 
 def markdown(figures, meta):
@@ -212,4 +212,25 @@ def shading_rows(figure):
                      f"{fmt(ms[case], 2)} ms vs Per Pixel {fmt(ms['pixel'], 2)} ms, Principled "
                      f"{fmt(ms['principled'], 2)} ms; {figure['repeats']} runs of "
                      f"{figure['moves']} moves, bpy {figure['bpy']}"))
+    return rows
+
+
+def import_rows(figure):
+    """Table rows of figure 9 (issue 35; ``import_speed.py --merge``)."""
+    if figure is None:
+        return []
+    rows = []
+    theirs = {"obj": f"Blender {figure['bpy']}'s OBJ importer",
+              "fbx": f"Blender {figure['bpy']}'s FBX importer",
+              "collada": f"Blender {figure['blender_collada']}'s COLLADA importer (own process)"}
+    load = figure["load_average"]
+    for kind, ratio in figure["ratio"].items():
+        goal = figure["goal_value"][kind]
+        rows.append((f"9. Import of {figure['triangles']:,} triangles in {figure['objects']} "
+                     f"objects, {kind.upper() if kind != 'collada' else 'COLLADA'}: "
+                     "Phong / Blender's", f"{ratio:.2f}×", f"≤ {goal:g}×",
+                     verdict(ratio, goal, "max"),
+                     f"{fmt(figure['ours_s'][kind])} s vs {fmt(figure['blender_s'][kind])} s "
+                     f"({theirs[kind]}); median of {figure['repeats']}, bpy {figure['bpy']}, "
+                     f"load {load[0][0]:.2f} before, {load[1][0]:.2f} after"))
     return rows

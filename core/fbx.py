@@ -514,20 +514,20 @@ def _child(path: str, result: str, geometry: bool) -> None:
 
 
 # The child's answer: JSON for the structure (a tuple as {"()": [...]}, an array as
-# {"[]": name}, bytes as {"b": name}) and one .npz of the arrays (numpy's np.load refuses object arrays by
-# default): plain data only, nothing that runs code when it is read.
+# {"[]": name}, bytes as {"b": name}), one .npz of the arrays (numpy's np.load refuses object
+# arrays by default) and a file per embedded texture: plain data only, nothing that runs
+# code when it is read.
 
 def _write_payload(payload, result: str) -> None:
-    import numpy as np
-
-    arrays = {}
+    np = sys.modules.get("numpy")   # imported only where geometry was read (0.1 s otherwise)
+    arrays, blobs = {}, {}
 
     def plain(value):
         if isinstance(value, (bytes, bytearray)):  # an embedded texture's file
-            name = f"a{len(arrays)}"
-            arrays[name] = np.frombuffer(bytes(value), dtype=np.uint8)
+            name = f"b{len(blobs)}"
+            blobs[name] = bytes(value)
             return {"b": name}
-        if isinstance(value, np.ndarray):
+        if np is not None and isinstance(value, np.ndarray):
             name = f"a{len(arrays)}"
             arrays[name] = value
             return {"[]": name}
@@ -537,30 +537,40 @@ def _write_payload(payload, result: str) -> None:
             return {"()": [plain(v) for v in value]}
         if isinstance(value, list):
             return [plain(v) for v in value]
-        if isinstance(value, np.generic):
+        if np is not None and isinstance(value, np.generic):
             return value.item()
         return value
 
     text = json.dumps(plain(payload), allow_nan=True)
-    np.savez(result + ".npz", **arrays)
+    if arrays:
+        np.savez(result + ".npz", **arrays)
+    for name, data in blobs.items():
+        with open(f"{result}.{name}", "wb") as handle:
+            handle.write(data)
     with open(result + ".json", "w", encoding="utf-8") as handle:  # written last: complete
         handle.write(text)
 
 
 def _read_payload(result: str):
-    import numpy as np
-
     with open(result + ".json", encoding="utf-8") as handle:
         text = handle.read()
-    with np.load(result + ".npz") as archive:
-        arrays = {name: archive[name] for name in archive.files}
+    arrays = {}
+    if os.path.isfile(result + ".npz"):
+        import numpy as np
+
+        with np.load(result + ".npz") as archive:
+            arrays = {name: archive[name] for name in archive.files}
+
+    def blob(name):
+        with open(f"{result}.{name}", "rb") as handle:
+            return handle.read()
 
     def typed(value):
         if isinstance(value, dict):
             if set(value) == {"[]"}:
                 return arrays[value["[]"]]
             if set(value) == {"b"}:
-                return arrays[value["b"]].tobytes()
+                return blob(value["b"])
             if set(value) == {"()"}:
                 return tuple(typed(v) for v in value["()"])
             return {k: typed(v) for k, v in value.items()}
