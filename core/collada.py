@@ -218,6 +218,7 @@ class Mesh:
     colors: dict = field(default_factory=dict)  # set number -> (corners, 4)
     from_strips: bool = False       # faces of <tristrips> / <trifans> (stitched strips)
     edges: np.ndarray | None = None  # (edges, 2) position indices of <lines> / <linestrips>
+    edge_symbol: str = ""           # the material symbol written on <lines> (export)
 
 
 def drop_degenerate(mesh: "Mesh") -> int:
@@ -1395,9 +1396,13 @@ def dumps(doc: Document) -> str:
                 if element == "specular":
                     shininess = _sub(shading, "shininess")
                     _sub(shininess, "float", fmt(mat.shininess or 0.0), sid="shininess")
-            if mat.transparent is not None:
-                _sub(_sub(shading, "transparent", opaque=mat.opaque), "color",
-                     _join(mat.transparent[:4]))
+            if mat.transparent is not None or "transparent" in mat.textures:
+                holder = _sub(shading, "transparent", opaque=mat.opaque)
+                if "transparent" in mat.textures:   # an opacity map (issue 35)
+                    _sub(holder, "texture", texture="transparent-sampler",
+                         texcoord=mat.textures["transparent"].texcoord or "UVMap")
+                else:
+                    _sub(holder, "color", _join(mat.transparent[:4]))
                 _sub(_sub(shading, "transparency"), "float",
                      fmt(1.0 if mat.transparency is None else mat.transparency))
         lib = _sub(root, "library_materials")
@@ -1467,6 +1472,13 @@ def _write_mesh(lib, ident, mesh: Mesh):
         columns = [mesh.corners[corners]] + [corners] * len(inputs)
         table = np.stack(columns, axis=1).reshape(-1)
         _sub(poly, "p", " ".join(str(int(v)) for v in table))
+    if mesh.edges is not None and len(mesh.edges):   # loose edges
+        attrib = {"count": len(mesh.edges)}
+        if mesh.edge_symbol:
+            attrib["material"] = names.get(mesh.edge_symbol, ncname(mesh.edge_symbol))
+        lines = _sub(element, "lines", **attrib)
+        _sub(lines, "input", semantic="VERTEX", source=f"#{ident}-vertices", offset=0)
+        _sub(lines, "p", " ".join(str(int(v)) for v in np.asarray(mesh.edges).reshape(-1)))
     _exact_name(geometry, mesh.name)
 
 

@@ -621,9 +621,37 @@ def test_transparent_texture_with_zero_transparency_changes_nothing(bpy_clean, t
         assert not [i for i in bpy.data.images], "no image that nothing uses"
 
 
+def test_transparent_texture_is_exported_back(bpy_clean, tmp_path):
+    """Import ▸ export ▸ import of Khronos's checkerboard: the written file names the same
+    texture under <transparent opaque="RGB_ZERO"> with <transparency>0.5 (read back with
+    ElementTree here), validates against the 1.4.1 schema, and imports as the same opacity
+    map."""
+    from test_collada import _valid  # noqa: PLC0415
+
+    bpy = bpy_clean
+    path = os.path.join(DATA, "collada", "cts_reference_image_checkerboard.dae")
+    assert bpy.ops.phong.import_collada(filepath=path) == {"FINISHED"}
+    out = tmp_path / "again.dae"
+    assert bpy.ops.phong.export_collada(filepath=str(out)) == {"FINISHED"}
+    text = out.read_text()
+    _valid(text)
+    root = ET.fromstring(text)
+    for element in root.iter():
+        element.tag = element.tag.rsplit("}", 1)[-1]
+    transparent = next(root.iter("transparent"))
+    assert transparent.get("opaque") == "RGB_ZERO" and transparent.find("texture") is not None
+    assert float(next(root.iter("transparency")).find("float").text) == 0.5
+    image = next(root.iter("image")).find("init_from").text
+    assert os.path.samefile(tmp_path / image, os.path.join(DATA, "collada", "checkerboard.png"))
+    be.reset_empty_file()
+    assert bpy.ops.phong.import_collada(filepath=str(out)) == {"FINISHED"}
+    (material,) = [m for m in bpy.data.materials if m.get("phong_nodes_material")]
+    assert "phong_opacity_map" in material.node_tree.nodes
+
+
 # -- COLLADA lines ------------------------------------------------------------------------------
 
-def test_sketchup_lines_become_loose_edges_with_their_material(bpy_clean):
+def test_sketchup_lines_become_loose_edges_with_their_material(bpy_clean, tmp_path):
     """turtlebot's r200.dae (SketchUp 8, tests/data/collada): its <lines> are loose edges of
     their meshes, as many as the file's pairs (counted here), and their material
     (edge_color..., bound to the lines' symbol) is the slot of the line-only meshes."""
@@ -654,6 +682,15 @@ def test_sketchup_lines_become_loose_edges_with_their_material(bpy_clean):
     lines_only = [o for o in bpy.data.objects if o.type == "MESH" and not o.data.polygons]
     assert sorted(len(o.data.edges) for o in lines_only) == sorted(pairs.values())
     assert bpy.data.materials["edge_color6291111255"].get("phong_nodes_material")
+    # exported back: each line-only mesh as <lines> with its material, read back the same
+    out = tmp_path / "r200.dae"
+    assert bpy.ops.phong.export_collada(filepath=str(out)) == {"FINISHED"}
+    be.reset_empty_file()
+    assert bpy.ops.phong.import_collada(filepath=str(out)) == {"FINISHED"}
+    again = [o for o in bpy.data.objects if o.type == "MESH" and not o.data.polygons]
+    assert sorted(len(o.data.edges) for o in again) == sorted(pairs.values())
+    assert {s.material.name for o in again for s in o.material_slots} == {
+        "edge_color6291111255"}
 
 
 def test_lines_beside_faces_and_linestrips(bpy_clean, tmp_path):
@@ -687,6 +724,20 @@ source="#v" offset="0"/><p>2 3 4 0</p></linestrips></mesh></geometry></library_g
     assert edges == [(0, 1), (0, 2), (0, 4), (1, 2), (2, 3), (3, 4)]
     assert [s.material.name for s in obj.material_slots] == ["paint", "ink"]
     assert len(obj.data.polygons) == 1
+    # export writes the loose edges back as <lines>; import ▸ export ▸ import keeps them
+    out = tmp_path / "again.dae"
+    assert bpy.ops.phong.export_collada(filepath=str(out)) == {"FINISHED"}
+    from test_collada import _valid  # noqa: PLC0415
+
+    _valid(out.read_text())
+    be.reset_empty_file()
+    assert bpy.ops.phong.import_collada(filepath=str(out)) == {"FINISHED"}
+    again = bpy.data.objects["Wire"]
+    positions = [tuple(v.co) for v in again.data.vertices]
+    assert sorted(tuple(sorted(positions[i] for i in e.vertices)) for e in again.data.edges) == \
+        sorted(tuple(sorted(tuple(obj_co) for obj_co in pair)) for pair in (
+            ((0, 0, 0), (1, 0, 0)), ((0, 0, 0), (0, 1, 0)), ((0, 0, 0), (3, 3, 0)),
+            ((1, 0, 0), (0, 1, 0)), ((0, 1, 0), (2, 2, 0)), ((2, 2, 0), (3, 3, 0))))
 
 
 # -- instancing bomb ---------------------------------------------------------------------------

@@ -79,6 +79,12 @@ def material_of(material, warnings) -> collada.Material:
     out.shininess = float(compat.value_output(tree.nodes["phong_exponent"]).default_value)
     opacity = recipe.opacity(material)
     mode = material.get(imp.OPAQUE_KEY)
+    mapped = _transparent_texture(material, tree)
+    if mode in collada.OPAQUE_MODES and mapped is not None:   # the file's opacity map
+        out.opaque, out.textures["transparent"] = mode, mapped
+        if imp.TRANSPARENCY_KEY in material.keys():
+            out.transparency = float(material[imp.TRANSPARENCY_KEY])
+        return out
     if mode in collada.OPAQUE_MODES and imp.TRANSPARENT_KEY in material.keys():
         # the file's own transparency, unless Opacity was changed since the import (an
         # invisible material imported opaque keeps its file's values)
@@ -93,6 +99,21 @@ def material_of(material, warnings) -> collada.Material:
     if opacity < 1.0:
         out.opaque, out.transparent, out.transparency = "A_ONE", (1.0, 1.0, 1.0, 1.0), opacity
     return out
+
+
+def _transparent_texture(material, tree):
+    """The collada.Texture of an imported ``<transparent><texture>`` that still feeds the
+    material's opacity map (``collada_import.transparent_map``), or None."""
+    node = tree.nodes.get(imp.TEXTURE_NODE + "transparent")
+    mix = tree.nodes.get(recipe.OPACITY_MIX)
+    if node is None or node.image is None or tree.nodes.get(recipe.OPACITY_MAP) is None or \
+            mix is None or not compat.input_socket(mix, "Fac").is_linked or \
+            compat.input_socket(mix, "Fac").links[0].from_node.name != recipe.OPACITY_MAP:
+        return None
+    path = bpy.path.abspath(node.image.filepath) or node.image.name
+    uv = node.inputs["Vector"].links[0].from_node if node.inputs["Vector"].is_linked else None
+    texcoord = uv.uv_map if uv is not None and uv.bl_idname == "ShaderNodeUVMap" else "UVMap"
+    return collada.Texture(path, path, texcoord, node.image.name)
 
 
 def export(context, filepath, use_selection=False) -> list:
@@ -218,6 +239,15 @@ def _mesh(mesh) -> collada.Mesh:
                        sizes.astype(np.int64), [min(int(i), len(symbols) - 1)
                                                 for i in material_index],
                        symbols, corners.astype(np.int64), normals.reshape(-1, 3))
+    edges = np.zeros(len(mesh.edges) * 2, dtype=np.int32)
+    mesh.edges.foreach_get("vertices", edges)
+    loop_edges = np.zeros(loops, dtype=np.int32)
+    mesh.loops.foreach_get("edge_index", loop_edges)
+    loose = np.ones(len(mesh.edges), dtype=bool)
+    loose[loop_edges] = False
+    if loose.any():   # loose edges as <lines>; a mesh of lines only: its first slot's material
+        out.edges = edges.reshape(-1, 2)[loose].astype(np.int64)
+        out.edge_symbol = symbols[0] if not faces and mesh.materials else ""
     for index, layer in enumerate(mesh.uv_layers):
         uv = np.zeros(loops * 2, dtype=np.float32)
         layer.data.foreach_get("uv", uv)
