@@ -189,9 +189,35 @@ ensure_three() {
   fi
 }
 
+# X_ITE for the X_ITE peer renderer (core/x_ite.py), the version pinned by
+# tools/x_ite/package-lock.json, installed with npm into a cache folder outside the repository
+# ($PHONG_X_ITE_DIR, else ~/.cache/phong-nodes/x_ite-<version>).  Optional: without npm it says
+# so on one line and the rest of Phong Nodes works as before.
+ensure_x_ite() {
+  local version=15.0.1
+  local dir=${PHONG_X_ITE_DIR:-${XDG_CACHE_HOME:-$HOME/.cache}/phong-nodes/x_ite-$version}
+  if [ -n "${PHONG_X_ITE_DIR:-}" ]; then
+    export PHONG_X_ITE_DIR
+  fi
+  if [ -f "$dir/node_modules/x_ite/dist/x_ite.min.js" ]; then
+    return 0
+  fi
+  if ! command -v npm >/dev/null 2>&1; then
+    echo "X_ITE peer renderer unavailable: it needs nodejs/npm (sudo apt-get install -y nodejs npm)" >&2
+    return 0
+  fi
+  echo "Installing X_ITE $version into $dir (npm ci)..." >&2
+  mkdir -p "$dir"
+  cp "$root/tools/x_ite/package.json" "$root/tools/x_ite/package-lock.json" "$dir/"
+  if ! (cd "$dir" && npm ci --no-audit --no-fund --silent >&2); then
+    echo "npm could not install X_ITE into $dir: the X_ITE peer renderer is unavailable" >&2
+  fi
+}
+
 setup
 install_package
 ensure_three
+ensure_x_ite
 "$venv/bin/python" "$root/cli/system.py"
 
 case "$command" in
