@@ -2,9 +2,9 @@
 """The command line of ``phong``: every subcommand and option, in one argparse parser.
 
     phong demo    [--scenes a,b|all] [--engines cycles,eevee] [--resolution N] [--out DIR]
-                  [--shard i/n|auto] [--peers threejs] [--save-blend]
+                  [--shard i/n|auto] [--peers threejs,x_ite] [--save-blend]
     phong compare FILE.blend|.obj|.dae|.fbx [--scenes a,b] [--engines ...] [--resolution N] [--out DIR]
-                  [--shard i/n|auto] [--peers threejs]
+                  [--shard i/n|auto] [--peers threejs,x_ite]
     phong bake    FILE.blend --target image|vertex [--term T] [--view camera|none] [--scenes a,b]
                   [--resolution N] [--format png|exr] [--smart-uv] [--out DIR] [--shard i/n]
                   [--peers threejs] [--check-height N]
@@ -24,7 +24,9 @@ from ..core import scenes
 
 DEFAULT_RESOLUTION = 256
 ENGINES = ("cycles", "eevee")
-PEERS = ("threejs",)
+PEERS = ("threejs", "x_ite")
+#: The peers of ``bake --peers``: the glTF check runs in three.js only.
+BAKE_PEERS = ("threejs",)
 TARGETS = ("image", "vertex")
 TERMS = ("color", "irradiant", "ambient", "diffuse", "specular")
 VIEWS = ("camera", "none")
@@ -49,13 +51,17 @@ def _engines(text: str) -> list:
     return engines
 
 
-def _peers(text: str) -> list:
+def _peers(text: str, known=PEERS) -> list:
     peers = [p.strip().lower() for p in text.split(",") if p.strip()]
-    unknown = sorted(set(peers) - set(PEERS))
+    unknown = sorted(set(peers) - set(known))
     if unknown:
         raise argparse.ArgumentTypeError(f"unknown peer(s) {', '.join(unknown)}; expected "
-                                         "threejs")
+                                         + " and/or ".join(known))
     return peers
+
+
+def _bake_peers(text: str) -> list:
+    return _peers(text, BAKE_PEERS)
 
 
 def _comparison_options(parser, resolution_default, resolution_help, out_default) -> None:
@@ -67,8 +73,10 @@ def _comparison_options(parser, resolution_default, resolution_help, out_default
                         help=f"output folder (default: {out_default})")
     parser.add_argument("--shard", default=None, help=scenes.SHARD_HELP)
     parser.add_argument("--peers", type=_peers, default=[],
-                        help="other renderers to compare: threejs (exports each scene as a "
-                             "three.js page and renders it in headless Chromium)")
+                        help="other renderers to compare, comma-separated: threejs (exports "
+                             "each scene as a three.js page and renders it in headless "
+                             "Chromium), x_ite (exports each scene as X3D and renders it with "
+                             "the X3D browser X_ITE in headless Chromium)")
 
 
 def parser() -> argparse.ArgumentParser:
@@ -127,7 +135,7 @@ def parser() -> argparse.ArgumentParser:
                       help="give objects without a UV map a Smart UV Project")
     bake.add_argument("--out", default="out/bake", help="output folder (default: out/bake)")
     bake.add_argument("--shard", default=None, help=scenes.SHARD_HELP)
-    bake.add_argument("--peers", type=_peers, default=[],
+    bake.add_argument("--peers", type=_bake_peers, default=[],
                       help="threejs: check the .glb in three.js's GLTFLoader (headless "
                            "Chromium) against Cycles rendering the baked scene")
     bake.add_argument("--check-height", type=int, default=256,

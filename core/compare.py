@@ -32,7 +32,12 @@ AMBIGUOUS = 1e-5
 #: 2/255 of Cycles, in display values (its canvas holds 8-bit sRGB).
 THREEJS_STEP = 2.0 / 255.0
 THREEJS_SHARE = 0.99
-PEERS = ("threejs",)
+#: X_ITE (a peer: an X3D browser, rendered by Chromium): this share of the pixels both cover,
+#: away from silhouettes, within 2/255 of Cycles in the X3D display values (its canvas holds
+#: the equation's value I itself: :func:`compare_x3d_display`).
+X3D_PEER_STEP = 2.0 / 255.0
+X3D_PEER_SHARE = 0.99
+PEERS = ("threejs", "x_ite")
 
 ENGINES = ("eevee", "cycles")
 PAIRS = (("eevee", "reference"), ("cycles", "reference"), ("eevee", "cycles"))
@@ -310,6 +315,70 @@ def evaluate_peer(scene: dict, rgba: np.ndarray, images: dict, mask: np.ndarray)
     within = pairs["threejs-cycles"]["share_within_2_255"]
     return pairs, {"ok": within >= THREEJS_SHARE and pairs["threejs-cycles"]["pixels"] > 0,
                    "rule": f"≥ {THREEJS_SHARE:.0%} of pixels both cover within 2/255 of Cycles",
+                   "value": f"{within:.3%}"}, both
+
+
+def compare_x3d_display(peer_rgba: np.ndarray, other: np.ndarray, mask: np.ndarray) -> dict:
+    """Metrics of an X3D browser's 8-bit picture against a linear render, in the X3D display
+    values: an X3D 3 browser (X_ITE with ColorSpace SRGB) writes the lighting equation's
+    value I to its canvas as it is, round(255 · min(I, 1)), while Blender's render holds the
+    same I before its view transform; so the difference is max over RGB of
+    |peer/255 - min(max(render, 0), 1)| on the pixels of *mask*."""
+    a = peer_rgba[..., :3].astype(np.float64) / 255.0
+    b = np.clip(np.asarray(other[..., :3], np.float64), 0.0, 1.0)
+    diff = np.abs(a - b).max(axis=-1)[mask]
+    if diff.size == 0:
+        return {"pixels": 0, "max_abs": 0.0, "mean_abs": 0.0, "psnr_db": None,
+                "share_over_1_255": 0.0, "share_within_2_255": 0.0, "space": "x3d"}
+    mse = float(np.mean((a[mask] - b[mask]) ** 2))
+    return {"pixels": int(diff.size), "max_abs": float(diff.max()),
+            "mean_abs": float(diff.mean()),
+            "psnr_db": None if mse == 0 else float(10 * math.log10(1.0 / mse)),
+            "share_over_1_255": float(np.mean(diff > 1.0 / 255.0 + 1e-9)),
+            "share_within_2_255": float(np.mean(diff <= X3D_PEER_STEP + 1e-9)),
+            "space": "x3d"}
+
+
+def silhouettes(objects: np.ndarray, coverage: np.ndarray) -> np.ndarray:
+    """Pixels next to a silhouette: those whose 3 × 3 neighbourhood holds another object
+    number (*objects*: the reference's, 0 where nothing is) or a pixel of other *coverage*
+    (the peer's).  Both renderers sample the pixel centres, but a centre within a rounding
+    error of an edge may fall on either side of it in each; the border of the picture is no
+    edge."""
+    objects = np.asarray(objects)
+    coverage = np.asarray(coverage, bool)
+    h, w = objects.shape
+    po = np.pad(objects, 1, mode="edge")
+    pc = np.pad(coverage, 1, mode="edge")
+    edge = np.zeros((h, w), bool)
+    for dy in (0, 1, 2):
+        for dx in (0, 1, 2):
+            if dy == 1 and dx == 1:
+                continue
+            edge |= po[dy:dy + h, dx:dx + w] != objects
+            edge |= pc[dy:dy + h, dx:dx + w] != coverage
+    return edge
+
+
+def evaluate_x3d_peer(scene: dict, rgba: np.ndarray, images: dict, mask: np.ndarray,
+                      objects: np.ndarray, peer: str = "x_ite") -> tuple:
+    """An X3D browser's picture (8-bit RGBA, row 0 = top, the canvas holding I: see
+    :func:`compare_x3d_display`) against every render: ({pair: metrics}, verdict or None,
+    the mask of the pixels compared).  Compared: the pixels the reference compares (*mask*)
+    that the peer covers too, away from silhouettes (:func:`silhouettes` of the reference's
+    *objects* and the peer's coverage).  The verdict counts only for a scene in the X3D model
+    (in another model the browser shows another formula)."""
+    covered = rgba[..., 3] > 0
+    both = mask & covered & ~silhouettes(objects, covered)
+    pairs = {f"{peer}-{name}": compare_x3d_display(rgba, images[name], both)
+             for name in ("cycles", "eevee", "reference") if name in images}
+    key = f"{peer}-cycles"
+    if scene.get("model") != "x3d" or key not in pairs:
+        return pairs, None, both
+    within = pairs[key]["share_within_2_255"]
+    return pairs, {"ok": within >= X3D_PEER_SHARE and pairs[key]["pixels"] > 0,
+                   "rule": f"≥ {X3D_PEER_SHARE:.0%} of pixels both cover, away from "
+                           "silhouettes, within 2/255 of Cycles",
                    "value": f"{within:.3%}"}, both
 
 

@@ -247,20 +247,27 @@ def _threejs_plots(scene: dict) -> dict:
 
 # -- one scene ------------------------------------------------------------------------
 
+#: The peers' tiles on the sheet.  X_ITE's canvas holds the X3D equation's I (ColorSpace
+#: SRGB), shown here through the same sRGB display as the renders.
+PEER_NAMES = {"threejs": "three.js r181 (Chromium)", "x_ite": "X_ITE 15.0.1 (Chromium)"}
+
 def write_scene(folder: str, scene: dict, images: dict, refimg: dict, mask, metrics,
                 terms=None, peer_mask=None) -> None:
     """Every image of one scene, and its sheet, into *folder*.  *terms*: {term: the
     render's own term pass}, shown instead of the reference's terms.  *peer_mask*: the
-    pixels compared with three.js (images["threejs"], linear)."""
+    pixels compared with three.js (images["threejs"], linear), or {peer: its pixels} (also
+    "x_ite": images["x_ite"] holds X_ITE's canvas / 255, the X3D equation's I)."""
+    peer_masks = peer_mask if isinstance(peer_mask, dict) else {"threejs": peer_mask}
     shown = {}
-    for name in ("eevee", "cycles", "reference", "threejs"):
+    for name in ("eevee", "cycles", "reference", "threejs", "x_ite"):
         if name in images:
             shown[name] = to_srgb(images[name])
             write_png(os.path.join(folder, f"{name}.png"), shown[name])
     heat = {}
     for pair in metrics["pairs"]:
         a, b = pair.split("-")
-        heat[pair] = heatmap(images[a], images[b], peer_mask if a == "threejs" else mask)
+        peer = peer_masks.get(a) if a in PEER_NAMES else None
+        heat[pair] = heatmap(images[a], images[b], peer if peer is not None else mask)
         write_png(os.path.join(folder, f"diff_{a}_{b}.png"), heat[pair])
     term_imgs = {}
     for term in TERMS:
@@ -275,11 +282,14 @@ def write_scene(folder: str, scene: dict, images: dict, refimg: dict, mask, metr
         if m.get("space") == "display":
             return (f"|{pair.replace('-', ' - ')}| (display)  "
                     f"{m['share_within_2_255']:.1%} ≤ 2/255")
+        if m.get("space") == "x3d":
+            return (f"|{pair.replace('-', ' - ')}| (X3D display)  "
+                    f"{m['share_within_2_255']:.1%} ≤ 2/255")
         return f"|{pair.replace('-', ' - ')}|  max {m['max_abs']:.1e}"
 
-    names = {"reference": "Reference (numpy)", "threejs": "three.js r181 (Chromium)"}
+    names = {"reference": "Reference (numpy)", **PEER_NAMES}
     tiles = [(names.get(n, n.capitalize()), shown[n])
-             for n in ("eevee", "cycles", "reference", "threejs") if n in shown]
+             for n in ("eevee", "cycles", "reference", "threejs", "x_ite") if n in shown]
     tiles += [(caption(p), heat[p]) for p in heat]
     def term_caption(term):
         m = metrics.get("terms", {}).get(term)

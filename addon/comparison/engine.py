@@ -30,7 +30,7 @@ import time
 
 import bpy
 
-from ...core import browser, compare, outputs, report, threejs
+from ...core import browser, compare, outputs, report, threejs, x_ite
 from .. import compat
 from ..lighting import materials, rig
 from ..lighting import sync as sync_mod
@@ -38,6 +38,7 @@ from ..interchange import threejs_export
 from ..scene import describe, render
 from ..scene.render import Overrides, render_exr
 from ..shading import modes as shading_modes
+from . import x_ite_peer
 
 
 class ComparisonError(ValueError):
@@ -181,6 +182,8 @@ def check_peers(peers) -> None:
     if unknown:
         raise ComparisonError(f"unknown peer {unknown[0]!r}; expected one of {', '.join(compare.PEERS)}")
     problem = threejs.unavailable() if "threejs" in peers else None
+    if problem is None and "x_ite" in peers:
+        problem = x_ite.unavailable()
     if problem is not None:
         raise ComparisonError(problem)
 
@@ -249,6 +252,25 @@ def run(scene, out_dir: str, engines=compare.ENGINES, progress=None, view_layer=
                 metrics["verdict"]["threejs"] = peer_verdict
                 metrics["ok"] = metrics["ok"] and peer_verdict["ok"]
             timings["threejs_s"] = time.perf_counter() - t0
+        if "x_ite" in peers:
+            progress(0.9, "X_ITE in Chromium")
+            t0 = time.perf_counter()
+            rgba, seconds, warnings = x_ite_peer.render(scene, layer, objects, data, width,
+                                                        height, tmp)
+            pairs, x_verdict, x_mask = compare.evaluate_x3d_peer(data, rgba, images, mask,
+                                                                 refimg["object"])
+            images["x_ite"] = rgba[..., :3] / 255.0   # the canvas holds I (ColorSpace SRGB)
+            metrics["pairs"].update(pairs)
+            metrics["x_ite"] = {"browser_s": seconds, "warnings": warnings,
+                                "version": x_ite.X_ITE_VERSION,
+                                "covered": int((rgba[..., 3] > 0).sum()),
+                                "compared": int(x_mask.sum()),
+                                "in_verdict": x_verdict is not None}
+            if x_verdict is not None:
+                metrics["verdict"]["x_ite"] = x_verdict
+                metrics["ok"] = metrics["ok"] and x_verdict["ok"]
+            peer_mask = {"threejs": peer_mask, "x_ite": x_mask}
+            timings["x_ite_s"] = time.perf_counter() - t0
         t0 = time.perf_counter()
         report.write_scene(tmp, data, images, refimg, mask, metrics, terms, peer_mask)
         timings["report_s"] = time.perf_counter() - t0
