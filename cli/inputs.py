@@ -21,12 +21,13 @@ class BadInput(Exception):
 
 def peer_problem(peers) -> str | None:
     """Why a peer cannot run on this machine (what to install), or None."""
-    if "threejs" not in peers:
-        return None
-    from ..core import threejs  # noqa: PLC0415
+    from ..core import threejs, x_ite  # noqa: PLC0415
 
-    problem = threejs.unavailable()
-    return None if problem is None else f"--peers threejs: {problem}"
+    for name, module in (("threejs", threejs), ("x_ite", x_ite)):
+        problem = module.unavailable() if name in peers else None
+        if problem is not None:
+            return f"--peers {name}: {problem}"
+    return None
 
 
 def _import_obj(context, path) -> list:
