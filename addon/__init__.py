@@ -16,10 +16,10 @@ Register and unregister are symmetric.
 from . import loader
 from .lighting import properties, sync
 from .shading import properties as shading_properties
-from .ui import assets, baking, collada_ui, fbx_ui, menus, operators, panels
+from .ui import assets, baking, collada_ui, fbx_ui, menus, operators, panels, x3d_ui
 
 _modules = (operators, menus, properties, shading_properties, panels, baking, loader, sync,
-            assets, collada_ui, fbx_ui)
+            assets, collada_ui, fbx_ui, x3d_ui)
 
 
 def register():

@@ -147,3 +147,22 @@ def set_corner_normals(mesh, normals) -> None:
         attribute.data.foreach_set("vector", normals.reshape(-1))
     else:
         mesh.normals_split_custom_set(normals.reshape(-1, 3))
+
+
+def smooth_by_angle(mesh, angle: float) -> None:
+    """Shade *mesh* as VRML97 / X3D's ``creaseAngle`` says: smooth across an edge whose faces
+    meet at less than *angle* (radians), sharp elsewhere; 0 flat, π or more smooth everywhere.
+    From 4.1 on (every supported release) faces are smooth unless ``sharp_face`` and edges
+    sharp where ``sharp_edge`` (``shade_smooth`` / ``set_sharp_from_angle``, Blender's "Smooth
+    by Angle" without a modifier); before, Auto Smooth held the angle on the mesh."""
+    if angle <= 0.0:
+        mesh.shade_flat()
+        return
+    mesh.shade_smooth()
+    if angle >= 3.141592653589793:
+        return
+    if hasattr(mesh, "set_sharp_from_angle"):
+        mesh.set_sharp_from_angle(angle=float(angle))
+    else:  # Blender 4.0 and earlier (not supported, kept for a reader of the recipe)
+        mesh.use_auto_smooth = True
+        mesh.auto_smooth_angle = float(angle)

@@ -62,9 +62,24 @@ def _import_fbx(context, path) -> list:
         raise BadInput(str(error)) from None
 
 
+def _import_x3d(context, path) -> list:
+    from ..addon.interchange import x3d_import  # noqa: PLC0415
+
+    try:
+        return x3d_import.import_file(path, context)
+    except x3d_import.X3DImportError as error:  # its message names the file
+        raise BadInput(str(error)) from None
+
+
 #: file extension -> the importer of that format: (context, path) -> warnings; BadInput when
 #: nothing could be imported.
 IMPORTERS = {".obj": _import_obj, ".dae": _import_collada, ".fbx": _import_fbx}
+#: VRML97 / X3D (issue 36), gzipped too ("model.wrl.gz" ends in .gz)
+IMPORTERS.update({suffix: _import_x3d for suffix in (".wrl", ".wrz", ".x3d", ".x3dz", ".x3dv",
+                                                     ".x3dvz", ".gz")})
+#: A scene custom property an importer sets where the file asks for no light at all (X3D's
+#: NavigationInfo headlight FALSE): no sun is added at the camera then.
+NO_DEFAULT_LIGHT = "phong_x3d_no_headlight"
 
 
 def open_scene_file(file: str, scenes_arg, importers: bool = True) -> tuple:
@@ -112,7 +127,7 @@ def _import_into_empty_file(path, importer) -> None:
         _frame_camera(scene)
         print(f"phong: {os.path.basename(path)} has no camera: added one that frames its "
               "objects", file=sys.stderr)
-    if not any(obj.type == "LIGHT" for obj in scene.objects):
+    if not any(obj.type == "LIGHT" for obj in scene.objects) and not scene.get(NO_DEFAULT_LIGHT):
         _headlight(scene)
         print(f"phong: {os.path.basename(path)} has no light: added a sun at the camera",
               file=sys.stderr)

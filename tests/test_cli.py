@@ -173,7 +173,7 @@ def test_compare_reads_files_of_other_programs(tmp_path, path, says):
 @pytest.mark.parametrize("name, text, message", [
     ("broken.dae", "<COLLADA><library_geometries>", "broken.dae"),
     ("broken.fbx", "Kaydara FBX Binary  \x00 truncated", "broken.fbx"),
-    ("notes.txt", "hello", "not a file this command reads (.blend, .obj, .dae, .fbx)"),
+    ("notes.txt", "hello", "not a file this command reads (.blend, .obj, .dae, .fbx, .wrl"),
 ], ids=["dae", "fbx", "txt"])
 def test_compare_refuses_an_unreadable_file_with_one_line(tmp_path, name, text, message):
     bad = tmp_path / name

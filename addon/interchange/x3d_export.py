@@ -1,0 +1,690 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""The scene written as VRML97 / X3D (``core/x3d.save``: ``.x3d`` XML, ``.x3dv`` ClassicVRML,
+``.wrl`` VRML97, gzipped as ``.x3dz``, ``.x3dvz``, ``.wrz``, ``.gz``), in metres, Y up.
+
+The inverse of ``x3d_import`` (docs/interchange.md, "X3D / VRML97"):
+
+* every mesh object a Transform (its world matrix, Z up turned to Y up) named after it,
+  holding a Shape per material slot it uses: an IndexedFaceSet of the slot's faces (corner
+  normals unless every face is flat, texture coordinates where its material has a texture,
+  colours where its material shows the colour attribute), loose edges an IndexedLineSet, a
+  mesh of bare vertices a PointSet; objects that share a mesh share its geometry (DEF/USE);
+* each Phong material a Material from its controls: diffuseColor = Object Color, specularColor
+  = Specular Color, emissiveColor = Irradiant Color, shininess = Exponent / 128 (clamped to
+  [0, 1], with a warning above 128), ambientIntensity = Ka / Kd where the Ambient Object Color
+  is a multiple of the Object Color (else the best multiple, with a warning), transparency = 1
+  − Opacity; an Image Texture feeding Object Color an ImageTexture (with its TextureTransform),
+  a colour attribute a Color node; a material imported from a shape without Material (Kd, Ka,
+  Ks black) a Shape without Material again;
+* lights with their X3D values: ``on`` (hidden from render: FALSE), intensity, ambient
+  intensity, colour, location and direction in the world, attenuation (a0, a1, a2) =
+  (Constant, Linear, Quadratic), radius, beamWidth, cutOffAngle = half the spot size; a
+  light-linked light a ``global FALSE`` light in a Group of exactly the objects it reaches
+  (VRML97: directional lights only; its point and spot lights are global, with a warning);
+  the headlight (a Sun that follows the camera) ``NavigationInfo { headlight TRUE }``;
+* the scene camera the Viewpoint (fieldOfView the angle of the view's smaller side) or an
+  OrthoViewpoint.
+
+A scene in another lighting model is written with its values mapped as well as X3D allows,
+and one warning says so.  Values are written as the shortest decimals that read back as the
+same float32 (Blender's precision), and the file's own ambientIntensity, shininess and
+cutOffAngle that an import kept are written back where the controls still hold them:
+import → export → import keeps names and values.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+
+import bpy
+import numpy as np
+
+from ...core import x3d
+from .. import compat
+from ..lighting import headlight as headlight_mod
+from ..lighting import lights as lights_mod
+from ..lighting import materials as recipe
+from ..lighting import properties, rig
+from . import x3d_import as imp
+
+#: Blender's Z up to the file's Y up (the inverse of x3d.Y_UP_TO_Z_UP: a rotation).
+Z_UP_TO_Y_UP = x3d.Y_UP_TO_Z_UP.T.copy()
+EXTENSIONS = (".x3d", ".x3dv", ".wrl", ".x3dz", ".x3dvz", ".wrz", ".gz")
+#: A light's radius where the scene's model has none (written for a scene in another model).
+NO_RADIUS = 1.0e6
+
+
+def f32(value) -> float:
+    """The shortest decimal that reads back as the same float32 (0.1 for float32(0.1))."""
+    return float(str(np.float32(value)))
+
+
+def _colour(values) -> tuple:
+    return tuple(f32(v) for v in tuple(values)[:3])
+
+
+def encoding_of(path: str) -> str:
+    """The encoding *path*'s extension asks for; ValueError for another name."""
+    lower = path.lower()
+    stem = lower[:-3] if lower.endswith(".gz") else lower
+    for packed, plain in ((".x3dz", ".x3d"), (".x3dvz", ".x3dv"), (".wrz", ".wrl")):
+        if stem.endswith(packed):
+            stem = stem[:-len(packed)] + plain
+    for ending, encoding in ((".x3dv", "x3d-classic"), (".x3d", "x3d-xml"), (".wrl", "vrml97"),
+                             (".vrml", "vrml97")):
+        if stem.endswith(ending):
+            return encoding
+    raise ValueError(f"{path}: not an X3D or VRML file name (.x3d, .x3dv, .wrl; gzipped .x3dz, "
+                     ".x3dvz, .wrz or .gz)")
+
+
+def export(context, filepath, use_selection=False) -> list:
+    """Write *context*'s scene to *filepath* (the encoding by its extension); returns the
+    warnings.  ValueError for a file name of no X3D encoding, OSError when it cannot be
+    written (nothing half-written: ``core.outputs.write_file``)."""
+    warnings: list = []
+    encoding_of(filepath)
+    doc = document(context, filepath, use_selection, warnings)
+    x3d.save(doc, filepath)
+    return warnings
+
+
+class _Warnings(list):
+    def add(self, text):
+        if text not in self:
+            self.append(text)
+
+
+def document(context, filepath, use_selection, warnings) -> x3d.Document:
+    """The scene as a ``core.x3d.Document`` (world coordinates, Y up, metres)."""
+    out = _Warnings()
+    writer = _Writer(context, filepath, use_selection, out)
+    doc = writer.build()
+    warnings.extend(out)
+    return doc
+
+
+class _Writer:
+    def __init__(self, context, filepath, use_selection, warnings):
+        self.context = context
+        self.scene = context.scene
+        self.layer = context.view_layer
+        self.path = os.path.abspath(filepath)
+        self.folder = os.path.dirname(self.path)
+        self.selection = use_selection
+        self.warnings = warnings
+        self.encoding = encoding_of(filepath)
+        self.model = rig.model_of(self.scene)
+        self.appearances = {}     # material name -> (Appearance or None, uses colours, attr)
+        self.geometries = {}      # (mesh name, slot, UVs, colours attr) -> x3d.Mesh
+        self.materials = {}       # material name -> x3d.Material
+
+    def chosen(self, obj) -> bool:
+        return not self.selection or obj.select_get()
+
+    def build(self) -> x3d.Document:
+        scene = self.scene
+        doc = x3d.Document(path=self.path, encoding=self.encoding, version="3.3",
+                           profile="Immersive", meter=1.0, title=scene.name,
+                           navigation_types=["EXAMINE", "ANY"])
+        if self.model != "x3d":
+            self.warnings.add(
+                f"scene {scene.name!r} is in the {self.model} lighting model, not X3D / VRML97: "
+                "its values are written mapped to X3D's (lights' attenuation 1/(c + l·d + q·d²) "
+                "as X3D's 1/max(a0 + a1·d + a2·d², 1), no radius, a spot's soft edge as "
+                "beamWidth, Phong highlights as Blinn's, the World's ambient light as a "
+                "DirectionalLight of intensity 0): the picture may differ")
+        meshes = [o for o in scene.objects if o.type == "MESH" and self.chosen(o)
+                  and lights_mod.visible(o, self.layer) and not o.hide_render]
+        lights = [o for o in scene.objects if o.type == "LIGHT" and self.chosen(o)]
+        heads = [o for o in lights if headlight_mod.is_headlight(o, scene)]
+        doc.headlight = False
+        for obj in heads:
+            if obj.hide_render or not lights_mod.visible(obj, self.layer):
+                continue
+            doc.headlight = True
+            light = obj.data
+            values = (float(light.get("phong_intensity", 1.0)),
+                      float(light.get("phong_light_ambient", 0.0)), tuple(light.color))
+            if values[0] != 1.0 or values[1] != 0.0 or any(c != 1.0 for c in values[2]):
+                self.warnings.add(f"headlight {obj.name}: X3D's headlight is white with "
+                                  "intensity 1 and no ambient light; written as that")
+        transforms = {obj.name: self.transform(obj) for obj in sorted(meshes,
+                                                                      key=lambda o: o.name)}
+        placed = self.lights([o for o in lights if o not in heads], meshes)
+        root = doc.root.children
+        vp = self.viewpoint()
+        if vp is not None:
+            root.append(vp)
+            doc.viewpoint = vp
+        root.extend(placed["root"])
+        grouped = set()
+        for group, members in placed["groups"]:
+            group.children.extend(transforms[o.name] for o in members)
+            grouped.update(o.name for o in members)
+            root.append(group)
+        root.extend(t for name, t in transforms.items() if name not in grouped)
+        self.world_ambient(root)
+        return doc
+
+    # -- meshes -----------------------------------------------------------------------------
+    def transform(self, obj) -> x3d.Transform:
+        matrix = Z_UP_TO_Y_UP @ np.array(obj.matrix_world, dtype=np.float64)
+        out = x3d.Transform(name=obj.name, kind="Transform", matrix=matrix)
+        mesh = obj.data
+        if [m for m in obj.modifiers if m.show_render and m.name != "Phong Shading"]:
+            self.warnings.add(f"modifiers not applied (the mesh itself written): {obj.name}")
+        slots = [slot.material for slot in obj.material_slots] or [None]
+        used = self.used_slots(mesh, len(slots))
+        for index in used:
+            material = slots[index] if index < len(slots) else None
+            appearance, colours, texture = self.appearance(material)
+            key = (mesh.name, index if len(used) > 1 else -1, texture, colours)
+            geometry = self.geometries.get(key)
+            if geometry is None:
+                geometry = self.geometries[key] = self.geometry(
+                    mesh, index if len(used) > 1 else None, texture, colours)
+            if geometry is None:
+                continue
+            out.children.append(x3d.Shape(name="", geometry=geometry, appearance=appearance))
+        edges = self.loose_edges(mesh)
+        if edges is not None:
+            material = slots[0] if slots else None
+            appearance, _colours, _texture = self.appearance(material)
+            out.children.append(x3d.Shape(name="", geometry=edges, appearance=appearance))
+        return out
+
+    @staticmethod
+    def used_slots(mesh, count) -> list:
+        faces = len(mesh.polygons)
+        if not faces:
+            return [0] if not len(mesh.edges) else []
+        index = np.zeros(faces, dtype=np.int32)
+        mesh.polygons.foreach_get("material_index", index)
+        index = np.clip(index, 0, max(count - 1, 0))
+        return sorted(set(np.unique(index).tolist()))
+
+    def geometry(self, mesh, slot, texture, colours):
+        """The faces of *mesh* (of material slot *slot*, or all) as an x3d.Mesh."""
+        n = len(mesh.vertices)
+        positions = np.zeros(n * 3, dtype=np.float32)
+        mesh.vertices.foreach_get("co", positions)
+        positions = positions.reshape(-1, 3).astype(np.float64)
+        faces = len(mesh.polygons)
+        if not faces:   # bare vertices: a PointSet
+            if not n:
+                return None
+            return x3d.Mesh(name=mesh.name, kind="PointSet", positions=positions,
+                            point_colors=self.point_colours(mesh, colours))
+        sizes = np.zeros(faces, dtype=np.int32)
+        mesh.polygons.foreach_get("loop_total", sizes)
+        loops = len(mesh.loops)
+        corners = np.zeros(loops, dtype=np.int32)
+        mesh.loops.foreach_get("vertex_index", corners)
+        keep = np.ones(faces, bool)
+        if slot is not None:
+            index = np.zeros(faces, dtype=np.int32)
+            mesh.polygons.foreach_get("material_index", index)
+            keep = index == slot
+        corner_keep = np.repeat(keep, sizes)
+        smooth = np.zeros(faces, dtype=bool)
+        mesh.polygons.foreach_get("use_smooth", smooth)
+        normals = None
+        crease = 0.0
+        if mesh.has_custom_normals or smooth[keep].any():
+            normals = np.zeros(loops * 3, dtype=np.float32)
+            mesh.corner_normals.foreach_get("vector", normals) if hasattr(
+                mesh, "corner_normals") else mesh.loops.foreach_get("normal", normals)
+            normals = normals.reshape(-1, 3)[corner_keep].astype(np.float64)
+        used = np.unique(corners[corner_keep])
+        remap = np.full(n, -1, dtype=np.int64)
+        remap[used] = np.arange(len(used))
+        name = mesh.name if slot is None else f"{mesh.name} {slot}"
+        out = x3d.Mesh(name=name, kind="IndexedFaceSet", positions=positions[used],
+                       face_sizes=sizes[keep].astype(np.int64),
+                       corners=remap[corners[corner_keep]], normals=normals, solid=False,
+                       crease_angle=crease)
+        if texture:
+            layer = mesh.uv_layers.get(imp.UV_MAP) or mesh.uv_layers.active
+            if layer is not None:
+                uv = np.zeros(loops * 2, dtype=np.float32)
+                layer.data.foreach_get("uv", uv)
+                out.uvs = uv.reshape(-1, 2)[corner_keep].astype(np.float64)
+        if colours:
+            values = self.corner_colours(mesh, colours, corners)
+            if values is not None:
+                out.colors = values[corner_keep]
+        return out
+
+    def loose_edges(self, mesh):
+        """The edges of *mesh* that no face uses, as an IndexedLineSet (or None)."""
+        count = len(mesh.edges)
+        if not count:
+            return None
+        used = np.zeros(len(mesh.loops), dtype=np.int32)
+        mesh.loops.foreach_get("edge_index", used)
+        loose = np.ones(count, dtype=bool)
+        loose[used] = False
+        if not loose.any():
+            return None
+        pairs = np.zeros(count * 2, dtype=np.int32)
+        mesh.edges.foreach_get("vertices", pairs)
+        pairs = pairs.reshape(-1, 2)[loose]
+        positions = np.zeros(len(mesh.vertices) * 3, dtype=np.float32)
+        mesh.vertices.foreach_get("co", positions)
+        used = np.unique(pairs)
+        remap = np.full(len(mesh.vertices), -1, dtype=np.int64)
+        remap[used] = np.arange(len(used))
+        return x3d.Mesh(name=f"{mesh.name} lines", kind="IndexedLineSet",
+                        positions=positions.reshape(-1, 3)[used].astype(np.float64),
+                        edges=remap[pairs])
+
+    @staticmethod
+    def _attribute(mesh, name):
+        attribute = mesh.color_attributes.get(name) if name else None
+        if attribute is None and len(mesh.color_attributes):
+            attribute = mesh.color_attributes[0] if not name else None
+        return attribute
+
+    def corner_colours(self, mesh, name, corners):
+        attribute = self._attribute(mesh, name)
+        if attribute is None:
+            return None
+        values = np.zeros(len(attribute.data) * 4, dtype=np.float32)
+        attribute.data.foreach_get("color", values)
+        values = values.reshape(-1, 4).astype(np.float64)
+        return values[corners] if attribute.domain == "POINT" else values
+
+    def point_colours(self, mesh, name):
+        attribute = self._attribute(mesh, name) if name else None
+        if attribute is None or attribute.domain != "POINT":
+            return None
+        values = np.zeros(len(attribute.data) * 4, dtype=np.float32)
+        attribute.data.foreach_get("color", values)
+        return values.reshape(-1, 4).astype(np.float64)
+
+    # -- materials --------------------------------------------------------------------------
+    def appearance(self, material):
+        """(Appearance or None, colour attribute name or "", whether it has a texture)."""
+        key = material.name if material is not None else None
+        if key in self.appearances:
+            return self.appearances[key]
+        if material is None:
+            result = (x3d.Appearance(material=x3d.Material(name="Material")), "", False)
+        elif not recipe.is_phong_material(material):
+            color = recipe.base_color(material) or (0.8, 0.8, 0.8)
+            self.warnings.add(f"materials that are not Phong materials written as a Material "
+                              f"of their base colour: {material.name}")
+            result = (x3d.Appearance(material=x3d.Material(name=material.name,
+                                                            diffuse=_colour(color))), "", False)
+        else:
+            result = self.phong(material)
+        self.appearances[key] = result
+        return result
+
+    def phong(self, material):
+        tree = material.node_tree
+        lights = tree.nodes[recipe.LIGHTS_NODE]
+        name = material.name
+        kd_feed = _feed(lights.inputs["Object Color"])
+        ka_feed = _feed(lights.inputs[recipe.AMBIENT_INPUT])
+        ks_feed = _feed(lights.inputs["Specular Color"])
+        ke_feed = _feed(lights.inputs["Irradiant Color"])
+        exponent = float(compat.value_output(tree.nodes["phong_exponent"]).default_value)
+        opacity = recipe.opacity(material)
+        unlit = bool(material.get(imp.UNLIT_KEY))
+        black = all(f.constant == (0.0, 0.0, 0.0) and f.texture is None and not f.colours
+                    for f in (kd_feed, ka_feed, ks_feed))
+        if unlit and black:   # a shape without Material: its texture / colours / white
+            glow = ke_feed.control if ke_feed.control is not None else ke_feed.constant
+            white = tuple(glow) == (1.0, 1.0, 1.0)
+            texture = self.texture(ke_feed.texture, material, not white)
+            transform = self.texture_transform(material) if texture is not None else None
+            out = None
+            if not white:
+                if texture is not None or ke_feed.colours:
+                    self.warnings.add(f"material {name}: an unlit texture or colours times a "
+                                      "colour (X3D 3 has no unlit colour that multiplies); "
+                                      "written as the colour")
+                out = x3d.Material(name=name, diffuse=(0.0, 0.0, 0.0), ambient_intensity=0.0,
+                                   specular=(0.0, 0.0, 0.0), emissive=_colour(glow),
+                                   shininess=0.0, transparency=f32(1.0 - opacity))
+            elif opacity < 1.0:
+                self.warnings.add(f"material {name}: the opacity of a shape without Material "
+                                  "left out")
+            appearance = x3d.Appearance(name="", material=out, texture=texture,
+                                        texture_transform=transform)
+            return appearance, ke_feed.attribute if ke_feed.colours else "", texture is not None
+        for what, feed in (("Specular Color", ks_feed), ("Irradiant Color", ke_feed)):
+            if feed.texture is not None or feed.colours or feed.unknown:
+                self.warnings.add(f"material {name}: {what} fed by nodes X3D cannot say "
+                                  "(only the diffuse colour takes a texture or colours); "
+                                  "its colour control written")
+        if kd_feed.unknown:
+            self.warnings.add(f"material {name}: Object Color fed by nodes X3D cannot say; "
+                              "its colour control written")
+        # the Object Color control keeps the file's diffuseColor where a texture or the
+        # colours replace it (X3D writes it all the same)
+        control = tuple(compat.value_output(tree.nodes["phong_object_color"]).default_value)
+        diffuse = _colour(kd_feed.control if kd_feed.control is not None else
+                          control if (kd_feed.texture is not None or kd_feed.colours) else
+                          kd_feed.constant)
+        texture = self.texture(kd_feed.texture, material, kd_feed.control is not None)
+        if texture is not None and kd_feed.control is None and _grey(texture):
+            diffuse = (1.0, 1.0, 1.0)   # a grey texture multiplies diffuseColor
+        if kd_feed.colours and kd_feed.control is not None and \
+                tuple(kd_feed.control) != (1.0, 1.0, 1.0) and texture is None:
+            self.warnings.add(f"material {name}: colours times a colour: X3D's colours replace "
+                              "the diffuse colour; the colours written")
+        transform = self.texture_transform(material) if texture is not None else None
+        shininess = exponent / 128.0
+        kept = material.get(imp.SHININESS_KEY)
+        if isinstance(kept, float) and np.float32(128.0 * kept) == np.float32(exponent):
+            shininess = kept
+        elif shininess > 1.0:
+            self.warnings.add(f"material {name}: Exponent {exponent:g} above X3D's 128 "
+                              "(shininess 1): written as shininess 1")
+            shininess = 1.0
+        else:
+            shininess = f32(shininess)
+        out = x3d.Material(name=name, diffuse=diffuse,
+                           ambient_intensity=self.ambient(material, kd_feed, ka_feed,
+                                                          control),
+                           specular=_colour(ks_feed.control if ks_feed.control is not None
+                                            else ks_feed.constant),
+                           emissive=_colour(ke_feed.control if ke_feed.control is not None
+                                            else ke_feed.constant),
+                           shininess=max(shininess, 0.0), transparency=f32(1.0 - opacity))
+        if tree.nodes.get(recipe.OPACITY_MAP) is not None:
+            self.warnings.add(f"material {name}: its opacity map left out (X3D 3's "
+                              "transparency is one number)")
+        blinn = float(compat.value_output(tree.nodes["phong_blinn"]).default_value)
+        if self.model != "x3d" and blinn < 1.0 and any(out.specular):
+            self.warnings.add(f"material {name}: Phong's (r·v)^e highlight written as X3D's "
+                              "Blinn highlight (n·h)^e")
+        appearance = x3d.Appearance(name="", material=out, texture=texture,
+                                    texture_transform=transform)
+        return appearance, kd_feed.attribute if kd_feed.colours else "", texture is not None
+
+    def ambient(self, material, kd_feed, ka_feed, control) -> float:
+        """ambientIntensity: Ka / Kd (one number for the three channels); *control*: the
+        Object Color control's colour."""
+        name = material.name
+        if ka_feed.same_as(kd_feed):   # the seeds' Ka = Kd
+            return 1.0
+        if ka_feed.scale is not None:   # × ambientIntensity of a texture or the colours
+            return f32(ka_feed.scale)
+        kd = np.array(kd_feed.control if kd_feed.control is not None else
+                      control[:3] if kd_feed.texture is not None or kd_feed.colours else
+                      kd_feed.constant, dtype=np.float64)
+        ka = np.array(ka_feed.control if ka_feed.control is not None else ka_feed.constant,
+                      dtype=np.float64)
+        kept = material.get(imp.AMBIENT_KEY)
+        if isinstance(kept, float) and all(
+                np.float32(kept * float(str(np.float32(d)))) == np.float32(a)
+                for d, a in zip(kd, ka)):
+            return kept
+        if not ka.any():
+            return 0.0
+        if not kd.any():
+            self.warnings.add(f"material {name}: an ambient colour without a diffuse colour, "
+                              "which X3D (ambientIntensity × diffuseColor) cannot say: "
+                              "ambientIntensity 0 written")
+            return 0.0
+        ratio = float(ka @ kd / (kd @ kd))
+        if np.abs(ka - ratio * kd).max() > 1e-6 * max(1.0, float(ka.max())):
+            self.warnings.add(f"material {name}: Ambient Color {tuple(round(v, 4) for v in ka)} "
+                              "is not a multiple of Object Color as X3D's ambientIntensity × "
+                              f"diffuseColor: the nearest multiple {ratio:.4g} written")
+        return f32(max(ratio, 0.0))
+
+    def texture(self, node, material, multiplied):
+        """The x3d.Texture of an Image Texture node (its file relative to the written
+        file), or None."""
+        if node is None:
+            return None
+        image = node.image
+        path = bpy.path.abspath(image.filepath, library=image.library) if image.filepath else ""
+        if not path or not os.path.isfile(path):
+            self.warnings.add(f"textures without an image file left out (pack or save them "
+                              f"first): {image.name}")
+            return None
+        try:
+            url = os.path.relpath(path, self.folder)
+        except ValueError:   # another drive
+            url = path
+        url = url.replace(os.sep, "/")
+        texture = x3d.Texture(name=image.name, urls=[url], paths=[path], path=path,
+                              repeat_s=node.extension == "REPEAT",
+                              repeat_t=node.extension == "REPEAT")
+        texture.components = imp.image_components(path)
+        if multiplied and not _grey(texture):
+            self.warnings.add(f"material {material.name}: an RGB texture times a colour: X3D's "
+                              "RGB textures replace the diffuse colour; the texture written")
+        return texture
+
+    @staticmethod
+    def texture_transform(material):
+        node = material.node_tree.nodes.get(imp.MAPPING_NODE)
+        values = material.get(imp.TRANSFORM_KEY)
+        if node is None or values is None or len(values) != 7:
+            return None
+        values = [float(v) for v in values]
+        return x3d.TextureTransform(center=tuple(values[0:2]), rotation=values[2],
+                                    scale=tuple(values[3:5]), translation=tuple(values[5:7]))
+
+    # -- lights ---------------------------------------------------------------------------
+    def lights(self, objects, meshes) -> dict:
+        """{"root": lights at the root, "groups": [(Group, its mesh objects)]}."""
+        root, scoped = [], []
+        for obj in sorted(objects, key=lambda o: o.name):
+            if obj.data.type not in imp.LIGHT_TYPES.values():
+                self.warnings.add(f"lights of a type X3D has not left out: {obj.name} "
+                                  f"({obj.data.type})")
+                continue
+            light = self.light(obj)
+            rule = lights_mod.receivers(obj)
+            reached = None if rule is None else [m for m in meshes
+                                                 if lights_mod.reaches(rule, m)]
+            if reached is not None and len(reached) == len(meshes) and meshes:
+                reached = None   # it reaches everything written: global
+            if reached is None:
+                light.is_global = True
+                root.append(light)
+            elif self.encoding == "vrml97" and light.kind != "directional":
+                self.warnings.add(f"light-linked point and spot lights written global (VRML97's "
+                                  f"point and spot lights light everything): {obj.name}")
+                light.is_global = True
+                root.append(light)
+            else:
+                light.is_global = False
+                scoped.append((light, {m.name for m in reached}))
+        if self.encoding == "vrml97":   # its DirectionalLight lights only its group
+            for light in root:
+                if light.kind == "directional":
+                    light.is_global = True
+        groups = {}
+        for mesh in meshes:
+            lights = tuple(light for light, names in scoped if mesh.name in names)
+            if lights:
+                groups.setdefault(lights, []).append(mesh)
+        out = []
+        for lights, members in groups.items():
+            out.append((x3d.Transform(name="", kind="Group", children=list(lights)), members))
+        for light, names in scoped:
+            if not names:   # lights nothing: a group of its own
+                out.append((x3d.Transform(name="", kind="Group", children=[light]), []))
+        return {"root": root, "groups": out}
+
+    def light(self, obj) -> x3d.Light:
+        data = obj.data
+        kind = {v: k for k, v in imp.LIGHT_TYPES.items()}[data.type]
+
+        def value(attr):
+            key, default = properties.LIGHT_KEYS[attr]
+            return float(data.get(key, default))
+
+        on = not obj.hide_render and lights_mod.visible(obj, self.layer)
+        name = obj.name.removesuffix(imp.OFF) if not on else obj.name
+        matrix = Z_UP_TO_Y_UP @ np.array(obj.matrix_world, dtype=np.float64)
+        direction = -matrix[:3, 2]
+        length = float(np.linalg.norm(direction))
+        direction = direction / length if length > 0 else np.array([0.0, 0.0, -1.0])
+        out = x3d.Light(kind=kind, name=name, on=on, intensity=value("intensity"),
+                        ambient_intensity=value("ambient"), color=_colour(data.color),
+                        location=tuple(f32(v) for v in matrix[:3, 3]),
+                        direction=tuple(f32(v) for v in direction))
+        if kind != "directional":
+            out.attenuation = (value("constant"), value("linear"), value("quadratic"))
+            out.radius = value("radius")
+            if self.model != "x3d":
+                out.radius = NO_RADIUS
+                if self.model == "seeds" and properties.falloff_of(data) == "POWER":
+                    k = value("power_k")
+                    terms = {0.0: (1.0, 0.0, 0.0), 1.0: (0.0, 1.0, 0.0), 2.0: (0.0, 0.0, 1.0)}
+                    if k not in terms:
+                        self.warnings.add(f"light {obj.name}: falloff 1/d^{k:g} has no X3D "
+                                          "counterpart; written as 1/d²")
+                    out.attenuation = terms.get(k, (0.0, 0.0, 1.0))
+        if kind == "spot":
+            size = float(data.spot_size)
+            kept = data.get(imp.CUT_OFF_KEY)
+            cut = kept if isinstance(kept, float) and np.float32(2.0 * kept) == np.float32(size) \
+                else f32(size / 2.0)
+            out.cut_off_angle = cut
+            out.beam_width = value("beam_width") if self.model == "x3d" else cut
+            if self.model == "seeds" and value("edge_exponent") > 0.0:
+                self.warnings.add(f"light {obj.name}: the soft edge (Edge Exponent) written as "
+                                  "a hard cone")
+            if self.model == "threejs" and value("penumbra") > 0.0:
+                out.beam_width = cut * (1.0 - value("penumbra"))
+        if self.model == "seeds" and (value("diffuse"), value("specular")) != (1.0, 1.0):
+            self.warnings.add(f"light {obj.name}: Diffuse / Specular factors have no X3D "
+                              "counterpart; written as 1")
+        return out
+
+    def world_ambient(self, root) -> None:
+        """The World's Phong ambient light (which X3D lacks) as a DirectionalLight of
+        intensity 0 whose ambientIntensity and colour give the same ambient term."""
+        world = self.scene.world
+        if world is None:
+            return
+        intensity = float(world.get(properties.AMBIENT_INTENSITY[0],
+                                    properties.AMBIENT_INTENSITY[1]))
+        color = [float(c) for c in world.get(properties.AMBIENT_COLOR[0],
+                                             properties.AMBIENT_COLOR[1])][:3]
+        if intensity <= 0.0 or not any(color):
+            return
+        root.insert(0, x3d.Light(kind="directional", name="WorldAmbient", intensity=0.0,
+                                 ambient_intensity=f32(intensity), color=_colour(color),
+                                 is_global=True))
+
+    # -- the camera -------------------------------------------------------------------------
+    def viewpoint(self):
+        obj = self.scene.camera
+        if obj is None or obj.type != "CAMERA":
+            return None
+        camera = obj.data
+        matrix = Z_UP_TO_Y_UP @ np.array(obj.matrix_world, dtype=np.float64)
+        u, _s, vt = np.linalg.svd(matrix[:3, :3])
+        rotation = u @ vt
+        if np.linalg.det(rotation) < 0:
+            u[:, -1] *= -1.0
+            rotation = u @ vt
+        frame = np.eye(4)
+        frame[:3, :3] = rotation
+        orientation = x3d.decompose(frame)["rotation"]
+        render = self.scene.render
+        width = render.resolution_x * render.pixel_aspect_x
+        height = render.resolution_y * render.pixel_aspect_y
+        if camera.shift_x or camera.shift_y:
+            self.warnings.add(f"camera {obj.name}: its lens shift has no X3D counterpart; "
+                              "left out")
+        vp = x3d.Viewpoint(name=obj.name, position=tuple(f32(v) for v in matrix[:3, 3]),
+                           orientation=tuple(float(v) for v in orientation))
+        fit = camera.sensor_fit
+        if fit == "AUTO":
+            fit = "HORIZONTAL" if width >= height else "VERTICAL"
+        if camera.type == "ORTHO":
+            size = float(camera.ortho_scale)
+            w, h = (size, size * height / width) if fit == "HORIZONTAL" else \
+                (size * width / height, size)
+            vp.kind = "OrthoViewpoint"
+            vp.ortho_field = (f32(-w / 2), f32(-h / 2), f32(w / 2), f32(h / 2))
+            return vp
+        if camera.type != "PERSP":
+            self.warnings.add(f"camera {obj.name}: a {camera.type} camera written as a "
+                              "perspective Viewpoint")
+        sensor = camera.sensor_width if fit == "HORIZONTAL" else camera.sensor_height
+        half = math.atan(sensor / (2.0 * camera.lens))   # of the fit side
+        other = (height / width) if fit == "HORIZONTAL" else (width / height)
+        half_other = math.atan(math.tan(half) * other)
+        fov = 2.0 * min(half, half_other)   # X3D: the angle of the smaller side
+        vp.field_of_view = f32(fov)
+        return vp
+
+
+class _Feed:
+    """What feeds an input of the lights group: a constant colour (a control's or the
+    socket's), an Image Texture, the colour attribute, their product, × a scale."""
+
+    __slots__ = ("socket", "constant", "control", "texture", "colours", "attribute", "scale",
+                 "unknown")
+
+    def __init__(self, socket):
+        self.socket = socket
+        self.constant = (1.0, 1.0, 1.0)
+        self.control = None
+        self.texture = None
+        self.colours = False
+        self.attribute = ""
+        self.scale = None
+        self.unknown = False
+
+    def same_as(self, other) -> bool:
+        return self.socket is not None and self.socket == other.socket
+
+
+def _feed(socket) -> _Feed:
+    """The _Feed of a lights-group input."""
+    out = _Feed(socket.links[0].from_socket if socket.is_linked else None)
+    if not socket.is_linked:
+        out.constant = tuple(float(c) for c in socket.default_value[:3])
+        return out
+    _walk(socket.links[0].from_socket, out, 0)
+    return out
+
+
+def _walk(source, out, depth) -> None:
+    node = source.node
+    kind = node.bl_idname
+    if depth > 8:
+        out.unknown = True
+    elif kind == "ShaderNodeRGB":
+        value = tuple(float(c) for c in compat.value_output(node).default_value[:3])
+        out.control = value if out.control is None else tuple(
+            a * b for a, b in zip(out.control, value))
+        out.constant = out.control
+    elif kind == "ShaderNodeTexImage" and node.image is not None:
+        out.texture = node
+    elif kind == "ShaderNodeVertexColor":
+        out.colours = True
+        out.attribute = node.layer_name
+    elif kind == "ShaderNodeVectorMath" and node.operation == "MULTIPLY":
+        for identifier in ("Vector", "Vector_001"):
+            socket = compat.input_socket(node, identifier)
+            if socket.is_linked:
+                _walk(socket.links[0].from_socket, out, depth + 1)
+    elif kind == "ShaderNodeVectorMath" and node.operation == "SCALE":
+        socket = compat.input_socket(node, "Vector")
+        out.scale = float(compat.input_socket(node, "Scale").default_value)
+        if socket.is_linked:
+            _walk(socket.links[0].from_socket, out, depth + 1)
+    else:
+        out.unknown = True
+
+
+def _grey(texture) -> bool:
+    """Whether a written texture's image has one or two channels (X3D multiplies then)."""
+    return texture.components in (1, 2)

@@ -1,0 +1,759 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""VRML97 / X3D (.wrl, .x3dv, .x3d, gzipped too) imported as exact Phong materials in the
+X3D / VRML97 lighting model (issue 36; docs/x3d.md, docs/interchange.md).
+
+``core/x3d.py`` reads the whole file first (nothing is added when it cannot be read); this
+module builds the Blender side:
+
+* every shape instance an object in a new collection named after the file, its world
+  matrix the file's (Y up turned to Blender's Z up at the root, positions and translations in
+  metres: ``UNIT length``), named after its Shape's DEF, else the nearest named group's; a
+  matrix that location, rotation and scale cannot hold (a shear: ``scaleOrientation``) goes
+  into the parent inverse matrix under one Empty at the origin, exact.  One mesh per geometry
+  node: DEF/USE'd geometry is one mesh shared by its objects;
+* meshes through numpy at once (``foreach_set`` of the corner, face and attribute arrays):
+  faces counter-clockwise, the file's normals as custom split normals, else smooth by the
+  ``creaseAngle``; texture coordinates as "UVMap", colours per corner (per point for line and
+  point sets) as the colour attribute "Col"; line sets loose edges, point sets vertices;
+* every Material a Phong material from birth under the file's name, with
+  ``core.x3d.phong_values``: Kd = diffuseColor, Ka = ambientIntensity × diffuseColor (the
+  Ambient Object Color control), Ks = specularColor, Ke = emissiveColor, Exponent = 128 ×
+  shininess, Opacity = 1 − transparency.  An RGB(A) texture or the Color node replaces the
+  diffuse colour (Ka = ambientIntensity × it), a one- or two-channel texture multiplies it
+  (the image's channels read from its file); TextureTransform a Mapping node.  A shape
+  without Material is unlit: a Phong material whose Irradiant Color is its texture, its
+  colours or white and whose Kd, Ka and Ks are black, so the picture is that colour exactly
+  (and the comparison's reference, which reads the material's inputs, predicts it);
+* lights: DirectionalLight → Sun, PointLight → Point, SpotLight → Spot (``spot_size`` = 2 ×
+  cutOffAngle), Phong Intensity, Ambient, attenuation (a0, a1, a2) and Radius through
+  ``core.x3d.light_values``, Beam Width; ``on FALSE`` hidden from render; a scoped light
+  (VRML97's DirectionalLight, X3D's ``global FALSE``) Light-Linked to a receiver collection
+  of exactly the objects of its scope; the headlight (``NavigationInfo { headlight TRUE }``,
+  the default) a Sun that follows the camera (``lighting/headlight.py``);
+* the bound Viewpoint (or OrthoViewpoint) the scene camera; X3D's default viewpoint
+  (0 0 10, π/4) when the file has none and the scene no camera;
+* the scene in the X3D model (``scene.phong.model = "x3d"``: its lights groups rebuilt), the
+  World's Phong ambient intensity 0 (X3D has no global ambient light).
+
+:func:`import_file` is the plain entry point (``phong compare FILE.wrl``); it raises
+:class:`X3DImportError` and leaves the scene as it was when the import fails.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+
+import bpy
+import numpy as np
+from mathutils import Matrix, Vector
+
+from ...core import x3d
+from .. import compat
+from ..lighting import headlight as headlight_mod
+from ..lighting import materials as recipe
+from ..lighting import properties, rig
+from ..lighting import sync as sync_mod
+from . import native
+
+#: Custom properties an import leaves for the export (import → export → import keeps the
+#: file's values exactly where the float32 controls round them).
+AMBIENT_KEY = "phong_x3d_ambient_intensity"       # material: the file's ambientIntensity
+SHININESS_KEY = "phong_x3d_shininess"             # material: the file's shininess
+TRANSFORM_KEY = "phong_x3d_texture_transform"     # material: center, rotation, scale, translation
+UNLIT_KEY = "phong_x3d_unlit"                     # material: a shape without Material
+CUT_OFF_KEY = "phong_x3d_cut_off_angle"           # spot light: the file's cutOffAngle
+HEADLIGHT_OFF_KEY = "phong_x3d_no_headlight"      # scene: the file said headlight FALSE
+#: Nodes of the texture and colour chains (the export reads them back).
+TEXTURE_NODE = "phong_x3d_texture"
+UV_NODE = "phong_x3d_uv"
+MAPPING_NODE = "phong_x3d_mapping"
+COLORS_NODE = "phong_x3d_colors"
+CHAIN = "phong_x3d:"                              # + what: the Vector Math nodes
+COLOR_ATTRIBUTE = "Col"
+UV_MAP = "UVMap"
+OFF = " (off)"
+LIGHT_TYPES = {"directional": "SUN", "point": "POINT", "spot": "SPOT"}
+LIGHT_NAMES = {"directional": "DirectionalLight", "point": "PointLight", "spot": "SpotLight"}
+#: Blender's range of a spot's size (the full cone) and of a perspective camera's angle.
+SPOT_SIZE = (math.radians(1.0), math.pi)
+CAMERA_ANGLE = (0.00640536, 3.01675)
+
+
+class X3DImportError(RuntimeError):
+    """The import failed; nothing was added to the file."""
+
+
+def import_file(filepath, context=None) -> list:
+    """Import the VRML97 / X3D file *filepath* into *context*'s scene; returns the warnings.
+    Raises X3DImportError (the scene unchanged) when it cannot be imported."""
+    context = context or bpy.context
+    return import_x3d(context, filepath)[2]
+
+
+def import_x3d(context, filepath):
+    """(objects, Phong materials, warnings, the Sync run) of importing *filepath*."""
+    try:
+        doc = x3d.load(filepath)
+    except x3d.X3DError as error:
+        raise X3DImportError(str(error)) from None
+    except (OSError, MemoryError) as error:
+        raise X3DImportError(f"{filepath}: cannot be read ({error})") from None
+    builder = _Builder(context, doc)
+    try:
+        builder.build()
+    except Exception as error:   # leave the file as it was
+        builder.undo()
+        raise X3DImportError(f"{filepath}: import failed ({type(error).__name__}: {error}); "
+                             "nothing imported") from error
+    return (builder.objects, builder.made, builder.warnings(), builder.sync)
+
+
+# -- pure helpers (no bpy) --------------------------------------------------------------------
+
+def image_components(path: str) -> int | None:
+    """How many channels the image file *path* holds (1 grey, 2 grey + alpha, 3 RGB, 4 RGBA),
+    read from its header (PNG, JPEG, GIF, BMP), or None for another format.  VRML97 / X3D
+    decide by it whether a texture replaces the diffuse colour or multiplies it, and
+    Blender's own image reports differ between releases (4.2 gives a grey + alpha PNG 32
+    bits, 5.3 16)."""
+    try:
+        with open(path, "rb") as handle:
+            head = handle.read(1 << 16)
+    except OSError:
+        return None
+    if head[:8] == b"\x89PNG\r\n\x1a\n" and len(head) > 25:
+        return {0: 1, 2: 3, 3: 3, 4: 2, 6: 4}.get(head[25])
+    if head[:3] == b"GIF":
+        return 3
+    if head[:2] == b"BM" and len(head) > 30:
+        return 4 if int.from_bytes(head[28:30], "little") == 32 else 3
+    if head[:2] == b"\xff\xd8":   # JPEG: the components of the first SOFn segment
+        at = 2
+        while at + 9 < len(head):
+            if head[at] != 0xFF:
+                return None
+            marker = head[at + 1]
+            if marker in (0xD8, 0x01) or 0xD0 <= marker <= 0xD7:
+                at += 2
+                continue
+            length = int.from_bytes(head[at + 2:at + 4], "big")
+            if 0xC0 <= marker <= 0xCF and marker not in (0xC4, 0xC8, 0xCC):
+                return head[at + 9] if at + 9 < len(head) else None
+            at += 2 + length
+    return None
+
+
+def degenerate_faces(sizes: np.ndarray, corners: np.ndarray) -> np.ndarray:
+    """Boolean per face: the face uses one vertex twice (Blender refuses such faces)."""
+    sizes = np.asarray(sizes, dtype=np.int64)
+    if not len(sizes):
+        return np.zeros(0, bool)
+    if np.all(sizes == 3):
+        a, b, c = np.asarray(corners, dtype=np.int64).reshape(-1, 3).T
+        return (a == b) | (b == c) | (a == c)
+    face = np.repeat(np.arange(len(sizes)), sizes)
+    order = np.lexsort((corners, face))
+    f, c = face[order], np.asarray(corners)[order]
+    same = (f[1:] == f[:-1]) & (c[1:] == c[:-1])
+    bad = np.zeros(len(sizes), bool)
+    bad[f[1:][same]] = True
+    return bad
+
+
+def file_matrix(doc, matrix) -> np.ndarray:
+    """The Blender world matrix of a file matrix: Y up turned to Z up, its translation in
+    metres (positions are scaled to metres in the meshes, so the matrix keeps the file's
+    rotation and scale)."""
+    out = np.array(matrix, dtype=np.float64)
+    out[:3, 3] *= doc.meter
+    return x3d.Y_UP_TO_Z_UP @ out
+
+
+def _scale_of(matrix) -> tuple:
+    """(the uniform scale of a 3×3 matrix: cube root of |det|, whether it is uniform)."""
+    linear = np.asarray(matrix, dtype=np.float64)[:3, :3]
+    values = np.linalg.svd(linear, compute_uv=False)
+    scale = float(abs(np.linalg.det(linear))) ** (1.0 / 3.0)
+    uniform = values.max() - values.min() <= 1e-6 * max(values.max(), 1e-30)
+    return scale, uniform
+
+
+def _set_attribute(mesh, name, data_type, domain, key, values, fallback) -> None:
+    """*values* into the attribute *name* of *mesh* at once, made when missing; *fallback*
+    where Blender holds it otherwise."""
+    attribute = mesh.attributes.get(name)
+    if attribute is None and not name.startswith("."):
+        attribute = mesh.attributes.new(name, data_type, domain)
+    if attribute is None or attribute.data_type != data_type or attribute.domain != domain:
+        fallback(values)
+    else:
+        attribute.data.foreach_set(key, values)
+
+
+class _Builder:
+    def __init__(self, context, doc):
+        self.context = context
+        self.scene = context.scene
+        self.layer = context.view_layer
+        self.doc = doc
+        self.own = []               # warnings of the Blender side, each once
+        self.objects = []
+        self.made = []              # the Phong materials made, in order
+        self.meshes = {}            # id(core Mesh) -> Blender mesh
+        self.images = {}            # id(core Texture) -> (image or None, components)
+        self.materials = {}         # variant key -> material
+        self.first = {}             # id(core Material) or None -> its first variant key
+        self.uses = []              # (object, ShapeInstance)
+        self.by_instance = {}       # instance id -> object
+        self.frame = None           # the Empty that carries sheared matrices
+        self.sync = None
+        self.camera = None
+        self.before = native.snapshot()
+        self.camera_before = self.scene.camera
+        self.model_before = self.scene.get(rig.MODEL_KEY)
+        self.world_before = None    # (world, {key: value or None})
+        self.scene_keys = {HEADLIGHT_OFF_KEY: self.scene.get(HEADLIGHT_OFF_KEY)}
+
+    def warn(self, text: str) -> None:
+        if text not in self.own:
+            self.own.append(text)
+
+    def warnings(self) -> list:
+        return list(self.doc.warnings) + [w for w in self.own if w not in self.doc.warnings]
+
+    # -- rollback -------------------------------------------------------------------------
+    def undo(self):
+        for kind in ("objects", "collections", "meshes", "lights", "cameras", "materials",
+                     "images", "node_groups", "worlds", "textures"):
+            if kind not in self.before:
+                continue
+            collection = getattr(bpy.data, kind)
+            for block in native.added(self.before, kind):
+                try:
+                    collection.remove(block)
+                except (ReferenceError, RuntimeError):
+                    pass
+        if self.world_before is not None:
+            world, values = self.world_before
+            if world.name in bpy.data.worlds:
+                for key, value in values.items():
+                    if value is None:
+                        if key in world.keys():
+                            del world[key]
+                    else:
+                        world[key] = value
+        for key, value in self.scene_keys.items():
+            if value is None:
+                if key in self.scene.keys():
+                    del self.scene[key]
+            else:
+                self.scene[key] = value
+        self.scene.camera = self.camera_before
+        if self.scene.get(rig.MODEL_KEY) != self.model_before:
+            self.scene.phong.model = self.model_before or rig.MODELS[0]  # relinks the scene
+            if self.model_before is None and rig.MODEL_KEY in self.scene.keys():
+                del self.scene[rig.MODEL_KEY]
+
+    # -- the scene ------------------------------------------------------------------------
+    def build(self):
+        doc, scene = self.doc, self.scene
+        stem = os.path.splitext(os.path.basename(doc.path))[0]
+        for ending in (".wrl", ".x3d", ".x3dv"):   # "model.wrl.gz"
+            stem = stem.removesuffix(ending)
+        self.collection = bpy.data.collections.new(stem or "X3D")
+        target = self.context.collection or scene.collection
+        target.children.link(self.collection)
+        if not doc.instances:
+            self.warn("the file has no shape with geometry")
+        for inst in doc.instances:
+            self.shape(inst)
+        self.make_camera()
+        lights = self.lights()
+        if doc.headlight:
+            lights.append(headlight_mod.add(scene, scene.camera, self.collection))
+        else:
+            scene[HEADLIGHT_OFF_KEY] = 1
+        self.objects.extend(lights)
+        if scene.get(rig.MODEL_KEY) != "x3d":
+            scene.phong.model = "x3d"      # relinks the scene's Phong materials, if any
+        self.no_world_ambient()
+        self.layer.update()
+        self.sync = sync_mod.Sync(scene, self.layer)
+        self.sync.rebuild_groups()
+        for obj, inst in self.uses:
+            self.bind(obj, inst)
+        self.sync.relink([obj for obj, _inst in self.uses])
+        self.sync.finish()
+        sync_mod.remember(scene, self.layer)
+
+    def shape(self, inst):
+        geometry = inst.shape.geometry
+        mesh = self.meshes.get(id(geometry))
+        if mesh is None:
+            mesh = self.meshes[id(geometry)] = self.mesh(geometry)
+        name = inst.shape.name or (inst.path[-1] if inst.path else "") or geometry.name \
+            or geometry.kind
+        obj = bpy.data.objects.new(name, mesh)
+        self.collection.objects.link(obj)
+        self.place(obj, file_matrix(self.doc, inst.matrix), name)
+        self.objects.append(obj)
+        self.uses.append((obj, inst))
+        self.by_instance[inst.id] = obj
+
+    def place(self, obj, matrix, name):
+        """*matrix* as *obj*'s world matrix; a shear (which location, rotation and scale
+        cannot hold) goes into its parent inverse matrix under an Empty at the origin."""
+        blender = Matrix(matrix.tolist())
+        obj.matrix_basis = blender
+        back = np.array(obj.matrix_basis, dtype=np.float64)
+        size = max(float(np.abs(matrix[:3, :3]).max()), 1e-30)
+        if np.allclose(back[:3, :3], matrix[:3, :3], rtol=0.0, atol=1e-5 * size) and \
+                np.allclose(back[:3, 3], matrix[:3, 3], rtol=1e-6, atol=1e-6):
+            return
+        if self.frame is None:
+            self.frame = bpy.data.objects.new(f"{self.collection.name} (shear frame)", None)
+            self.collection.objects.link(self.frame)
+            self.objects.append(self.frame)
+        obj.parent = self.frame
+        obj.matrix_basis = Matrix.Identity(4)
+        obj.matrix_parent_inverse = blender
+
+    # -- meshes -----------------------------------------------------------------------------
+    def mesh(self, source):
+        source = x3d.counter_clockwise(source)
+        name = source.name or source.kind
+        mesh = bpy.data.meshes.new(name)
+        positions = np.asarray(source.positions, dtype=np.float64) * self.doc.meter
+        mesh.vertices.add(len(positions))
+        mesh.vertices.foreach_set("co", positions.astype(np.float32).reshape(-1))
+        if source.edges is not None and len(source.edges):   # line sets: loose edges
+            edges = np.asarray(source.edges, dtype=np.int64).reshape(-1, 2)
+            edges = edges[edges[:, 0] != edges[:, 1]]
+            mesh.edges.add(len(edges))
+            mesh.edges.foreach_set("vertices", edges.astype(np.int32).reshape(-1))
+        sizes = np.asarray(source.face_sizes, dtype=np.int64)
+        corners = np.asarray(source.corners, dtype=np.int64)
+        per_corner = {key: getattr(source, key) for key in ("normals", "colors", "uvs")}
+        bad = degenerate_faces(sizes, corners)
+        if bad.any():
+            self.warn(f"faces using a vertex twice left out (Blender refuses them): "
+                      f"{name} ({int(bad.sum())})")
+            keep = np.repeat(~bad, sizes)
+            sizes, corners = sizes[~bad], corners[keep]
+            per_corner = {k: (v[keep] if v is not None else None) for k, v in per_corner.items()}
+        if len(sizes):
+            mesh.loops.add(len(corners))
+            _set_attribute(mesh, ".corner_vert", "INT", "CORNER", "value",
+                           corners.astype(np.int32),
+                           lambda values: mesh.loops.foreach_set("vertex_index", values))
+            mesh.polygons.add(len(sizes))
+            starts = np.concatenate([[0], np.cumsum(sizes)[:-1]]).astype(np.int32)
+            mesh.polygons.foreach_set("loop_start", starts)
+        uvs = per_corner["uvs"]
+        if uvs is not None and len(sizes):
+            layer = mesh.uv_layers.new(name=UV_MAP)
+            values = np.asarray(uvs, dtype=np.float32).reshape(-1)
+            _set_attribute(mesh, layer.name, "FLOAT2", "CORNER", "vector", values,
+                           lambda values: layer.data.foreach_set("uv", values))
+        colors = per_corner["colors"]
+        if colors is not None and len(sizes):
+            attribute = mesh.color_attributes.new(COLOR_ATTRIBUTE, "FLOAT_COLOR", "CORNER")
+            attribute.data.foreach_set("color", np.asarray(colors, np.float32).reshape(-1))
+        elif source.point_colors is not None and len(positions):
+            attribute = mesh.color_attributes.new(COLOR_ATTRIBUTE, "FLOAT_COLOR", "POINT")
+            attribute.data.foreach_set("color",
+                                       np.asarray(source.point_colors, np.float32).reshape(-1))
+        mesh.update(calc_edges=True)
+        if mesh.validate(verbose=False):
+            self.warn(f"invalid faces (repeated faces or edges) repaired by Blender: {name}")
+        normals = per_corner["normals"]
+        if normals is not None and len(mesh.loops) != len(corners):
+            self.warn(f"normals left out where Blender repaired the faces: {name}")
+            normals = None
+        if normals is not None and len(sizes):
+            normals = np.asarray(normals, dtype=np.float64)
+            length = np.sqrt(np.einsum("ij,ij->i", normals, normals))[:, None]
+            normals = np.where(length > 0, normals / np.where(length > 0, length, 1.0), 0.0)
+            mesh.shade_smooth()   # the custom normals are used on smooth faces
+            compat.set_corner_normals(mesh, normals.astype(np.float32))
+        elif len(sizes):
+            compat.smooth_by_angle(mesh, float(source.crease_angle))
+        return mesh
+
+    # -- lights -----------------------------------------------------------------------------
+    def lights(self) -> list:
+        """The file's lights as Blender lights; instances of one light at one place (a
+        scoped light USE'd in several groups) are one Blender light reaching the union of
+        their scopes.  Returns the light objects."""
+        merged = {}
+        for inst in self.doc.lights:
+            location = (x3d.to_blender_matrix(self.doc) @ inst.matrix
+                        @ np.append(np.asarray(inst.light.location, float), 1.0))[:3]
+            direction = x3d.Y_UP_TO_Z_UP[:3, :3] @ inst.world_direction()
+            key = (id(inst.light), tuple(np.round(location, 9)), tuple(np.round(direction, 9)))
+            entry = merged.setdefault(key, [inst, location, direction, set(), False])
+            if inst.scope is None:
+                entry[4] = True
+            else:
+                entry[3].update(inst.scope)
+        out = []
+        total = len(self.doc.instances)
+        for inst, location, direction, scope, is_global in merged.values():
+            out.append(self.light(inst, location, direction,
+                                  None if is_global or len(scope) >= total else scope))
+        return out
+
+    def light(self, inst, location, direction, scope):
+        source = inst.light
+        values = x3d.light_values(self.doc, source)
+        name = source.name or LIGHT_NAMES[source.kind]
+        shown = name if source.on or name.endswith(OFF) else name + OFF
+        light = bpy.data.lights.new(name, LIGHT_TYPES[source.kind])
+        color = tuple(float(c) for c in values["color"])
+        if min(color) < 0.0:
+            self.warn(f"negative light colours read as 0: {name}")
+        light.color = tuple(max(0.0, c) for c in color)
+        intensity = float(values["intensity"])
+        ambient = float(values["ambient_intensity"])
+        if min(intensity, ambient) < 0.0:
+            self.warn(f"negative light intensities read as 0: {name}")
+        settings = {"intensity": max(intensity, 0.0), "ambient": max(ambient, 0.0)}
+        if source.kind != "directional":
+            scale, uniform = _scale_of(inst.matrix)
+            if not uniform:
+                self.warn(f"lights under a non-uniform scale: their radius scaled by the cube "
+                          f"root of the volume scale: {name}")
+            a0, a1, a2 = values["attenuation"]
+            settings.update(constant=a0, linear=a1, quadratic=a2,
+                            radius=values["radius"] * scale)
+        if source.kind == "spot":
+            cut = float(values["cut_off_angle"])
+            size = min(max(2.0 * cut, SPOT_SIZE[0]), SPOT_SIZE[1])
+            if size != 2.0 * cut:
+                self.warn(f"spot cut-off angles outside Blender's spot size of 1°-180° "
+                          f"clamped: {name} ({math.degrees(cut):g}°)")
+            light.spot_size = size
+            light.spot_blend = 0.0
+            light[CUT_OFF_KEY] = cut
+            settings["beam_width"] = float(values["beam_width"])
+        properties.write_light(light, settings)
+        obj = bpy.data.objects.new(shown, light)
+        self.collection.objects.link(obj)
+        rotation = Vector(direction.tolist()).to_track_quat("-Z", "Y")
+        obj.matrix_basis = Matrix.LocRotScale(Vector(location.tolist()), rotation, None)
+        if not source.on:
+            obj.hide_render = True
+        if scope is not None:
+            receivers = [self.by_instance[i] for i in sorted(scope) if i in self.by_instance]
+            if not receivers:   # Light Linking without receivers would light everything
+                obj.hide_render = True
+                self.warn(f"scoped lights whose group holds no shape (they light nothing): "
+                          f"hidden from render: {obj.name}")
+            else:
+                collection = bpy.data.collections.new(f"{obj.name} scope")
+                for receiver in receivers:
+                    collection.objects.link(receiver)
+                obj.light_linking.receiver_collection = collection
+        return obj
+
+    # -- the camera -------------------------------------------------------------------------
+    def make_camera(self):
+        doc, scene = self.doc, self.scene
+        vp = doc.viewpoint
+        if vp is None and scene.camera is not None:
+            return   # X3D's default viewpoint only where the scene has no camera
+        if vp is None:
+            vp = x3d.Viewpoint(name="Viewpoint")
+            world = x3d.to_blender_matrix(doc) @ vp.matrix()
+        else:
+            world = x3d.to_blender_matrix(doc) @ np.asarray(doc.viewpoint_matrix) @ vp.matrix()
+        name = vp.name or vp.description or "Viewpoint"
+        camera = bpy.data.cameras.new(name)
+        linear = world[:3, :3]
+        scale, _uniform = _scale_of(world)
+        u, _s, vt = np.linalg.svd(linear)
+        rotation = u @ vt
+        if np.linalg.det(rotation) < 0:   # a mirrored frame: the nearest rotation
+            u[:, -1] *= -1.0
+            rotation = u @ vt
+        location = world[:3, 3].copy()
+        render = scene.render
+        aspect = (render.resolution_x * render.pixel_aspect_x) / max(
+            render.resolution_y * render.pixel_aspect_y, 1e-9)
+        if vp.kind == "OrthoViewpoint":
+            lo_x, lo_y, hi_x, hi_y = vp.ortho_field or (-1.0, -1.0, 1.0, 1.0)
+            width, height = abs(hi_x - lo_x) * scale, abs(hi_y - lo_y) * scale
+            camera.type = "ORTHO"
+            if width / max(height, 1e-30) <= aspect:   # the height limits the view
+                camera.sensor_fit, camera.ortho_scale = "VERTICAL", max(height, 1e-6)
+            else:
+                camera.sensor_fit, camera.ortho_scale = "HORIZONTAL", max(width, 1e-6)
+            centre = np.array([(lo_x + hi_x) / 2.0, (lo_y + hi_y) / 2.0, 0.0]) * scale
+            location = location + rotation @ centre
+        else:
+            camera.type = "PERSP"
+            # X3D's fieldOfView is the angle of the smaller side of the view
+            camera.sensor_fit = "VERTICAL" if aspect >= 1.0 else "HORIZONTAL"
+            fov = float(vp.field_of_view)
+            angle = min(max(fov, CAMERA_ANGLE[0]), CAMERA_ANGLE[1])
+            if angle != fov:
+                self.warn(f"viewpoint fieldOfView {fov:g} outside Blender's camera angles; "
+                          f"{angle:g} used")
+            camera.angle = angle
+        reach = self.extent(location)
+        camera.clip_end = max(reach * 2.0, 1.0)
+        camera.clip_start = min(0.1, camera.clip_end * 1e-4)
+        obj = bpy.data.objects.new(name, camera)
+        self.collection.objects.link(obj)
+        matrix = np.eye(4)
+        matrix[:3, :3] = rotation
+        matrix[:3, 3] = location
+        obj.matrix_basis = Matrix(matrix.tolist())
+        self.objects.append(obj)
+        self.camera = obj
+        scene.camera = obj
+
+    def extent(self, point) -> float:
+        """The largest distance from *point* to the imported objects' bounding boxes."""
+        far = 0.0
+        for obj in self.objects:
+            if obj.type != "MESH" or not len(obj.data.vertices):
+                continue
+            corners = np.array([tuple(c) for c in obj.bound_box], dtype=np.float64)
+            matrix = np.array(obj.matrix_world, dtype=np.float64)
+            world = corners @ matrix[:3, :3].T + matrix[:3, 3]
+            far = max(far, float(np.linalg.norm(world - point, axis=1).max()))
+        return far
+
+    # -- the world ------------------------------------------------------------------------
+    def no_world_ambient(self):
+        world = self.scene.world
+        if world is None:
+            world = bpy.data.worlds.new("World")
+            compat.black_world(world)
+            self.scene.world = world
+        keys = (properties.AMBIENT_INTENSITY[0], properties.AMBIENT_COLOR[0])
+        self.world_before = (world, {k: (world[k] if k in world.keys() else None)
+                                     for k in keys})
+        color = world.get(keys[1], properties.AMBIENT_COLOR[1])
+        properties.write_world(world, 0.0, tuple(color))
+
+    # -- materials ------------------------------------------------------------------------
+    def bind(self, obj, inst):
+        shape = inst.shape
+        geometry = shape.geometry
+        texture = shape.texture
+        image, components = self.image(texture) if texture is not None else (None, None)
+        colors = geometry.colors is not None or geometry.point_colors is not None
+        key, reach = self.sync.light_set(obj)
+        material = shape.material
+        variant = (id(material) if material is not None else None,
+                   id(texture) if image is not None else None,
+                   id(shape.texture_transform) if image is not None else None, colors, key)
+        made = self.materials.get(variant)
+        if made is None:
+            group = self.sync.group(key, reach)
+            name = self.name_of(material, variant, texture if image is not None else None,
+                                reach, key)
+            made = self.material(name, group, material, image, components, colors,
+                                 shape.texture_transform if image is not None else None,
+                                 texture)
+            self.materials[variant] = made
+            self.made.append(made)
+        mesh = obj.data
+        if len(mesh.materials) == 0:
+            mesh.materials.append(made)
+        elif obj.material_slots[0].material is not made:
+            slot = obj.material_slots[0]
+            slot.link = "OBJECT"
+            slot.material = made
+
+    def name_of(self, material, variant, texture, reach, key) -> str:
+        """The file's name for the first variant of a material; for the others (another
+        texture, colours or light set) the name and what differs, in brackets."""
+        base = material.name if material is not None else "Unlit"
+        first = self.first.setdefault(variant[0], variant)
+        if first == variant:
+            return base
+        parts = []
+        if variant[1:3] != first[1:3]:
+            parts.append(texture.name or os.path.basename(texture.path or "") if texture
+                         else "no texture")
+        if variant[3] != first[3]:
+            parts.append("colours" if variant[3] else "no colours")
+        if variant[4] != first[4]:
+            parts.append(", ".join(o.name for o in reach) or "no light")
+        return f"{base} [{'; '.join(parts)}]"
+
+    def material(self, name, group, source, image, components, colors, transform, texture):
+        values = x3d.phong_values(source, components, colors)
+        material = recipe.new_material(name, group)
+        tree = material.node_tree
+        lights = tree.nodes[recipe.LIGHTS_NODE]
+        controls = {"phong_object_color": values["Kd"], "phong_specular_color": values["Ks"],
+                    "phong_irradiant_color": values["Ke"], recipe.AMBIENT_CONTROL: values["Ka"]}
+        nodes = {name_: recipe.color_control(tree, name_, color)
+                 for name_, color in controls.items()}
+        compat.value_output(tree.nodes["phong_exponent"]).default_value = values["exponent"]
+        compat.value_output(tree.nodes["phong_blinn"]).default_value = values["blinn"]
+        tree.links.new(compat.value_output(nodes[recipe.AMBIENT_CONTROL]),
+                       lights.inputs[recipe.AMBIENT_INPUT])
+        if source is not None:
+            material[AMBIENT_KEY] = float(source.ambient_intensity)
+            material[SHININESS_KEY] = float(source.shininess)
+            if source.kind == "two_sided" and source.back is not None:
+                self.warn("TwoSidedMaterial back colours not shown (Blender shows the front "
+                          f"values on both sides): {source.name}")
+            if source.kind == "physical":
+                self.warn("PhysicalMaterial read as a Phong material of its base colour "
+                          f"(metallic and roughness not used): {source.name}")
+        if not values["lit"]:
+            material[UNLIT_KEY] = 1
+        # the texture and colours act on Kd (lit) or Ke (unlit), as phong_values says
+        term = "phong_object_color" if values["lit"] else "phong_irradiant_color"
+        socket_name = "Object Color" if values["lit"] else "Irradiant Color"
+        base = None     # what replaces the term: the texture, the colours or their product
+        if image is not None:
+            base = self.texture_chain(material, image, texture, transform)
+        if colors and values["source"] in ("colors", "texture*colors"):
+            attribute = recipe.named_node(tree, COLORS_NODE, "ShaderNodeVertexColor",
+                                          (-1150.0, 500.0))
+            attribute.layer_name = COLOR_ATTRIBUTE
+            attribute.label = "Colours (Color node)"
+            colour = compat.output_socket(attribute, "Color")
+            base = colour if base is None else self.vector(
+                tree, "texture x colours", "MULTIPLY", base, colour, (-700.0, 500.0))
+        if base is None:
+            return self.finish(material, values)
+        if values["source"] == "texture*material":   # a grey texture multiplies the term
+            feed = self.vector(tree, "texture x colour", "MULTIPLY", base,
+                               compat.value_output(nodes[term]), (-700.0, 300.0))
+        else:
+            feed = base
+        tree.links.new(feed, lights.inputs[socket_name])
+        if values["lit"]:
+            if values["source"] == "texture*material":   # Ka = texture × the Ka control
+                ambient = self.vector(tree, "texture x ambient", "MULTIPLY", base,
+                                      compat.value_output(nodes[recipe.AMBIENT_CONTROL]),
+                                      (-700.0, 100.0))
+            else:   # Ka = ambientIntensity × the colour that replaces diffuseColor
+                node = recipe.named_node(tree, CHAIN + "ambient", "ShaderNodeVectorMath",
+                                         (-500.0, 100.0))
+                node.operation = "SCALE"
+                node.label = "x ambientIntensity"
+                tree.links.new(base, compat.input_socket(node, "Vector"))
+                compat.input_socket(node, "Scale").default_value = float(
+                    source.ambient_intensity)
+                ambient = compat.output_socket(node, "Vector")
+            tree.links.new(ambient, lights.inputs[recipe.AMBIENT_INPUT])
+        return self.finish(material, values)
+
+    @staticmethod
+    def finish(material, values):
+        if values["opacity"] < 1.0:
+            recipe.set_opacity(material, values["opacity"])
+        return material
+
+    @staticmethod
+    def vector(tree, what, operation, a, b, location):
+        node = recipe.named_node(tree, CHAIN + what, "ShaderNodeVectorMath", location)
+        node.operation = operation
+        node.label = what
+        tree.links.new(a, compat.input_socket(node, "Vector"))
+        tree.links.new(b, compat.input_socket(node, "Vector_001"))
+        return compat.output_socket(node, "Vector")
+
+    def texture_chain(self, material, image, texture, transform):
+        """Image Texture (UVMap, through a Mapping node for a TextureTransform); returns its
+        Color output."""
+        tree = material.node_tree
+        node = recipe.named_node(tree, TEXTURE_NODE, "ShaderNodeTexImage", (-1150.0, 250.0))
+        node.image = image
+        node.label = texture.name or "ImageTexture"
+        if not texture.repeat_s and not texture.repeat_t:
+            node.extension = "EXTEND"
+        elif not (texture.repeat_s and texture.repeat_t):
+            self.warn("textures that repeat along one axis only shown repeating along both "
+                      f"(Blender's images repeat or clamp both): {texture.name or image.name}")
+        if transform is not None:
+            mapping = self.mapping(tree, transform)
+            if mapping is not None:
+                uv = recipe.named_node(tree, UV_NODE, "ShaderNodeUVMap", (-1650.0, 250.0))
+                uv.uv_map = UV_MAP
+                tree.links.new(compat.output_socket(uv, "UV"),
+                               compat.input_socket(mapping, "Vector"))
+                tree.links.new(compat.output_socket(mapping, "Vector"),
+                               compat.input_socket(node, "Vector"))
+                material[TRANSFORM_KEY] = [*map(float, transform.center),
+                                           float(transform.rotation), *map(float, transform.scale),
+                                           *map(float, transform.translation)]
+        return compat.output_socket(node, "Color")
+
+    def mapping(self, tree, transform):
+        """A Mapping node giving the standard's Tc' = −C·S·R·C·T·Tc = S·R(θ)·Tc + S·R(θ)·(C + T)
+        − C.  Blender's Texture mapping gives R(r)ᵀ(v − L) / s, so r = −θ, s = 1/scale and
+        L = −(C + T) + R(−θ)·(C / scale).  None (with a warning) for a zero scale, which no
+        Mapping node can give."""
+        sx, sy = (float(v) for v in transform.scale)
+        if sx == 0.0 or sy == 0.0:
+            self.warn(f"TextureTransform with a zero scale left out: {transform.name or '-'}")
+            return None
+        theta = float(transform.rotation)
+        cx, cy = (float(v) for v in transform.center)
+        tx, ty = (float(v) for v in transform.translation)
+        c, s = math.cos(-theta), math.sin(-theta)
+        qx, qy = cx / sx, cy / sy
+        location = (-(cx + tx) + c * qx - s * qy, -(cy + ty) + s * qx + c * qy, 0.0)
+        node = recipe.named_node(tree, MAPPING_NODE, "ShaderNodeMapping", (-1400.0, 250.0))
+        node.vector_type = "TEXTURE"
+        node.label = "TextureTransform"
+        compat.input_socket(node, "Location").default_value = location
+        compat.input_socket(node, "Rotation").default_value = (0.0, 0.0, -theta)
+        compat.input_socket(node, "Scale").default_value = (1.0 / sx, 1.0 / sy, 1.0)
+        return node
+
+    # -- images -----------------------------------------------------------------------------
+    def image(self, texture):
+        """(Blender image or None, its components) of a core Texture, each loaded once, as
+        data (Non-Color: the texel's value is the colour in the standard's equation, as the
+        numbers of diffuseColor are) with its colour apart from its alpha."""
+        key = id(texture)
+        if key in self.images:
+            return self.images[key]
+        image, components = None, None
+        name = texture.name or (os.path.basename(texture.path) if texture.path else "")
+        if texture.image is not None:
+            pixels = np.asarray(texture.image, dtype=np.float32) / 255.0
+            height, width, comps = pixels.shape
+            rgba = np.ones((height, width, 4), dtype=np.float32)
+            rgba[..., :3] = pixels[..., :1] if comps < 3 else pixels[..., :3]
+            if comps in (2, 4):
+                rgba[..., 3] = pixels[..., -1]
+            image = bpy.data.images.new(name or "PixelTexture", width, height,
+                                        alpha=comps in (2, 4))
+            image.colorspace_settings.name = native.NON_COLOR
+            image.pixels.foreach_set(rgba.reshape(-1))
+            image.update()
+            image.pack()
+            components = comps
+        elif texture.path is not None:
+            try:
+                image = bpy.data.images.load(texture.path, check_existing=False)
+            except RuntimeError:
+                image = None
+            if image is not None and (image.size[0] == 0 or image.size[1] == 0):
+                bpy.data.images.remove(image)
+                image = None
+            if image is None:
+                self.warn(f"texture files that Blender cannot read left out: {texture.path}")
+            else:
+                if texture.name:
+                    image.name = texture.name
+                components = image_components(texture.path) or \
+                    {8: 1, 16: 2, 24: 3, 32: 4, 96: 3, 128: 4}.get(image.depth, 3)
+        if image is not None:
+            image.colorspace_settings.name = native.NON_COLOR
+            native.straight(image)
+        self.images[key] = (image, components)
+        return self.images[key]

@@ -1,0 +1,158 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""File ▸ Import ▸ X3D / VRML97 (Phong), File ▸ Export ▸ X3D / VRML97 (Phong), drag and drop
+of VRML97 / X3D files into the 3D Viewport (where the release has ``bpy.types.FileHandler``),
+and Add ▸ Light ▸ Headlight (``phong.add_headlight``): a Sun that follows the scene camera,
+the headlight of VRML97 / X3D (docs/x3d.md)."""
+
+import os
+
+import bpy
+from bpy.props import BoolProperty, StringProperty
+from bpy_extras.io_utils import ExportHelper, ImportHelper
+
+from ..interchange import x3d_export, x3d_import
+from ..lighting import headlight, rig
+from ..lighting import sync as sync_mod
+
+#: The file names the importer reads (gzipped too) and the drop handler takes.
+EXTENSIONS = (".wrl", ".wrz", ".x3d", ".x3dz", ".x3dv", ".x3dvz", ".gz")
+GLOB = ";".join(f"*{e}" for e in EXTENSIONS)
+
+
+class PHONG_OT_import_x3d(bpy.types.Operator, ImportHelper):
+    """Import a VRML97 or X3D file (.wrl, .x3d, .x3dv, gzipped too): its materials as exact \
+Phong materials in the X3D lighting model, its lights (attenuation, radius, beam, scope, \
+headlight), shapes, instances and viewpoint"""
+
+    bl_idname = "phong.import_x3d"
+    bl_label = "Import X3D / VRML97 (Phong)"
+    bl_options = {"REGISTER", "UNDO"}
+
+    filename_ext = ".wrl"
+    filter_glob: StringProperty(default=GLOB, options={"HIDDEN"})
+    # not remembered between runs: a path set before invoke is a file dropped on the viewport
+    filepath: StringProperty(subtype="FILE_PATH", options={"SKIP_SAVE"})
+
+    def execute(self, context):
+        path = bpy.path.abspath(self.filepath)
+        try:
+            objects, made, warnings, _sync = x3d_import.import_x3d(context, path)
+        except x3d_import.X3DImportError as error:
+            self.report({"ERROR"}, f"Import X3D: {error}")
+            return {"CANCELLED"}
+        for warning in warnings:
+            self.report({"WARNING"}, f"Import X3D: {warning}")
+        self.report({"INFO"}, f"Imported {len(objects)} object(s) with {len(made)} Phong "
+                              f"material(s) from {os.path.basename(path)}")
+        return {"FINISHED"}
+
+    def invoke(self, context, event):
+        if self.filepath:   # dropped on the viewport (FileHandler)
+            return self.execute(context)
+        return ImportHelper.invoke(self, context, event)
+
+
+class PHONG_OT_export_x3d(bpy.types.Operator, ExportHelper):
+    """Export meshes, Phong materials, lights (attenuation, radius, beam, scope, headlight) and \
+the camera as X3D (.x3d, .x3dv) or VRML97 (.wrl), gzipped for .x3dz, .x3dvz, .wrz, .gz"""
+
+    bl_idname = "phong.export_x3d"
+    bl_label = "Export X3D / VRML97 (Phong)"
+    bl_options = {"REGISTER"}
+
+    filename_ext = ".x3d"
+    check_extension = False   # .x3d, .x3dv, .wrl, ... all stay as typed
+    filter_glob: StringProperty(default=GLOB, options={"HIDDEN"})
+    use_selection: BoolProperty(name="Selected Objects Only", default=False,
+                                description="Only the selected objects")
+
+    def execute(self, context):
+        path = bpy.path.abspath(self.filepath)
+        if not path or os.path.isdir(path) or not os.path.isdir(os.path.dirname(path) or "."):
+            self.report({"ERROR"}, f"Export X3D: {path!r} is not a file in an existing folder")
+            return {"CANCELLED"}
+        try:
+            warnings = x3d_export.export(context, path, self.use_selection)
+        except (OSError, ValueError) as error:
+            self.report({"ERROR"}, f"Export X3D: cannot write {path}: {error}")
+            return {"CANCELLED"}
+        for warning in warnings:
+            self.report({"WARNING"}, f"Export X3D: {warning}")
+        self.report({"INFO"}, f"Wrote {path}")
+        return {"FINISHED"}
+
+
+class PHONG_OT_add_headlight(bpy.types.Operator):
+    """Add a headlight: a white Sun that follows the scene camera (X3D / VRML97's headlight: \
+intensity 1, no ambient, along the view direction); an existing one is pointed at the \
+scene camera"""
+
+    bl_idname = "phong.add_headlight"
+    bl_label = "Headlight (follows the camera)"
+    bl_options = {"REGISTER", "UNDO"}
+
+    @classmethod
+    def poll(cls, context):
+        if context.scene is not None and context.scene.camera is not None:
+            return True
+        cls.poll_message_set("Add Headlight: the scene has no camera to follow")
+        return False
+
+    def execute(self, context):
+        scene = context.scene
+        try:
+            obj, added = headlight.ensure(scene, context.collection)
+        except ValueError as error:
+            self.report({"ERROR"}, f"Add Headlight: {error}")
+            return {"CANCELLED"}
+        context.view_layer.update()
+        if rig.groups_of(scene):   # Phong materials: the new light joins them
+            sync_mod.relink_scene(scene, context.view_layer)
+        verb = "Added" if added else "Pointed"
+        self.report({"INFO"}, f"{verb} {obj.name} at camera {scene.camera.name}")
+        return {"FINISHED"}
+
+
+classes = [PHONG_OT_import_x3d, PHONG_OT_export_x3d, PHONG_OT_add_headlight]
+
+if hasattr(bpy.types, "FileHandler"):
+    class PHONG_FH_x3d(bpy.types.FileHandler):
+        bl_idname = "PHONG_FH_x3d"
+        bl_label = "X3D / VRML97 (Phong)"
+        bl_import_operator = "phong.import_x3d"
+        bl_file_extensions = ";".join(EXTENSIONS)
+
+        @classmethod
+        def poll_drop(cls, context):
+            return context.area is not None and context.area.type == "VIEW_3D"
+
+    classes.append(PHONG_FH_x3d)
+
+
+def _draw_import(self, _context):
+    self.layout.operator(PHONG_OT_import_x3d.bl_idname, text="X3D / VRML97 (Phong)")
+
+
+def _draw_export(self, _context):
+    self.layout.operator(PHONG_OT_export_x3d.bl_idname, text="X3D / VRML97 (Phong)")
+
+
+def _draw_light_add(self, _context):
+    self.layout.separator()
+    self.layout.operator(PHONG_OT_add_headlight.bl_idname, icon="LIGHT_SUN")
+
+
+def register():
+    for cls in classes:
+        bpy.utils.register_class(cls)
+    bpy.types.TOPBAR_MT_file_import.append(_draw_import)
+    bpy.types.TOPBAR_MT_file_export.append(_draw_export)
+    bpy.types.VIEW3D_MT_light_add.append(_draw_light_add)
+
+
+def unregister():
+    bpy.types.VIEW3D_MT_light_add.remove(_draw_light_add)
+    bpy.types.TOPBAR_MT_file_export.remove(_draw_export)
+    bpy.types.TOPBAR_MT_file_import.remove(_draw_import)
+    for cls in reversed(classes):
+        bpy.utils.unregister_class(cls)
