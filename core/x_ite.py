@@ -8,6 +8,9 @@ of create3000/x_ite): per light ``attenuation·spot·color·(ambientIntensity·O
 (O_d·max(N·L, 0) + O_s·max(N·H, 0)^(128·shininess)))`` within the radius, the attenuation
 ``1/max(a0 + a1·d + a2·d², 1)``, the linear spot ramp from ``beamWidth`` to ``cutOffAngle``,
 ``pow(x, 0)`` taken as 1 for shininess 0, plus ``emissiveColor``; at most 8 lights per shape.
+Two deviations from the standard, both tested (``tests/test_x_ite.py``): a light whose
+intensity is 0 is switched off whole, its ambient term too (``X3DLightNode.set_on__``), and
+``ambientIntensity`` (lights and Material) and ``shininess`` are clamped to [0, 1].
 
 What :func:`render_text` / :func:`render_file` do:
 
@@ -16,9 +19,10 @@ What :func:`render_text` / :func:`render_file` do:
   as the base for relative URLs, so every encoding X_ITE reads works (X3D XML, ClassicVRML,
   VRML97, X3D JSON).  X_ITE fetches an ``Inline`` with ``fetch``, which Chromium refuses for
   ``file://``: an Inline of a local file is not shown (a warning names it).
-* Browser options (:data:`BROWSER_OPTIONS`): ``Shading PHONG`` (the default is ``GOURAUD``,
-  the lighting per vertex), ``Antialiased FALSE`` with ``Multisampling 0`` (one sample per
-  pixel, at its centre: X_ITE 15.0.1 throws on the ``multisampling`` attribute of
+* Browser options (:data:`BROWSER_OPTIONS`): ``Shading PHONG`` (the default is ``GOURAUD``;
+  in 15.0.1 both light every fragment with the same ``Material2.glsl.js``, PHONG is asked so
+  that no release can light per vertex), ``Antialiased FALSE`` with ``Multisampling 0`` (one
+  sample per pixel, at its centre: X_ITE 15.0.1 throws on the ``multisampling`` attribute of
   ``<x3d-canvas>``, so the option is set from the script), ``ContentScale 1`` (the drawing
   buffer is exactly width × height), ``ColorSpace SRGB``, ``ToneMapping NONE``,
   ``Exposure 1``, no order-independent transparency, no logarithmic depth buffer, quality

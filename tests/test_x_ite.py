@@ -390,3 +390,28 @@ def test_a_broken_file_is_reported(peer, tmp_path):
     with pytest.raises(browser.BrowserError) as caught:
         x_ite.render_file(str(path), 16, 16, timeout=60)
     assert caught.value.title == "phong: error" and caught.value.errors
+
+
+def test_the_files_background_is_not_drawn(render):
+    """A file's own Background (red sky) is not drawn: the peer's alpha is the coverage."""
+    rgba = render("background", x3d('<Background skyColor="1 0 0"/>',
+                                    quad(-1.0, 1.0, -0.5, 0.5, material(emissive=(0, 1, 0)))))
+    covered = rgba[..., 3] == 255
+    assert covered.sum() == 128 * 64 and (rgba[~covered] == 0).all()
+    assert (rgba[covered][:, :3] == (0, 255, 0)).all()
+
+
+def test_x_ite_drops_a_light_of_intensity_zero_with_its_ambient(render):
+    """A deviation of X_ITE 15.0.1 from the standard, kept here so that it is known: a light of
+    intensity 0 is switched off whole (``X3DLightNode.set_on__``: on and intensity > 0), so its
+    ambientIntensity adds nothing, where the equation gives Ia·IL·O_a.  A tiny intensity
+    brings the ambient back."""
+    od = (0.5, 0.5, 0.5)
+    shape = quad(-1.0, 1.0, -0.5, 0.5, material(od, ambient=1.0))
+    zero = render("intensity-0", x3d(directional((0, 0, -1), intensity=0.0, ambient=0.6), shape))
+    tiny = render("intensity-tiny", x3d(directional((0, 0, -1), intensity=1e-20, ambient=0.6),
+                                        shape))
+    covered = zero[..., 3] == 255
+    assert covered.sum() == 128 * 64
+    assert (zero[covered][:, :3] == 0).all()                     # the standard: 0.6·0.5 = 0.3
+    assert (np.abs(tiny[covered][:, :3] - 255 * 0.3) <= 1).all()
