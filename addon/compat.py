@@ -23,6 +23,26 @@ VERSION = bpy.app.version
 #: and 5.0.1 read them right in Cycles and Eevee, but that test ran past 4 minutes with 4
 #: lookups on each; there the lights keep drivers in the lights group (the rig of 0.2).
 VIEW_LAYER_LOOKUPS = 4 if VERSION >= (5, 2, 0) else 0
+#: Eevee's light loop (Blender 5.3): Light Evaluation, Light Info, Attribute nodes of type
+#: Light and Vector Transform's Light space upstream of a Light Accumulation node are run once
+#: per light (``lighting/loop.py``).  Eevee only: Cycles renders that part as 0, and before 5.3
+#: the nodes do not exist (a file of 5.3 shows them as undefined nodes).
+HAS_LIGHT_LOOP = VERSION >= (5, 3, 0) and hasattr(bpy.types, "ShaderNodeLightAccumulation")
+#: View Layer lookups of a lights group whose Eevee side is the light loop: Eevee compiles no
+#: part of that group (the lookups' cost above is Eevee's), Cycles resolves each lookup once
+#: per render, so every light's transform comes from the World (a light drag then re-evaluates
+#: no material, whatever the number of lights).
+LOOP_VIEW_LAYER_LOOKUPS = 1 << 20
+#: Eevee leaves out a point or spot light beyond its influence distance (by default from its
+#: watts, about √watts metres; a Phong light's reach does not depend on its watts): on 5.3
+#: the lights that drive Phong materials get this custom distance (``lighting/loop.py``).
+LOOP_LIGHT_DISTANCE = 1.0e4
+
+
+def view_layer_lookups(loop: bool) -> int:
+    """The View Layer lookups a lights group may hold: unlimited (LOOP_VIEW_LAYER_LOOKUPS)
+    when Eevee renders its materials with the light loop, else VIEW_LAYER_LOOKUPS."""
+    return LOOP_VIEW_LAYER_LOOKUPS if loop and HAS_LIGHT_LOOP else VIEW_LAYER_LOOKUPS
 
 
 def _socket(sockets, key: str, node, side: str):

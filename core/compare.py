@@ -41,6 +41,18 @@ PEERS = ("threejs", "x_ite")
 
 ENGINES = ("eevee", "cycles")
 PAIRS = (("eevee", "reference"), ("cycles", "reference"), ("eevee", "cycles"))
+#: What a linear value shows as on screen at most (Standard view transform, 8-bit display).
+#: Eevee's light loop (Blender 5.3+, addon/lighting/loop.py) adds the lights where no clamp
+#: can follow: its pixel is irradiant + ambient + Σ lights where the model's is min(…, 1).
+#: Eevee's picture is compared as shown, min(x, 1): a pixel of 1.3 where the reference is 1
+#: is the same on screen, one of 1.0 where the reference is 0.99 is still 0.01 off (and one
+#: below 1 is compared as it is).  How many pixels were above 1: metrics["eevee_above_1"].
+SHOWN_MAX = 1.0
+
+
+def shown(image: np.ndarray) -> np.ndarray:
+    """*image* (linear RGB) as the comparison takes Eevee's picture: min(x, SHOWN_MAX)."""
+    return np.minimum(np.asarray(image, np.float64)[..., :3], SHOWN_MAX)
 
 
 # -- renders ---------------------------------------------------------------------------
@@ -416,10 +428,19 @@ def evaluate(scene: dict, images: dict, aovs: dict, engines, terms=None) -> tupl
     """The reference picture of *scene* (as Blender evaluates it) from the probe *aovs*, and
     the metrics of every pair of *images* ({"cycles": ..., "eevee": ...}) and of each term
     pass in *terms* ({term: Cycles' pass}) against the reference's term; returns (metrics,
-    reference, mask).  *images* gains "reference"."""
+    reference, mask).  *images* gains "reference", and its "eevee" becomes the picture as
+    shown (:func:`shown`: Eevee's light loop leaves sums above 1), which the pairs compare;
+    metrics["eevee_above_1"] counts the compared pixels Eevee rendered above 1."""
     refimg = reference_image(scene, aovs)
     images["reference"] = refimg["Color"]
     mask = (refimg["object"] > 0) & ~refimg["ambiguous"]
+    above = None
+    if "eevee" in images:
+        peak = np.asarray(images["eevee"], np.float64)[..., :3].max(axis=-1)
+        over = mask & (peak > SHOWN_MAX)
+        above = {"pixels": int(over.sum()), "max": float(peak[over].max()) if over.any()
+                 else None}
+        images["eevee"] = shown(images["eevee"])
     present = set(engines) | {"reference"}
     pairs = {f"{a}-{b}": compare(images[a], images[b], mask) for a, b in PAIRS
              if a in present and b in present and a in images and b in images}
@@ -440,4 +461,6 @@ def evaluate(scene: dict, images: dict, aovs: dict, engines, terms=None) -> tupl
         "ok": all(v["ok"] for v in verdicts.values()),
         "parameters": {k: v for k, v in scene.items() if k != "path"},
     }
+    if above is not None:
+        metrics["eevee_above_1"] = above
     return metrics, refimg, mask

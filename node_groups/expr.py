@@ -43,6 +43,7 @@ LEAVES = ("const", "input", "geometry")
 MATH = "ShaderNodeMath"
 VECTOR_MATH = "ShaderNodeVectorMath"
 EMISSION = "ShaderNodeEmission"
+COMBINE_XYZ = "ShaderNodeCombineXYZ"
 #: Each node's operand inputs in order and its default result, by identifier (stable across
 #: Blender releases, unlike positions).
 _SOCKETS = {MATH: (("Value", "Value_001", "Value_002"), "Value"),
@@ -105,6 +106,16 @@ def _less_than(a, b):
     return (a < b).astype(np.float64)
 
 
+def _greater_than(a, b):
+    return (np.asarray(a) > np.asarray(b)).astype(np.float64)
+
+
+def _combine(x, y, z):
+    x, y, z = np.broadcast_arrays(np.asarray(x, np.float64), np.asarray(y, np.float64),
+                                  np.asarray(z, np.float64))
+    return np.stack([x, y, z], axis=-1)
+
+
 def _scale(v, s):
     return v * np.asarray(s)[..., None]
 
@@ -155,6 +166,7 @@ OPERATIONS = (
     Op("min", FLOAT, _FF, np.minimum, MATH, "MINIMUM"),
     Op("pow", FLOAT, _FF, _blender_pow, MATH, "POWER"),
     Op("lt", FLOAT, _FF, _less_than, MATH, "LESS_THAN"),
+    Op("gt", FLOAT, _FF, _greater_than, MATH, "GREATER_THAN"),
     Op("cos", FLOAT, (FLOAT,), np.cos, MATH, "COSINE"),
     Op("acos", FLOAT, (FLOAT,), _acos, MATH, "ARCCOSINE"),
     Op("madd", FLOAT, (FLOAT, FLOAT, FLOAT), _multiply_add, MATH, "MULTIPLY_ADD"),
@@ -170,6 +182,8 @@ OPERATIONS = (
     Op("length", FLOAT, (VECTOR,), _length, VECTOR_MATH, "LENGTH", output="Value"),
     Op("normalize", VECTOR, (VECTOR,), _normalize, VECTOR_MATH, "NORMALIZE"),
     Op("reflect", VECTOR, _VV, _reflect, VECTOR_MATH, "REFLECT", output="Vector"),
+    Op("combine", VECTOR, (FLOAT, FLOAT, FLOAT), _combine, COMBINE_XYZ, inputs=("X", "Y", "Z"),
+       output="Vector"),
     Op("emission", SHADER, (COLOR,), _identity, EMISSION, inputs=("Color",), output="Emission",
        settings=(("Strength", 1.0),)),
 )
@@ -321,6 +335,16 @@ def less_than(a, b) -> Expr:
     return operation("lt", a, b)
 
 
+def greater_than(a, b) -> Expr:
+    """1.0 where a > b, else 0.0 (Math GREATER_THAN: one node)."""
+    return operation("gt", a, b)
+
+
+def combine(x, y, z) -> Expr:
+    """The vector (x, y, z) of three floats (Combine XYZ)."""
+    return operation("combine", x, y, z)
+
+
 def at_least(a, b) -> Expr:
     """1.0 where a >= b, else 0.0 (the non-strict conditions, docs/contract.md "Edge cases")."""
     return 1.0 - less_than(a, b)
@@ -426,6 +450,7 @@ def evaluate(expr: Expr, inputs: dict, geometry_values: dict | None = None, _mem
 __all__ = [
     "Expr", "Op", "OPERATIONS", "FLOAT", "VECTOR", "COLOR", "SHADER", "LEAVES", "const",
     "input_", "geometry", "operation", "maximum", "minimum", "power", "less_than", "at_least", "cos",
+    "greater_than", "combine",
     "acos",
     "dot", "length", "normalize", "select", "emission", "evaluate", "multiply_add",
     "reflect_about", "saturate",

@@ -18,8 +18,8 @@ import math
 from dataclasses import dataclass, field
 
 from .expr import (
-    COLOR, FLOAT, SHADER, VECTOR, Expr, acos, at_least, cos, dot, emission, evaluate, geometry,
-    input_,
+    COLOR, FLOAT, SHADER, VECTOR, Expr, acos, at_least, combine, cos, dot, emission, evaluate,
+    geometry, greater_than, input_,
     length, less_than, maximum, minimum, multiply_add, normalize, power, reflect_about, saturate,
     select,
 )
@@ -672,6 +672,277 @@ def _x3d_light_terms(g):
     g.output("Diffuse Light", (i * lambert(l, n)) * lc, "I·max(N·L, 0)·IL", color=True)
     g.output("Specular Light", (i * highlight) * lc, "I·max(N·H, 0)^e·IL", color=True)
     g.output("Ambient Light", ia * lc, "Ia·IL", color=True)
+
+
+# -- Eevee's light loop (Blender 5.3+; addon/lighting/loop.py) -------------------------------
+#
+# From Blender 5.3 Eevee wraps the nodes upstream of a Light Accumulation node that read the
+# current light (Light Evaluation, Attribute of type Light, Vector Transform's Light space)
+# into a loop over the lights, and adds Light Accumulation's Diffuse Light ⊗ Diffuse Color +
+# Glossy Light ⊗ Glossy Color (+ Transmission) of every light, each Light clamped at 0 from
+# below, each Color at [0, 1], and each light's part multiplied by Blender's own Diffuse /
+# Specular factor of that light.  A material then has the same few nodes whatever the number
+# of lights (issue 38).  Per light, a model's loop group below turns what Light Evaluation
+# gives (ℓ, the distance, the light's axis) and the light's own Phong settings, packed into a
+# few numeric custom properties of the light (``loop_parameters``: Attribute nodes of type
+# Light read them), into the Light and Color inputs of Light Accumulation.  What Light
+# Accumulation does afterwards is restated by ``accumulate`` (for the tests).
+
+#: Custom properties of a light (its data) that carry its settings to the loop: the prefix of
+#: their keys, "phong_eevee_<model>_<name>".
+LOOP_PREFIX = "phong_eevee_"
+#: A hard cone edge as a smoothstep of this slope (three.js's penumbra 0): 0 to 1 within
+#: 1e-7 of cos θ, inside the band the comparison leaves out (core/compare.py, AMBIGUOUS).
+LOOP_HARD_EDGE = 1.0e7
+#: Below this ℓ·n counts as negative in the loop (ℓ·n ≥ 0 as one comparison, ℓ·n > -1e-30).
+LOOP_LIT = -1.0e-30
+#: The specular exponent is at least this in the loop: max(x, 0)^e is then 0 where x ≤ 0
+#: (the highlight's condition without a node), and x^1e-9 differs from x^0 = 1 by < 1e-7.
+LOOP_MIN_EXPONENT = 1.0e-9
+
+
+@dataclass(frozen=True)
+class LoopParameter:
+    """A numeric custom property of a light read in the loop by an Attribute node of type
+    Light: its key ("phong_eevee_<model>_<name>"), and the loop group's inputs fed by the
+    Attribute's Vector (its first three numbers) and Alpha (its fourth) outputs, or by its
+    Factor output (a property of one number)."""
+
+    name: str
+    vector: str | None = None
+    alpha: str | None = None
+    factor: str | None = None
+
+    def key(self, model: str) -> str:
+        return f"{LOOP_PREFIX}{model}_{self.name}"
+
+    @property
+    def size(self) -> int:
+        return 1 if self.factor is not None else 4
+
+
+@dataclass(frozen=True)
+class LoopModel:
+    """How a lighting model runs in Eevee's light loop: its loop group (RIG_GROUPS), the
+    light's properties it reads (``parameters``) and ``pack``, which computes them from the
+    light (``light_values``); ``slots`` names the loop group's outputs that feed Light
+    Accumulation: {"Diffuse": (light output, colour output), "Glossy": ...}.  Inputs of the
+    loop group named like the lights group's (Object Color, Exponent ...) or "Normal" / "View
+    Vector" (unit vectors, Phong Surface) come from the material; "Light Vector", "Distance"
+    and "Light Axis" from Light Evaluation and Vector Transform."""
+
+    group: str
+    parameters: tuple
+    slots: dict
+    pack: object  # function(light values: dict) -> {parameter name: tuple of floats}
+
+
+LOOP_MODELS: dict = {}
+
+
+def loop_parameters(model: str, light: dict) -> dict:
+    """{custom property key: value} of one light for *model*'s loop: a tuple of 4 floats, or
+    a float.  *light* holds plain values: "type" (POINT, SUN, SPOT; anything else gets zeros:
+    the loop adds nothing for it), "color" (3 floats), "spot_size" (radians), "diffuse_factor"
+    and "specular_factor" (Blender's own, which Light Accumulation multiplies by), "falloff"
+    ("QUADRATIC" or "POWER") and the Phong settings by attribute ("intensity", "quadratic" ...
+    as addon/lighting/properties.py names them)."""
+    spec = LOOP_MODELS[model]
+    values = spec.pack(light) if light.get("type") in ("POINT", "SUN", "SPOT") else {}
+    out = {}
+    for parameter in spec.parameters:
+        value = values.get(parameter.name)
+        if value is None:
+            value = 0.0 if parameter.size == 1 else (0.0, 0.0, 0.0, 0.0)
+        out[parameter.key(model)] = (float(value) if parameter.size == 1
+                                     else tuple(float(x) for x in value))
+    return out
+
+
+def _over(value, factor):
+    """value / factor, 0 when Blender's factor is 0 (Light Accumulation then adds nothing)."""
+    return value / factor if factor > 0.0 else 0.0
+
+
+def _light_colors(light, strength_d, strength_s):
+    """(Cl·strength_d / Blender's Diffuse factor, Cl·strength_s / its Specular factor)."""
+    color = tuple(light.get("color", (1.0, 1.0, 1.0)))[:3]
+    kd = _over(strength_d, float(light.get("diffuse_factor", 1.0)))
+    ks = _over(strength_s, float(light.get("specular_factor", 1.0)))
+    return tuple(c * kd for c in color), tuple(c * ks for c in color)
+
+
+def accumulate(light, color, factor=1.0):
+    """What Light Accumulation adds for one light and one of its slots (Blender 5.3's
+    node_light_accumulation): max(Light, 0) ⊗ clamp(Color, 0, 1) × the light's factor."""
+    import numpy as np  # noqa: PLC0415  (numpy only where the tests evaluate)
+
+    return np.maximum(light, 0.0) * np.clip(color, 0.0, 1.0) * factor
+
+
+def _loop_model(model, group_name, parameters, slots):
+    def register(pack):
+        LOOP_MODELS[model] = LoopModel(group_name, tuple(parameters), dict(slots), pack)
+        return pack
+    return register
+
+
+_LV = "Unit vector ℓ toward the light (Light Evaluation's Direction)"
+_LD = "Distance r to the light (Light Evaluation's Distance; 1 for a sun)"
+_LA = "The light's +Z axis in world space, any length (Vector Transform from Light space)"
+_UN = "Unit surface normal n (Phong Surface)"
+_UV = "Unit vector v toward the viewer (Phong Surface)"
+
+
+@group("Phong Loop Light", "One light of the seeds' model in Eevee's light loop: its diffuse "
+       "and specular light from Light Evaluation and the light's packed settings",
+       into=RIG_GROUPS)
+def _phong_loop_light(g):
+    """docs/model.md §Point light, §Spot light, §Power falloff, §Diffuse, §Specular (Phong),
+    §Blinn-Phong: i = i0/max(αr² + βr + γ + p·r^k, 1e-6) · [cos ω ≥ cos θ] · max(cos ω, 0)^e_att,
+    with the settings packed so that one formula serves every light: a sun (0, 0, 1, 0), a
+    quadratic falloff (α, β, γ, 0), a power falloff (0, 0, 0, 1) with k; no cone: cos θ = -2,
+    e_att = 0.  i0 and the strengths are in the light colours.  The conditions of the
+    highlights in one node each: max(x, 0)^max(e, 1e-9) is 0 where x ≤ 0, and ℓ·n ≥ 0 is
+    ℓ·n > -1e-30; Light Accumulation takes max(Light, 0), which is Lambert's max(ℓ·n, 0)."""
+    l = g.vector("Light Vector", ZERO, _LV)
+    r = g.value("Distance", 1.0, _LD, min=0.0)
+    axis = g.vector("Light Axis", (0.0, 0.0, 1.0), _LA)
+    coefficients = g.vector("Falloff", (1.0, 0.0, 0.0), "(α, β, γ) of i0/(αr²+βr+γ); (0, 0, 1) "
+                                                        "for a sun, (0, 0, 0) for i0/d^k")
+    p = g.value("Power Weight", 0.0, "1 for the falloff i0/d^k, else 0", min=0.0)
+    dcol = g.color("Diffuse Light Color", WHITE,
+                   "i0·k_d·Cl_source / the light's Diffuse factor (Light Accumulation's)")
+    k = g.value("Power Exponent", 2.0, "k of i0/d^k", min=0.0)
+    scol = g.color("Specular Light Color", WHITE,
+                   "i0·k_s·Cl_source / the light's Specular factor (Light Accumulation's)")
+    e_att = g.value("Edge Exponent", 0.0, "e_att of a spot, ≥ 0 (0 for the other lights)",
+                    min=0.0)
+    cos_t = g.value("Cos Half Angle", -2.0, "cos θ of a spot's cone (-2 for the other lights)")
+    oc = g.color("Object Color", GREY, _OC)
+    sc = g.color("Specular Color", WHITE, _SC)
+    e = g.value("Exponent", 30.0, _E, min=0.0, max=10000.0)
+    blinn = g.value("Blinn", 0.0, "0 = Phong, 1 = Blinn-Phong, between = blend", min=0.0,
+                    max=1.0, subtype="FACTOR")
+    n = g.vector("Normal", (0.0, 0.0, 1.0), _UN)
+    v = g.vector("View Vector", (0.0, 0.0, 1.0), _UV)
+    cos_w = dot(l, normalize(axis))  # cos ω = -ℓ·u, u = the light's -Z axis
+    cone = at_least(cos_w, cos_t) * power(maximum(cos_w, 0.0), e_att)
+    denominator = multiply_add(p, power(r, k), dot(coefficients, combine(r * r, r, 1.0)))
+    attenuation = cone / maximum(denominator, MIN_DENOMINATOR)
+    ln = dot(l, n)
+    e_1 = maximum(e, LOOP_MIN_EXPONENT)
+    phong = power(maximum(dot(l, reflect_about(-v, n)), 0.0), e_1)  # ℓ·(2(n·v)n - v) = r·v
+    blinn_f = power(maximum(dot(normalize(l + v), n), 0.0), e_1)
+    factor = multiply_add(blinn, blinn_f - phong, phong)
+    g.output("Diffuse Light", (attenuation * ln) * dcol,
+             "i·(ℓ·n)·k_d·Cl_source (Light Accumulation takes max(·, 0))", color=True)
+    g.output("Diffuse Color", oc, "Cl_objet", color=True)
+    g.output("Specular Light", ((attenuation * greater_than(ln, LOOP_LIT)) * factor) * scol,
+             "i·[ℓ·n ≥ 0]·((1-Blinn)·(r·v)^e + Blinn·(h·n)^e)·k_s·Cl_source", color=True)
+    g.output("Specular Color", sc, "Cl_spec", color=True)
+
+
+@_loop_model("seeds", "Phong Loop Light", (
+    LoopParameter("falloff", vector="Falloff", alpha="Power Weight"),
+    LoopParameter("diffuse", vector="Diffuse Light Color", alpha="Power Exponent"),
+    LoopParameter("specular", vector="Specular Light Color", alpha="Edge Exponent"),
+    LoopParameter("cone", factor="Cos Half Angle")),
+    {"Diffuse": ("Diffuse Light", "Diffuse Color"), "Glossy": ("Specular Light", "Specular Color")})
+def _pack_seeds(light):
+    kind, s = light["type"], light.get("settings", {})
+    i0 = float(s.get("intensity", 1.0))
+    diffuse, specular = _light_colors(light, i0 * float(s.get("diffuse", 1.0)),
+                                      i0 * float(s.get("specular", 1.0)))
+    k = float(s.get("power_k", 2.0))
+    if kind == "SUN":
+        falloff = (0.0, 0.0, 1.0, 0.0)
+    elif str(light.get("falloff", "QUADRATIC")).upper() == "POWER":
+        falloff = (0.0, 0.0, 0.0, 1.0)
+    else:
+        falloff = tuple(float(s.get(key, FALLOFF_DEFAULTS[key]))
+                        for key in ("quadratic", "linear", "constant")) + (0.0,)
+    spot = kind == "SPOT"
+    return {"falloff": falloff, "diffuse": (*diffuse, max(k, 0.0)),
+            "specular": (*specular, max(float(s.get("edge_exponent", 0.0)), 0.0) if spot else 0.0),
+            "cone": math.cos(float(light.get("spot_size", math.pi)) / 2.0) if spot else -2.0}
+
+
+@group("three.js Loop Light", "One light of the three.js model in Eevee's light loop: "
+       "MeshPhongMaterial's diffuse and specular light (lights_phong_pars_fragment)",
+       into=RIG_GROUPS)
+def _threejs_loop_light(g):
+    """docs/threejs.md: the light's intensity i·getDistanceAttenuation(d, distance, decay)·
+    smoothstep(cos angle, cos(angle·(1-penumbra)), cos ω), packed so one formula serves
+    every light: the smoothstep's t = saturate(cos ω·scale + offset) (scale = 1/(e1 - e0),
+    offset = -e0·scale; 1e7 for penumbra 0; a light without a cone t = 1), the distance
+    window with 1/distance (0: none; a sun has decay 0).  Light Accumulation takes
+    max(·, 0) of both lights, which is saturate(n·ℓ) (n·ℓ ≤ 1 for unit vectors)."""
+    l = g.vector("Light Vector", ZERO, _LV)
+    r = g.value("Distance", 1.0, _LD, min=0.0)
+    axis = g.vector("Light Axis", (0.0, 0.0, 1.0), _LA)
+    dcol = g.color("Diffuse Light Color", WHITE,
+                   "i·Cl_source / the light's Diffuse factor (Light Accumulation's)")
+    decay = g.value("Decay", 2.0, _T_DECAY, min=0.0)
+    scol = g.color("Specular Light Color", WHITE,
+                   "i·Cl_source / the light's Specular factor (Light Accumulation's)")
+    inverse = g.value("Inverse Distance", 0.0, "1/distance of the cut-off window (0: none)",
+                      min=0.0)
+    scale = g.value("Cone Scale", 1.0, "1/(cos(angle·(1-penumbra)) - cos angle)")
+    offset = g.value("Cone Offset", 2.0, "-cos(angle)·Cone Scale")
+    c = g.color("Object Color", WHITE, "The material's color (three.js's diffuse colour)")
+    sc = g.color("Specular Color", THREEJS_SPECULAR, "The material's specular colour")
+    shininess = g.value("Exponent", 30.0, "three.js shininess", min=0.0, max=10000.0)
+    strength = g.value("Specular Strength", 1.0, "three.js specularStrength", min=0.0, max=1.0,
+                       subtype="FACTOR")
+    n = g.vector("Normal", (0.0, 0.0, 1.0), _UN)
+    v = g.vector("View Vector", (0.0, 0.0, 1.0), _UV)
+    t = saturate(multiply_add(dot(l, normalize(axis)), scale, offset))
+    cone = (t * t) * multiply_add(t, -2.0, 3.0)
+    x = r * inverse
+    window = saturate(1.0 - power(x, 4.0))
+    attenuation = ((window * window) / maximum(power(r, decay), 0.01)) * cone
+    irradiance = attenuation * dot(n, l)
+    h = normalize(l + v)
+    dot_nh = saturate(dot(n, h))
+    dot_vh = saturate(dot(v, h))
+    s = maximum(shininess, 1e-4)
+    fresnel = power(2.0, multiply_add(dot_vh, -5.55473, -6.98316) * dot_vh)
+    f = sc + fresnel * (WHITE - sc)
+    d = multiply_add(s, 0.5 * RECIPROCAL_PI, RECIPROCAL_PI) * power(dot_nh, s)
+    g.output("Diffuse Light", irradiance * dcol, "i·(n·ℓ)·light (Light Accumulation: max(·, 0))",
+             color=True)
+    g.output("Diffuse Color", RECIPROCAL_PI * c, "color/π (BRDF_Lambert)", color=True)
+    g.output("Specular Light", (f * (irradiance * ((0.25 * strength) * d))) * scol,
+             "i·(n·ℓ)·light ⊗ F·G·D·specular strength", color=True)
+    g.output("Specular Color", maximum(sc, 1.0),
+             "white (F is per light: in Specular Light), linked from the material's colour",
+             color=True)
+
+
+@_loop_model("threejs", "three.js Loop Light", (
+    LoopParameter("diffuse", vector="Diffuse Light Color", alpha="Decay"),
+    LoopParameter("specular", vector="Specular Light Color", alpha="Inverse Distance"),
+    LoopParameter("cone_scale", factor="Cone Scale"),
+    LoopParameter("cone_offset", factor="Cone Offset")),
+    {"Diffuse": ("Diffuse Light", "Diffuse Color"), "Glossy": ("Specular Light", "Specular Color")})
+def _pack_threejs(light):
+    kind, s = light["type"], light.get("settings", {})
+    i = float(s.get("intensity", 1.0))
+    diffuse, specular = _light_colors(light, i, i)
+    near = kind in ("POINT", "SPOT")
+    decay = float(s.get("decay", 2.0)) if near else 0.0
+    cutoff = float(s.get("distance", 0.0)) if near else 0.0
+    scale, offset = 1.0, 2.0  # no cone: t = saturate(cos ω + 2) = 1
+    if kind == "SPOT":
+        angle = float(light.get("spot_size", math.pi)) / 2.0
+        e0 = math.cos(angle)
+        e1 = math.cos(angle * (1.0 - float(s.get("penumbra", 0.0))))
+        scale = 1.0 / (e1 - e0) if e1 - e0 > 1.0 / LOOP_HARD_EDGE else LOOP_HARD_EDGE
+        offset = -e0 * scale
+    return {"diffuse": (*diffuse, decay),
+            "specular": (*specular, 1.0 / cutoff if cutoff > 0.0 else 0.0),
+            "cone_scale": scale, "cone_offset": offset}
 
 
 NAMES = tuple(GROUPS)

@@ -32,6 +32,7 @@ import bpy
 
 from ...core import browser, compare, outputs, report, threejs, x_ite
 from .. import compat
+from ..lighting import loop as light_loop
 from ..lighting import materials, rig
 from ..lighting import sync as sync_mod
 from ..interchange import threejs_export
@@ -135,6 +136,24 @@ def _add_probes(tree) -> None:
         aov.aov_name = compare.probe_name(probe)
         aov.location = (-600.0, 900.0 + 120.0 * index)
         tree.links.new(sources[probe], aov.inputs["Color"])
+    if light_loop.has_loop(tree):
+        _add_term_aovs(tree)
+
+
+def _add_term_aovs(tree) -> None:
+    """The term passes as AOV outputs inside *tree*: a lights group with the loop part
+    (Blender 5.3+), whose materials hold no AOV outputs (``materials.wire``), for Cycles'
+    render only."""
+    group_out = next(n for n in tree.nodes if n.bl_idname == "NodeGroupOutput")
+    for index, (aov_name, output) in enumerate(materials.AOVS.items()):
+        aov = tree.nodes.new("ShaderNodeOutputAOV")
+        aov.aov_name = aov_name
+        aov.location = (group_out.location.x, group_out.location.y - 200.0 - 120.0 * index)
+        target = group_out.inputs[output]
+        if target.is_linked:
+            tree.links.new(target.links[0].from_socket, aov.inputs["Color"])
+        else:
+            aov.inputs["Color"].default_value = target.default_value
 
 
 def render_all(scene, layer, objects, engines, folder, resolution=None, progress=None):

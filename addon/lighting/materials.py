@@ -14,7 +14,11 @@ A Phong material holds, and nothing else:
   output, and Eevee blends;
 * the Material Output (the group's Shader: an emission of the model's colour) and AOV
   outputs "Phong Color", "Phong Irradiant", "Phong Ambient", "Phong Diffuse",
-  "Phong Specular" (add them to the view layer with ``phong.add_term_passes``).
+  "Phong Specular" (add them to the view layer with ``phong.add_term_passes``);
+* on Blender 5.3+, when the lights group has the loop part (``loop.py``: no term pass on the
+  scene's view layers), a second Material Output of target EEVEE showing the group's Eevee
+  Shader (Eevee's light loop) instead of the AOV outputs, which would make Eevee evaluate
+  the per-light part; the first one is then what Cycles shows.
 
 Materials are converted, not objects: one Phong material per distinct source material
 (and light set), so objects that shared a material share its Phong version.  The source
@@ -35,6 +39,7 @@ from bpy.app.handlers import persistent
 
 from .. import compat
 from . import drivers, rig
+from . import loop as light_loop
 
 #: Custom property that marks a Phong material; its value is the layout version (1: the
 #: layout of version 0.1, every light's nodes and drivers in the material).
@@ -51,6 +56,8 @@ AOV_NAME = "Phong Color"
 
 FRAME = "phong_controls"
 OUTPUT = "phong_output"
+#: The Material Output of target EEVEE (Blender 5.3+, a lights group with the loop part).
+OUTPUT_EEVEE = "phong_output_eevee"
 LIGHTS_NODE = "phong_lights"
 #: control node name -> (node type, label, default, input of the lights group)
 CONTROLS = {
@@ -74,6 +81,7 @@ CONTROLS = {
 OPACITY = "phong_opacity"
 OPACITY_CONTROL = ("ShaderNodeValue", "Opacity", 1.0)
 OPACITY_MIX = "phong_opacity_mix"
+OPACITY_MIX_EEVEE = "phong_opacity_mix_eevee"
 #: The Emission node of Per Vertex / Per Face shading (``shading/modes.py``).
 SHADING_EMISSION = "phong_shading_emission"
 OPACITY_TRANSPARENT = "phong_opacity_transparent"
@@ -85,7 +93,7 @@ OPACITY_MAP = "phong_opacity_map"
 #: The nodes of the recipe itself (controls, lights group, output, opacity): what an importer
 #: that strips the nodes it replaced must keep.
 RECIPE_NODES = frozenset(CONTROLS) | {LIGHTS_NODE, OUTPUT, OPACITY, OPACITY_MIX,
-                                      OPACITY_TRANSPARENT}
+                                      OPACITY_TRANSPARENT, OUTPUT_EEVEE, OPACITY_MIX_EEVEE}
 OLD_GENERATED = "phong_gen:"  # prefix of the per-light nodes of layout 1
 #: Input of the lights group for the colour the ambient light sees (MTL's Ka).  Linked from
 #: whatever feeds Object Color unless the material has its own (layout 3).
@@ -289,7 +297,10 @@ def apply_opacity(material) -> None:
     below 1 a Mix Shader (Fac = Opacity) of a Transparent BSDF and the lights group's
     Shader feeds the output and Eevee blends (render method Blended); at 1 the lights
     group's Shader feeds the output directly, as in every opaque Phong material.  An opacity
-    map (``OPACITY_MAP``, an imported texture) feeds Fac instead, whatever the value."""
+    map (``OPACITY_MAP``, an imported texture) feeds Fac instead, whatever the value.  The
+    EEVEE Material Output of a lights group with the loop part (Blender 5.3+) the same way
+    with its Eevee Shader; without the loop part (or in Per Vertex / Per Face shading) it
+    is removed."""
     tree = material.node_tree
     lights = tree.nodes.get(LIGHTS_NODE)
     output = tree.nodes.get(OUTPUT)
@@ -297,25 +308,83 @@ def apply_opacity(material) -> None:
         return
     value = opacity(material)
     mapped = _opacity_map(tree)
-    mix, transparent = tree.nodes.get(OPACITY_MIX), tree.nodes.get(OPACITY_TRANSPARENT)
+    targets = [(OPACITY_MIX, _shader(tree, lights), output)]
+    eevee_output = _eevee_output(tree, lights)
+    if eevee_output is not None:
+        targets.append((OPACITY_MIX_EEVEE, _eevee_shader(tree, lights), eevee_output))
+    elif tree.nodes.get(OPACITY_MIX_EEVEE) is not None:
+        tree.nodes.remove(tree.nodes[OPACITY_MIX_EEVEE])
     if value >= 1.0 and mapped is None:
-        for node in (mix, transparent):
-            if node is not None:
-                tree.nodes.remove(node)
-        tree.links.new(_shader(tree, lights), output.inputs["Surface"])
+        for name in (OPACITY_MIX, OPACITY_MIX_EEVEE, OPACITY_TRANSPARENT):
+            if tree.nodes.get(name) is not None:
+                tree.nodes.remove(tree.nodes[name])
+        for _mix, source, target in targets:
+            tree.links.new(source, target.inputs["Surface"])
         _render_method(material, "DITHERED")
         return
-    mix = named_node(tree, OPACITY_MIX, "ShaderNodeMixShader", (150.0, 200.0))
-    mix.label = "Opacity"
     transparent = named_node(tree, OPACITY_TRANSPARENT, "ShaderNodeBsdfTransparent",
                              (-50.0, 300.0))
     transparent.inputs["Color"].default_value = (1.0, 1.0, 1.0, 1.0)
     fac = mapped if mapped is not None else compat.value_output(tree.nodes[OPACITY])
-    tree.links.new(fac, compat.input_socket(mix, "Fac"))
-    tree.links.new(compat.output_socket(transparent, "BSDF"), compat.input_socket(mix, "Shader"))
-    tree.links.new(_shader(tree, lights), compat.input_socket(mix, "Shader_001"))
-    tree.links.new(compat.output_socket(mix, "Shader"), output.inputs["Surface"])
+    for index, (name, source, target) in enumerate(targets):
+        mix = named_node(tree, name, "ShaderNodeMixShader", (150.0, 200.0 + 200.0 * index))
+        mix.label = "Opacity"
+        tree.links.new(fac, compat.input_socket(mix, "Fac"))
+        tree.links.new(compat.output_socket(transparent, "BSDF"),
+                       compat.input_socket(mix, "Shader"))
+        tree.links.new(source, compat.input_socket(mix, "Shader_001"))
+        tree.links.new(compat.output_socket(mix, "Shader"), target.inputs["Surface"])
     _render_method(material, "BLENDED")
+
+
+def _eevee_shader(tree, lights):
+    """The lights group's Eevee Shader output when the group has the loop part and the
+    material shows it, else None.  Not in Per Vertex / Per Face shading, nor for a material
+    that blends (Opacity below 1, an opacity map): the loop's sum cannot be clamped at 1
+    (loop.py), and a blend of more than 1 is another picture, where an opaque pixel of more
+    than 1 shows as 1 (measured: 2.4 % of test_controls' pixels off by up to 0.25)."""
+    emission = tree.nodes.get(SHADING_EMISSION)
+    if emission is not None and emission.bl_idname == "ShaderNodeEmission":
+        return None
+    if _blends(tree):
+        if light_loop.has_loop(lights.node_tree) and lights.node_tree.get(rig.LOOP_WORLD_KEYS):
+            scene = rig.owner(lights.node_tree)  # Eevee compiles its group: at most
+            if scene is not None:                # compat.VIEW_LAYER_LOOKUPS (sync.py)
+                STALE.add(scene.as_pointer())
+        return None
+    if not light_loop.has_loop(lights.node_tree):
+        return None
+    return lights.outputs.get(light_loop.EEVEE_SHADER)
+
+
+def _eevee_output(tree, lights):
+    """The EEVEE Material Output of *tree*, made when the material shows the loop
+    (``_eevee_shader``), removed (None) when it does not."""
+    node = tree.nodes.get(OUTPUT_EEVEE)
+    if _eevee_shader(tree, lights) is None:
+        if node is not None:
+            tree.nodes.remove(node)
+        return None
+    node = named_node(tree, OUTPUT_EEVEE, "ShaderNodeOutputMaterial", (400.0, 300.0))
+    node.label = "Eevee (light loop, Blender 5.3+)"
+    if node.target != "EEVEE":
+        node.target = "EEVEE"
+    if not node.is_active_output:
+        node.is_active_output = True
+    return node
+
+
+def eevee_in_step(material) -> bool:
+    """Whether *material* has the EEVEE Material Output exactly when it shows its lights
+    group's loop part, and the term AOV outputs exactly when the group has no loop part."""
+    tree = material.node_tree
+    lights = tree.nodes.get(LIGHTS_NODE)
+    if lights is None:
+        return True
+    loop = light_loop.has_loop(lights.node_tree)
+    aovs = any(tree.nodes.get(f"phong_aov:{name}") is not None for name in AOVS)
+    shows = _eevee_shader(tree, lights) is not None
+    return (tree.nodes.get(OUTPUT_EEVEE) is not None) == shows and aovs != loop
 
 
 def _shader(tree, lights):
@@ -325,6 +394,24 @@ def _shader(tree, lights):
     if emission is not None and emission.bl_idname == "ShaderNodeEmission":
         return compat.output_socket(emission, "Emission")
     return lights.outputs["Shader"]
+
+
+#: Pointers of the scenes whose lights groups a material that began to blend makes Eevee
+#: compile with more View Layer lookups than ``compat.VIEW_LAYER_LOOKUPS``: the depsgraph
+#: handler relinks them (``sync.on_depsgraph_update``), with that budget.
+STALE: set = set()
+
+
+def _blends(tree) -> bool:
+    node = tree.nodes.get(OPACITY)
+    return _opacity_map(tree) is not None or (
+        node is not None and node.bl_idname == OPACITY_CONTROL[0]
+        and float(compat.value_output(node).default_value) < 1.0)
+
+
+def blends(material) -> bool:
+    """Whether *material* blends with what is behind it (Opacity below 1, an opacity map)."""
+    return material.node_tree is not None and _blends(material.node_tree)
 
 
 def _opacity_map(tree):
@@ -340,7 +427,9 @@ def opacity_in_step(material) -> bool:
     opacity map)."""
     tree = material.node_tree
     blends = opacity(material) < 1.0 or _opacity_map(tree) is not None
-    return (tree.nodes.get(OPACITY_MIX) is not None) == blends
+    return ((tree.nodes.get(OPACITY_MIX) is not None) == blends
+            and (tree.nodes.get(OPACITY_MIX_EEVEE) is not None)
+            == (blends and tree.nodes.get(OUTPUT_EEVEE) is not None))
 
 
 @persistent
@@ -414,7 +503,7 @@ def _output(tree):
         node.name = OUTPUT
         node.location = (400.0, 100.0)
     for other in tree.nodes:
-        if other.bl_idname == "ShaderNodeOutputMaterial":
+        if other.bl_idname == "ShaderNodeOutputMaterial" and other.name != OUTPUT_EEVEE:
             other.is_active_output = other is node
     node.target = "ALL"
     return node
@@ -444,8 +533,13 @@ def wire(material, lights_group, object_color=None) -> None:
     if not ambient.is_linked:  # the seeds' model: the ambient light sees the Object Color
         tree.links.new(node.inputs["Object Color"].links[0].from_socket, ambient)
     tree.links.new(node.outputs["Shader"], _output(tree).inputs["Surface"])
+    loop = light_loop.has_loop(lights_group)
     for index, (aov_name, socket) in enumerate(AOVS.items()):
         aov = tree.nodes.get(f"phong_aov:{aov_name}")
+        if loop:  # Eevee would evaluate the per-light part for them (loop.py)
+            if aov is not None:
+                tree.nodes.remove(aov)
+            continue
         if aov is None:
             aov = tree.nodes.new("ShaderNodeOutputAOV")
             aov.name = f"phong_aov:{aov_name}"

@@ -44,6 +44,14 @@ The number of drivers depends on the lights (about 12 per light), not on the obj
 light's location and axis are not driven in the group: drivers on the World write them as
 World custom properties that Attribute nodes (View Layer) read (``WORLD_PREFIX``), so moving
 a light re-evaluates no material (docs/contract.md, "Lights' transforms on the world").
+
+On Blender 5.3+ a group of a model that Eevee's light loop runs (``loop.supports``) also has
+the output "Eevee Shader": the loop part (``loop.py``), which does not depend on the lights,
+shown by the material's EEVEE Material Output, while Cycles shows "Shader".  Eevee then
+compiles nothing of the per-light part, so every light's transform comes from the World
+(``compat.view_layer_lookups``).  Not while a view layer of the scene has the Phong term
+passes: their AOVs evaluate the per-light part in Eevee too, so the group is then the one of
+5.2 (``wants_loop``).
 """
 
 from __future__ import annotations
@@ -55,6 +63,7 @@ import bpy
 
 from .. import compat, loader
 from . import drivers, properties
+from . import loop as light_loop
 from .lights import SUPPORTED
 
 #: Custom properties of a lights group: the scene it belongs to (an ID pointer) and its
@@ -93,10 +102,30 @@ INPUTS = (  # (name, socket type, default)
 #: drivers on the group's sockets.  The group lists its keys in ``WORLD_KEYS``.
 WORLD_PREFIX = "phong_light_"
 WORLD_KEYS = "phong_world_keys"
+#: The keys a group with the loop part reads beyond ``compat.VIEW_LAYER_LOOKUPS`` (Eevee
+#: compiles none of them); apart, so that the Per Vertex / Per Face groups, which Eevee
+#: compiles, read only those of ``WORLD_KEYS`` (``shading/modes.py``).
+LOOP_WORLD_KEYS = "phong_world_keys_loop"
 TRANSFORM_SOCKETS = {"LOCATION": "Position", "AXIS": "Direction"}
 TERMS = ("Irradiant", "Ambient", "Diffuse", "Specular")
 OUTPUTS = (("Color", "NodeSocketColor"),) + tuple((t, "NodeSocketColor") for t in TERMS) + (
     ("Shader", "NodeSocketShader"),)
+if compat.HAS_LIGHT_LOOP:  # last: the sockets before it keep their identifiers and links
+    OUTPUTS += ((light_loop.EEVEE_SHADER, "NodeSocketShader"),)
+#: The AOVs of the term passes (``materials.AOVS``, ``phong.add_term_passes``).
+PASS_NAMES = ("Phong Color",) + tuple(f"Phong {t}" for t in TERMS)
+
+
+def wants_term_passes(scene) -> bool:
+    """Whether a view layer of *scene* has one of the Phong term passes (AOVs)."""
+    return any(aov.name in PASS_NAMES for layer in scene.view_layers for aov in layer.aovs)
+
+
+def wants_loop(scene) -> bool:
+    """Whether *scene*'s lights groups get the loop part: Blender 5.3+, a model the loop
+    runs, and no Phong term pass on its view layers (the AOVs would make Eevee evaluate the
+    per-light part anyway, at the cost of 5.2: issue 38)."""
+    return light_loop.supports(model_of(scene)) and not wants_term_passes(scene)
 
 
 def world_key(obj, kind: str) -> str:
@@ -114,6 +143,7 @@ def prune_world_keys(worlds=None) -> int:
     used = set()
     for tree in bpy.data.node_groups:
         used.update(tree.get(WORLD_KEYS, ()))
+        used.update(tree.get(LOOP_WORLD_KEYS, ()))
     removed = 0
     for world in (bpy.data.worlds if worlds is None else worlds):
         if world is None or world.library is not None:
@@ -164,26 +194,30 @@ def group_name(scene, lights, key: str) -> str:
     return name
 
 
-def ensure(scene, lights, key: str):
-    """The lights group of *scene* for *lights* (key *key*), created or rebuilt."""
+def ensure(scene, lights, key: str, blends: bool = False):
+    """The lights group of *scene* for *lights* (key *key*), created or rebuilt.  *blends*:
+    a Phong material of the scene blends (Opacity below 1): Eevee then compiles its group
+    (``materials._eevee_shader``), which so reads at most ``compat.VIEW_LAYER_LOOKUPS``."""
+    loop = wants_loop(scene)
+    lookups = compat.view_layer_lookups(loop and not blends)
     tree = find(scene, key)
     if tree is None:
         tree = bpy.data.node_groups.new(group_name(scene, lights, key), "ShaderNodeTree")
         tree[SCENE_KEY] = scene
         tree[SET_KEY] = key
-        build(tree, lights, scene.world, model_of(scene))
+        build(tree, lights, scene.world, model_of(scene), loop, lookups)
         return tree
-    tree = rebuild(tree, lights, scene.world, model_of(scene))
+    tree = rebuild(tree, lights, scene.world, model_of(scene), loop, lookups)
     name = group_name(scene, lights, key)
     if not (tree.name == name or tree.name.startswith(name + ".")):  # the scene was renamed
         tree.name = name
     return tree
 
 
-def rebuild(tree, lights, world, model=MODELS[0]):
+def rebuild(tree, lights, world, model=MODELS[0], loop=False, lookups=None):
     """*tree* rewritten for *lights*; returns the group that now stands for it
     (``rewrite``)."""
-    return rewrite(tree, lambda t: build(t, lights, world, model))
+    return rewrite(tree, lambda t: build(t, lights, world, model, loop, lookups))
 
 
 def rewrite(tree, write):
@@ -208,17 +242,23 @@ def rewrite(tree, write):
     return fresh
 
 
-def build(tree, lights, world, model=MODELS[0]) -> None:
-    """(Re)write *tree* for *lights* (supported light objects) and *world* in *model*."""
+def build(tree, lights, world, model=MODELS[0], loop=False, lookups=None) -> None:
+    """(Re)write *tree* for *lights* (supported light objects) and *world* in *model*;
+    *loop*: with the loop part (Blender 5.3+: ``loop.py``), ignored where Eevee's light loop
+    does not run *model*; *lookups*: the View Layer lookups it may hold (default
+    ``compat.view_layer_lookups(loop)``)."""
+    loop = loop and light_loop.supports(model)
     _interface(tree)
+    if lookups is None:
+        lookups = compat.view_layer_lookups(loop)
+    budget = [world, lookups, compat.VIEW_LAYER_LOOKUPS]
     if model == "threejs":
-        _build_threejs(tree, lights, world)
+        _build_threejs(tree, lights, world, budget, loop)
         return
     if model == "x3d":
-        _build_x3d(tree, lights, world)
+        _build_x3d(tree, lights, world, budget)
         return
     group_in, group_out, out_x = _start(tree, lights)
-    budget = [world, compat.VIEW_LAYER_LOOKUPS]
     surface = _group_node(tree, "Phong Surface", "surface", (-600.0, 520.0))
     for name in ("Normal", "View Vector"):
         tree.links.new(group_in.outputs[name], surface.inputs[name])
@@ -255,6 +295,9 @@ def build(tree, lights, world, model=MODELS[0]) -> None:
     tree.links.new(group_in.outputs["Irradiant Color"], group_out.inputs["Irradiant"])
     tree.links.new(ambient.outputs["Color"], group_out.inputs["Ambient"])
     _emission(tree, color, group_out, out_x)
+    if loop:
+        light_loop.build(tree, MODELS[0], group_in, group_out,
+                         group_in.outputs["Irradiant Color"], ambient.outputs["Color"], surface)
     _stamp(tree, lights, MODELS[0])
 
 
@@ -262,6 +305,7 @@ def _stamp(tree, lights, model) -> None:
     tree[VERSION_KEY] = RIG_VERSION
     tree[MODEL_KEY] = model
     tree["phong_lights"] = [obj.name for obj in lights]
+    tree[light_loop.LOOP_KEY] = tree.get(light_loop.LOOP_KEY) or ""
 
 
 def _start(tree, lights):
@@ -270,6 +314,8 @@ def _start(tree, lights):
         tree.animation_data_clear()
     tree.nodes.clear()
     tree[WORLD_KEYS] = []
+    tree[LOOP_WORLD_KEYS] = []
+    tree[light_loop.LOOP_KEY] = ""
     group_in = tree.nodes.new("NodeGroupInput")
     group_in.location = (-900.0, 0.0)
     group_out = tree.nodes.new("NodeGroupOutput")
@@ -292,11 +338,10 @@ THREEJS_SHADING = {"Object Color": "Diffuse Color", "Specular Color": "Specular 
                    "Normal": "Normal", "View Vector": "View Vector"}
 
 
-def _build_threejs(tree, lights, world) -> None:
+def _build_threejs(tree, lights, world, budget, loop=False) -> None:
     """The three.js model (docs/threejs.md): per light a light group and a three.js Phong,
     the ambient a three.js Ambient, the emissive the Irradiant Color input."""
     group_in, group_out, out_x = _start(tree, lights)
-    budget = [world, compat.VIEW_LAYER_LOOKUPS]
     shadings = []
     for index, obj in enumerate(lights):
         y = -520.0 * index
@@ -314,16 +359,17 @@ def _build_threejs(tree, lights, world) -> None:
     irradiant = group_in.outputs["Irradiant Color"]
     _sums(tree, ambient, [irradiant] + [s.outputs["Color"] for s in shadings], shadings,
           irradiant, group_out, out_x)
+    if loop:
+        light_loop.build(tree, "threejs", group_in, group_out, irradiant, ambient.outputs["Color"])
     _stamp(tree, lights, "threejs")
 
 
-def _build_x3d(tree, lights, world) -> None:
+def _build_x3d(tree, lights, world, budget) -> None:
     """The X3D / VRML97 model (docs/x3d.md): per light an X3D light group and an X3D Light
     Terms; Diffuse = Σ diffuse light ⊗ Object Color, Specular = Σ specular light ⊗ Specular
     Color, Ambient = (the World's ambient light + Σ the lights' ambient light) ⊗ Ambient
     Object Color, Color = min(Irradiant + Ambient + Diffuse + Specular, 1)."""
     group_in, group_out, out_x = _start(tree, lights)
-    budget = [world, compat.VIEW_LAYER_LOOKUPS]
     surface = _group_node(tree, "Phong Surface", "surface", (-600.0, 520.0))
     for name in ("Normal", "View Vector"):
         tree.links.new(group_in.outputs[name], surface.inputs[name])
@@ -382,9 +428,14 @@ def _emission(tree, color, group_out, out_x) -> None:
 
 def _interface(tree) -> None:
     """The interface of INPUTS / OUTPUTS, made once (group nodes in materials keep links)."""
+    want = ([("OUTPUT", n, t) for n, t in OUTPUTS] + [("INPUT", n, t) for n, t, _d in INPUTS])
+    for item in [i for i in tree.interface.items_tree if i.item_type == "SOCKET"
+                 and (i.in_out, i.name, i.socket_type) == ("OUTPUT", light_loop.EEVEE_SHADER,
+                                                           "NodeSocketShader")
+                 and ("OUTPUT", i.name, i.socket_type) not in want]:
+        tree.interface.remove(item)  # a group of 5.3 opened by an earlier Blender
     have = [(i.in_out, i.name, i.socket_type) for i in tree.interface.items_tree
             if i.item_type == "SOCKET"]
-    want = ([("OUTPUT", n, t) for n, t in OUTPUTS] + [("INPUT", n, t) for n, t, _d in INPUTS])
     if have == want:
         return
     if set(have) <= set(want) and have == [w for w in want if w in set(have)]:
@@ -424,11 +475,13 @@ def _group_node(tree, group_name, name, location):
     return node
 
 
-def _light_node(tree, obj, location, model, budget=(None, 0)):
+def _light_node(tree, obj, location, model, budget=(None, 0, 0)):
     """The light group of *obj* in *model*, driven by the light; its transform from the
-    World (*budget*: [world, View Layer lookups left], spent here) or by drivers."""
+    World (*budget*: [world, View Layer lookups left, those of them Eevee may compile left],
+    spent here) or by drivers."""
     light = obj.data
     properties.ensure_light_props(light)
+    light_loop.write_parameters(light)  # what the light loop reads of it (5.3+; else nothing)
     node = _group_node(tree, LIGHT_GROUPS[model][light.type], f"light:{obj.name}", location)
     inputs = node.inputs
     keys = {attr: f'["{key}"]' for attr, (key, _default) in properties.LIGHT_KEYS.items()}
@@ -438,9 +491,13 @@ def _light_node(tree, obj, location, model, budget=(None, 0)):
     from_world = world is not None and world.library is None and budget[1] >= len(kinds)
     if from_world:
         budget[1] -= len(kinds)
+        eevee = len(budget) < 3 or budget[2] >= len(kinds)
+        if len(budget) >= 3 and eevee:
+            budget[2] -= len(kinds)
         for row, kind in enumerate(kinds):
             _world_input(tree, world, obj, kind, inputs[TRANSFORM_SOCKETS[kind]],
-                         (location[0] - 300.0, location[1] - 160.0 * row))
+                         (location[0] - 300.0, location[1] - 160.0 * row),
+                         WORLD_KEYS if eevee else LOOP_WORLD_KEYS)
     if light.type in ("POINT", "SPOT"):
         if not from_world:
             drivers.world_location(inputs["Position"], obj)
@@ -457,8 +514,9 @@ def _light_node(tree, obj, location, model, budget=(None, 0)):
     return node
 
 
-def _world_input(tree, world, obj, kind, socket, location) -> None:
-    """*socket* fed by an Attribute node (View Layer) of *obj*'s World property *kind*."""
+def _world_input(tree, world, obj, kind, socket, location, listed=WORLD_KEYS) -> None:
+    """*socket* fed by an Attribute node (View Layer) of *obj*'s World property *kind*; the
+    key is listed in the group's property *listed*."""
     key = world_key(obj, kind)
     drivers.world_vector(world, key, obj, kind)
     attribute = tree.nodes.new("ShaderNodeAttribute")
@@ -467,7 +525,7 @@ def _world_input(tree, world, obj, kind, socket, location) -> None:
     attribute.name = attribute.label = f"{TRANSFORM_SOCKETS[kind].lower()}:{obj.name}"
     attribute.location = location
     tree.links.new(attribute.outputs["Vector"], socket)
-    tree[WORLD_KEYS] = [*tree.get(WORLD_KEYS, ()), key]
+    tree[listed] = [*tree.get(listed, ()), key]
 
 
 def _is_power(light, model) -> bool:

@@ -17,6 +17,7 @@ import bpy
 from bpy.app.handlers import persistent
 
 from . import lights as lights_mod
+from . import loop as light_loop
 from . import materials, rig
 
 
@@ -34,9 +35,12 @@ class Sync:
         # name -> material, once: bpy.data.materials.get is a linear search (0.5 ms at
         # 6,000 materials), and every Phong material names its source
         self.names = {m.name: m for m in bpy.data.materials}
+        self.blends = False  # a Phong material blends: Eevee compiles the lights groups
         for material in materials.phong_materials():
             self.index.setdefault((self._origin(material), materials.lights_key(material)),
                                   material)
+            self.blends = self.blends or materials.blends(material)
+        materials.STALE.discard(scene.as_pointer())
         self.changed: set = set()
 
     # -- light sets and their groups ------------------------------------------------
@@ -49,7 +53,7 @@ class Sync:
 
     def group(self, key, reach):
         if key not in self.groups:
-            self.groups[key] = rig.ensure(self.scene, reach, key)
+            self.groups[key] = rig.ensure(self.scene, reach, key, self.blends)
         return self.groups[key]
 
     # -- materials --------------------------------------------------------------------
@@ -114,6 +118,9 @@ class Sync:
                 or int(material.get(materials.MATERIAL_TAG, 0)) < materials.LAYOUT):
             materials.wire(material, group)
             self.changed.add(material.name)
+        elif not materials.eevee_in_step(material):  # the loop part came or went (5.3+)
+            materials.wire(material, group)
+            self.changed.add(material.name)
         elif not materials.opacity_in_step(material):  # its Opacity node written directly
             materials.apply_opacity(material)
         return material
@@ -165,7 +172,7 @@ class Sync:
         for tree in rig.groups_of(self.scene):
             key = tree.get(rig.SET_KEY)
             if key == rig.ALL:
-                self.groups[key] = rig.ensure(self.scene, self.lights, key)
+                self.groups[key] = rig.ensure(self.scene, self.lights, key, self.blends)
         for tree in rig.groups_of(self.scene):
             if tree.users == 0 and tree not in self.groups.values():
                 bpy.data.node_groups.remove(tree)
@@ -203,7 +210,11 @@ def relink_scene(scene, view_layer=None, prune: bool = True) -> Sync:
 def remember(scene, view_layer=None) -> None:
     """Note the lights of *scene* as handled (the handler acts on the next change)."""
     _LIGHTS[scene.as_pointer()] = lights_mod.light_objects(scene)
-    _SEEN[scene.as_pointer()] = lights_mod.signature(scene, view_layer, _LIGHTS[scene.as_pointer()])
+    _SEEN[scene.as_pointer()] = _signature(scene, view_layer, _LIGHTS[scene.as_pointer()])
+
+
+def _signature(scene, view_layer, candidates):
+    return lights_mod.signature(scene, view_layer, candidates)
 
 
 # -- the handler -------------------------------------------------------------------------
@@ -229,11 +240,18 @@ def on_depsgraph_update(scene, depsgraph=None):
     """Relink *scene* when its lights changed (added, deleted, hidden, retyped, relinked)."""
     if _BUSY or scene is None:
         return
-    if depsgraph is not None and not any(depsgraph.id_type_updated(kind) for kind in
-                                         ("OBJECT", "LIGHT", "COLLECTION", "SCENE", "WORLD")):
+    stale = scene.as_pointer() in materials.STALE  # a material began to blend (5.3+)
+    if depsgraph is not None and not stale and not any(
+            depsgraph.id_type_updated(kind)
+            for kind in ("OBJECT", "LIGHT", "COLLECTION", "SCENE", "WORLD")):
         return
-    if not rig.groups_of(scene):
+    groups = rig.groups_of(scene)
+    if not groups:
         return
+    # 5.3+: a Phong term pass appeared on a view layer (added by hand): the materials need
+    # their AOV outputs, so the groups lose the loop part.  Not the other way round: without
+    # the passes the materials still render right (Apply or Relink brings the loop back).
+    passes = rig.wants_term_passes(scene) and any(light_loop.has_loop(t) for t in groups)
     view_layer = depsgraph.view_layer if depsgraph is not None else None
     key = scene.as_pointer()
     structure = depsgraph is None or any(depsgraph.id_type_updated(kind)
@@ -241,11 +259,11 @@ def on_depsgraph_update(scene, depsgraph=None):
     if structure or key not in _LIGHTS:  # objects may have come or gone: look again
         _LIGHTS[key] = lights_mod.light_objects(scene)
     try:
-        signature = lights_mod.signature(scene, view_layer, _LIGHTS[key])
+        signature = _signature(scene, view_layer, _LIGHTS[key])
     except ReferenceError:  # a remembered light was deleted
         _LIGHTS[key] = lights_mod.light_objects(scene)
-        signature = lights_mod.signature(scene, view_layer, _LIGHTS[key])
-    if _SEEN.get(key) == signature:
+        signature = _signature(scene, view_layer, _LIGHTS[key])
+    if _SEEN.get(key) == signature and not stale and not passes:
         return
     _BUSY.append(True)
     try:
@@ -265,15 +283,19 @@ def forget(*_args):
 def upgrade_on_load(*_args):
     """A file of an earlier version: each scene whose lights groups are older than
     ``rig.RIG_VERSION`` is relinked, which rebuilds its groups and upgrades its Phong
-    materials (``materials.upgrade``); nothing is lost.  Files of version 0.1 (no lights
+    materials (``materials.upgrade``); nothing is lost.  So is a scene whose groups have the
+    loop part where this Blender has no light loop (a file of 5.3 opened by 5.2: its EEVEE
+    Material Outputs, of nodes 5.2 does not know, are removed) or lack it where it should
+    be (a file of 5.2 opened by 5.3).  Files of version 0.1 (no lights
     groups, every light in the material) are upgraded by Relink Phong Lights."""
     if _BUSY:
         return
     for scene in bpy.data.scenes:
         if scene.library is not None:
             continue
+        loop = light_loop.stamp(rig.model_of(scene)) if rig.wants_loop(scene) else ""
         if not any(int(t.get(rig.VERSION_KEY, 0)) < rig.RIG_VERSION
-                   for t in rig.groups_of(scene)):
+                   or (t.get(light_loop.LOOP_KEY) or "") != loop for t in rig.groups_of(scene)):
             continue
         _BUSY.append(True)
         try:
@@ -286,6 +308,7 @@ def upgrade_on_load(*_args):
 #: the depsgraph's updates: a relink frees and edits data blocks (groups, the World's
 #: drivers) that those updates still name (Blender 4.2 crashed in follow_opacity after it).
 _HANDLERS = (("depsgraph_update_post", materials.follow_opacity),
+             ("depsgraph_update_post", light_loop.follow_lights),
              ("depsgraph_update_post", on_depsgraph_update), ("load_post", forget),
              ("load_post", upgrade_on_load), ("undo_post", forget), ("redo_post", forget))
 

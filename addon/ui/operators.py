@@ -22,7 +22,7 @@ from ...core import mtl
 from ...core import threejs
 from ..interchange import mtl_export, obj_import, threejs_export
 from ..interchange.fbx_import import PHONG_OT_import_fbx
-from ..lighting import materials, rig
+from ..lighting import loop, materials, rig
 from ..lighting import sync as sync_mod
 
 
@@ -236,6 +236,8 @@ compositor"""
     def execute(self, context):
         layer = context.view_layer
         added = materials.add_view_layer_aovs(layer, materials.AOVS)
+        if added and any(loop.has_loop(t) for t in rig.groups_of(context.scene)):
+            sync_mod.relink_scene(context.scene, layer)  # 5.3+: the materials write them again
         self.report({"INFO"}, f"Phong passes on view layer {layer.name!r}: "
                               + (", ".join(added) if added else "all there already"))
         return {"FINISHED"}
