@@ -234,8 +234,10 @@ def summary_table(results) -> list:
     lines = [header, "-" * len(header)]
     for m, pair, p in rows:
         engine = pair.split("-")[0]
-        v = (m["verdict"].get(engine) if pair.endswith("reference") or pair == "threejs-cycles"
-             else None)
+        # a peer's verdict is against Cycles, an engine's against the reference
+        judged = (pair == f"{engine}-cycles" if engine in compare.PEERS
+                  else pair.endswith("reference"))
+        v = m["verdict"].get(engine) if judged else None
         mark = "" if v is None else ("OK" if v["ok"] else "FAIL")
         psnr = "inf" if p["psnr_db"] is None else f"{p['psnr_db']:.1f}"
         lines.append(f"{m['scene']:<{scene_w}}{pair:<{pair_w}}{p['max_abs']:>10.2e}"

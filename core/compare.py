@@ -376,22 +376,37 @@ def evaluate_x3d_peer(scene: dict, rgba: np.ndarray, images: dict, mask: np.ndar
                       objects: np.ndarray, peer: str = "x_ite") -> tuple:
     """An X3D browser's picture (8-bit RGBA, row 0 = top, the canvas holding I: see
     :func:`compare_x3d_display`) against every render: ({pair: metrics}, verdict or None,
-    the mask of the pixels compared).  Compared: the pixels the reference compares (*mask*)
-    that the peer covers too, away from silhouettes (:func:`silhouettes` of the reference's
-    *objects* and the peer's coverage).  The verdict counts only for a scene in the X3D model
-    (in another model the browser shows another formula)."""
+    the mask of the pixels compared).
+
+    The region judged: the pixels the reference compares (*mask*) away from silhouettes
+    (:func:`silhouettes` of the reference's *objects* and the peer's coverage).  The pairs'
+    metrics are over the pixels of that region the peer covers; the pair with Cycles also
+    gets ``coverage`` (the share of the region the peer covers) and ``agree`` (the share of
+    the region the peer covers within 2/255 of Cycles: a pixel the peer leaves empty is a
+    disagreement).  The verdict, on ``agree``, counts only for a scene in the X3D model (in
+    another model the browser shows another formula); a region without pixels (nothing of
+    the scene in view) passes as Cycles' verdict does."""
     covered = rgba[..., 3] > 0
-    both = mask & covered & ~silhouettes(objects, covered)
+    region = mask & ~silhouettes(objects, covered)
+    both = region & covered
     pairs = {f"{peer}-{name}": compare_x3d_display(rgba, images[name], both)
              for name in ("cycles", "eevee", "reference") if name in images}
     key = f"{peer}-cycles"
+    if key in pairs:
+        diff = np.abs(rgba[..., :3].astype(np.float64) / 255.0
+                      - np.clip(np.asarray(images["cycles"][..., :3], np.float64), 0.0, 1.0))
+        within = both & (diff.max(axis=-1) <= X3D_PEER_STEP + 1e-9)
+        total = int(region.sum())
+        pairs[key]["region"] = total
+        pairs[key]["coverage"] = float(both.sum() / total) if total else 1.0
+        pairs[key]["agree"] = float(within.sum() / total) if total else 1.0
     if scene.get("model") != "x3d" or key not in pairs:
         return pairs, None, both
-    within = pairs[key]["share_within_2_255"]
-    return pairs, {"ok": within >= X3D_PEER_SHARE and pairs[key]["pixels"] > 0,
-                   "rule": f"≥ {X3D_PEER_SHARE:.0%} of pixels both cover, away from "
-                           "silhouettes, within 2/255 of Cycles",
-                   "value": f"{within:.3%}"}, both
+    agree = pairs[key]["agree"]
+    return pairs, {"ok": agree >= X3D_PEER_SHARE,
+                   "rule": f"≥ {X3D_PEER_SHARE:.0%} of the pixels away from silhouettes "
+                           "covered and within 2/255 of Cycles",
+                   "value": f"{agree:.3%}" if pairs[key]["region"] else "no pixels"}, both
 
 
 def verdict(pair_metrics: dict, term_metrics: dict | None = None) -> dict:

@@ -282,9 +282,9 @@ def write_scene(folder: str, scene: dict, images: dict, refimg: dict, mask, metr
         if m.get("space") == "display":
             return (f"|{pair.replace('-', ' - ')}| (display)  "
                     f"{m['share_within_2_255']:.1%} ≤ 2/255")
-        if m.get("space") == "x3d":
+        if m.get("space") == "x3d":   # with Cycles: the share of the region judged
             return (f"|{pair.replace('-', ' - ')}| (X3D display)  "
-                    f"{m['share_within_2_255']:.1%} ≤ 2/255")
+                    f"{m.get('agree', m['share_within_2_255']):.1%} ≤ 2/255")
         return f"|{pair.replace('-', ' - ')}|  max {m['max_abs']:.1e}"
 
     names = {"reference": "Reference (numpy)", **PEER_NAMES}

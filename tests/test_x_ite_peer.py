@@ -61,9 +61,20 @@ def test_silhouettes_and_the_x3d_display_metric():
     pairs, verdict, mask = compare.evaluate_x3d_peer(scene, rgba, {"cycles": render},
                                                      np.ones((2, 2), bool), np.ones((2, 2)))
     assert verdict is not None and not verdict["ok"] and mask.all()
+    assert pairs["x_ite-cycles"]["agree"] == 0.5 and pairs["x_ite-cycles"]["coverage"] == 1.0
     _, none, _ = compare.evaluate_x3d_peer({"model": "seeds"}, rgba, {"cycles": render},
                                            np.ones((2, 2), bool), np.ones((2, 2)))
     assert none is None
+    # a peer that leaves the scene empty disagrees everywhere; nothing in view passes
+    big = np.ones((6, 6), bool)
+    empty = np.zeros((6, 6, 4), np.uint8)
+    grey = np.full((6, 6, 3), 0.5)
+    pairs, verdict, _ = compare.evaluate_x3d_peer(scene, empty, {"cycles": grey}, big,
+                                                  np.ones((6, 6)))
+    assert not verdict["ok"] and pairs["x_ite-cycles"]["coverage"] == 0.0
+    pairs, verdict, _ = compare.evaluate_x3d_peer(scene, empty, {"cycles": grey}, ~big,
+                                                  np.zeros((6, 6)))
+    assert verdict["ok"] and verdict["value"] == "no pixels"
 
 
 def test_peers_x_ite_is_an_option_of_compare_and_demo_but_not_of_bake():
@@ -102,12 +113,14 @@ def test_x_ite_matches_cycles_on_a_scene_in_the_x3d_model(bpy_clean, tmp_path):
     scene.render.resolution_x, scene.render.resolution_y = 160, 120
     metrics = engine.run(scene, str(tmp_path / "x3d"), engines=("cycles",), peers=("x_ite",))
     pair = metrics["pairs"]["x_ite-cycles"]
-    be.report(f"[x_ite] X_ITE against Cycles: {pair['share_within_2_255']:.3%} within 2/255, "
+    be.report(f"[x_ite] X_ITE against Cycles: {pair['agree']:.3%} of {pair['region']} pixels "
+              f"covered and within 2/255 ({pair['share_within_2_255']:.3%} of those covered), "
               f"max {pair['max_abs'] * 255:.2f}/255, {pair['pixels']} pixels, "
               f"browser {metrics['x_ite']['browser_s']:.1f} s")
     assert metrics["pairs"]["cycles-reference"]["max_abs"] <= 1e-4
     assert pair["pixels"] > 0.8 * metrics["pixels"]["compared"]
     assert pair["share_within_2_255"] >= compare.X3D_PEER_SHARE, pair
+    assert pair["agree"] >= compare.X3D_PEER_SHARE and pair["coverage"] >= 0.99, pair
     assert metrics["verdict"]["x_ite"]["ok"] and metrics["ok"], metrics["verdict"]
     assert metrics["x_ite"]["in_verdict"] and metrics["x_ite"]["covered"] > 5000
     folder = tmp_path / "x3d"
@@ -138,4 +151,36 @@ def test_x_ite_is_far_from_the_seeds_model_and_not_judged_there(bpy_clean, tmp_p
     metrics = engine.run(scene, str(tmp_path / "seeds"), engines=("cycles",), peers=("x_ite",))
     assert metrics["pairs"]["x_ite-cycles"]["share_within_2_255"] < 0.9
     assert "x_ite" not in metrics["verdict"] and not metrics["x_ite"]["in_verdict"]
-    assert any("not in the X3D model" in w for w in metrics["x_ite"]["warnings"])
+    assert any("not X3D" in w for w in metrics["x_ite"]["warnings"])
+
+
+X3D_FILES = sorted(os.listdir(os.path.join(be.REPO_ROOT, "tests", "data", "x3d")))
+
+
+@pytest.mark.slow
+@pytest.mark.cycles
+@pytest.mark.parametrize("name", X3D_FILES)
+def test_imported_files_agree_with_x_ite(tmp_path, name):
+    """Each file of tests/data/x3d, imported as Phong (`phong compare FILE --peers x_ite`: the
+    importer, the exporter and X_ITE in a row): in the X3D model, X_ITE's verdict passes.  A
+    file without geometry is refused (exit 2)."""
+    need_x_ite()
+    path = os.path.join(be.REPO_ROOT, "tests", "data", "x3d", name)
+    out = tmp_path / "out"
+    env = dict(os.environ, BLENDER_USER_RESOURCES=str(tmp_path / "user"))
+    done = subprocess.run([*CLI, "compare", path, "--peers", "x_ite", "--engines", "cycles",
+                           "--resolution", "128", "--out", str(out)], capture_output=True,
+                          text=True, env=env, timeout=600)
+    if done.returncode == 2 and "no shape with geometry" in done.stderr:
+        assert not out.exists() or not any(out.glob("*/metrics.json"))
+        return
+    assert done.returncode == 0, done.stderr[-2000:]
+    (metrics_path,) = out.glob("*/metrics.json")
+    metrics = json.loads(metrics_path.read_text())
+    assert metrics["parameters"]["model"] == "x3d"
+    verdict = metrics["verdict"]["x_ite"]
+    pair = metrics["pairs"]["x_ite-cycles"]
+    be.report(f"[x_ite] {name}: {verdict['value']} of {pair['region']} pixels within 2/255 of "
+              f"Cycles (max {pair['max_abs'] * 255:.1f}/255)")
+    assert verdict["ok"], (verdict, pair)
+    assert pair["region"] == 0 or pair["coverage"] >= 0.99
