@@ -137,6 +137,21 @@ def test_x_ite_matches_cycles_on_a_scene_in_the_x3d_model(bpy_clean, tmp_path):
 
 @pytest.mark.slow
 @pytest.mark.cycles
+def test_compare_phong_scene_takes_x_ite_as_a_peer(bpy_clean, tmp_path):
+    """The operator's Peers ▸ X_ITE runs the same comparison."""
+    need_x_ite()
+    bpy = bpy_clean
+    scene, _point, _spot, _sun = _x3d_scene(bpy)
+    scene.render.resolution_x, scene.render.resolution_y = 64, 48
+    assert bpy.ops.phong.compare_scene(directory=str(tmp_path / "op"), engines={"CYCLES"},
+                                       peers={"X_ITE"}) == {"FINISHED"}
+    (metrics_path,) = (tmp_path / "op").glob("*/metrics.json")
+    metrics = json.loads(metrics_path.read_text())
+    assert metrics["verdict"]["x_ite"]["ok"] and metrics["pairs"]["x_ite-cycles"]["region"] > 1000
+
+
+@pytest.mark.slow
+@pytest.mark.cycles
 def test_x_ite_is_far_from_the_seeds_model_and_not_judged_there(bpy_clean, tmp_path):
     """The comparison can fail: the same scene in the seeds' model (no per-light ambient, no
     radius, a cosine-power spot) is far from X_ITE, and X_ITE is shown without a verdict."""

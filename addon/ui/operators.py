@@ -299,7 +299,10 @@ class _CompareScene:
     peers: EnumProperty(name="Peers", options={"ENUM_FLAG"}, default=set(),
                         items=(("THREEJS", "three.js", "Export the scene as a three.js page "
                                 "and render it in headless Chromium (needs chromium and "
-                                "three.js: bash tools/phong.sh setup)"),))
+                                "three.js: bash tools/phong.sh setup)"),
+                               ("X_ITE", "X_ITE", "Export the scene as X3D and render it with "
+                                "the X3D browser X_ITE in headless Chromium (needs chromium "
+                                "and X_ITE: bash tools/phong.sh setup)")))
 
     @classmethod
     def poll(cls, context):
