@@ -276,7 +276,8 @@ class _Writer:
         used = np.unique(pairs)
         remap = np.full(len(mesh.vertices), -1, dtype=np.int64)
         remap[used] = np.arange(len(used))
-        return x3d.Mesh(name=f"{mesh.name} lines", kind="IndexedLineSet",
+        name = f"{mesh.name} lines" if len(mesh.polygons) else mesh.name
+        return x3d.Mesh(name=name, kind="IndexedLineSet",
                         positions=positions.reshape(-1, 3)[used].astype(np.float64),
                         edges=remap[pairs])
 
@@ -489,6 +490,10 @@ class _Writer:
                                                  if lights_mod.reaches(rule, m)]
             if reached is not None and len(reached) == len(meshes) and meshes:
                 reached = None   # it reaches everything written: global
+            if obj.get(imp.LIGHTS_NOTHING_KEY):   # an imported scope without shapes
+                reached = []
+                if self.encoding == "vrml97" and light.kind != "directional":
+                    light.on = False   # VRML97 cannot scope it: off shows the same
             if reached is None:
                 light.is_global = True
                 root.append(light)
@@ -525,7 +530,8 @@ class _Writer:
             key, default = properties.LIGHT_KEYS[attr]
             return float(data.get(key, default))
 
-        on = not obj.hide_render and lights_mod.visible(obj, self.layer)
+        nothing = bool(obj.get(imp.LIGHTS_NOTHING_KEY))   # hidden: its scope is empty
+        on = (not obj.hide_render or nothing) and lights_mod.visible(obj, self.layer)
         name = obj.name.removesuffix(imp.OFF) if not on else obj.name
         matrix = Z_UP_TO_Y_UP @ np.array(obj.matrix_world, dtype=np.float64)
         direction = -matrix[:3, 2]

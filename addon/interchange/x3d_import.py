@@ -7,7 +7,8 @@ module builds the Blender side:
 
 * every shape instance an object in a new collection named after the file, its world
   matrix the file's (Y up turned to Blender's Z up at the root, positions and translations in
-  metres: ``UNIT length``), named after its Shape's DEF, else the nearest named group's; a
+  metres: ``UNIT length``), named after its Shape's DEF, else the nearest named group's, else
+  its geometry's or material's name (KiCad's shapes have only the latter); a
   matrix that location, rotation and scale cannot hold (a shear: ``scaleOrientation``) goes
   into the parent inverse matrix under one Empty at the origin, exact.  One mesh per geometry
   node: DEF/USE'd geometry is one mesh shared by its objects;
@@ -64,6 +65,7 @@ TRANSFORM_KEY = "phong_x3d_texture_transform"     # material: center, rotation, 
 UNLIT_KEY = "phong_x3d_unlit"                     # material: a shape without Material
 CUT_OFF_KEY = "phong_x3d_cut_off_angle"           # spot light: the file's cutOffAngle
 HEADLIGHT_OFF_KEY = "phong_x3d_no_headlight"      # scene: the file said headlight FALSE
+LIGHTS_NOTHING_KEY = "phong_x3d_lights_nothing"   # light object: a scope without shapes
 #: Nodes of the texture and colour chains (the export reads them back).
 TEXTURE_NODE = "phong_x3d_texture"
 UV_NODE = "phong_x3d_uv"
@@ -243,6 +245,7 @@ class _Builder:
                             del world[key]
                     else:
                         world[key] = value
+                rig.prune_world_keys([world])   # the removed lights groups' light keys
         for key, value in self.scene_keys.items():
             if value is None:
                 if key in self.scene.keys():
@@ -278,22 +281,23 @@ class _Builder:
         if scene.get(rig.MODEL_KEY) != "x3d":
             scene.phong.model = "x3d"      # relinks the scene's Phong materials, if any
         self.no_world_ambient()
-        self.layer.update()
         self.sync = sync_mod.Sync(scene, self.layer)
         self.sync.rebuild_groups()
-        for obj, inst in self.uses:
+        for obj, inst in self.uses:   # each material made for its objects' light set
             self.bind(obj, inst)
-        self.sync.relink([obj for obj, _inst in self.uses])
         self.sync.finish()
         sync_mod.remember(scene, self.layer)
 
     def shape(self, inst):
         geometry = inst.shape.geometry
+        material = inst.shape.material
+        # the reader names a geometry by its DEF, else its shape's or group's, else its type
+        given = geometry.name if geometry.name != geometry.kind else ""
+        name = inst.shape.name or (inst.path[-1] if inst.path else "") or given \
+            or (material.name if material is not None else "") or geometry.kind
         mesh = self.meshes.get(id(geometry))
         if mesh is None:
-            mesh = self.meshes[id(geometry)] = self.mesh(geometry)
-        name = inst.shape.name or (inst.path[-1] if inst.path else "") or geometry.name \
-            or geometry.kind
+            mesh = self.meshes[id(geometry)] = self.mesh(geometry, given or name)
         obj = bpy.data.objects.new(name, mesh)
         self.collection.objects.link(obj)
         self.place(obj, file_matrix(self.doc, inst.matrix), name)
@@ -305,11 +309,13 @@ class _Builder:
         """*matrix* as *obj*'s world matrix; a shear (which location, rotation and scale
         cannot hold) goes into its parent inverse matrix under an Empty at the origin."""
         blender = Matrix(matrix.tolist())
+        obj.rotation_mode = "QUATERNION"   # exact where Euler angles lose digits (gimbal)
         obj.matrix_basis = blender
         back = np.array(obj.matrix_basis, dtype=np.float64)
         size = max(float(np.abs(matrix[:3, :3]).max()), 1e-30)
-        if np.allclose(back[:3, :3], matrix[:3, :3], rtol=0.0, atol=1e-5 * size) and \
-                np.allclose(back[:3, 3], matrix[:3, 3], rtol=1e-6, atol=1e-6):
+        error = np.abs(back[:3] - matrix[:3])
+        if error[:, :3].max() <= 1e-5 * size and \
+                error[:, 3].max() <= 1e-6 * (1.0 + float(np.abs(matrix[:3, 3]).max())):
             return
         if self.frame is None:
             self.frame = bpy.data.objects.new(f"{self.collection.name} (shear frame)", None)
@@ -320,9 +326,8 @@ class _Builder:
         obj.matrix_parent_inverse = blender
 
     # -- meshes -----------------------------------------------------------------------------
-    def mesh(self, source):
+    def mesh(self, source, name):
         source = x3d.counter_clockwise(source)
-        name = source.name or source.kind
         mesh = bpy.data.meshes.new(name)
         positions = np.asarray(source.positions, dtype=np.float64) * self.doc.meter
         mesh.vertices.add(len(positions))
@@ -391,7 +396,8 @@ class _Builder:
             location = (x3d.to_blender_matrix(self.doc) @ inst.matrix
                         @ np.append(np.asarray(inst.light.location, float), 1.0))[:3]
             direction = x3d.Y_UP_TO_Z_UP[:3, :3] @ inst.world_direction()
-            key = (id(inst.light), tuple(np.round(location, 9)), tuple(np.round(direction, 9)))
+            place = None if inst.light.kind == "directional" else tuple(np.round(location, 9))
+            key = (id(inst.light), place, tuple(np.round(direction, 9)))
             entry = merged.setdefault(key, [inst, location, direction, set(), False])
             if inst.scope is None:
                 entry[4] = True
@@ -441,6 +447,7 @@ class _Builder:
         obj = bpy.data.objects.new(shown, light)
         self.collection.objects.link(obj)
         rotation = Vector(direction.tolist()).to_track_quat("-Z", "Y")
+        obj.rotation_mode = "QUATERNION"
         obj.matrix_basis = Matrix.LocRotScale(Vector(location.tolist()), rotation, None)
         if not source.on:
             obj.hide_render = True
@@ -448,6 +455,7 @@ class _Builder:
             receivers = [self.by_instance[i] for i in sorted(scope) if i in self.by_instance]
             if not receivers:   # Light Linking without receivers would light everything
                 obj.hide_render = True
+                obj[LIGHTS_NOTHING_KEY] = 1
                 self.warn(f"scoped lights whose group holds no shape (they light nothing): "
                           f"hidden from render: {obj.name}")
             else:
@@ -509,6 +517,7 @@ class _Builder:
         matrix = np.eye(4)
         matrix[:3, :3] = rotation
         matrix[:3, 3] = location
+        obj.rotation_mode = "QUATERNION"
         obj.matrix_basis = Matrix(matrix.tolist())
         self.objects.append(obj)
         self.camera = obj
@@ -548,9 +557,14 @@ class _Builder:
         colors = geometry.colors is not None or geometry.point_colors is not None
         key, reach = self.sync.light_set(obj)
         material = shape.material
+        transform = shape.texture_transform if image is not None else None
+        # a material of equal texture, transform, colours and light set is made once
         variant = (id(material) if material is not None else None,
-                   id(texture) if image is not None else None,
-                   id(shape.texture_transform) if image is not None else None, colors, key)
+                   (image.name, texture.repeat_s, texture.repeat_t) if image is not None
+                   else None,
+                   (tuple(transform.center), transform.rotation, tuple(transform.scale),
+                    tuple(transform.translation)) if transform is not None else None,
+                   colors, key)
         made = self.materials.get(variant)
         if made is None:
             group = self.sync.group(key, reach)
@@ -718,7 +732,8 @@ class _Builder:
         """(Blender image or None, its components) of a core Texture, each loaded once, as
         data (Non-Color: the texel's value is the colour in the standard's equation, as the
         numbers of diffuseColor are) with its colour apart from its alpha."""
-        key = id(texture)
+        # one image per file (or PixelTexture): ImageTexture nodes naming one file share it
+        key = texture.path if texture.image is None and texture.path else id(texture)
         if key in self.images:
             return self.images[key]
         image, components = None, None
