@@ -372,8 +372,9 @@ class _Writer:
                           control if (kd_feed.texture is not None or kd_feed.colours) else
                           kd_feed.constant)
         texture = self.texture(kd_feed.texture, material, kd_feed.control is not None)
-        if texture is not None and kd_feed.control is None and _grey(texture):
-            diffuse = (1.0, 1.0, 1.0)   # a grey texture multiplies diffuseColor
+        if texture is not None and kd_feed.control is None and not kd_feed.colours and \
+                _grey(texture):
+            diffuse = (1.0, 1.0, 1.0)   # a grey texture alone: X3D multiplies diffuseColor
         if kd_feed.colours and kd_feed.control is not None and \
                 tuple(kd_feed.control) != (1.0, 1.0, 1.0) and texture is None:
             self.warnings.add(f"material {name}: colours times a colour: X3D's colours replace "
@@ -435,7 +436,8 @@ class _Writer:
             return 0.0
         ratio = float(ka @ kd / (kd @ kd))
         if np.abs(ka - ratio * kd).max() > 1e-6 * max(1.0, float(ka.max())):
-            self.warnings.add(f"material {name}: Ambient Color {tuple(round(v, 4) for v in ka)} "
+            self.warnings.add(f"material {name}: Ambient Color "
+                              f"{tuple(round(float(v), 4) for v in ka)} "
                               "is not a multiple of Object Color as X3D's ambientIntensity × "
                               f"diffuseColor: the nearest multiple {ratio:.4g} written")
         return f32(max(ratio, 0.0))
@@ -618,6 +620,9 @@ class _Writer:
                 (size * width / height, size)
             vp.kind = "OrthoViewpoint"
             vp.ortho_field = (f32(-w / 2), f32(-h / 2), f32(w / 2), f32(h / 2))
+            if self.encoding == "vrml97":
+                self.warnings.add(f"camera {obj.name}: VRML97 has no orthographic viewpoint; "
+                                  "written as a perspective Viewpoint (.x3d and .x3dv keep it)")
             return vp
         if camera.type != "PERSP":
             self.warnings.add(f"camera {obj.name}: a {camera.type} camera written as a "
