@@ -475,6 +475,35 @@ DEF Plan OrthoViewpoint { position 0 0 5 fieldOfView -2 -1 4 3 }
     assert camera.data.angle == pytest.approx(0.785398, abs=1e-6)
 
 
+def test_a_second_import_keeps_one_headlight_and_a_model_switch_is_said(bpy_clean, tmp_path,
+                                                                         capfd, monkeypatch):
+    bpy = bpy_clean
+    scene = bpy.context.scene
+    # the user's own Phong material in the seeds' model
+    mesh = bpy.data.meshes.new("Mine")
+    mesh.from_pydata([(0, 0, 0), (1, 0, 0), (0, 1, 0)], [], [(0, 1, 2)])
+    mine = bpy.data.objects.new("Mine", mesh)
+    scene.collection.objects.link(mine)
+    mine.select_set(True)
+    bpy.context.view_layer.objects.active = mine
+    assert bpy.ops.phong.apply_material() == {"FINISHED"}
+    capfd.readouterr()
+    _import(bpy, os.path.join(DATA, "hand_rules.x3dv"))
+    assert "switched from the seeds lighting model to X3D / VRML97" in capfd.readouterr().out
+    _import(bpy, os.path.join(DATA, "hand_rules.x3dv"))
+    heads = [o for o in bpy.data.objects if o.name.startswith("Headlight")]
+    assert len(heads) == 1, "the viewer has one headlight"
+    assert heads[0].constraints[0].target is scene.camera and scene.camera.name == "Front.001"
+    assert {"Clay", "Clay.001", "Stone", "Stone.001"} <= {m.name for m in bpy.data.materials}
+    from phong_nodes.addon.interchange import x3d_import  # noqa: PLC0415
+
+    monkeypatch.setattr(x3d_import._Builder, "material", lambda *a: 1 / 0)
+    with pytest.raises(x3d_import.X3DImportError):
+        x3d_import.import_file(os.path.join(DATA, "hand_rules.x3dv"), bpy.context)
+    assert heads[0].constraints[0].target is scene.camera, "a failed import puts it back"
+    assert scene.camera.name == "Front.001"
+
+
 def test_add_headlight_operator(bpy_clean):
     bpy = bpy_clean
     scene = bpy.context.scene

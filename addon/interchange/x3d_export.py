@@ -138,6 +138,11 @@ class _Writer:
         meshes = [o for o in scene.objects if o.type == "MESH" and self.chosen(o)
                   and lights_mod.visible(o, self.layer) and not o.hide_render]
         lights = [o for o in scene.objects if o.type == "LIGHT" and self.chosen(o)]
+        other = sorted({o.type for o in scene.objects if self.chosen(o) and o.type not in
+                        ("MESH", "LIGHT", "CAMERA", "EMPTY", "ARMATURE") and not o.hide_render})
+        if other:
+            self.warnings.add(f"objects of other types left out (convert them to meshes "
+                              f"first): {', '.join(other)}")
         heads = [o for o in lights if headlight_mod.is_headlight(o, scene)]
         doc.headlight = False
         for obj in heads:

@@ -216,6 +216,7 @@ class _Builder:
         self.model_before = self.scene.get(rig.MODEL_KEY)
         self.world_before = None    # (world, {key: value or None})
         self.scene_keys = {HEADLIGHT_OFF_KEY: self.scene.get(HEADLIGHT_OFF_KEY)}
+        self.retargeted = []        # (a scene's own headlight, the camera it followed)
 
     def warn(self, text: str) -> None:
         if text not in self.own:
@@ -253,6 +254,13 @@ class _Builder:
             else:
                 self.scene[key] = value
         self.scene.camera = self.camera_before
+        for obj, target in self.retargeted:
+            try:
+                constraint = obj.constraints.get(headlight_mod.CONSTRAINT)
+                if constraint is not None:
+                    constraint.target = target
+            except ReferenceError:
+                pass
         if self.scene.get(rig.MODEL_KEY) != self.model_before:
             self.scene.phong.model = self.model_before or rig.MODELS[0]  # relinks the scene
             if self.model_before is None and rig.MODEL_KEY in self.scene.keys():
@@ -273,12 +281,21 @@ class _Builder:
             self.shape(inst)
         self.make_camera()
         lights = self.lights()
-        if doc.headlight:
-            lights.append(headlight_mod.add(scene, scene.camera, self.collection))
+        if doc.headlight:   # the viewer has one headlight: a scene's own follows the camera
+            existing = headlight_mod.headlights(scene)
+            for obj in existing:
+                constraint = obj.constraints.get(headlight_mod.CONSTRAINT)
+                self.retargeted.append((obj, constraint.target if constraint else None))
+                headlight_mod.follow(obj, scene.camera)
+            if not existing:
+                lights.append(headlight_mod.add(scene, scene.camera, self.collection))
         else:
             scene[HEADLIGHT_OFF_KEY] = 1
         self.objects.extend(lights)
         if scene.get(rig.MODEL_KEY) != "x3d":
+            if rig.groups_of(scene):
+                self.warn(f"scene {scene.name!r} switched from the {rig.model_of(scene)} lighting "
+                          "model to X3D / VRML97: its other Phong materials show that model too")
             scene.phong.model = "x3d"      # relinks the scene's Phong materials, if any
         self.no_world_ambient()
         self.sync = sync_mod.Sync(scene, self.layer)
