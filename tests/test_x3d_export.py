@@ -149,13 +149,16 @@ def test_import_export_import_keeps_names_and_values(bpy_clean, tmp_path, name):
             assert again[0][key] == entry, (ending, key)
 
 
-def test_textures_colours_unlit_and_off_lights_survive_a_round_trip(bpy_clean, tmp_path):
+def test_textures_colours_unlit_off_lights_and_shears_survive_a_round_trip(bpy_clean, tmp_path):
     from test_x3d_import import LIGHTS, TEXTURED, png, write  # noqa: PLC0415
 
     bpy = bpy_clean
     png(tmp_path / "rgb.png", np.tile([51, 102, 153], (4, 4, 1)))
     png(tmp_path / "grey.png", np.full((4, 4), 128))
-    for text, name in ((TEXTURED, "textured.x3dv"), (LIGHTS, "lights.x3dv")):
+    shear = ("#VRML V2.0 utf8\nTransform { translation 1 2 3 scale 2 1 1 scaleOrientation "
+             "0 0 1 0.5 children DEF Skew Shape { geometry Box { } } }\n")
+    for text, name in ((TEXTURED, "textured.x3dv"), (LIGHTS, "lights.x3dv"),
+                       (shear, "shear.wrl")):
         be.reset_empty_file()
         assert bpy.ops.phong.import_x3d(filepath=write(tmp_path, name, text)) == {"FINISHED"}
         first = _state(bpy)

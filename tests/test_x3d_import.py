@@ -286,6 +286,25 @@ Transform { translation 3 6 0 children Inline { url "part.wrl" } }
     assert [m.name for m in bpy.data.materials if m.name.startswith("Steel")] == ["Steel"]
 
 
+def test_a_sheared_transform_is_exact_through_the_parent_inverse(bpy_clean, tmp_path):
+    """scale 2 1 1 with scaleOrientation 0.5 rad about Z: the matrix R(0.5)·diag(2, 1, 1)·
+    R(−0.5) shears the box, which location, rotation and scale cannot hold."""
+    bpy = bpy_clean
+    _import(bpy, write(tmp_path, "shear.wrl", """#VRML V2.0 utf8
+Transform { translation 1 2 3 scale 2 1 1 scaleOrientation 0 0 1 0.5
+  children DEF Skew Shape { geometry Box { } } }
+"""))
+    skew = bpy.data.objects["Skew"]
+    assert skew.parent is not None and skew.parent.type == "EMPTY"
+    c, s = math.cos(0.5), math.sin(0.5)
+    r = np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]])
+    m = r @ np.diag([2.0, 1.0, 1.0]) @ r.T
+    y_up = np.array([[1, 0, 0], [0, 0, -1], [0, 1, 0]])   # (x, y, z) → (x, −z, y)
+    for vertex in skew.data.vertices:
+        want = y_up @ (m @ np.array(vertex.co) + (1, 2, 3))
+        assert tuple(skew.matrix_world @ vertex.co) == pytest.approx(tuple(want), abs=1e-6)
+
+
 def test_gzipped_files_by_their_bytes(bpy_clean, tmp_path):
     bpy = bpy_clean
     path = tmp_path / "crate.wrz"

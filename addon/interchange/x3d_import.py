@@ -75,6 +75,8 @@ CHAIN = "phong_x3d:"                              # + what: the Vector Math node
 COLOR_ATTRIBUTE = "Col"
 UV_MAP = "UVMap"
 OFF = " (off)"
+#: The Empty under which objects with a sheared matrix hang (their parent inverse holds it).
+SHEAR_FRAME = "X3D shear frame"
 LIGHT_TYPES = {"directional": "SUN", "point": "POINT", "spot": "SPOT"}
 LIGHT_NAMES = {"directional": "DirectionalLight", "point": "PointLight", "spot": "SpotLight"}
 #: Blender's range of a spot's size (the full cone) and of a perspective camera's angle.
@@ -335,7 +337,7 @@ class _Builder:
                 error[:, 3].max() <= 1e-6 * (1.0 + float(np.abs(matrix[:3, 3]).max())):
             return
         if self.frame is None:
-            self.frame = bpy.data.objects.new(f"{self.collection.name} (shear frame)", None)
+            self.frame = bpy.data.objects.new(SHEAR_FRAME, None)
             self.collection.objects.link(self.frame)
             self.objects.append(self.frame)
         obj.parent = self.frame
