@@ -63,8 +63,8 @@ import html
 import json
 import os
 import shutil
+import pathlib
 import zlib
-from urllib.parse import quote
 
 from . import browser, outputs, threejs
 
@@ -166,7 +166,8 @@ def _json_in_script(value) -> str:
 
 
 def _file_url(path: str) -> str:
-    return "file://" + quote(os.path.abspath(path))
+    """A file:// URL of *path*, percent-encoded (pathlib: the zip imports no network module)."""
+    return pathlib.Path(os.path.abspath(path)).as_uri()
 
 
 def page_html(x3d_text: str, width: int, height: int, base_url: str = "", title: str = "",

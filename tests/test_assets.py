@@ -18,6 +18,7 @@ SECTION_OF = {
     "Phong Color Add": "Colour", "Phong Color Multiply": "Colour", "Phong Shading": "Model",
     "three.js Point Light": "three.js", "three.js Spot Light": "three.js",
     "three.js Ambient": "three.js", "three.js Phong": "three.js",
+    "X3D Directional Light": "X3D", "X3D Point Light": "X3D", "X3D Spot Light": "X3D",
 }
 
 
@@ -52,7 +53,7 @@ def test_library_holds_every_group_in_its_catalog(bpy_clean):
         assert sorted(source.node_groups) == sorted(GROUPS)
     cats = _catalog_file(folder)
     assert sorted(cats.values()) == ["Phong", "Phong/Colour", "Phong/Lights", "Phong/Model",
-                                     "Phong/Terms", "Phong/three.js"]
+                                     "Phong/Terms", "Phong/X3D", "Phong/three.js"]
     with bpy.data.libraries.load(path, link=True) as (source, target):
         target.node_groups = list(source.node_groups)
     for tree in target.node_groups:

@@ -4,7 +4,8 @@
 While the extension is enabled, *Preferences ▸ File Paths ▸ Asset Libraries* holds "Phong
 Nodes", a folder in the extension's user folder (``bpy.utils.extension_path_user``; never the
 extension's own folder).  The folder holds ``blender_assets.cats.txt`` (the catalog "Phong"
-with one sub-catalog per section of the Shift+A menu: Lights, Terms, Colour, Model) and one
+with one sub-catalog per section of the Shift+A menu: Lights, Terms, Colour, Model, three.js,
+X3D) and one
 .blend with every group of the library marked as an asset in its section's catalog.  The
 .blend is named after the library version and a digest of the group definitions, so a new
 version writes a new file (and removes the old one); an unchanged library is not rewritten.

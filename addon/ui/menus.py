@@ -18,7 +18,7 @@ SECTIONS = (
     ("Model", ("Phong Shading",)),
     ("three.js", ("three.js Point Light", "three.js Spot Light", "three.js Ambient",
                   "three.js Phong")),
-    ("X3D / VRML97", ("X3D Directional Light", "X3D Point Light", "X3D Spot Light")),
+    ("X3D", ("X3D Directional Light", "X3D Point Light", "X3D Spot Light")),  # and VRML97
 )
 
 
