@@ -271,7 +271,7 @@ def test_add_node_group_outside_the_shader_editor_and_unknown_group(bpy_clean):
     with pytest.raises(ValueError) as excinfo:
         operators.add_group_node(tree, "Phong Nope", (0, 0))
     assert re.fullmatch(r"Unknown Phong group 'Phong Nope'; expected one of: "
-                        r"((Phong|three\.js) [A-Za-z ]+, )+three\.js Phong", str(excinfo.value))
+                        r"((Phong|three\.js|X3D) [A-Za-z ]+, )+X3D Spot Light", str(excinfo.value))
 
 
 def test_build_demo_scene_unknown_name_and_bad_file(bpy_clean, tmp_path):
