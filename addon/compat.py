@@ -39,6 +39,14 @@ LOOP_VIEW_LAYER_LOOKUPS = 1 << 20
 LOOP_LIGHT_DISTANCE = 1.0e4
 
 
+def file_from_newer_release() -> bool:
+    """Whether the open file was written by a newer Blender than this one (Blender reads it
+    and says "expect loss of data"): bpy 5.2.3 reads the group nodes of a material saved by
+    5.3.0 so that their inputs evaluate wrongly (a Phong material's highlight as if its
+    exponent were 0; measured), until the node is made again (``sync.upgrade_on_load``)."""
+    return tuple(bpy.data.version[:2]) > tuple(VERSION[:2])
+
+
 def view_layer_lookups(loop: bool) -> int:
     """The View Layer lookups a lights group may hold: unlimited (LOOP_VIEW_LAYER_LOOKUPS)
     when Eevee renders its materials with the light loop, else VIEW_LAYER_LOOKUPS."""

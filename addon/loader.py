@@ -181,6 +181,8 @@ class NodeWriter:
     def _operation(self, expression: Expr):
         op = expression.op
         node = self.tree.nodes.new(op.node)
+        for name, value in op.properties:  # e.g. a Switch's type, before its sockets
+            setattr(node, name, value)
         if op.operation is not None:
             node.operation = op.operation
         if op.clamp:

@@ -72,6 +72,7 @@ class Op:
     output: str | None = None
     settings: tuple = ()
     clamp: bool = False  # the Math node's Clamp option: the result clamped to [0, 1]
+    properties: tuple = ()  # (name, value) of node properties set before its sockets
 
     def __post_init__(self):
         first, result = _SOCKETS.get(self.node, ((), None))
@@ -108,6 +109,17 @@ def _less_than(a, b):
 
 def _greater_than(a, b):
     return (np.asarray(a) > np.asarray(b)).astype(np.float64)
+
+
+def _compare(a, b, epsilon):
+    """Math COMPARE: 1 where |a - b| ≤ epsilon."""
+    return (np.abs(np.asarray(a) - np.asarray(b)) <= np.asarray(epsilon)).astype(np.float64)
+
+
+def _switch(condition, if_false, if_true):
+    """Switch: *if_true* where the condition (a float linked to the boolean input converts as
+    x > 0) holds, else *if_false*."""
+    return np.where(np.asarray(condition) > 0.0, if_true, if_false)
 
 
 def _combine(x, y, z):
@@ -167,6 +179,7 @@ OPERATIONS = (
     Op("pow", FLOAT, _FF, _blender_pow, MATH, "POWER"),
     Op("lt", FLOAT, _FF, _less_than, MATH, "LESS_THAN"),
     Op("gt", FLOAT, _FF, _greater_than, MATH, "GREATER_THAN"),
+    Op("compare", FLOAT, (FLOAT, FLOAT, FLOAT), _compare, MATH, "COMPARE"),
     Op("cos", FLOAT, (FLOAT,), np.cos, MATH, "COSINE"),
     Op("acos", FLOAT, (FLOAT,), _acos, MATH, "ARCCOSINE"),
     Op("madd", FLOAT, (FLOAT, FLOAT, FLOAT), _multiply_add, MATH, "MULTIPLY_ADD"),
@@ -188,8 +201,17 @@ OPERATIONS = (
        settings=(("Strength", 1.0),)),
 )
 
+#: The Switch node (float): not in OPERATIONS, whose every operand is a socket of its kind, as
+#: its first input is a boolean socket (a float linked to it converts as x > 0).  Blender's
+#: inliner drops the branch a constant condition leaves out (a material's Value node,
+#: compared with a constant: the branch costs no node), and turns a condition that is not
+#: constant into a Mix.
+SWITCH = Op("switch", FLOAT, (FLOAT, FLOAT, FLOAT), _switch, "GeometryNodeSwitch",
+            inputs=("Switch", "False", "True"), output="Output",
+            properties=(("input_type", "FLOAT"),))
+
 _BY_NAME: dict = {}
-for _op in OPERATIONS:
+for _op in (*OPERATIONS, SWITCH):
     _BY_NAME.setdefault(_op.name, []).append(_op)
 del _op
 
@@ -340,6 +362,16 @@ def greater_than(a, b) -> Expr:
     return operation("gt", a, b)
 
 
+def equal(a, b, epsilon=0.0) -> Expr:
+    """1.0 where |a - b| ≤ epsilon, else 0.0 (Math COMPARE)."""
+    return operation("compare", a, b, epsilon)
+
+
+def switch(condition, if_false, if_true) -> Expr:
+    """*if_true* where *condition* > 0, else *if_false* (a Switch node: see SWITCH)."""
+    return operation("switch", condition, if_false, if_true)
+
+
 def combine(x, y, z) -> Expr:
     """The vector (x, y, z) of three floats (Combine XYZ)."""
     return operation("combine", x, y, z)
@@ -450,7 +482,7 @@ def evaluate(expr: Expr, inputs: dict, geometry_values: dict | None = None, _mem
 __all__ = [
     "Expr", "Op", "OPERATIONS", "FLOAT", "VECTOR", "COLOR", "SHADER", "LEAVES", "const",
     "input_", "geometry", "operation", "maximum", "minimum", "power", "less_than", "at_least", "cos",
-    "greater_than", "combine",
+    "greater_than", "combine", "equal", "switch", "SWITCH",
     "acos",
     "dot", "length", "normalize", "select", "emission", "evaluate", "multiply_add",
     "reflect_about", "saturate",

@@ -18,8 +18,8 @@ import math
 from dataclasses import dataclass, field
 
 from .expr import (
-    COLOR, FLOAT, SHADER, VECTOR, Expr, acos, at_least, combine, cos, dot, emission, evaluate,
-    geometry, greater_than, input_,
+    COLOR, FLOAT, SHADER, VECTOR, Expr, acos, at_least, combine, cos, dot, emission, equal,
+    evaluate, geometry, greater_than, input_, switch,
     length, less_than, maximum, minimum, multiply_add, normalize, power, reflect_about, saturate,
     select,
 )
@@ -696,6 +696,9 @@ LOOP_PREFIX = "phong_eevee_"
 LOOP_HARD_EDGE = 1.0e7
 #: Below this ℓ·n counts as negative in the loop (ℓ·n ≥ 0 as one comparison, ℓ·n > -1e-30).
 LOOP_LIT = -1.0e-30
+#: A spot's cone in one comparison: cos ω > cos θ - 1e-7 (cos ω ≥ cos θ but within 1e-7, which
+#: the comparison leaves out: core/compare.py, AMBIGUOUS).
+LOOP_CONE_MARGIN = 1.0e-7
 #: The specular exponent is at least this in the loop: max(x, 0)^e is then 0 where x ≤ 0
 #: (the highlight's condition without a node), and x^1e-9 differs from x^0 = 1 by < 1e-7.
 LOOP_MIN_EXPONENT = 1.0e-9
@@ -705,13 +708,15 @@ LOOP_MIN_EXPONENT = 1.0e-9
 class LoopParameter:
     """A numeric custom property of a light read in the loop by an Attribute node of type
     Light: its key ("phong_eevee_<model>_<name>"), and the loop group's inputs fed by the
-    Attribute's Vector (its first three numbers) and Alpha (its fourth) outputs, or by its
-    Factor output (a property of one number)."""
+    Attribute's Vector (its first three numbers; or, with *components*, each of them through
+    a Separate XYZ) and Alpha (its fourth) outputs, or by its Factor output (a property of
+    one number)."""
 
     name: str
     vector: str | None = None
     alpha: str | None = None
     factor: str | None = None
+    components: tuple | None = None
 
     def key(self, model: str) -> str:
         return f"{LOOP_PREFIX}{model}_{self.name}"
@@ -799,26 +804,28 @@ _UV = "Unit vector v toward the viewer (Phong Surface)"
        into=RIG_GROUPS)
 def _phong_loop_light(g):
     """docs/model.md §Point light, §Spot light, §Power falloff, §Diffuse, §Specular (Phong),
-    §Blinn-Phong: i = i0/max(αr² + βr + γ + p·r^k, 1e-6) · [cos ω ≥ cos θ] · max(cos ω, 0)^e_att,
-    with the settings packed so that one formula serves every light: a sun (0, 0, 1, 0), a
-    quadratic falloff (α, β, γ, 0), a power falloff (0, 0, 0, 1) with k; no cone: cos θ = -2,
-    e_att = 0.  i0 and the strengths are in the light colours.  The conditions of the
-    highlights in one node each: max(x, 0)^max(e, 1e-9) is 0 where x ≤ 0, and ℓ·n ≥ 0 is
-    ℓ·n > -1e-30; Light Accumulation takes max(Light, 0), which is Lambert's max(ℓ·n, 0)."""
+    §Blinn-Phong: i = i0/max(α·r^a + βr + γ, 1e-6) · [cos ω ≥ cos θ] · max(cos ω, 0)^e_att,
+    with the settings packed so that one formula serves every light: a quadratic falloff
+    (α, β, γ) with a = 2, a power falloff i0/d^k as (1, 0, 0) with a = k, a sun (0, 0, 1);
+    no cone: cos θ = -2, e_att = 0.  i0 and the strengths are in the light colours.  The
+    conditions in one node each: the cone as cos ω > cos θ - 1e-7, max(x, 0)^max(e, 1e-9) is 0
+    where x ≤ 0 (a highlight's own condition), ℓ·n ≥ 0 as ℓ·n > -1e-30; Light Accumulation
+    takes max(Light, 0), which is Lambert's max(ℓ·n, 0)."""
     l = g.vector("Light Vector", ZERO, _LV)
     r = g.value("Distance", 1.0, _LD, min=0.0)
     axis = g.vector("Light Axis", (0.0, 0.0, 1.0), _LA)
-    coefficients = g.vector("Falloff", (1.0, 0.0, 0.0), "(α, β, γ) of i0/(αr²+βr+γ); (0, 0, 1) "
-                                                        "for a sun, (0, 0, 0) for i0/d^k")
-    p = g.value("Power Weight", 0.0, "1 for the falloff i0/d^k, else 0", min=0.0)
+    alpha = g.value("Quadratic", 1.0, "α (1 for i0/d^k, 0 for a sun)", min=0.0)
+    beta = g.value("Linear", 0.0, "β (0 for i0/d^k and a sun)", min=0.0)
+    gamma = g.value("Constant", 0.0, "γ (0 for i0/d^k, 1 for a sun)", min=0.0)
+    a = g.value("Falloff Exponent", 2.0, "a of α·r^a: 2, or k for i0/d^k", min=0.0)
     dcol = g.color("Diffuse Light Color", WHITE,
                    "i0·k_d·Cl_source / the light's Diffuse factor (Light Accumulation's)")
-    k = g.value("Power Exponent", 2.0, "k of i0/d^k", min=0.0)
-    scol = g.color("Specular Light Color", WHITE,
-                   "i0·k_s·Cl_source / the light's Specular factor (Light Accumulation's)")
     e_att = g.value("Edge Exponent", 0.0, "e_att of a spot, ≥ 0 (0 for the other lights)",
                     min=0.0)
-    cos_t = g.value("Cos Half Angle", -2.0, "cos θ of a spot's cone (-2 for the other lights)")
+    scol = g.color("Specular Light Color", WHITE,
+                   "i0·k_s·Cl_source / the light's Specular factor (Light Accumulation's)")
+    cos_t = g.value("Cone Threshold", -2.0,
+                    "cos θ - 1e-7 of a spot's cone (-2 for the other lights)")
     oc = g.color("Object Color", GREY, _OC)
     sc = g.color("Specular Color", WHITE, _SC)
     e = g.value("Exponent", 30.0, _E, min=0.0, max=10000.0)
@@ -827,14 +834,23 @@ def _phong_loop_light(g):
     n = g.vector("Normal", (0.0, 0.0, 1.0), _UN)
     v = g.vector("View Vector", (0.0, 0.0, 1.0), _UV)
     cos_w = dot(l, normalize(axis))  # cos ω = -ℓ·u, u = the light's -Z axis
-    cone = at_least(cos_w, cos_t) * power(maximum(cos_w, 0.0), e_att)
-    denominator = multiply_add(p, power(r, k), dot(coefficients, combine(r * r, r, 1.0)))
-    attenuation = cone / maximum(denominator, MIN_DENOMINATOR)
+    # inside a cone cos ω > cos θ - 1e-7 ≥ -1e-7 (θ ≤ 90°: Blender's spot size is at most
+    # 180°), and x^0 = 1 for any x (no cone): max(cos ω, 0) needs no node
+    cone = greater_than(cos_w, cos_t) * power(cos_w, e_att)
+    # at least 1e-6 as the contract's max(…, 1e-6) wherever r ≥ 0.001 or so: α = β = γ = 0 is
+    # packed as γ = 1e-6 (loop_parameters), and only a point within a millimetre of the light
+    # (the pixel saturates either way) sees a smaller denominator
+    attenuation = cone / multiply_add(alpha, power(r, a), multiply_add(beta, r, gamma))
     ln = dot(l, n)
     e_1 = maximum(e, LOOP_MIN_EXPONENT)
-    phong = power(maximum(dot(l, reflect_about(-v, n)), 0.0), e_1)  # ℓ·(2(n·v)n - v) = r·v
+    # r·v = -ℓ·(v - 2(n·v)n) = -ℓ·reflect(v, n), clamped at [0, 1] in the same Math node
+    phong = power(saturate(-dot(l, reflect_about(v, n))), e_1)
     blinn_f = power(maximum(dot(normalize(l + v), n), 0.0), e_1)
-    factor = multiply_add(blinn, blinn_f - phong, phong)
+    # Blinn 0 or 1 (a material's constant): the Switch leaves one highlight (one node each,
+    # folded), a value between blends both
+    factor = switch(equal(blinn, 0.0),
+                    switch(equal(blinn, 1.0), multiply_add(blinn, blinn_f - phong, phong), blinn_f),
+                    phong)
     g.output("Diffuse Light", (attenuation * ln) * dcol,
              "i·(ℓ·n)·k_d·Cl_source (Light Accumulation takes max(·, 0))", color=True)
     g.output("Diffuse Color", oc, "Cl_objet", color=True)
@@ -844,28 +860,30 @@ def _phong_loop_light(g):
 
 
 @_loop_model("seeds", "Phong Loop Light", (
-    LoopParameter("falloff", vector="Falloff", alpha="Power Weight"),
-    LoopParameter("diffuse", vector="Diffuse Light Color", alpha="Power Exponent"),
-    LoopParameter("specular", vector="Specular Light Color", alpha="Edge Exponent"),
-    LoopParameter("cone", factor="Cos Half Angle")),
+    LoopParameter("falloff", components=("Quadratic", "Linear", "Constant"),
+                  alpha="Falloff Exponent"),
+    LoopParameter("diffuse", vector="Diffuse Light Color", alpha="Edge Exponent"),
+    LoopParameter("specular", vector="Specular Light Color", alpha="Cone Threshold")),
     {"Diffuse": ("Diffuse Light", "Diffuse Color"), "Glossy": ("Specular Light", "Specular Color")})
 def _pack_seeds(light):
     kind, s = light["type"], light.get("settings", {})
     i0 = float(s.get("intensity", 1.0))
     diffuse, specular = _light_colors(light, i0 * float(s.get("diffuse", 1.0)),
                                       i0 * float(s.get("specular", 1.0)))
-    k = float(s.get("power_k", 2.0))
     if kind == "SUN":
-        falloff = (0.0, 0.0, 1.0, 0.0)
+        falloff = (0.0, 0.0, 1.0, 2.0)
     elif str(light.get("falloff", "QUADRATIC")).upper() == "POWER":
-        falloff = (0.0, 0.0, 0.0, 1.0)
+        falloff = (1.0, 0.0, 0.0, max(float(s.get("power_k", 2.0)), 0.0))
     else:
         falloff = tuple(float(s.get(key, FALLOFF_DEFAULTS[key]))
-                        for key in ("quadratic", "linear", "constant")) + (0.0,)
+                        for key in ("quadratic", "linear", "constant")) + (2.0,)
+        if falloff[:3] == (0.0, 0.0, 0.0):  # i0/max(0, 1e-6) (docs/contract.md)
+            falloff = (0.0, 0.0, MIN_DENOMINATOR, 2.0)
     spot = kind == "SPOT"
-    return {"falloff": falloff, "diffuse": (*diffuse, max(k, 0.0)),
-            "specular": (*specular, max(float(s.get("edge_exponent", 0.0)), 0.0) if spot else 0.0),
-            "cone": math.cos(float(light.get("spot_size", math.pi)) / 2.0) if spot else -2.0}
+    edge = max(float(s.get("edge_exponent", 0.0)), 0.0) if spot else 0.0
+    threshold = (math.cos(float(light.get("spot_size", math.pi)) / 2.0) - LOOP_CONE_MARGIN
+                 if spot else -2.0)
+    return {"falloff": falloff, "diffuse": (*diffuse, edge), "specular": (*specular, threshold)}
 
 
 @group("three.js Loop Light", "One light of the three.js model in Eevee's light loop: "

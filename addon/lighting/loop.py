@@ -191,6 +191,13 @@ def build(tree, model, group_in, group_out, irradiant, ambient, surface=None) ->
                                ("Fac", parameter.factor)):
             if target is not None:
                 sources[target] = compat.output_socket(attribute, output)
+        if parameter.components:
+            separate = _node(tree, "ShaderNodeSeparateXYZ", parameter.name + ":xyz",
+                             (x + 420.0, y - 200.0 * row))
+            tree.links.new(compat.output_socket(attribute, "Vector"),
+                           compat.input_socket(separate, "Vector"))
+            for output, target in zip(("X", "Y", "Z"), parameter.components):
+                sources[target] = compat.output_socket(separate, output)
     light = _write(tree, definition(spec.group), sources, group_in, (x + 500.0, y))
     accumulation = _node(tree, "ShaderNodeLightAccumulation", "accumulation", (x + 900.0, y))
     for slot, (light_input, color_input) in ACCUMULATE.items():

@@ -16,6 +16,7 @@ import contextlib
 import bpy
 from bpy.app.handlers import persistent
 
+from .. import compat
 from . import lights as lights_mod
 from . import loop as light_loop
 from . import materials, rig
@@ -290,6 +291,9 @@ def upgrade_on_load(*_args):
     groups, every light in the material) are upgraded by Relink Phong Lights."""
     if _BUSY:
         return
+    if compat.file_from_newer_release():
+        _renew()
+        return
     for scene in bpy.data.scenes:
         if scene.library is not None:
             continue
@@ -302,6 +306,26 @@ def upgrade_on_load(*_args):
             relink_scene(scene)
         finally:
             _BUSY.pop()
+
+
+def _renew() -> None:
+    """A file written by a newer Blender (5.3 read by 5.2): the lights groups' interfaces and
+    the materials' group nodes evaluate wrongly here (``compat.file_from_newer_release``), so
+    the groups get a new interface and are rebuilt for this release (the loop part goes where
+    there is no loop), the nodes are made again, the links into them kept."""
+    links = {m.as_pointer(): materials.group_links(m) for m in materials.phong_materials()}
+    scenes = [s for s in bpy.data.scenes if s.library is None and rig.groups_of(s)]
+    for scene in scenes:
+        for tree in rig.groups_of(scene):
+            tree.interface.clear()
+    _BUSY.append(True)
+    try:
+        for scene in scenes:
+            relink_scene(scene)
+        for material in materials.phong_materials():
+            materials.renew_group_node(material, links.get(material.as_pointer()))
+    finally:
+        _BUSY.pop()
 
 
 #: The relink handler comes after every other handler of depsgraph_update_post that reads
