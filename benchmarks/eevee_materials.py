@@ -15,7 +15,10 @@ are out of it: every F12 render pays the rest again).  Cases:
 
 * ``principled``: the artist's scene as it is;
 * ``emission``: each cube its own Emission material (one node: the floor);
-* ``phong``: after Apply Phong Material (this version);
+* ``phong``: after Apply Phong Material (this version; on Blender 5.3+ its Eevee side is the
+  light loop, ``addon/lighting/loop.py``);
+* ``phong_lights_group``: the same with the lights group in Eevee too (on 5.3+ the recipe of
+  5.2: what the term passes switch to; before 5.3 the same as ``phong``);
 * ``phong_noaov``: the same without the five AOV outputs of each material;
 * ``phong_ungrouped``: the lights group with every nested group node replaced by its nodes
   (the same nodes, no nesting; the lights' drivers dropped, their values frozen);
@@ -42,8 +45,8 @@ import time
 
 from .measure import artist_scene, render, set_eevee, simple_material, worker_setup
 
-CASES = ("principled", "emission", "phong", "phong_noaov", "phong_ungrouped", "phong_0_3",
-         "phong_lights0", "phong_lights1", "phong_noshadow")
+CASES = ("principled", "emission", "phong", "phong_lights_group", "phong_noaov",
+         "phong_ungrouped", "phong_0_3", "phong_lights0", "phong_lights1", "phong_noshadow")
 
 
 # -- the scene ----------------------------------------------------------------------
@@ -87,6 +90,10 @@ def build(bpy, case, objects, n_lights):
                 (index % 7) / 7, (index % 11) / 11, (index % 13) / 13, 1.0)
             obj.data.materials[0] = material
     elif case != "principled":
+        if case == "phong_lights_group":  # the groups of 5.2: no loop part
+            from phong_nodes.addon.lighting import rig  # noqa: PLC0415
+
+            rig.wants_loop = lambda _scene: False
         _apply(bpy, scene, meshes)
         scene.view_layers[0].update()  # the drivers' values, frozen by the two cases below
         materials = {slot.material for obj in meshes for slot in obj.material_slots}
@@ -106,6 +113,31 @@ def build(bpy, case, objects, n_lights):
     scene.view_layers[0].update()
     material = meshes[0].material_slots[0].material
     return scene, material
+
+
+def eevee_nodes(material):
+    """The nodes Eevee compiles of *material* once Blender has inlined its groups and folded
+    its constants (``Material.inline_shader_nodes``, Blender 5+): the tree of a copy whose
+    only Material Output is the one Eevee uses (of target EEVEE, else ALL), AOVs kept; None
+    before 5.0."""
+    if not hasattr(material, "inline_shader_nodes"):
+        return None
+    copy = material.copy()
+    try:
+        outputs = [n for n in copy.node_tree.nodes if n.bl_idname == "ShaderNodeOutputMaterial"]
+        eevee = next((n for n in outputs if n.target == "EEVEE"), None) or next(
+            (n for n in outputs if n.target == "ALL"), None)
+        for node in outputs:
+            if node is not eevee:
+                copy.node_tree.nodes.remove(node)
+        if eevee is not None:
+            eevee.target = "ALL"
+        inlined = copy.inline_shader_nodes()
+        return len(inlined.node_tree.nodes)
+    finally:
+        import bpy  # noqa: PLC0415
+
+        bpy.data.materials.remove(copy)
 
 
 def expanded_nodes(tree) -> int:
@@ -297,7 +329,8 @@ def worker(case, objects, n_lights, renders) -> dict:
     bpy.context.window.scene = scene
     render(scene)
     return {"render_s": [render(scene) for _ in range(renders)],
-            "expanded_nodes": expanded_nodes(material.node_tree)}
+            "expanded_nodes": expanded_nodes(material.node_tree),
+            "eevee_nodes": eevee_nodes(material)}
 
 
 def run(objects: int, n_lights: int, repeats: int, cases, renders: int = 1) -> dict:
@@ -310,7 +343,8 @@ def run(objects: int, n_lights: int, repeats: int, cases, renders: int = 1) -> d
     import subprocess  # noqa: PLC0415
 
     out = {"objects": objects, "lights": n_lights, "repeats": repeats, "renders": renders,
-           "load_average": [os.getloadavg()], "render_s": {}, "expanded_nodes": {}}
+           "load_average": [os.getloadavg()], "render_s": {}, "expanded_nodes": {},
+           "eevee_nodes": {}}
     for repeat in range(repeats):
         for case in cases if repeat % 2 == 0 else cases[::-1]:
             proc = subprocess.run(
@@ -324,6 +358,7 @@ def run(objects: int, n_lights: int, repeats: int, cases, renders: int = 1) -> d
             out["bpy"] = result["bpy"]
             out["render_s"].setdefault(case, []).extend(result["render_s"])
             out["expanded_nodes"][case] = result["expanded_nodes"]
+            out["eevee_nodes"][case] = result.get("eevee_nodes")
             out["load_average"].append(os.getloadavg())
     medians = {case: statistics.median(times) for case, times in out["render_s"].items()}
     out["median_s"] = medians

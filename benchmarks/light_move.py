@@ -17,6 +17,11 @@ the median of *moves* updates after two untimed ones; "move" moves the first lig
 light), "turn" rotates the third (a spot).  Prints one JSON object (seconds, ratios to
 Principled, relink seconds, load average).
 
+``--each``: the update after moving each light in turn (a point or spot moved, a sun turned),
+Principled, this version and, on Blender 5.3+, the lights groups of 5.2 (no light loop, so
+at most ``compat.VIEW_LAYER_LOOKUPS`` transforms from the World: the lights beyond are
+driven in the group) side by side in one process (``run_each``; issue 38).
+
 ``--eevee``: Eevee's first render (shader compile included, after the engine's warm-up) of
 3x3 spheres with 4, 8 and 16 point lights, this version against the previous rig, each in a
 process of its own with empty shader caches.
@@ -112,6 +117,68 @@ def run(objects: int, n_lights: int, moves: int) -> dict:
     return out
 
 
+def _each(view_layer, lights, moves):
+    """Per light: the median update after moving it (a sun: turning it)."""
+    out = []
+    for light in lights:
+        if light.data.type == "SUN":
+            def change(index, light=light):
+                light.rotation_euler.x += 0.05 if index % 2 == 0 else -0.05
+        else:
+            def change(index, light=light):
+                light.location.x += 0.25 if index % 2 == 0 else -0.25
+        out.append(_updates(None, view_layer, change, moves))
+    return out
+
+
+def run_each(objects: int, n_lights: int, moves: int) -> dict:
+    """Issue 38: the update after moving each of *n_lights* lights, Principled, this version
+    ("phong") and on 5.3+ the lights groups of 5.2 ("lights_group"), then this version
+    again (the drift), in one process; ratios to Principled per light."""
+    bpy = worker_setup()
+    from phong_nodes.addon.lighting import loop, rig, sync  # noqa: PLC0415
+
+    load_before = os.getloadavg()
+    scene, meshes, lights = artist_scene("light_each", objects, n_lights)
+    bpy.context.window.scene = scene
+    view_layer = scene.view_layers[0]
+    view_layer.update()
+    out = {"objects": objects, "lights": n_lights, "moves": moves,
+           "bpy": bpy.app.version_string, "kinds": [o.data.type for o in lights],
+           "update_s": {}}
+    out["update_s"]["principled"] = _each(view_layer, lights, moves)
+    for obj in meshes:
+        obj.select_set(True, view_layer=view_layer)
+    with bpy.context.temp_override(scene=scene, view_layer=view_layer, selected_objects=meshes):
+        assert bpy.ops.phong.apply_material() == {"FINISHED"}
+    view_layer.update()
+    group = meshes[0].material_slots[0].material.node_tree.nodes["phong_lights"].node_tree
+    out["loop"] = loop.has_loop(group)
+    out["update_s"]["phong"] = _each(view_layer, lights, moves)
+    designs = ["phong"]
+    if out["loop"]:
+        wants = rig.wants_loop
+        rig.wants_loop = lambda _scene: False
+        try:
+            sync.relink_scene(scene, view_layer)
+            view_layer.update()
+            out["update_s"]["lights_group"] = _each(view_layer, lights, moves)
+            designs.append("lights_group")
+        finally:
+            rig.wants_loop = wants
+        sync.relink_scene(scene, view_layer)
+        view_layer.update()
+        out["update_s"]["phong_again"] = _each(view_layer, lights, moves)
+        designs.append("phong_again")
+    base = out["update_s"]["principled"]
+    out["ratio_to_principled"] = {
+        design: [t / b for t, b in zip(out["update_s"][design], base)] for design in designs}
+    out["worst_ratio"] = {design: max(ratios)
+                          for design, ratios in out["ratio_to_principled"].items()}
+    out["load_average"] = [load_before, os.getloadavg()]
+    return out
+
+
 def eevee_first(n_lights: int, design: str) -> dict:
     """One cold process (run by ``eevee``): Eevee's engine warmed up by the Emission scene,
     then the first render (shader compile included) and a second render of 3x3 spheres with
@@ -168,12 +235,18 @@ def main(argv=None) -> int:
     parser.add_argument("--eevee", type=int, nargs="*", metavar="LIGHTS",
                         help="instead: Eevee's cold first render with these numbers of lights")
     parser.add_argument("--repeats", type=int, default=1)
+    parser.add_argument("--each", action="store_true",
+                        help="instead: the update after moving each light (issue 38)")
     parser.add_argument("--eevee-worker", nargs=2, help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
     if args.eevee_worker:
         print("EEVEE " + json.dumps(eevee_first(int(args.eevee_worker[0]),
                                                 args.eevee_worker[1])))
         return 0
+    if args.each:
+        print(json.dumps(run_each(args.objects, args.lights, args.moves), indent=1), flush=True)
+        sys.stderr.flush()
+        os._exit(0)
     if args.eevee is not None:
         print(json.dumps(eevee(args.eevee or [4, 8, 16], args.repeats), indent=1))
         return 0

@@ -1,0 +1,133 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Issue 38: Phong materials on Eevee's light loop (Blender 5.3+) at 1, 4 and 16 lights, side
+by side with Principled and with the lights groups of 5.2 in one run.
+
+    .venv/bin/python -m phong_nodes.benchmarks.light_loop [--objects 1000] [--lights 1 4 16]
+        [--repeats 2] [--renders 2] [--out benchmarks/light_loop_results.json]
+    .venv/bin/python -m phong_nodes.benchmarks.light_loop --table benchmarks/light_loop_results.json
+
+Two figures, each from the modules that measure it, run one after the other:
+
+* **F12**: ``eevee_materials.run`` (figure 6's artist scene, 1,000 cubes with their own
+  materials, 256², Eevee at 1 sample, each case in a process of its own after an untimed
+  render, the order of the cases alternating) per number of lights, cases ``principled``,
+  ``phong`` (its Eevee side the loop on 5.3+) and ``phong_lights_group`` (the same with the
+  lights group in Eevee too: the recipe of 5.2, which the term passes switch to);
+* **drag**: ``light_move.run_each`` at the largest number of lights: the update after
+  moving each light in turn, Principled, ``phong`` and ``lights_group``, then ``phong``
+  again, in one process.
+
+Writes one JSON (every time, the load average before and after each part) and prints the
+table of ``table``.  Ratios are within one run; the machine's load is in the JSON.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import statistics
+import subprocess
+import sys
+import time
+
+CASES = ("principled", "phong", "phong_lights_group")
+#: The goals of issue 38 (on 5.3): F12 within 2x Principled at 4 and 16 lights, a drag of any
+#: of 16 lights within 1.3x.
+F12_GOAL = 2.0
+DRAG_GOAL = 1.3
+
+
+def f12(objects, lights, repeats, renders) -> dict:
+    from .eevee_materials import run  # noqa: PLC0415  (no bpy: it starts processes)
+
+    return {str(n): run(objects, n, repeats, list(CASES), renders) for n in lights}
+
+
+def drag(objects, n_lights, moves) -> dict:
+    proc = subprocess.run(
+        [sys.executable, "-m", "phong_nodes.benchmarks.light_move", "--each", "--objects",
+         str(objects), "--lights", str(n_lights), "--moves", str(moves)],
+        capture_output=True, text=True)
+    text = proc.stdout
+    if proc.returncode != 0 or "{" not in text:
+        raise RuntimeError(text[-2000:] + proc.stderr[-2000:])
+    return json.loads(text[text.index("{"):])
+
+
+def table(result) -> str:
+    """The Markdown table of a run (``run``'s JSON)."""
+    lines = ["| lights | Principled | Phong (light loop) | / Principled | lights group of 5.2 "
+             "| / Principled | Eevee nodes per material (loop / group) |",
+             "|---|---|---|---|---|---|---|"]
+    for n, figure in result["f12"].items():
+        median = figure["median_s"]
+        times = figure["render_s"]
+
+        def cell(case):
+            return (f"{median[case]:.2f} s ({min(times[case]):.2f}–{max(times[case]):.2f})"
+                    if case in median else "–")
+
+        ratio = figure.get("ratio_to_principled", {})
+        nodes = figure.get("eevee_nodes", {})
+        lines.append(f"| {n} | {cell('principled')} | {cell('phong')} | "
+                     f"**{ratio.get('phong', float('nan')):.2f}×** | "
+                     f"{cell('phong_lights_group')} | "
+                     f"{ratio.get('phong_lights_group', float('nan')):.2f}× | "
+                     f"{nodes.get('phong')} / {nodes.get('phong_lights_group')} |")
+    moves = result.get("drag")
+    if moves:
+        lines += ["", "| a drag of each of "
+                  f"{moves['lights']} lights, {moves['objects']:,} objects | median per light "
+                  "| / Principled: median | worst light |", "|---|---|---|---|"]
+        base = moves["update_s"]["principled"]
+        lines.append(f"| Principled | {1000 * statistics.median(base):.2f} ms | 1 | |")
+        for design, label in (("phong", "Phong (light loop)"),
+                              ("lights_group", "lights groups of 5.2"),
+                              ("phong_again", "Phong again (drift)")):
+            if design not in moves["update_s"]:
+                continue
+            ratios = moves["ratio_to_principled"][design]
+            lines.append(f"| {label} | {1000 * statistics.median(moves['update_s'][design]):.2f}"
+                         f" ms | {statistics.median(ratios):.2f}× | {max(ratios):.2f}× |")
+    return "\n".join(lines)
+
+
+def run(objects, lights, repeats, renders, moves) -> dict:
+    started = time.perf_counter()
+    out = {"objects": objects, "lights": list(lights), "repeats": repeats, "renders": renders,
+           "goals": {"f12": F12_GOAL, "drag": DRAG_GOAL}}
+    out["load_average"] = {"start": os.getloadavg()}
+    out["f12"] = f12(objects, lights, repeats, renders)
+    out["load_average"]["after_f12"] = os.getloadavg()
+    out["drag"] = drag(objects, max(lights), moves)
+    out["load_average"]["end"] = os.getloadavg()
+    out["bpy"] = out["drag"]["bpy"]
+    out["seconds"] = time.perf_counter() - started
+    return out
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--objects", type=int, default=1000)
+    parser.add_argument("--lights", type=int, nargs="+", default=[1, 4, 16])
+    parser.add_argument("--repeats", type=int, default=2)
+    parser.add_argument("--renders", type=int, default=2)
+    parser.add_argument("--moves", type=int, default=21)
+    parser.add_argument("--out", default=None, help="write the JSON here")
+    parser.add_argument("--table", metavar="JSON", help="only print the table of a run")
+    args = parser.parse_args(argv)
+    if args.table:
+        with open(args.table, encoding="utf-8") as handle:
+            print(table(json.load(handle)))
+        return 0
+    result = run(args.objects, args.lights, args.repeats, args.renders, args.moves)
+    if args.out:
+        with open(args.out, "w", encoding="utf-8") as handle:
+            json.dump(result, handle, indent=1)
+    print(table(result))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
