@@ -5,6 +5,8 @@ by side with Principled and with the lights groups of 5.2 in one run.
     .venv/bin/python -m phong_nodes.benchmarks.light_loop [--objects 1000] [--lights 1 4 16]
         [--repeats 2] [--renders 2] [--out benchmarks/light_loop_results.json]
     .venv/bin/python -m phong_nodes.benchmarks.light_loop --table benchmarks/light_loop_results.json
+    .venv/bin/python -m phong_nodes.benchmarks.light_loop --merge benchmarks/light_loop_results.json \
+        benchmarks/results.json      # figure 10 of results.md
 
 Two figures, each from the modules that measure it, run one after the other:
 
@@ -93,6 +95,21 @@ def table(result) -> str:
     return "\n".join(lines)
 
 
+def merge(figure, path) -> None:
+    """Put *figure* (a run) into the results file *path* as figure 10 (``light_loop``) and
+    write the table beside it (results.json -> results.md), as run.py does."""
+    from .table import markdown  # noqa: PLC0415
+
+    with open(path, encoding="utf-8") as handle:
+        data = json.load(handle)
+    data["figures"]["light_loop"] = figure
+    with open(path, "w", encoding="utf-8") as handle:
+        json.dump(data, handle, indent=1)
+        handle.write("\n")
+    with open(os.path.splitext(path)[0] + ".md", "w", encoding="utf-8") as handle:
+        handle.write(markdown(data["figures"], data["meta"]) + "\n")
+
+
 def run(objects, lights, repeats, renders, moves) -> dict:
     started = time.perf_counter()
     out = {"objects": objects, "lights": list(lights), "repeats": repeats, "renders": renders,
@@ -116,10 +133,16 @@ def main(argv=None) -> int:
     parser.add_argument("--moves", type=int, default=21)
     parser.add_argument("--out", default=None, help="write the JSON here")
     parser.add_argument("--table", metavar="JSON", help="only print the table of a run")
+    parser.add_argument("--merge", nargs=2, metavar=("RUN_JSON", "RESULTS_JSON"),
+                        help="put a run into the results file as figure 10 (and its table)")
     args = parser.parse_args(argv)
     if args.table:
         with open(args.table, encoding="utf-8") as handle:
             print(table(json.load(handle)))
+        return 0
+    if args.merge:
+        with open(args.merge[0], encoding="utf-8") as handle:
+            merge(json.load(handle), args.merge[1])
         return 0
     result = run(args.objects, args.lights, args.repeats, args.renders, args.moves)
     if args.out:

@@ -27,7 +27,8 @@ def rows(figures, meta):
     return [*cycles_rows(figures), *eevee_rows(figures), *quality_rows(figures),
             *scale_rows(figures, meta["config"]["scale_objects"]),
             *artist_rows(figures["artist_scale"]), *demo_rows(figures.get("demo_eevee")),
-            *shading_rows(figures.get("shading_modes")), *import_rows(figures.get("import_speed"))]
+            *shading_rows(figures.get("shading_modes")), *import_rows(figures.get("import_speed")),
+            *loop_rows(figures.get("light_loop"))]
 
 
 def markdown(figures, meta):
@@ -233,4 +234,40 @@ def import_rows(figure):
                      f"{fmt(figure['ours_s'][kind])} s vs {fmt(figure['blender_s'][kind])} s "
                      f"({theirs[kind]}); median of {figure['repeats']}, bpy {figure['bpy']}, "
                      f"load {load[0][0]:.2f} before, {load[1][0]:.2f} after"))
+    return rows
+
+
+def loop_rows(figure):
+    """Table rows of figure 10 (issue 38; ``light_loop.py --merge``): an Eevee F12 of 1,000
+    own-material cubes per number of lights, and a drag of each light, on Blender 5.3's light
+    loop."""
+    if figure is None:
+        return []
+    rows = []
+    goal_f12, goal_drag = figure["goals"]["f12"], figure["goals"]["drag"]
+    for n, f12 in figure["f12"].items():
+        median, times = f12["median_s"], f12["render_s"]
+        ratio = f12["ratio_to_principled"]["phong"]
+        goal = f"≤ {goal_f12:g}×" if int(n) > 1 else "–"
+        rows.append((
+            f"10. Eevee F12 of {figure['objects']:,} own-material cubes, {n} light"
+            f"{'s' if int(n) > 1 else ''}: Phong (light loop) / Principled", f"{ratio:.2f}×",
+            goal, verdict(ratio, goal_f12, "max") if int(n) > 1 else "",
+            f"{median['phong']:.2f} s ({min(times['phong']):.2f}–{max(times['phong']):.2f}) vs "
+            f"{median['principled']:.2f} s ({min(times['principled']):.2f}–"
+            f"{max(times['principled']):.2f}); the lights group of 5.2 "
+            f"{f12['ratio_to_principled']['phong_lights_group']:.2f}×; "
+            f"{len(times['phong'])} renders, bpy {f12['bpy']}"))
+    drag = figure.get("drag")
+    if drag:
+        worst = drag["worst_ratio"]
+        ratios = drag["ratio_to_principled"]["phong"]
+        rows.append((
+            f"10. Drag of each of {drag['lights']} lights, {drag['objects']:,} objects: Phong "
+            "(light loop) / Principled, worst light", f"{worst['phong']:.2f}×",
+            f"≤ {goal_drag:g}×", verdict(worst["phong"], goal_drag, "max"),
+            f"median of the lights {sorted(ratios)[len(ratios) // 2]:.2f}×; the lights "
+            f"groups of 5.2: worst {worst.get('lights_group', float('nan')):.2f}×; again "
+            f"(drift) worst {worst.get('phong_again', float('nan')):.2f}×; median of "
+            f"{drag['moves']} moves each, bpy {drag['bpy']}"))
     return rows

@@ -198,3 +198,31 @@ def test_light_accumulation_clamps_as_blender_does():
     """max(Light, 0) ⊗ clamp(Color, 0, 1) × factor (Blender 5.3's node_light_accumulation)."""
     got = library.accumulate(np.array([-1.0, 0.5, 2.0]), np.array([0.5, 1.5, -0.2]), 2.0)
     assert got == pytest.approx([0.0, 1.0, 0.0])
+
+
+def test_the_table_rows_of_figure_10_state_the_goals():
+    """benchmarks/table.py's rows of figure 10 (light_loop.py --merge): the F12 ratio at 4 and
+    16 lights against 2x (none at 1 light), the worst light's drag against 1.3x."""
+    from phong_nodes.benchmarks import table
+
+    def f12(principled, phong, group):
+        return {"median_s": {"principled": principled, "phong": phong,
+                             "phong_lights_group": group},
+                "render_s": {"principled": [principled], "phong": [phong],
+                             "phong_lights_group": [group]},
+                "ratio_to_principled": {"phong": phong / principled,
+                                        "phong_lights_group": group / principled},
+                "bpy": "5.3.0"}
+
+    figure = {"objects": 1000, "goals": {"f12": 2.0, "drag": 1.3},
+              "f12": {"1": f12(2.0, 3.0, 3.0), "4": f12(2.0, 3.8, 6.0),
+                      "16": f12(2.0, 4.2, 20.0)},
+              "drag": {"lights": 16, "objects": 1000, "moves": 21, "bpy": "5.3.0",
+                       "ratio_to_principled": {"phong": [1.0, 1.1, 1.2]},
+                       "worst_ratio": {"phong": 1.2, "lights_group": 6.8,
+                                       "phong_again": 1.25}}}
+    rows = table.loop_rows(figure)
+    assert [r[1] for r in rows] == ["1.50×", "1.90×", "2.10×", "1.20×"]
+    assert [r[3] for r in rows] == ["", "met", "missed by 1.1×", "met"]
+    assert [r[2] for r in rows] == ["–", "≤ 2×", "≤ 2×", "≤ 1.3×"]
+    assert table.loop_rows(None) == []
