@@ -382,3 +382,34 @@ def test_a_file_of_5_3_opens_and_renders_the_same_before_5_3(loop_bpy, blender_t
     report(f"[loop file opened by bpy {previous[0]}] Eevee there vs Eevee on 5.3 (shown): max "
            f"{err.max():.2e}")
     assert err.max() <= STEP
+
+
+@pytest.mark.eevee
+@pytest.mark.cycles
+@pytest.mark.slow
+@pytest.mark.parametrize("name", ["threejs_spot_penumbra", "threejs_point_cutoff", "two_lights"])
+def test_the_comparison_of_a_demo_scene_on_the_loop(loop_bpy, tmp_path, name):
+    """Compare Phong Scene (core/compare.py) on demo scenes whose materials show the loop in
+    Eevee (the three.js model's spot with a penumbra, its point light's cut-off distance; the
+    seeds' two lights): Eevee as shown within 1/255 of the reference and of Cycles, Cycles'
+    term passes (from AOVs in the comparison's copy of the lights group: the materials have
+    none) within 1e-4."""
+    bpy = loop_bpy
+    loop, materials, _properties, _rig, _sync = _modules()
+    from phong_nodes.addon.comparison import engine  # noqa: PLC0415
+
+    bpy.ops.phong.build_demo_scene(name=name, resolution=48)
+    scene = bpy.data.scenes[name]
+    phong = [slot.material for obj in scene.objects for slot in obj.material_slots
+             if materials.is_phong_material(slot.material)]
+    assert phong and all(materials.OUTPUT_EEVEE in m.node_tree.nodes for m in phong
+                         if not materials.blends(m))
+    metrics = engine.run(scene, str(tmp_path / name))
+    pairs = metrics["pairs"]
+    report(f"[loop comparison {name}] {metrics['verdict']}; eevee-reference max "
+           f"{pairs['eevee-reference']['max_abs']:.2e}, eevee-cycles max "
+           f"{pairs['eevee-cycles']['max_abs']:.2e}, above 1: {metrics['eevee_above_1']}")
+    assert metrics["ok"], metrics["verdict"]
+    assert pairs["eevee-reference"]["share_over_1_255"] == 0.0
+    assert pairs["eevee-cycles"]["max_abs"] <= STEP
+    assert max(t["max_abs"] for t in metrics["terms"].values()) <= 1e-4
