@@ -3,6 +3,8 @@
 
 from __future__ import annotations
 
+import statistics
+
 from .analyse import MOVE_GOAL, SECONDS_GOAL, SECONDS_GOAL_OBJECTS
 
 
@@ -266,7 +268,8 @@ def loop_rows(figure):
             f"10. Drag of each of {drag['lights']} lights, {drag['objects']:,} objects: Phong "
             "(light loop) / Principled, worst light", f"{worst['phong']:.2f}×",
             f"≤ {goal_drag:g}×", verdict(worst["phong"], goal_drag, "max"),
-            f"median of the lights {sorted(ratios)[len(ratios) // 2]:.2f}×; the lights "
+            f"median of the lights {statistics.median(ratios):.2f}×, ratio of their medians "
+            f"{statistics.median(drag['update_s']['phong']) / statistics.median(drag['update_s']['principled']):.2f}×; the lights "
             f"groups of 5.2: worst {worst.get('lights_group', float('nan')):.2f}×; again "
             f"(drift) worst {worst.get('phong_again', float('nan')):.2f}×; median of "
             f"{drag['moves']} moves each, bpy {drag['bpy']}"))

@@ -218,6 +218,7 @@ def test_the_table_rows_of_figure_10_state_the_goals():
               "f12": {"1": f12(2.0, 3.0, 3.0), "4": f12(2.0, 3.8, 6.0),
                       "16": f12(2.0, 4.2, 20.0)},
               "drag": {"lights": 16, "objects": 1000, "moves": 21, "bpy": "5.3.0",
+                       "update_s": {"principled": [1.0, 2.0, 3.0], "phong": [1.0, 2.2, 3.6]},
                        "ratio_to_principled": {"phong": [1.0, 1.1, 1.2]},
                        "worst_ratio": {"phong": 1.2, "lights_group": 6.8,
                                        "phong_again": 1.25}}}
@@ -225,4 +226,5 @@ def test_the_table_rows_of_figure_10_state_the_goals():
     assert [r[1] for r in rows] == ["1.50×", "1.90×", "2.10×", "1.20×"]
     assert [r[3] for r in rows] == ["", "met", "missed by 1.1×", "met"]
     assert [r[2] for r in rows] == ["–", "≤ 2×", "≤ 2×", "≤ 1.3×"]
+    assert "ratio of their medians 1.10×" in rows[3][4]
     assert table.loop_rows(None) == []
