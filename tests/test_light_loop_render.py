@@ -413,3 +413,49 @@ def test_the_comparison_of_a_demo_scene_on_the_loop(loop_bpy, tmp_path, name):
     assert pairs["eevee-reference"]["share_over_1_255"] == 0.0
     assert pairs["eevee-cycles"]["max_abs"] <= STEP
     assert max(t["max_abs"] for t in metrics["terms"].values()) <= 1e-4
+
+
+def test_the_loop_is_there_exactly_from_5_3(bpy_clean):
+    """compat.HAS_LIGHT_LOOP on every release: the nodes exist from 5.3 on; a file just made is
+    not from a newer release; the View Layer lookups of a group on the loop are unlimited only
+    where the loop is."""
+    bpy = bpy_clean
+    compat = be.compat()
+    has = hasattr(bpy.types, "ShaderNodeLightAccumulation")
+    assert compat.HAS_LIGHT_LOOP == has == (bpy.app.version >= (5, 3, 0))
+    assert not compat.file_from_newer_release()
+    assert compat.view_layer_lookups(False) == compat.VIEW_LAYER_LOOKUPS
+    assert compat.view_layer_lookups(True) == (compat.LOOP_VIEW_LAYER_LOOKUPS if has
+                                               else compat.VIEW_LAYER_LOOKUPS)
+
+
+def test_before_5_3_the_material_is_the_one_of_5_2(bpy_clean):
+    """Where there is no loop (and on 5.3 with the term passes on) Apply makes the recipe of
+    5.2: one Material Output of target ALL showing the lights group, the term AOVs, no loop
+    part in the group, the lights' transforms within compat.VIEW_LAYER_LOOKUPS."""
+    bpy = bpy_clean
+    loop, materials, _properties, rig, _sync = _modules()
+    compat = be.compat()
+    scene = be.new_scene("Recipe", 8, 8, "cycles")
+    bpy.context.window.scene = scene
+    if compat.HAS_LIGHT_LOOP:
+        assert bpy.ops.phong.add_term_passes() == {"FINISHED"}
+    mesh = bpy.data.meshes.new("Plane")
+    mesh.from_pydata([(-1, -1, 0), (1, -1, 0), (1, 1, 0), (-1, 1, 0)], [], [(0, 1, 2, 3)])
+    plane = bpy.data.objects.new("Plane", mesh)
+    scene.collection.objects.link(plane)
+    for index in range(6):
+        _light(bpy, scene, f"L{index}", ("POINT", "SPOT")[index % 2], (index, 0.0, 2.0))
+    plane.select_set(True)
+    assert bpy.ops.phong.apply_material() == {"FINISHED"}
+    tree = plane.active_material.node_tree
+    outputs = [n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputMaterial"]
+    assert [n.target for n in outputs] == ["ALL"]
+    assert all(f"phong_aov:{name}" in tree.nodes for name in materials.AOVS)
+    group = tree.nodes[materials.LIGHTS_NODE].node_tree
+    assert not loop.has_loop(group) and not group.get(loop.LOOP_KEY)
+    assert not any(n.name.startswith(loop.NODE_PREFIX) for n in group.nodes)
+    assert [o.name for o in group.interface.items_tree if o.in_out == "OUTPUT"] == [
+        name for name, _type in rig.OUTPUTS]
+    assert len(group.get(rig.WORLD_KEYS, ())) <= compat.VIEW_LAYER_LOOKUPS
+    assert not group.get(rig.LOOP_WORLD_KEYS)
