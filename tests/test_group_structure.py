@@ -147,5 +147,8 @@ def test_lights_rig_cost_per_light_matches_the_snapshot(bpy_clean):
                           if three["nodes"].get(t, 0) != one["nodes"].get(t, 0)}
     # Blender 5.2+: the lights' transforms come from World properties (View Layer attributes);
     # before, where compat.VIEW_LAYER_LOOKUPS is 0, from drivers in the group (the 0.2 rig)
-    section = "lights rig" if be.compat().VIEW_LAYER_LOOKUPS else "lights rig (drivers)"
+    # Blender 5.3+: the group also holds the loop part of Eevee's light loop (lighting/loop.py),
+    # the same whatever the number of lights
+    section = ("lights rig (light loop)" if be.compat().HAS_LIGHT_LOOP
+               else "lights rig" if be.compat().VIEW_LAYER_LOOKUPS else "lights rig (drivers)")
     check(section, {"1 point light": one, "3 point lights": three, "per light": per_light})

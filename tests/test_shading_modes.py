@@ -541,8 +541,11 @@ def test_modifiers_come_first_and_pixel_mode_leaves_nothing_behind(bpy_clean):
     assert modes.SHADING_NODE not in nodes and modes.EMISSION_NODE not in nodes
     surface = nodes["phong_output"].inputs["Surface"].links[0]
     assert surface.from_node.name == "phong_lights" and surface.from_socket.name == "Shader"
-    for name, socket in aovs.items():  # every AOV from the lights group again
-        assert socket.links[0].from_node.name == "phong_lights", name
+    if materials.OUTPUT_EEVEE in nodes:  # 5.3: Eevee shows the light loop, no term AOV then
+        assert not any(n.name.startswith("phong_aov:") for n in nodes)
+    else:
+        for name, socket in aovs.items():  # every AOV from the lights group again
+            assert socket.links[0].from_node.name == "phong_lights", name
         assert socket.links[0].from_socket.name == name.removeprefix("Phong "), name
     with pytest.raises(ValueError, match="unknown shading"):
         modes.set_mode(material, "SMOOTH")

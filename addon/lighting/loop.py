@@ -147,15 +147,6 @@ def follow_lights(_scene, depsgraph=None) -> None:
 
 # -- the loop part of a lights group ---------------------------------------------------------
 
-def _group_node(tree, group_name, name, location):
-    node = tree.nodes.new("ShaderNodeGroup")
-    node.node_tree, _status = loader.ensure_group(group_name)
-    node.name = node.label = name
-    node.location = location
-    node.width = 200.0
-    return node
-
-
 def _node(tree, kind, name, location):
     node = tree.nodes.new(kind)
     node.name = node.label = NODE_PREFIX + name
@@ -167,13 +158,13 @@ def build(tree, model, group_in, group_out, irradiant, ambient, surface=None) ->
     """Add the loop part of *model* to the lights group *tree* (being built: *group_in*,
     *group_out* its Group Input and Output): its Eevee Shader output = Emission(*irradiant*
     + *ambient*) + Light Accumulation of the model's loop group.  *surface*: a Phong Surface
-    node of the group (the unit normal and view vector), else one is made."""
+    node of the group (the unit normal and view vector), else its nodes are written."""
     spec = LOOP_MODELS[model]
     x, y = -900.0, 1400.0
-    if surface is None:
-        surface = _group_node(tree, "Phong Surface", NODE_PREFIX + "surface", (x, y + 400.0))
-        for name in ("Normal", "View Vector"):
-            tree.links.new(group_in.outputs[name], surface.inputs[name])
+    if surface is None:  # written flat: the group keeps the group nodes of its model
+        unit = _write(tree, definition("Phong Surface"), {}, group_in, (x - 300.0, y + 600.0))
+    else:
+        unit = {name: surface.outputs[name] for name in ("Normal", "View Vector")}
     evaluation = _node(tree, "ShaderNodeLightEvaluation", "evaluation", (x, y))
     axis = _node(tree, "ShaderNodeVectorTransform", "axis", (x, y - 220.0))
     axis.vector_type, axis.convert_from, axis.convert_to = "VECTOR", "LIGHT", "WORLD"
@@ -181,7 +172,7 @@ def build(tree, model, group_in, group_out, irradiant, ambient, surface=None) ->
     sources = {LIGHT_VECTOR: compat.output_socket(evaluation, "Direction"),
                DISTANCE: compat.output_socket(evaluation, "Distance"),
                AXIS: compat.output_socket(axis, "Vector"),
-               "Normal": surface.outputs["Normal"], "View Vector": surface.outputs["View Vector"]}
+               "Normal": unit["Normal"], "View Vector": unit["View Vector"]}
     for row, parameter in enumerate(spec.parameters):
         attribute = _node(tree, "ShaderNodeAttribute", parameter.name,
                           (x + 250.0, y - 200.0 * row))

@@ -308,6 +308,7 @@ def apply_opacity(material) -> None:
         return
     value = opacity(material)
     mapped = _opacity_map(tree)
+    _term_aovs(tree, lights)
     targets = [(OPACITY_MIX, _shader(tree, lights), output)]
     eevee_output = _eevee_output(tree, lights)
     # With an EEVEE output the first one is Cycles' only: Eevee's inliner then leaves the
@@ -341,6 +342,29 @@ def apply_opacity(material) -> None:
         tree.links.new(source, compat.input_socket(mix, "Shader_001"))
         tree.links.new(compat.output_socket(mix, "Shader"), target.inputs["Surface"])
     _render_method(material, "BLENDED")
+
+
+def _term_aovs(tree, lights, relink=False) -> None:
+    """The term AOV outputs of a material: none where it shows the loop in Eevee (they would
+    make Eevee evaluate the per-light part: ``loop.py``), else each of AOVS, made when missing
+    and linked from the lights group (*relink*: every one of them; Per Vertex / Per Face link
+    their own: ``shading/modes.py``)."""
+    shows_loop = _eevee_shader(tree, lights) is not None
+    for index, (aov_name, socket) in enumerate(AOVS.items()):
+        aov = tree.nodes.get(f"phong_aov:{aov_name}")
+        if shows_loop:
+            if aov is not None:
+                tree.nodes.remove(aov)
+            continue
+        made = aov is None
+        if made:
+            aov = tree.nodes.new("ShaderNodeOutputAOV")
+            aov.name = f"phong_aov:{aov_name}"
+            aov.aov_name = aov_name
+            aov.label = aov_name
+            aov.location = (400.0, -100.0 - 120.0 * index)
+        if made or relink:
+            tree.links.new(lights.outputs[socket], aov.inputs["Color"])
 
 
 def _eevee_shader(tree, lights):
@@ -381,18 +405,17 @@ def _eevee_output(tree, lights):
 
 
 def eevee_in_step(material) -> bool:
-    """Whether *material* has the EEVEE Material Output exactly when it shows its lights
-    group's loop part, and the term AOV outputs exactly when the group has no loop part."""
+    """Whether *material* has the EEVEE Material Output, and no term AOV output, exactly when
+    it shows its lights group's loop part in Eevee."""
     tree = material.node_tree
     lights = tree.nodes.get(LIGHTS_NODE)
     if lights is None:
         return True
-    loop = light_loop.has_loop(lights.node_tree)
     aovs = any(tree.nodes.get(f"phong_aov:{name}") is not None for name in AOVS)
     shows = _eevee_shader(tree, lights) is not None
     output = tree.nodes.get(OUTPUT)
     target = output.target if output is not None else None
-    return ((tree.nodes.get(OUTPUT_EEVEE) is not None) == shows and aovs != loop
+    return ((tree.nodes.get(OUTPUT_EEVEE) is not None) == shows and aovs != shows
             and target in (None, "CYCLES" if shows else "ALL"))
 
 
@@ -542,20 +565,7 @@ def wire(material, lights_group, object_color=None) -> None:
     if not ambient.is_linked:  # the seeds' model: the ambient light sees the Object Color
         tree.links.new(node.inputs["Object Color"].links[0].from_socket, ambient)
     tree.links.new(node.outputs["Shader"], _output(tree).inputs["Surface"])
-    loop = light_loop.has_loop(lights_group)
-    for index, (aov_name, socket) in enumerate(AOVS.items()):
-        aov = tree.nodes.get(f"phong_aov:{aov_name}")
-        if loop:  # Eevee would evaluate the per-light part for them (loop.py)
-            if aov is not None:
-                tree.nodes.remove(aov)
-            continue
-        if aov is None:
-            aov = tree.nodes.new("ShaderNodeOutputAOV")
-            aov.name = f"phong_aov:{aov_name}"
-            aov.aov_name = aov_name
-            aov.label = aov_name
-            aov.location = (400.0, -100.0 - 120.0 * index)
-        tree.links.new(node.outputs[socket], aov.inputs["Color"])
+    _term_aovs(tree, node, relink=True)
     apply_opacity(material)
     material[MATERIAL_TAG] = LAYOUT
 
