@@ -166,12 +166,20 @@ def black_world(world) -> None:
         background.inputs["Color"].default_value = (0.0, 0.0, 0.0, 1.0)
 
 
+#: The first release verified to render a float ``custom_normal`` corner attribute right in
+#: Cycles (4.5.15 and 5.0.1 do not; 5.1 was not tried).
+FLOAT_CUSTOM_NORMALS = (5, 2, 0)
+
+
 def set_corner_normals(mesh, normals) -> None:
     """Custom normals of *mesh*, one unit vector per corner (*normals*: float32 (corners, 3)).
-    Blender 4.5 and later hold them as the float vector attribute ``custom_normal`` of the
-    corners, written at once; before, ``normals_split_custom_set`` (which reads a numpy array
-    fastest there; 1.6 M corners: seconds through a list of tuples)."""
-    if VERSION >= (4, 5, 0):
+    From Blender 5.2 on they are written at once as the float vector attribute
+    ``custom_normal`` of the corners.  Blender 4.5 and 5.0 hold such an attribute too, but
+    their Cycles renders it wrongly (an X3D Cylinder's side shows the normal of another
+    corner: tests/test_compat.py), so there, as before 4.5, ``normals_split_custom_set``
+    encodes them (it reads a numpy array fastest; 1.6 M corners: seconds through a list of
+    tuples)."""
+    if VERSION >= FLOAT_CUSTOM_NORMALS:
         old = mesh.attributes.get("custom_normal")
         if old is not None:
             mesh.attributes.remove(old)

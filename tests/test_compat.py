@@ -80,3 +80,55 @@ def test_a_new_material_draws_from_its_nodes_without_touching_use_nodes(bpy_clea
     tree = compat.new_material_tree(material)
     assert tree is not None and compat.uses_nodes(material)
     assert any(node.bl_idname == "ShaderNodeOutputMaterial" for node in tree.nodes)
+
+
+@pytest.mark.cycles
+def test_custom_normals_render_in_cycles_as_written(bpy_clean, tmp_path):
+    """A smooth-shaded cylinder (n-gon caps, quad sides) with custom normals from ``set_corner_normals``
+    (the COLLADA and X3D importers' path), seen from the side: Cycles' Normal pass at the
+    centre of the side is horizontal and faces the camera.  Blender 4.5 and 5.0 render a float
+    ``custom_normal`` attribute with another corner's normal there ((0, 0, -1), a cap's)."""
+    import math  # noqa: PLC0415
+
+    import numpy as np  # noqa: PLC0415
+
+    bpy = bpy_clean
+    compat = be.compat()
+    from phong_nodes.core import compare  # noqa: PLC0415
+
+    sides = 16
+    ring = [(math.sin(2 * math.pi * k / sides), -math.cos(2 * math.pi * k / sides))
+            for k in range(sides)]
+    verts = [(x, y, z) for z in (-1.0, 1.0) for x, y in ring]
+    faces = [(k, (k + 1) % sides, sides + (k + 1) % sides, sides + k) for k in range(sides)]
+    faces += [tuple(reversed(range(sides))), tuple(range(sides, 2 * sides))]
+    mesh = bpy.data.meshes.new("Drum")
+    mesh.from_pydata(verts, [], faces)
+    mesh.shade_smooth()
+    mesh.update()
+    normals = []
+    for face in mesh.polygons:
+        for index in face.vertices:
+            x, y, z = mesh.vertices[index].co
+            normals.append((0.0, 0.0, math.copysign(1.0, face.normal.z))
+                           if abs(face.normal.z) > 0.5 else (x, y, 0.0))
+    compat.set_corner_normals(mesh, np.asarray(normals, np.float32))
+    scene = bpy.context.scene
+    obj = bpy.data.objects.new("Drum", mesh)
+    scene.collection.objects.link(obj)
+    camera = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
+    camera.location = (0.0, -10.0, 0.0)
+    camera.rotation_euler = (math.pi / 2, 0.0, 0.0)
+    scene.collection.objects.link(camera)
+    scene.camera = camera
+    scene.render.engine = "CYCLES"
+    scene.cycles.samples = 1
+    scene.render.resolution_x, scene.render.resolution_y = 64, 48
+    scene.view_layers[0].use_pass_normal = True
+    compat.set_multilayer_exr(scene.render.image_settings)
+    scene.render.filepath = str(tmp_path / "normals.exr")
+    bpy.ops.render.render(write_still=True)
+    normal = compare.read_exr(scene.render.filepath)["Normal"][24, 32]
+    # the pixel centre's ray meets the side between the corners at ±11.25°: a smooth normal
+    # there has no z and points to the camera within that angle
+    assert abs(normal[2]) < 1e-3 and normal[1] < -math.cos(math.radians(11.25)) + 1e-3, normal
