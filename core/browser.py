@@ -77,17 +77,40 @@ def find_browser() -> str | None:
     return None
 
 
-def missing_message() -> str:
-    """One line: what the three.js peer renderer lacks and the command that installs it."""
+def missing_message(peer: str = "three.js") -> str:
+    """One line: what the *peer* renderer ("three.js", "X_ITE": an npm package shown in
+    Chromium) lacks and the command that installs it."""
     no_browser, no_npm = find_browser() is None, shutil.which("npm") is None
     if not (no_browser or no_npm):
         return "Chromium and npm are there (PHONG_CHROMIUM picks another Chromium or Chrome)"
-    needs = (["Chromium"] if no_browser else []) + (["nodejs/npm (to install three.js)"]
+    needs = (["Chromium"] if no_browser else []) + ([f"nodejs/npm (to install {peer})"]
                                                    if no_npm else [])
     packages = (["chromium"] if no_browser else []) + (["nodejs", "npm"] if no_npm else [])
-    return (f"The three.js peer renderer needs {' and '.join(needs)}: "
+    return (f"The {peer} peer renderer needs {' and '.join(needs)}: "
             f"sudo apt-get install -y {' '.join(packages)} && bash tools/phong.sh setup"
             + (" (or set PHONG_CHROMIUM to a Chromium or Chrome binary)" if no_browser else ""))
+
+
+def package_dir(variable: str, name: str, version: str) -> str:
+    """The folder holding ``node_modules/<name>`` of an npm package that a page loads:
+    ``$<variable>`` if set, else ``${XDG_CACHE_HOME:-~/.cache}/phong-nodes/<name>-<version>``
+    (where ``tools/phong.sh setup`` installs it)."""
+    folder = os.environ.get(variable)
+    if folder:
+        return folder
+    cache = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    return os.path.join(cache, "phong-nodes", f"{name}-{version}")
+
+
+def package_file(folder: str, package: str, relative: str, label: str, version: str,
+                 missing) -> str:
+    """Path of *relative* in the npm *package* under *folder*; *missing* (an exception type)
+    naming the setup command when it is absent."""
+    path = os.path.join(folder, "node_modules", package, relative)
+    if not os.path.isfile(path):
+        raise missing(f"{label} {version} is not installed: run "
+                      f"`bash tools/phong.sh setup` (needs npm); looked for {path}")
+    return path
 
 
 # Chromium's log line of a console message: "[pid:tid:date:LEVEL:CONSOLE:12] "text", source: ..."

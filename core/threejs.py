@@ -82,20 +82,13 @@ class ThreeMissing(RuntimeError):
 def three_dir() -> str:
     """The folder holding ``node_modules/three``: ``$PHONG_THREE_DIR`` if set, else
     ``${XDG_CACHE_HOME:-~/.cache}/phong-nodes/three-<version>``."""
-    folder = os.environ.get("PHONG_THREE_DIR")
-    if folder:
-        return folder
-    cache = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
-    return os.path.join(cache, "phong-nodes", f"three-{THREE_VERSION}")
+    return browser.package_dir("PHONG_THREE_DIR", "three", THREE_VERSION)
 
 
 def three_module() -> str:
     """Path of three's self-contained CommonJS bundle; :class:`ThreeMissing` if absent."""
-    path = os.path.join(three_dir(), "node_modules", "three", "build", SCRIPT_NAME)
-    if not os.path.isfile(path):
-        raise ThreeMissing(f"three.js {THREE_VERSION} is not installed: run "
-                           f"`bash tools/phong.sh setup` (needs npm); looked for {path}")
-    return path
+    return browser.package_file(three_dir(), "three", os.path.join("build", SCRIPT_NAME),
+                                "three.js", THREE_VERSION, ThreeMissing)
 
 
 def three_license() -> str:

@@ -101,33 +101,20 @@ class XIteMissing(RuntimeError):
 def x_ite_dir() -> str:
     """The folder holding ``node_modules/x_ite``: ``$PHONG_X_ITE_DIR`` if set, else
     ``${XDG_CACHE_HOME:-~/.cache}/phong-nodes/x_ite-<version>``."""
-    folder = os.environ.get("PHONG_X_ITE_DIR")
-    if folder:
-        return folder
-    cache = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
-    return os.path.join(cache, "phong-nodes", f"x_ite-{X_ITE_VERSION}")
+    return browser.package_dir("PHONG_X_ITE_DIR", "x_ite", X_ITE_VERSION)
 
 
 def x_ite_script() -> str:
     """Path of X_ITE's browser bundle; :class:`XIteMissing` if absent."""
-    path = os.path.join(x_ite_dir(), "node_modules", "x_ite", "dist", SCRIPT_NAME)
-    if not os.path.isfile(path):
-        raise XIteMissing(f"X_ITE {X_ITE_VERSION} is not installed: run "
-                          f"`bash tools/phong.sh setup` (needs npm); looked for {path}")
-    return path
+    return browser.package_file(x_ite_dir(), "x_ite", os.path.join("dist", SCRIPT_NAME),
+                                "X_ITE", X_ITE_VERSION, XIteMissing)
 
 
 def missing_message() -> str:
     """One line: what the X_ITE peer renderer lacks (Chromium, npm) and how to install it."""
-    no_browser, no_npm = browser.find_browser() is None, shutil.which("npm") is None
-    if not (no_browser or no_npm):
+    if browser.find_browser() is not None and shutil.which("npm") is not None:
         return f"Chromium and npm are there; X_ITE {X_ITE_VERSION}: bash tools/phong.sh setup"
-    needs = (["Chromium"] if no_browser else []) + (["nodejs/npm (to install X_ITE)"]
-                                                   if no_npm else [])
-    packages = (["chromium"] if no_browser else []) + (["nodejs", "npm"] if no_npm else [])
-    return (f"The X_ITE peer renderer needs {' and '.join(needs)}: "
-            f"sudo apt-get install -y {' '.join(packages)} && bash tools/phong.sh setup"
-            + (" (or set PHONG_CHROMIUM to a Chromium or Chrome binary)" if no_browser else ""))
+    return browser.missing_message("X_ITE")
 
 
 def unavailable() -> str | None:

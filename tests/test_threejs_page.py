@@ -418,7 +418,11 @@ def test_three_is_pinned():
     assert lock["packages"]["node_modules/three"]["integrity"].startswith("sha512-")
     assert not os.path.exists(os.path.join(folder, "node_modules"))
     with open(os.path.join(ROOT, "tools", "phong.sh")) as stream:
-        assert f"version={threejs.THREE_VERSION}" in stream.read()
+        script = stream.read()
+    function = script[script.index("ensure_three() {"):]
+    function = function[:function.index("}")]
+    assert f" three {threejs.THREE_VERSION} PHONG_THREE_DIR build/{threejs.SCRIPT_NAME}\n" \
+        in function
 
 
 # --- pages that finish after the load event (the glTF check's GLTFLoader page) ------------

@@ -188,7 +188,8 @@ def test_the_pinned_version_is_one():
     assert lock["packages"]["node_modules/x_ite"]["version"] == x_ite.X_ITE_VERSION
     assert lock["packages"]["node_modules/x_ite"]["integrity"].startswith("sha512-")
     function = script[script.index("ensure_x_ite() {"):]
-    assert f"local version={x_ite.X_ITE_VERSION}\n" in function
+    function = function[:function.index("}")]
+    assert f" x_ite {x_ite.X_ITE_VERSION} PHONG_X_ITE_DIR dist/{x_ite.SCRIPT_NAME}\n" in function
     assert x_ite.x_ite_dir().endswith(f"x_ite-{x_ite.X_ITE_VERSION}") or \
         os.environ.get("PHONG_X_ITE_DIR")
 

@@ -164,54 +164,40 @@ build() {
   echo "$zip"
 }
 
-# three.js for the three.js peer renderer (core/threejs.py), the version pinned by
-# tools/threejs/package-lock.json, installed with npm into a cache folder outside the repository
-# ($PHONG_THREE_DIR, else ~/.cache/phong-nodes/three-<version>).  Optional: without npm it says
-# so on one line and the rest of Phong Nodes works as before.
-ensure_three() {
-  local version=0.181.0
-  local dir=${PHONG_THREE_DIR:-${XDG_CACHE_HOME:-$HOME/.cache}/phong-nodes/three-$version}
-  if [ -n "${PHONG_THREE_DIR:-}" ]; then
-    export PHONG_THREE_DIR
+# An npm package a peer renderer loads in Chromium, the version pinned by tools/<tool>/
+# package-lock.json, installed with npm into a cache folder outside the repository ($<variable>,
+# else ~/.cache/phong-nodes/<package>-<version>; core/browser.py's package_dir).  Optional:
+# without npm it says so on one line and the rest of Phong Nodes works as before.
+#   ensure_npm_package LABEL TOOL PACKAGE VERSION VARIABLE FILE-IN-PACKAGE
+ensure_npm_package() {
+  local label=$1 tool=$2 package=$3 version=$4 variable=$5 file=$6
+  local dir=${!variable:-${XDG_CACHE_HOME:-$HOME/.cache}/phong-nodes/$package-$version}
+  if [ -n "${!variable:-}" ]; then
+    export "${variable?}"
   fi
-  if [ -f "$dir/node_modules/three/build/three.cjs" ]; then
+  if [ -f "$dir/node_modules/$package/$file" ]; then
     return 0
   fi
   if ! command -v npm >/dev/null 2>&1; then
-    echo "three.js peer renderer unavailable: it needs nodejs/npm (sudo apt-get install -y nodejs npm)" >&2
+    echo "$label peer renderer unavailable: it needs nodejs/npm (sudo apt-get install -y nodejs npm)" >&2
     return 0
   fi
-  echo "Installing three.js $version into $dir (npm ci)..." >&2
+  echo "Installing $label $version into $dir (npm ci)..." >&2
   mkdir -p "$dir"
-  cp "$root/tools/threejs/package.json" "$root/tools/threejs/package-lock.json" "$dir/"
+  cp "$root/tools/$tool/package.json" "$root/tools/$tool/package-lock.json" "$dir/"
   if ! (cd "$dir" && npm ci --no-audit --no-fund --silent >&2); then
-    echo "npm could not install three.js into $dir: the three.js peer renderer is unavailable" >&2
+    echo "npm could not install $label into $dir: the $label peer renderer is unavailable" >&2
   fi
 }
 
-# X_ITE for the X_ITE peer renderer (core/x_ite.py), the version pinned by
-# tools/x_ite/package-lock.json, installed with npm into a cache folder outside the repository
-# ($PHONG_X_ITE_DIR, else ~/.cache/phong-nodes/x_ite-<version>).  Optional: without npm it says
-# so on one line and the rest of Phong Nodes works as before.
+# three.js for the three.js peer renderer (core/threejs.py)
+ensure_three() {
+  ensure_npm_package three.js threejs three 0.181.0 PHONG_THREE_DIR build/three.cjs
+}
+
+# X_ITE for the X_ITE peer renderer (core/x_ite.py)
 ensure_x_ite() {
-  local version=15.0.1
-  local dir=${PHONG_X_ITE_DIR:-${XDG_CACHE_HOME:-$HOME/.cache}/phong-nodes/x_ite-$version}
-  if [ -n "${PHONG_X_ITE_DIR:-}" ]; then
-    export PHONG_X_ITE_DIR
-  fi
-  if [ -f "$dir/node_modules/x_ite/dist/x_ite.min.js" ]; then
-    return 0
-  fi
-  if ! command -v npm >/dev/null 2>&1; then
-    echo "X_ITE peer renderer unavailable: it needs nodejs/npm (sudo apt-get install -y nodejs npm)" >&2
-    return 0
-  fi
-  echo "Installing X_ITE $version into $dir (npm ci)..." >&2
-  mkdir -p "$dir"
-  cp "$root/tools/x_ite/package.json" "$root/tools/x_ite/package-lock.json" "$dir/"
-  if ! (cd "$dir" && npm ci --no-audit --no-fund --silent >&2); then
-    echo "npm could not install X_ITE into $dir: the X_ITE peer renderer is unavailable" >&2
-  fi
+  ensure_npm_package X_ITE x_ite x_ite 15.0.1 PHONG_X_ITE_DIR dist/x_ite.min.js
 }
 
 setup

@@ -2,13 +2,12 @@
 """File ▸ Import ▸ COLLADA (Phong) (.dae), File ▸ Export ▸ COLLADA (Phong) (.dae) and drag and
 drop of .dae files into the 3D Viewport (where the release has ``bpy.types.FileHandler``)."""
 
-import os
-
 import bpy
 from bpy.props import BoolProperty, StringProperty
 from bpy_extras.io_utils import ExportHelper, ImportHelper
 
 from ..interchange import collada_export, collada_import
+from . import file_io
 
 
 class PHONG_OT_import_collada(bpy.types.Operator, ImportHelper):
@@ -30,22 +29,13 @@ as Phong lights (attenuation, cone, exponent), meshes, cameras and the node tree
 
     def execute(self, context):
         path = bpy.path.abspath(self.filepath)
-        try:
-            objects, done, warnings, _sync = collada_import.import_collada(
-                context, path, self.literal_transparency)
-        except collada_import.ColladaImportError as error:
-            self.report({"ERROR"}, f"Import COLLADA: {error}")
-            return {"CANCELLED"}
-        for warning in warnings:
-            self.report({"WARNING"}, f"Import COLLADA: {warning}")
-        self.report({"INFO"}, f"Imported {len(objects)} object(s) with {len(done)} Phong "
-                              f"material(s) from {os.path.basename(path)}")
-        return {"FINISHED"}
+        return file_io.run_import(
+            self, "Import COLLADA", path,
+            lambda: collada_import.import_collada(context, path, self.literal_transparency),
+            collada_import.ColladaImportError)
 
     def invoke(self, context, event):
-        if self.filepath:   # dropped on the viewport (FileHandler)
-            return self.execute(context)
-        return ImportHelper.invoke(self, context, event)
+        return file_io.invoke_import(self, context, event)
 
 
 class PHONG_OT_export_collada(bpy.types.Operator, ExportHelper):
@@ -63,34 +53,13 @@ COLLADA 1.4.1 profile_COMMON phong / blinn / lambert / constant"""
 
     def execute(self, context):
         path = bpy.path.abspath(self.filepath)
-        if not path or os.path.isdir(path) or not os.path.isdir(os.path.dirname(path) or "."):
-            self.report({"ERROR"}, f"Export COLLADA: {path!r} is not a file in an existing folder")
-            return {"CANCELLED"}
-        try:
-            warnings = collada_export.export(context, path, self.use_selection)
-        except (OSError, ValueError) as error:
-            self.report({"ERROR"}, f"Export COLLADA: cannot write {path}: {error}")
-            return {"CANCELLED"}
-        for warning in warnings:
-            self.report({"WARNING"}, f"Export COLLADA: {warning}")
-        self.report({"INFO"}, f"Wrote {path}")
-        return {"FINISHED"}
+        return file_io.run_export(self, "Export COLLADA", path, lambda: collada_export.export(
+            context, path, self.use_selection))
 
 
-classes = [PHONG_OT_import_collada, PHONG_OT_export_collada]
-
-if hasattr(bpy.types, "FileHandler"):
-    class PHONG_FH_collada(bpy.types.FileHandler):
-        bl_idname = "PHONG_FH_collada"
-        bl_label = "COLLADA (Phong)"
-        bl_import_operator = "phong.import_collada"
-        bl_file_extensions = ".dae"
-
-        @classmethod
-        def poll_drop(cls, context):
-            return context.area is not None and context.area.type == "VIEW_3D"
-
-    classes.append(PHONG_FH_collada)
+classes = [PHONG_OT_import_collada, PHONG_OT_export_collada,
+           *file_io.drop_handler("PHONG_FH_collada", "COLLADA (Phong)", "phong.import_collada",
+                                 (".dae",))]
 
 
 def _draw_import(self, _context):

@@ -4,20 +4,9 @@ the release has ``bpy.types.FileHandler``; the operator is ``interchange.fbx_imp
 
 import bpy
 
-classes = []
+from . import file_io
 
-if hasattr(bpy.types, "FileHandler"):
-    class PHONG_FH_fbx(bpy.types.FileHandler):
-        bl_idname = "PHONG_FH_fbx"
-        bl_label = "FBX (Phong)"
-        bl_import_operator = "phong.import_fbx"
-        bl_file_extensions = ".fbx"
-
-        @classmethod
-        def poll_drop(cls, context):
-            return context.area is not None and context.area.type == "VIEW_3D"
-
-    classes.append(PHONG_FH_fbx)
+classes = file_io.drop_handler("PHONG_FH_fbx", "FBX (Phong)", "phong.import_fbx", (".fbx",))
 
 
 def register():

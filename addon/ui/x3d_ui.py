@@ -4,8 +4,6 @@ of VRML97 / X3D files into the 3D Viewport (where the release has ``bpy.types.Fi
 and Add ▸ Light ▸ Headlight (``phong.add_headlight``): a Sun that follows the scene camera,
 the headlight of VRML97 / X3D (docs/x3d.md)."""
 
-import os
-
 import bpy
 from bpy.props import BoolProperty, StringProperty
 from bpy_extras.io_utils import ExportHelper, ImportHelper
@@ -13,6 +11,7 @@ from bpy_extras.io_utils import ExportHelper, ImportHelper
 from ..interchange import x3d_export, x3d_import
 from ..lighting import headlight, rig
 from ..lighting import sync as sync_mod
+from . import file_io
 
 #: The file names the importer reads (gzipped too) and the drop handler takes.
 EXTENSIONS = (".wrl", ".wrz", ".x3d", ".x3dz", ".x3dv", ".x3dvz", ".gz")
@@ -35,21 +34,12 @@ headlight), shapes, instances and viewpoint"""
 
     def execute(self, context):
         path = bpy.path.abspath(self.filepath)
-        try:
-            objects, made, warnings, _sync = x3d_import.import_x3d(context, path)
-        except x3d_import.X3DImportError as error:
-            self.report({"ERROR"}, f"Import X3D: {error}")
-            return {"CANCELLED"}
-        for warning in warnings:
-            self.report({"WARNING"}, f"Import X3D: {warning}")
-        self.report({"INFO"}, f"Imported {len(objects)} object(s) with {len(made)} Phong "
-                              f"material(s) from {os.path.basename(path)}")
-        return {"FINISHED"}
+        return file_io.run_import(self, "Import X3D", path,
+                                  lambda: x3d_import.import_x3d(context, path),
+                                  x3d_import.X3DImportError)
 
     def invoke(self, context, event):
-        if self.filepath:   # dropped on the viewport (FileHandler)
-            return self.execute(context)
-        return ImportHelper.invoke(self, context, event)
+        return file_io.invoke_import(self, context, event)
 
 
 class PHONG_OT_export_x3d(bpy.types.Operator, ExportHelper):
@@ -68,18 +58,8 @@ the camera as X3D (.x3d, .x3dv) or VRML97 (.wrl), gzipped for .x3dz, .x3dvz, .wr
 
     def execute(self, context):
         path = bpy.path.abspath(self.filepath)
-        if not path or os.path.isdir(path) or not os.path.isdir(os.path.dirname(path) or "."):
-            self.report({"ERROR"}, f"Export X3D: {path!r} is not a file in an existing folder")
-            return {"CANCELLED"}
-        try:
-            warnings = x3d_export.export(context, path, self.use_selection)
-        except (OSError, ValueError) as error:
-            self.report({"ERROR"}, f"Export X3D: cannot write {path}: {error}")
-            return {"CANCELLED"}
-        for warning in warnings:
-            self.report({"WARNING"}, f"Export X3D: {warning}")
-        self.report({"INFO"}, f"Wrote {path}")
-        return {"FINISHED"}
+        return file_io.run_export(self, "Export X3D", path, lambda: x3d_export.export(
+            context, path, self.use_selection))
 
 
 class PHONG_OT_add_headlight(bpy.types.Operator):
@@ -113,20 +93,9 @@ scene camera"""
         return {"FINISHED"}
 
 
-classes = [PHONG_OT_import_x3d, PHONG_OT_export_x3d, PHONG_OT_add_headlight]
-
-if hasattr(bpy.types, "FileHandler"):
-    class PHONG_FH_x3d(bpy.types.FileHandler):
-        bl_idname = "PHONG_FH_x3d"
-        bl_label = "X3D / VRML97 (Phong)"
-        bl_import_operator = "phong.import_x3d"
-        bl_file_extensions = ";".join(EXTENSIONS)
-
-        @classmethod
-        def poll_drop(cls, context):
-            return context.area is not None and context.area.type == "VIEW_3D"
-
-    classes.append(PHONG_FH_x3d)
+classes = [PHONG_OT_import_x3d, PHONG_OT_export_x3d, PHONG_OT_add_headlight,
+           *file_io.drop_handler("PHONG_FH_x3d", "X3D / VRML97 (Phong)", "phong.import_x3d",
+                                 EXTENSIONS)]
 
 
 def _draw_import(self, _context):
