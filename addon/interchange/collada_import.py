@@ -62,24 +62,6 @@ INPUTS = {"Irradiant Color": ("emission", "phong_irradiant_color"),
 MAX_NODES = 10_000
 #: The deepest nesting of nodes (children and instance_node) that is imported.
 MAX_DEPTH = 256
-#: bpy.data collections an import adds to, in the order a failed import empties them
-_ROLLBACK = ("objects", "meshes", "lights", "cameras", "materials", "node_groups", "images",
-             "worlds")
-
-
-def _set_attribute(mesh, name, data_type, domain, key, values, fallback) -> None:
-    """*values* into the attribute *name* of *mesh* at once (``foreach_set`` of the attribute
-    data: the corners' vertices, the faces' material index, a UV map), made when missing;
-    *fallback(values)* where the attribute is not of that kind."""
-    attribute = mesh.attributes.get(name)
-    if attribute is None and not name.startswith("."):
-        attribute = mesh.attributes.new(name, data_type, domain)
-    if attribute is None or attribute.data_type != data_type or attribute.domain != domain:
-        fallback(values)
-    else:
-        attribute.data.foreach_set(key, values)
-
-
 class ColladaImportError(RuntimeError):
     """The import failed; nothing was added to the file."""
 
@@ -157,27 +139,16 @@ class _Builder:
         self.count = 0
         #: every data block that existed before: whatever else exists after a failure is
         #: the import's (materials the Sync copies, lights groups, images included)
-        self.before = {kind: set(getattr(bpy.data, kind)) for kind in _ROLLBACK}
+        self.before = native.snapshot()
 
     def _new(self, collection, *args):
         return collection.new(*args)
 
     def undo(self):
-        for kind in _ROLLBACK:
-            collection = getattr(bpy.data, kind)
-            for block in [b for b in collection if b not in self.before[kind]]:
-                try:
-                    collection.remove(block)
-                except (ReferenceError, RuntimeError):
-                    pass
+        native.remove_added(self.before)
         if self.world_before is not None:
             world, values = self.world_before
-            for key, value in values.items():
-                if value is None:
-                    if key in world.keys():
-                        del world[key]
-                else:
-                    world[key] = value
+            native.restore_keys(world, values)
         self.scene.camera = self.camera_before
 
     # -- the scene ----------------------------------------------------------------------
@@ -332,7 +303,7 @@ class _Builder:
         sizes = np.asarray(source.face_sizes, dtype=np.int64)
         if len(sizes):
             mesh.loops.add(int(sizes.sum()))
-            _set_attribute(mesh, ".corner_vert", "INT", "CORNER", "value",
+            native.set_attribute(mesh, ".corner_vert", "INT", "CORNER", "value",
                            source.corners.astype(np.int32),
                            lambda values: mesh.loops.foreach_set("vertex_index", values))
             mesh.polygons.add(len(sizes))
@@ -340,7 +311,7 @@ class _Builder:
             mesh.polygons.foreach_set("loop_start", starts)
             symbols = np.asarray(source.face_symbols, dtype=np.int32)
             if symbols.any():
-                _set_attribute(mesh, "material_index", "INT", "FACE", "value", symbols,
+                native.set_attribute(mesh, "material_index", "INT", "FACE", "value", symbols,
                                lambda values: mesh.polygons.foreach_set("material_index",
                                                                         values))
         self.uv_names[mesh] = {}
@@ -349,7 +320,7 @@ class _Builder:
             if layer is not None:
                 self.uv_names[mesh][channel] = layer.name
                 values = source.uvs[channel].astype(np.float32).reshape(-1)
-                _set_attribute(mesh, layer.name, "FLOAT2", "CORNER", "vector", values,
+                native.set_attribute(mesh, layer.name, "FLOAT2", "CORNER", "vector", values,
                                lambda values, layer=layer: layer.data.foreach_set("uv", values))
         for index, channel in enumerate(sorted(source.colors)):
             name = "Col" if index == 0 else f"Col{channel}"

@@ -35,6 +35,49 @@ def added(before: dict, kind: str) -> list:
     return [block for block in getattr(bpy.data, kind) if block not in before[kind]]
 
 
+#: The order in which a failed import removes what it added (users before what they use).
+ROLLBACK_ORDER = ("objects", "collections", "meshes", "lights", "cameras", "materials", "images",
+                  "node_groups", "worlds", "textures")
+
+
+def remove_added(before: dict, kinds=ROLLBACK_ORDER) -> None:
+    """Remove every data block of *kinds* that did not exist at *before* (a failed import's
+    rollback: the materials the Sync copied, lights groups and images included)."""
+    for kind in kinds:
+        if kind not in before:
+            continue
+        collection = getattr(bpy.data, kind)
+        for block in added(before, kind):
+            try:
+                collection.remove(block)
+            except (ReferenceError, RuntimeError):
+                pass
+
+
+def restore_keys(owner, values: dict) -> None:
+    """Put back *owner*'s custom properties as *values* ({key: value, or None where the key
+    was absent}) held them."""
+    for key, value in values.items():
+        if value is None:
+            if key in owner.keys():
+                del owner[key]
+        else:
+            owner[key] = value
+
+
+def set_attribute(mesh, name, data_type, domain, key, values, fallback) -> None:
+    """*values* into the attribute *name* of *mesh* at once (``foreach_set`` of the attribute
+    data: the corners' vertices, the faces' material index, a UV map), made when missing;
+    *fallback(values)* where Blender holds it otherwise."""
+    attribute = mesh.attributes.get(name)
+    if attribute is None and not name.startswith("."):
+        attribute = mesh.attributes.new(name, data_type, domain)
+    if attribute is None or attribute.data_type != data_type or attribute.domain != domain:
+        fallback(values)
+    else:
+        attribute.data.foreach_set(key, values)
+
+
 def take_place(old, new) -> None:
     """The Phong material *new* in the place of the importer's material *old*: every user
     of *old* uses *new*, *old* is removed and *new* takes its name (the file's name, with

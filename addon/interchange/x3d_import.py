@@ -183,18 +183,6 @@ def _scale_of(matrix) -> tuple:
     return scale, uniform
 
 
-def _set_attribute(mesh, name, data_type, domain, key, values, fallback) -> None:
-    """*values* into the attribute *name* of *mesh* at once, made when missing; *fallback*
-    where Blender holds it otherwise."""
-    attribute = mesh.attributes.get(name)
-    if attribute is None and not name.startswith("."):
-        attribute = mesh.attributes.new(name, data_type, domain)
-    if attribute is None or attribute.data_type != data_type or attribute.domain != domain:
-        fallback(values)
-    else:
-        attribute.data.foreach_set(key, values)
-
-
 class _Builder:
     def __init__(self, context, doc):
         self.context = context
@@ -229,32 +217,13 @@ class _Builder:
 
     # -- rollback -------------------------------------------------------------------------
     def undo(self):
-        for kind in ("objects", "collections", "meshes", "lights", "cameras", "materials",
-                     "images", "node_groups", "worlds", "textures"):
-            if kind not in self.before:
-                continue
-            collection = getattr(bpy.data, kind)
-            for block in native.added(self.before, kind):
-                try:
-                    collection.remove(block)
-                except (ReferenceError, RuntimeError):
-                    pass
+        native.remove_added(self.before)
         if self.world_before is not None:
             world, values = self.world_before
             if world.name in bpy.data.worlds:
-                for key, value in values.items():
-                    if value is None:
-                        if key in world.keys():
-                            del world[key]
-                    else:
-                        world[key] = value
+                native.restore_keys(world, values)
                 rig.prune_world_keys([world])   # the removed lights groups' light keys
-        for key, value in self.scene_keys.items():
-            if value is None:
-                if key in self.scene.keys():
-                    del self.scene[key]
-            else:
-                self.scene[key] = value
+        native.restore_keys(self.scene, self.scene_keys)
         self.scene.camera = self.camera_before
         for obj, target in self.retargeted:
             try:
@@ -368,7 +337,7 @@ class _Builder:
             per_corner = {k: (v[keep] if v is not None else None) for k, v in per_corner.items()}
         if len(sizes):
             mesh.loops.add(len(corners))
-            _set_attribute(mesh, ".corner_vert", "INT", "CORNER", "value",
+            native.set_attribute(mesh, ".corner_vert", "INT", "CORNER", "value",
                            corners.astype(np.int32),
                            lambda values: mesh.loops.foreach_set("vertex_index", values))
             mesh.polygons.add(len(sizes))
@@ -378,7 +347,7 @@ class _Builder:
         if uvs is not None and len(sizes):
             layer = mesh.uv_layers.new(name=UV_MAP)
             values = np.asarray(uvs, dtype=np.float32).reshape(-1)
-            _set_attribute(mesh, layer.name, "FLOAT2", "CORNER", "vector", values,
+            native.set_attribute(mesh, layer.name, "FLOAT2", "CORNER", "vector", values,
                            lambda values: layer.data.foreach_set("uv", values))
         colors = per_corner["colors"]
         if colors is not None and len(sizes):
