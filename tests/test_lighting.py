@@ -438,6 +438,39 @@ def test_renaming_a_linked_light_moves_materials_without_copies(bpy_clean):
         == ["Phong Lights Linked", "Phong Lights Linked [Sky]"]
 
 
+def test_a_drag_skips_the_lights_signature_and_a_rename_still_relinks(bpy_clean, monkeypatch):
+    """Issue 38: an update that only moves a light (its transform, and the World whose
+    drivers carry it) cannot change which lights drive the materials, so the relink handler
+    skips the lights' fingerprint; a light renamed while it moves still relinks."""
+    from phong_nodes.addon.lighting import rig, sync  # noqa: PLC0415  (needs bpy)
+
+    bpy = bpy_clean
+    scene = be.new_scene("Drag", 8, 8)
+    ball = _sphere(bpy, scene, "Ball", (0, 0, 0), _principled(bpy, "Clay", (0.7, 0.3, 0.1, 1)))
+    key = _light(bpy, scene, "Key", "POINT", (0, -3, 3))
+    sun = _light(bpy, scene, "Sun", "SUN", (0, 0, 5))
+    _select(bpy, scene, [ball])
+    assert bpy.ops.phong.apply_material() == {"FINISHED"}
+    layer = bpy.context.view_layer
+    layer.update()
+    calls = []
+    signature = sync._signature
+    monkeypatch.setattr(sync, "_signature", lambda *a: calls.append(a) or signature(*a))
+    for step in range(3):
+        key.location.x += 0.5
+        sun.rotation_euler.x += 0.1
+        layer.update()
+    assert calls == []
+    world_key = rig.world_key(key, "LOCATION")
+    assert tuple(scene.world[world_key])[:3] == pytest.approx(tuple(key.matrix_world.translation))
+    key.name = "Fill"
+    key.location.x += 0.5
+    layer.update()
+    assert calls
+    assert list(lights_tree(ball.active_material)["phong_lights"]) == ["Fill", "Sun"]
+    assert rig.world_key(key, "LOCATION") in scene.world.keys()
+
+
 def test_ambient_object_color_follows_object_color_or_its_own_link(bpy_clean, blender_tmp):
     """The ambient light sees the Object Color (the seeds' model) unless the material links
     its own colour into Ambient Object Color (MTL's Ka): exact in Cycles, kept on Relink."""
