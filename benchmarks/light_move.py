@@ -22,6 +22,11 @@ Principled, this version and, on Blender 5.3+, the lights groups of 5.2 (no ligh
 at most ``compat.VIEW_LAYER_LOOKUPS`` transforms from the World: the lights beyond are
 driven in the group) side by side in one process (``run_each``; issue 38).
 
+``--parts PASSES``: what a drag costs beyond Principled, part by part, in one process after
+Apply (``run_parts``): Principled, Phong, Phong without the World's update, without the
+extension's handlers and without both, the cases alternating per block of *moves* updates
+of one light.
+
 ``--eevee``: Eevee's first render (shader compile included, after the engine's warm-up) of
 3x3 spheres with 4, 8 and 16 point lights, this version against the previous rig, each in a
 process of its own with empty shader caches.
@@ -179,6 +184,119 @@ def run_each(objects: int, n_lights: int, moves: int) -> dict:
     return out
 
 
+def _block(view_layer, light, moves):
+    """*moves* timed updates after moving *light* (a sun: turning it), after 3 untimed."""
+    times = []
+    for index in range(moves + 3):
+        if light.data.type == "SUN":
+            light.rotation_euler.x += 0.05 if index % 2 == 0 else -0.05
+        else:
+            light.location.x += 0.25 if index % 2 == 0 else -0.25
+        t0 = time.perf_counter()
+        view_layer.update()
+        times.append(time.perf_counter() - t0)
+    return times[3:]
+
+
+#: ``run_parts``' cases: (materials, the World's drivers of the lights' transforms, the
+#: extension's depsgraph handlers of the lights).
+PARTS = {"principled": ("principled", False, False), "phong": ("phong", True, True),
+         "phong_no_world": ("phong", False, True), "phong_no_handlers": ("phong", True, False),
+         "phong_neither": ("phong", False, False)}
+
+
+def run_parts(objects: int, n_lights: int, moves: int, passes: int) -> dict:
+    """Issue 38: what a light drag costs in a Phong scene beyond Principled, in one process
+    after Apply, the cases alternating per block of *moves* updates of one light (every
+    light, *passes* times): Principled (the cubes given back their Principled materials, the
+    World's drivers of the lights' transforms removed: nothing of Phong updates), Phong as
+    Apply leaves it, Phong without the World's drivers (the World no longer updates on a
+    drag; Cycles would then render stale transforms), without the extension's depsgraph
+    handlers of the lights (``sync.on_depsgraph_update``, ``loop.follow_lights``,
+    ``materials.follow_opacity``), and without both.  Also Principled before Apply
+    ("principled_fresh": what ``run_each`` compares with) and the handlers' own time."""
+    bpy = worker_setup()
+    from phong_nodes.addon.lighting import drivers, loop, materials, rig, sync  # noqa: PLC0415
+
+    load_before = os.getloadavg()
+    scene, meshes, lights = artist_scene("light_parts", objects, n_lights)
+    bpy.context.window.scene = scene
+    view_layer = scene.view_layers[0]
+    view_layer.update()
+    fresh = [[] for _ in lights]
+    for _pass in range(passes):
+        for index, light in enumerate(lights):
+            fresh[index] += _block(view_layer, light, moves)
+    originals = [[slot.material for slot in obj.material_slots] for obj in meshes]
+    for obj in meshes:
+        obj.select_set(True, view_layer=view_layer)
+    with bpy.context.temp_override(scene=scene, view_layer=view_layer, selected_objects=meshes):
+        assert bpy.ops.phong.apply_material() == {"FINISHED"}
+    view_layer.update()
+    phong = [[slot.material for slot in obj.material_slots] for obj in meshes]
+    world = scene.world
+    keys = [(key, obj, kind) for obj in lights for kind in ("LOCATION", "AXIS")
+            if (key := rig.world_key(obj, kind)) in world.keys()]
+    handlers = bpy.app.handlers.depsgraph_update_post
+    ours = [h for h in handlers
+            if h in (materials.follow_opacity, loop.follow_lights, sync.on_depsgraph_update)]
+    state = {"materials": "phong", "world": True, "handlers": True}
+
+    def case(name):
+        wanted_materials, world_on, handlers_on = PARTS[name]
+        if state["materials"] != wanted_materials:
+            for obj, slots in zip(meshes, originals if wanted_materials == "principled"
+                                  else phong):
+                for slot, material in zip(obj.material_slots, slots):
+                    slot.material = material
+        if state["world"] != world_on:
+            if world_on:
+                for key, obj, kind in keys:
+                    drivers.world_vector(world, key, obj, kind)
+            else:
+                for fcurve in list(world.animation_data.drivers):
+                    world.animation_data.drivers.remove(fcurve)
+        if state["handlers"] != handlers_on:
+            for handler in ours:
+                (handlers.append if handlers_on else handlers.remove)(handler)
+        state.update(materials=wanted_materials, world=world_on, handlers=handlers_on)
+        view_layer.update()
+
+    names = list(PARTS)
+    times = {name: [[] for _ in lights] for name in names}
+    for number in range(passes):
+        for index, light in enumerate(lights):
+            for name in names if (number * len(lights) + index) % 2 == 0 else names[::-1]:
+                case(name)
+                times[name][index] += _block(view_layer, light, moves)
+    case("phong")
+    spent = {h.__name__: [] for h in ours}
+
+    def timed(handler):
+        def run_handler(*args):
+            t0 = time.perf_counter()
+            handler(*args)
+            spent[handler.__name__].append(time.perf_counter() - t0)
+        return run_handler
+
+    for handler in ours:
+        handlers[handlers.index(handler)] = timed(handler)
+    for light in lights:
+        _block(view_layer, light, moves)
+    per_light = {name: [statistics.median(t) for t in times[name]] for name in names}
+    per_light["principled_fresh"] = [statistics.median(t) for t in fresh]
+    base = per_light["principled"]
+    return {"objects": objects, "lights": n_lights, "moves": moves, "passes": passes,
+            "bpy": bpy.app.version_string, "update_s": per_light,
+            "median_s": {name: statistics.median(v) for name, v in per_light.items()},
+            "ratio_to_principled": {name: [t / b for t, b in zip(v, base)]
+                                    for name, v in per_light.items()},
+            "median_ratio": {name: statistics.median(t / b for t, b in zip(v, base))
+                             for name, v in per_light.items()},
+            "handler_s": {name: statistics.median(v) for name, v in spent.items() if v},
+            "load_average": [load_before, os.getloadavg()]}
+
+
 def eevee_first(n_lights: int, design: str) -> dict:
     """One cold process (run by ``eevee``): Eevee's engine warmed up by the Emission scene,
     then the first render (shader compile included) and a second render of 3x3 spheres with
@@ -237,12 +355,24 @@ def main(argv=None) -> int:
     parser.add_argument("--repeats", type=int, default=1)
     parser.add_argument("--each", action="store_true",
                         help="instead: the update after moving each light (issue 38)")
+    parser.add_argument("--parts", type=int, metavar="PASSES",
+                        help="instead: the parts of a drag's cost, the cases alternating "
+                             "per block of --moves updates, every light PASSES times")
+    parser.add_argument("--out", help="--parts: also write the JSON here")
     parser.add_argument("--eevee-worker", nargs=2, help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
     if args.eevee_worker:
         print("EEVEE " + json.dumps(eevee_first(int(args.eevee_worker[0]),
                                                 args.eevee_worker[1])))
         return 0
+    if args.parts:
+        result = run_parts(args.objects, args.lights, args.moves, args.parts)
+        if args.out:
+            with open(args.out, "w", encoding="utf-8") as handle:
+                json.dump(result, handle, indent=1)
+        print(json.dumps(result, indent=1), flush=True)
+        sys.stderr.flush()
+        os._exit(0)
     if args.each:
         print(json.dumps(run_each(args.objects, args.lights, args.moves), indent=1), flush=True)
         sys.stderr.flush()

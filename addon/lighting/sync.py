@@ -6,7 +6,9 @@ scene's lights groups (one per light set), converts source materials to Phong ma
 (one per source material and light set) and points every Phong material at the group of
 its objects' light set.  :func:`on_depsgraph_update` runs it after a change to which lights
 exist, their types, visibility or Light Linking, so lights follow without a click; when
-nothing of that changed it costs one fingerprint of the lights (microseconds).
+nothing of that changed it costs one fingerprint of the lights (0.14 ms at 16 lights), and
+an update that only moves objects (a light drag) a check of the lights' names
+(``only_moved``).
 """
 
 from __future__ import annotations
