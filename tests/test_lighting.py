@@ -441,7 +441,8 @@ def test_renaming_a_linked_light_moves_materials_without_copies(bpy_clean):
 def test_a_drag_skips_the_lights_signature_and_a_rename_still_relinks(bpy_clean, monkeypatch):
     """Issue 38: an update that only moves a light (its transform, and the World whose
     drivers carry it) cannot change which lights drive the materials, so the relink handler
-    skips the lights' fingerprint; a light renamed while it moves still relinks."""
+    skips the lights' fingerprint (from 5.2 on, where the World carries the transforms); a
+    light renamed while it moves still relinks (every release)."""
     from phong_nodes.addon.lighting import rig, sync  # noqa: PLC0415  (needs bpy)
 
     bpy = bpy_clean
@@ -460,15 +461,22 @@ def test_a_drag_skips_the_lights_signature_and_a_rename_still_relinks(bpy_clean,
         key.location.x += 0.5
         sun.rotation_euler.x += 0.1
         layer.update()
-    assert calls == []
-    world_key = rig.world_key(key, "LOCATION")
-    assert tuple(scene.world[world_key])[:3] == pytest.approx(tuple(key.matrix_world.translation))
+    through_world = be.compat().VIEW_LAYER_LOOKUPS > 0
+    if through_world:  # 5.2+: the lights' transforms reach the materials through the World
+        assert calls == []
+        world_key = rig.world_key(key, "LOCATION")
+        assert tuple(scene.world[world_key])[:3] == pytest.approx(
+            tuple(key.matrix_world.translation))
+    # (before 5.2 the lights group's drivers carry them: there the signature is computed on
+    # each of these drags, 3 calls on 4.2.23 and 5.0.1, as before the check)
+    calls.clear()
     key.name = "Fill"
     key.location.x += 0.5
     layer.update()
     assert calls
     assert list(lights_tree(ball.active_material)["phong_lights"]) == ["Fill", "Sun"]
-    assert rig.world_key(key, "LOCATION") in scene.world.keys()
+    if through_world:
+        assert rig.world_key(key, "LOCATION") in scene.world.keys()
 
 
 def test_ambient_object_color_follows_object_color_or_its_own_link(bpy_clean, blender_tmp):
