@@ -129,16 +129,9 @@ def _stats(values):
 def merge(figure, path) -> None:
     """Put *figure* into the results file *path* as ``import_speed`` and write the table
     beside it (results.json -> results.md), as run.py does."""
-    from .table import markdown  # noqa: PLC0415
+    from .table import merge_figure  # noqa: PLC0415
 
-    with open(path, encoding="utf-8") as handle:
-        data = json.load(handle)
-    data["figures"]["import_speed"] = figure
-    with open(path, "w", encoding="utf-8") as handle:
-        json.dump(data, handle, indent=1)
-        handle.write("\n")
-    with open(os.path.splitext(path)[0] + ".md", "w", encoding="utf-8") as handle:
-        handle.write(markdown(data["figures"], data["meta"]) + "\n")
+    merge_figure(path, "import_speed", figure)
 
 
 def _child(python, *args) -> str:

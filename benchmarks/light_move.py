@@ -35,6 +35,7 @@ process of its own with empty shader caches.
 from __future__ import annotations
 
 import argparse
+import functools
 import json
 import os
 import statistics
@@ -44,14 +45,27 @@ import time
 from .measure import artist_scene, worker_setup
 
 
-def _updates(bpy, view_layer, change, moves):
+def _timed(view_layer, change, moves, untimed=2) -> list:
+    """The seconds of *moves* updates, each after ``change(index)``, after *untimed* ones."""
     times = []
-    for index in range(moves + 2):
+    for index in range(moves + untimed):
         change(index)
         t0 = time.perf_counter()
         view_layer.update()
         times.append(time.perf_counter() - t0)
-    return statistics.median(times[2:])
+    return times[untimed:]
+
+
+def _updates(bpy, view_layer, change, moves):
+    return statistics.median(_timed(view_layer, change, moves))
+
+
+def _nudge(light, index) -> None:
+    """A drag step of *light*: a point or spot moved, a sun turned, back and forth."""
+    if light.data.type == "SUN":
+        light.rotation_euler.x += 0.05 if index % 2 == 0 else -0.05
+    else:
+        light.location.x += 0.25 if index % 2 == 0 else -0.25
 
 
 def _measure(bpy, view_layer, lights, moves):
@@ -124,16 +138,8 @@ def run(objects: int, n_lights: int, moves: int) -> dict:
 
 def _each(view_layer, lights, moves):
     """Per light: the median update after moving it (a sun: turning it)."""
-    out = []
-    for light in lights:
-        if light.data.type == "SUN":
-            def change(index, light=light):
-                light.rotation_euler.x += 0.05 if index % 2 == 0 else -0.05
-        else:
-            def change(index, light=light):
-                light.location.x += 0.25 if index % 2 == 0 else -0.25
-        out.append(_updates(None, view_layer, change, moves))
-    return out
+    return [_updates(None, view_layer, functools.partial(_nudge, light), moves)
+            for light in lights]
 
 
 def run_each(objects: int, n_lights: int, moves: int) -> dict:
@@ -186,16 +192,7 @@ def run_each(objects: int, n_lights: int, moves: int) -> dict:
 
 def _block(view_layer, light, moves):
     """*moves* timed updates after moving *light* (a sun: turning it), after 3 untimed."""
-    times = []
-    for index in range(moves + 3):
-        if light.data.type == "SUN":
-            light.rotation_euler.x += 0.05 if index % 2 == 0 else -0.05
-        else:
-            light.location.x += 0.25 if index % 2 == 0 else -0.25
-        t0 = time.perf_counter()
-        view_layer.update()
-        times.append(time.perf_counter() - t0)
-    return times[3:]
+    return _timed(view_layer, functools.partial(_nudge, light), moves, untimed=3)
 
 
 #: ``run_parts``' cases: (materials, the World's drivers of the lights' transforms, the

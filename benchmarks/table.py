@@ -3,9 +3,25 @@
 
 from __future__ import annotations
 
+import json
+import os
 import statistics
 
 from .analyse import MOVE_GOAL, SECONDS_GOAL, SECONDS_GOAL_OBJECTS
+
+
+def merge_figure(path, name, figure) -> None:
+    """Put *figure* into the results file *path* (results.json) under *name* and write the
+    table beside it (results.md), as run.py does: what ``--merge`` of a benchmark that run.py
+    does not run writes."""
+    with open(path, encoding="utf-8") as handle:
+        data = json.load(handle)
+    data["figures"][name] = figure
+    with open(path, "w", encoding="utf-8") as handle:
+        json.dump(data, handle, indent=1)
+        handle.write("\n")
+    with open(os.path.splitext(path)[0] + ".md", "w", encoding="utf-8") as handle:
+        handle.write(markdown(data["figures"], data["meta"]) + "\n")
 
 
 def fmt(s, digits=2, unit=""):
