@@ -21,7 +21,7 @@ from bpy.app.handlers import persistent
 from .. import compat
 from . import lights as lights_mod
 from . import loop as light_loop
-from . import materials, rig
+from . import materials, rig, world_copies
 
 
 class Sync:
@@ -206,6 +206,7 @@ def relink_scene(scene, view_layer=None, prune: bool = True) -> Sync:
     sync.rebuild_groups()
     sync.relink(scene.objects)
     sync.finish(prune)
+    world_copies.follow(scene)
     remember(scene, view_layer)
     return sync
 
@@ -279,10 +280,13 @@ def on_depsgraph_update(scene, depsgraph=None):
             for kind in ("OBJECT", "LIGHT", "COLLECTION", "SCENE", "WORLD")):
         return
     if depsgraph is not None and not stale and only_moved(scene, depsgraph):
+        world_copies.on_drag(scene)  # copies live again after a save or a Cycles render
         return
     groups = rig.groups_of(scene)
     if not groups:
         return
+    if depsgraph is not None and depsgraph.id_type_updated("SCENE"):
+        world_copies.follow(scene)  # e.g. the render engine switched to or from Cycles
     # 5.3+: a Phong term pass appeared on a view layer (added by hand): the materials need
     # their AOV outputs, so the groups lose the loop part.  Not the other way round: without
     # the passes the materials still render right (Apply or Relink brings the loop back).
@@ -370,7 +374,8 @@ def _renew() -> None:
 _HANDLERS = (("depsgraph_update_post", materials.follow_opacity),
              ("depsgraph_update_post", light_loop.follow_lights),
              ("depsgraph_update_post", on_depsgraph_update), ("load_post", forget),
-             ("load_post", upgrade_on_load), ("undo_post", forget), ("redo_post", forget))
+             ("load_post", upgrade_on_load), ("load_post", world_copies.after_load),
+             ("undo_post", forget), ("redo_post", forget)) + world_copies.HANDLERS
 
 
 def register():

@@ -1,0 +1,175 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""The World's copies of the lights' transforms (addon/lighting/world_copies.py, issue 38):
+on Blender 5.3+, in a scene Eevee renders on the light loop, nothing reads them in Eevee, so
+they are parked (no drivers) and a light drag leaves the World alone; an engine that reads
+them (Cycles), a render or bake by it, a save, or a reader (a term pass) makes them live.
+Before 5.3 nothing changes."""
+
+from __future__ import annotations
+
+import pytest
+
+import blender_env as be
+from test_light_loop_render import _check, _expected, _render, _scene
+
+
+def _modules():
+    from phong_nodes.addon.lighting import rig, world_copies  # noqa: PLC0415
+
+    return rig, world_copies
+
+
+class _WorldSpy:
+    """Whether the World was updated by each depsgraph update."""
+
+    def __init__(self, bpy):
+        self.bpy = bpy
+        self.updates = []
+
+    def __call__(self, _scene, depsgraph):
+        self.updates.append(depsgraph.id_type_updated("WORLD"))
+
+    def __enter__(self):
+        self.bpy.app.handlers.depsgraph_update_post.insert(0, self)
+        return self
+
+    def __exit__(self, *_exc):
+        self.bpy.app.handlers.depsgraph_update_post.remove(self)
+
+
+def _eevee(bpy, scene):
+    scene.render.engine = be.compat().eevee_engine()
+    bpy.context.view_layer.update()
+
+
+def _keys(rig, world):
+    return [k for k in world.keys() if k.startswith(rig.WORLD_PREFIX)]
+
+
+@pytest.fixture
+def loop_bpy(bpy_clean):
+    if not be.compat().HAS_LIGHT_LOOP:
+        pytest.skip(f"bpy {be.bpy_release()}: no light loop, Eevee reads the World's copies")
+    return bpy_clean
+
+
+def test_an_eevee_drag_leaves_the_world_alone_and_cycles_makes_the_copies_live(loop_bpy):
+    bpy = loop_bpy
+    rig, world_copies = _modules()
+    scene, _plane, _sphere, lights = _scene(bpy, "Parked", 4)
+    world = scene.world
+    assert world_copies.is_live(world), "a Cycles scene: its copies follow the lights"
+    _eevee(bpy, scene)
+    keys = _keys(rig, world)
+    assert len(keys) == 5 and not world_copies.is_live(world), "Eevee: parked, values kept"
+    point = lights[0]
+    key = rig.world_key(point, "LOCATION")
+    before = tuple(world[key])[:3]
+    with _WorldSpy(bpy) as spy:
+        for step in range(3):
+            point.location.x += 0.3
+            lights[2].rotation_euler.x += 0.05
+            bpy.context.view_layer.update()
+    assert spy.updates == [False, False, False], "no World update on an Eevee drag"
+    assert tuple(world[key])[:3] == pytest.approx(before), "parked: the old value stays"
+
+    scene.render.engine = "CYCLES"
+    bpy.context.view_layer.update()
+    assert world_copies.is_live(world)
+    assert _keys(rig, world) == keys
+    with _WorldSpy(bpy) as spy:
+        point.location.y -= 0.5
+        bpy.context.view_layer.update()
+    assert spy.updates == [True]
+    assert tuple(world[key])[:3] == pytest.approx(tuple(point.matrix_world.translation))
+
+    _eevee(bpy, scene)
+    assert not world_copies.is_live(world)
+
+
+def test_a_save_writes_live_copies_and_the_next_drag_parks_them(loop_bpy, blender_tmp):
+    bpy = loop_bpy
+    _rig, world_copies = _modules()
+    scene, _plane, _sphere, lights = _scene(bpy, "Saved", 2)
+    _eevee(bpy, scene)
+    assert not world_copies.is_live(scene.world)
+    written = []
+
+    def probe(*_args):
+        written.append(world_copies.is_live(scene.world))
+
+    bpy.app.handlers.save_post.append(probe)
+    try:
+        bpy.ops.wm.save_as_mainfile(filepath=str(blender_tmp / "saved.blend"), copy=True)
+    finally:
+        bpy.app.handlers.save_post.remove(probe)
+    assert written == [True], "the file has the drivers: Cycles without the extension"
+    lights[0].location.x += 0.5
+    bpy.context.view_layer.update()
+    assert not world_copies.is_live(scene.world)
+
+
+def test_a_term_pass_keeps_the_copies_live(loop_bpy):
+    """A Phong term pass makes Eevee compile the lights group (no loop part): it reads the
+    copies, so they stay live in Eevee."""
+    bpy = loop_bpy
+    rig, world_copies = _modules()
+    scene, _plane, _sphere, lights = _scene(bpy, "Passes", 2)
+    be.add_aov(scene, rig.PASS_NAMES[0])
+    assert bpy.ops.phong.relink_lights() == {"FINISHED"}
+    _eevee(bpy, scene)
+    assert world_copies.is_live(scene.world)
+    lights[0].location.x += 0.5
+    bpy.context.view_layer.update()
+    assert world_copies.is_live(scene.world)
+    key = rig.world_key(lights[0], "LOCATION")
+    assert tuple(scene.world[key])[:3] == pytest.approx(tuple(lights[0].matrix_world.translation))
+
+
+@pytest.mark.eevee
+@pytest.mark.cycles
+@pytest.mark.slow
+def test_a_cycles_render_after_an_eevee_drag_sees_the_moved_lights(loop_bpy, blender_tmp):
+    """Lights moved while parked: Eevee (the loop) and then Cycles, switched to just before
+    its render with the relink handler held (so only ``render_pre`` can make the copies
+    live), both match the reference of the lights where they now are."""
+    bpy = loop_bpy
+    _rig, world_copies = _modules()
+    from phong_nodes.addon.lighting import sync  # noqa: PLC0415
+    scene, plane, sphere, lights = _scene(bpy, "Parked render", 4)
+    _eevee(bpy, scene)
+    assert not world_copies.is_live(scene.world)
+    lights[0].location = (1.5, -1.0, 1.2)   # far from where the copies were parked
+    lights[2].rotation_euler.x += 0.4
+    lights[3].location.z += 0.8
+    bpy.context.view_layer.update()
+    assert not world_copies.is_live(scene.world)
+    eevee = _render(bpy, scene, "eevee", str(blender_tmp / "parked_eevee.exr"))
+    with sync.paused():
+        cycles = _render(bpy, scene, "cycles", str(blender_tmp / "parked_cycles.exr"))
+    clamped, unclamped, mask = _expected(scene, {1: (plane, lights), 2: (sphere, lights)},
+                                         cycles)
+    _check("parked, then Cycles", eevee, cycles, clamped, unclamped, mask)
+    assert world_copies.is_live(scene.world)
+
+
+def test_before_5_3_a_drag_keeps_the_copies_live(bpy_clean):
+    """Before 5.3 Eevee reads the copies (5.2's View Layer lookups): never parked."""
+    if be.compat().HAS_LIGHT_LOOP:
+        pytest.skip("5.3+: see the tests above")
+    bpy = bpy_clean
+    rig, world_copies = _modules()
+    scene, _plane, _sphere, lights = _scene(bpy, "Before 5.3", 2)
+    _eevee(bpy, scene)
+    assert not world_copies.can_park(scene.world)
+    live = world_copies.is_live(scene.world)
+    assert live == bool(_keys(rig, scene.world)) == (be.compat().VIEW_LAYER_LOOKUPS > 0)
+    with _WorldSpy(bpy) as spy:
+        lights[0].location.x += 0.5
+        bpy.context.view_layer.update()
+    assert world_copies.is_live(scene.world) == live
+    if live:
+        assert spy.updates == [True]
+        key = rig.world_key(lights[0], "LOCATION")
+        assert tuple(scene.world[key])[:3] == pytest.approx(
+            tuple(lights[0].matrix_world.translation))
