@@ -227,4 +227,11 @@ def test_the_table_rows_of_figure_10_state_the_goals():
     assert [r[3] for r in rows] == ["", "met", "missed by 1.1×", "met"]
     assert [r[2] for r in rows] == ["–", "≤ 2×", "≤ 2×", "≤ 1.3×"]
     assert "ratio of their medians 1.10×" in rows[3][4]
+    assert "the lights groups of 5.2: worst 6.80×" in rows[3][4]
+    assert "median of 21 moves each" in rows[3][4]
+    figure["drag"].update(method="files", rounds=8, passes=2, moves=10)
+    figure["drag"]["worst_ratio"]["phong_live"] = 1.45
+    detail = table.loop_rows(figure)[3][4]
+    assert "the World's copies live: worst 1.45×" in detail
+    assert "each file in its own process, 8 rounds of 2 x 10 moves per light" in detail
     assert table.loop_rows(None) == []

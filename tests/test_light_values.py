@@ -395,3 +395,24 @@ def test_the_light_move_benchmark_runs_and_shows_the_difference(bpy_clean):
     assert result["ratio_to_principled"]["principled"] == {"move": 1.0, "turn": 1.0}
     if _lookups():
         assert updates["previous"]["move"] > updates["world_attributes"]["move"], updates
+
+
+def test_the_saved_files_drag_benchmark_runs(bpy_clean):
+    """light_move --files at a tiny size: the Principled and Phong files, each case in its
+    own process; the Phong file's World copies parked on 5.3+ (live before), live where the
+    case keeps them live; the lights groups of 5.2 measured on 5.3+ only."""
+    code = ("import json, sys; from phong_nodes.benchmarks import light_move; "
+            "print('RESULT ' + json.dumps(light_move.run_files(30, 4, 2, 1, 1)), flush=True)")
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         timeout=600, cwd=be.REPO_ROOT)
+    assert run.returncode == 0, run.stderr[-2000:]
+    result = json.loads(run.stdout.split("RESULT ")[-1])
+    loop = be.compat().HAS_LIGHT_LOOP
+    cases = ["principled", "phong", "phong_live"] + (["lights_group"] if loop else [])
+    assert sorted(result["update_s"]) == sorted(cases)
+    assert all(len(v) == 4 and min(v) > 0 for v in result["update_s"].values())
+    assert result["ratio_to_principled"]["principled"] == [1.0] * 4
+    live = result["world_copies_live"]
+    assert live["principled"] is False
+    assert live["phong"] is (not loop and _lookups() > 0)
+    assert live["phong_live"] is (_lookups() > 0)

@@ -61,17 +61,20 @@ def test_an_eevee_drag_leaves_the_world_alone_and_cycles_makes_the_copies_live(l
     assert world_copies.is_live(world), "a Cycles scene: its copies follow the lights"
     _eevee(bpy, scene)
     keys = _keys(rig, world)
-    assert len(keys) == 5 and not world_copies.is_live(world), "Eevee: parked, values kept"
+    assert len(keys) == 5 and world_copies.is_live(world), "parked by a drag, not before"
     point = lights[0]
     key = rig.world_key(point, "LOCATION")
-    before = tuple(world[key])[:3]
     with _WorldSpy(bpy) as spy:
-        for step in range(3):
+        for step in range(4):
             point.location.x += 0.3
             lights[2].rotation_euler.x += 0.05
             bpy.context.view_layer.update()
-    assert spy.updates == [False, False, False], "no World update on an Eevee drag"
-    assert tuple(world[key])[:3] == pytest.approx(before), "parked: the old value stays"
+            if step == 0:
+                assert not world_copies.is_live(world), "parked, values kept"
+                first = tuple(point.matrix_world.translation)
+    assert spy.updates == [True, False, False, False], "the first drag parks them"
+    assert tuple(world[key])[:3] == pytest.approx(first), "parked: the first drag's value"
+    assert _keys(rig, world) == keys
 
     scene.render.engine = "CYCLES"
     bpy.context.view_layer.update()
@@ -84,7 +87,15 @@ def test_an_eevee_drag_leaves_the_world_alone_and_cycles_makes_the_copies_live(l
     assert tuple(world[key])[:3] == pytest.approx(tuple(point.matrix_world.translation))
 
     _eevee(bpy, scene)
+    assert world_copies.is_live(world)
+    point.location.y += 0.5
+    bpy.context.view_layer.update()
     assert not world_copies.is_live(world)
+
+
+def _drag(bpy, light):
+    light.location.x += 0.25
+    bpy.context.view_layer.update()
 
 
 def test_a_save_writes_live_copies_and_the_next_drag_parks_them(loop_bpy, blender_tmp):
@@ -92,6 +103,7 @@ def test_a_save_writes_live_copies_and_the_next_drag_parks_them(loop_bpy, blende
     _rig, world_copies = _modules()
     scene, _plane, _sphere, lights = _scene(bpy, "Saved", 2)
     _eevee(bpy, scene)
+    _drag(bpy, lights[0])
     assert not world_copies.is_live(scene.world)
     written = []
 
@@ -138,6 +150,7 @@ def test_a_cycles_render_after_an_eevee_drag_sees_the_moved_lights(loop_bpy, ble
     from phong_nodes.addon.lighting import sync  # noqa: PLC0415
     scene, plane, sphere, lights = _scene(bpy, "Parked render", 4)
     _eevee(bpy, scene)
+    _drag(bpy, lights[1])
     assert not world_copies.is_live(scene.world)
     lights[0].location = (1.5, -1.0, 1.2)   # far from where the copies were parked
     lights[2].rotation_euler.x += 0.4
@@ -151,6 +164,25 @@ def test_a_cycles_render_after_an_eevee_drag_sees_the_moved_lights(loop_bpy, ble
                                          cycles)
     _check("parked, then Cycles", eevee, cycles, clamped, unclamped, mask)
     assert world_copies.is_live(scene.world)
+
+
+def test_a_per_vertex_material_makes_the_copies_live(loop_bpy):
+    """A Per Vertex group is compiled by Eevee and reads the copies: set on a parked scene,
+    they are live again, and a drag keeps them live."""
+    bpy = loop_bpy
+    rig, world_copies = _modules()
+    from phong_nodes.addon.shading import modes  # noqa: PLC0415
+
+    scene, _plane, sphere, lights = _scene(bpy, "Per vertex", 2)
+    _eevee(bpy, scene)
+    _drag(bpy, lights[0])
+    assert not world_copies.is_live(scene.world)
+    modes.set_mode(sphere.active_material, modes.VERTEX)
+    assert world_copies.is_live(scene.world)
+    _drag(bpy, lights[0])
+    assert world_copies.is_live(scene.world)
+    key = rig.world_key(lights[0], "LOCATION")
+    assert tuple(scene.world[key])[:3] == pytest.approx(tuple(lights[0].matrix_world.translation))
 
 
 def test_before_5_3_a_drag_keeps_the_copies_live(bpy_clean):

@@ -20,15 +20,20 @@ live again (drivers back, values current) whenever something could read them:
   handler, on the engine switch), and before any render or bake by such an engine
   (``render_pre``, ``object_bake_pre``), also from a script that renders right after
   switching;
-* a reader appears (a term pass on a view layer, a Per Vertex / Per Face material: they
-  come with a relink, which ends with :func:`follow`);
+* a reader appears (a term pass on a view layer comes with a relink, which ends with
+  :func:`follow`; a Per Vertex / Per Face material calls :func:`follow_readers`);
 * the file is saved (``save_pre``): a saved file renders the same in Cycles without the
-  extension.  The next light drag parks them again.
+  extension.
+
+They are parked by a light drag in Eevee (the relink handler tells one): by then the
+depsgraph has evaluated their drivers, so a parked value is the light's transform then.
 
 Nothing here runs before 5.3 (``compat.HAS_LIGHT_LOOP``): there Eevee reads the copies.
 """
 
 from __future__ import annotations
+
+import threading
 
 import bpy
 from bpy.app.handlers import persistent
@@ -103,21 +108,35 @@ def make_live(world) -> int:
 
 
 def follow(scene) -> None:
-    """Park *scene*'s World's copies where nothing can read them, else make them live
-    (the end of every Apply / Relink, and the relink handler on an engine switch)."""
+    """Make *scene*'s World's copies live where something can read them (the end of every
+    Apply / Relink, and the relink handler on an engine switch).  Parking waits for a light
+    drag (:func:`on_drag`): by then the depsgraph has evaluated the copies' drivers (a copy
+    made for a light whose transform was never evaluated, as in a file written by a script,
+    would keep a wrong value)."""
     world = getattr(scene, "world", None)
     if world is None or world.library is not None or not compat.HAS_LIGHT_LOOP:
         return
-    if can_park(world):
-        if is_live(world):
-            park(world)
-    elif not is_live(world) and any(k.startswith(rig.WORLD_PREFIX) for k in world.keys()):
+    if (not is_live(world) and any(k.startswith(rig.WORLD_PREFIX) for k in world.keys())
+            and not can_park(world)):
         make_live(world)
 
 
+def follow_readers() -> None:
+    """Every World whose parked copies something can read now (a material just set Per
+    Vertex / Per Face: ``shading/modes.py``): live again."""
+    if not compat.HAS_LIGHT_LOOP:
+        return
+    for world in bpy.data.worlds:
+        if (world.library is None and not is_live(world)
+                and any(k.startswith(rig.WORLD_PREFIX) for k in world.keys())
+                and not can_park(world)):
+            make_live(world)
+
+
 def on_drag(scene) -> None:
-    """A light drag in *scene* (``sync.on_depsgraph_update``): park copies that came back
-    live (a save, a Cycles render).  Costs a look at the World's drivers."""
+    """A light drag in *scene* (``sync.on_depsgraph_update``, after the depsgraph evaluated
+    the copies' drivers): park them where nothing can read them.  Once parked, this costs a
+    look at the World's drivers."""
     if not compat.HAS_LIGHT_LOOP or scene.render.engine not in LOOP_ENGINES:
         return
     world = scene.world
@@ -130,8 +149,10 @@ def on_drag(scene) -> None:
 @persistent
 def before_render(scene=None, *_args) -> None:
     """``render_pre`` / ``object_bake_pre``: a render or bake by an engine that reads the
-    copies finds them live (the render's own depsgraph evaluates their drivers)."""
-    if not compat.HAS_LIGHT_LOOP:
+    copies finds them live (the render's own depsgraph evaluates their drivers).  Only in
+    Blender's main thread (a script's render or bake): a render job's thread must not edit
+    data, and in the interface the engine switch has made them live already."""
+    if not compat.HAS_LIGHT_LOOP or threading.current_thread() is not threading.main_thread():
         return
     if not isinstance(scene, bpy.types.Scene):  # a bake names its object
         scene = getattr(bpy.context, "scene", None)
@@ -153,16 +174,6 @@ def before_save(*_args) -> None:
     for world in bpy.data.worlds:
         if world.library is None and not is_live(world):
             make_live(world)
-
-
-@persistent
-def after_load(*_args) -> None:
-    """``load_post``: park the copies of the scenes that Eevee renders."""
-    if not compat.HAS_LIGHT_LOOP:
-        return
-    for scene in bpy.data.scenes:
-        if scene.library is None and rig.groups_of(scene):
-            follow(scene)
 
 
 HANDLERS = (("render_pre", before_render), ("object_bake_pre", before_render),

@@ -39,7 +39,7 @@ from bpy.app.handlers import persistent
 from ...node_groups import shading_modes as model
 from ...node_groups.expr import VECTOR, input_
 from .. import compat, loader
-from ..lighting import drivers, materials, properties, rig
+from ..lighting import drivers, materials, properties, rig, world_copies
 
 #: Custom property of the material: its shading mode (docs/contract.md).
 SHADING_KEY = "phong_shading"
@@ -146,6 +146,7 @@ def update(material, objects=None, groups=None) -> None:
     geometry = ensure_geometry_tree()
     for obj in objects:
         _ensure_modifier(obj, geometry)
+    world_copies.follow_readers()  # Eevee compiles the group: it reads the World's copies
 
 
 def refresh(scene=None) -> int:
