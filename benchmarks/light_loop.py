@@ -15,9 +15,12 @@ Two figures, each from the modules that measure it, run one after the other:
   render, the order of the cases alternating) per number of lights, cases ``principled``,
   ``phong`` (its Eevee side the loop on 5.3+) and ``phong_lights_group`` (the same with the
   lights group in Eevee too: the recipe of 5.2, which the term passes switch to);
-* **drag**: ``light_move.run_each`` at the largest number of lights: the update after
-  moving each light in turn, Principled, ``phong`` and ``lights_group``, then ``phong``
-  again, in one process.
+* **drag**: ``light_move.run_files`` at the largest number of lights: the scene saved as a
+  Principled file and, after Apply, as a Phong file; the update after moving each light in
+  turn, each file loaded in a process of its own, *rounds* rounds alternating the order,
+  cases ``principled``, ``phong``, ``phong_live`` (the World's copies of the lights'
+  transforms kept live, as before ``world_copies``) and ``lights_group`` (the lights groups
+  of 5.2).  (Runs before November 2026 used ``run_each``: every case in one process.)
 
 Writes one JSON (every time, the load average before and after each part) and prints the
 table of ``table``.  Ratios are within one run; the machine's load is in the JSON.
@@ -46,10 +49,11 @@ def f12(objects, lights, repeats, renders) -> dict:
     return {str(n): run(objects, n, repeats, list(CASES), renders) for n in lights}
 
 
-def drag(objects, n_lights, moves) -> dict:
+def drag(objects, n_lights, moves, rounds=8, passes=2) -> dict:
     proc = subprocess.run(
-        [sys.executable, "-m", "phong_nodes.benchmarks.light_move", "--each", "--objects",
-         str(objects), "--lights", str(n_lights), "--moves", str(moves)],
+        [sys.executable, "-m", "phong_nodes.benchmarks.light_move", "--files", str(rounds),
+         "--passes", str(passes), "--objects", str(objects), "--lights", str(n_lights),
+         "--moves", str(moves)],
         capture_output=True, text=True)
     text = proc.stdout
     if proc.returncode != 0 or "{" not in text:
@@ -85,6 +89,7 @@ def table(result) -> str:
         base = moves["update_s"]["principled"]
         lines.append(f"| Principled | {1000 * statistics.median(base):.2f} ms | 1 | |")
         for design, label in (("phong", "Phong (light loop)"),
+                              ("phong_live", "Phong, the World's copies live"),
                               ("lights_group", "lights groups of 5.2"),
                               ("phong_again", "Phong again (drift)")):
             if design not in moves["update_s"]:
@@ -103,14 +108,14 @@ def merge(figure, path) -> None:
     merge_figure(path, "light_loop", figure)
 
 
-def run(objects, lights, repeats, renders, moves) -> dict:
+def run(objects, lights, repeats, renders, moves, rounds=8) -> dict:
     started = time.perf_counter()
     out = {"objects": objects, "lights": list(lights), "repeats": repeats, "renders": renders,
            "goals": {"f12": F12_GOAL, "drag": DRAG_GOAL}}
     out["load_average"] = {"start": os.getloadavg()}
     out["f12"] = f12(objects, lights, repeats, renders)
     out["load_average"]["after_f12"] = os.getloadavg()
-    out["drag"] = drag(objects, max(lights), moves)
+    out["drag"] = drag(objects, max(lights), moves, rounds)
     out["load_average"]["end"] = os.getloadavg()
     out["bpy"] = out["drag"]["bpy"]
     out["seconds"] = time.perf_counter() - started
@@ -123,7 +128,12 @@ def main(argv=None) -> int:
     parser.add_argument("--lights", type=int, nargs="+", default=[1, 4, 16])
     parser.add_argument("--repeats", type=int, default=2)
     parser.add_argument("--renders", type=int, default=2)
-    parser.add_argument("--moves", type=int, default=21)
+    parser.add_argument("--moves", type=int, default=10)
+    parser.add_argument("--rounds", type=int, default=8,
+                        help="drag: processes per case (light_move --files)")
+    parser.add_argument("--drag-only", metavar="RUN_JSON",
+                        help="run the drag part again into this run's JSON (its drag_note "
+                             "says so)")
     parser.add_argument("--out", default=None, help="write the JSON here")
     parser.add_argument("--table", metavar="JSON", help="only print the table of a run")
     parser.add_argument("--merge", nargs=2, metavar=("RUN_JSON", "RESULTS_JSON"),
@@ -137,7 +147,18 @@ def main(argv=None) -> int:
         with open(args.merge[0], encoding="utf-8") as handle:
             merge(json.load(handle), args.merge[1])
         return 0
-    result = run(args.objects, args.lights, args.repeats, args.renders, args.moves)
+    if args.drag_only:
+        with open(args.drag_only, encoding="utf-8") as handle:
+            result = json.load(handle)
+        result["drag"] = drag(args.objects, max(args.lights), args.moves, args.rounds)
+        result["drag_note"] = (f"the drag part rerun alone ({time.strftime('%Y-%m-%d')}, "
+                               f"light_move --files {args.rounds}, bpy {result['drag']['bpy']})")
+        with open(args.drag_only, "w", encoding="utf-8") as handle:
+            json.dump(result, handle, indent=1)
+        print(table(result))
+        return 0
+    result = run(args.objects, args.lights, args.repeats, args.renders, args.moves,
+                 args.rounds)
     if args.out:
         with open(args.out, "w", encoding="utf-8") as handle:
             json.dump(result, handle, indent=1)

@@ -27,6 +27,17 @@ Apply (``run_parts``): Principled, Phong, Phong without the World's update, with
 extension's handlers and without both, the cases alternating per block of *moves* updates
 of one light.
 
+``--files ROUNDS``: the drag as a user meets it (issue 38): the artist scene saved as a
+Principled file and, after Apply, as a Phong file; each round loads each file in a process
+of its own (the extension registered in both, the order alternating) and times *moves*
+updates of each light in turn, every light *passes* times (``--passes``); per light, the
+median of all its updates over the rounds.  Also "phong_live": the Phong file with the
+World's copies of the lights' transforms kept live (``world_copies``: what a drag cost
+before they were parked), and on 5.3+ "lights_group": the Phong file relinked without the
+light loop (the lights groups of 5.2, at most ``compat.VIEW_LAYER_LOOKUPS`` transforms from
+the World).  A process's own speed varies by up to 2.7x from one process to the next on
+this machine (the same file, medians of 2.1 to 5.5 ms), hence the rounds.
+
 ``--eevee``: Eevee's first render (shader compile included, after the engine's warm-up) of
 3x3 spheres with 4, 8 and 16 point lights, this version against the previous rig, each in a
 process of its own with empty shader caches.
@@ -294,6 +305,112 @@ def run_parts(objects: int, n_lights: int, moves: int, passes: int) -> dict:
             "load_average": [load_before, os.getloadavg()]}
 
 
+#: ``run_files``' cases: (file, the World's copies kept live, the light loop).
+FILE_CASES = {"principled": ("principled", False, True), "phong": ("phong", False, True),
+              "phong_live": ("phong", True, True), "lights_group": ("phong", True, False)}
+
+
+def files_build(folder: str, objects: int, n_lights: int) -> None:
+    """The artist scene saved as ``principled.blend``, and after Apply as ``phong.blend``
+    (Eevee, the file's render engine, as Blender makes a new scene)."""
+    bpy = worker_setup()
+    scene, meshes, _lights = artist_scene("light_files", objects, n_lights)
+    bpy.context.window.scene = scene
+    for other in [s for s in bpy.data.scenes if s != scene]:
+        bpy.data.scenes.remove(other)
+    view_layer = scene.view_layers[0]
+    view_layer.update()
+    bpy.ops.wm.save_as_mainfile(filepath=os.path.join(folder, "principled.blend"))
+    for obj in meshes:
+        obj.select_set(True, view_layer=view_layer)
+    with bpy.context.temp_override(scene=scene, view_layer=view_layer, selected_objects=meshes):
+        assert bpy.ops.phong.apply_material() == {"FINISHED"}
+    view_layer.update()
+    bpy.ops.wm.save_as_mainfile(filepath=os.path.join(folder, "phong.blend"))
+
+
+def files_worker(folder: str, case: str, moves: int, passes: int) -> dict:
+    """One process: load the case's file, then *passes* times each light's block of *moves*
+    updates; returns every update's seconds per light (lights by name)."""
+    bpy = worker_setup()
+    from phong_nodes.addon.lighting import rig, sync, world_copies  # noqa: PLC0415
+
+    name, live, loop = FILE_CASES[case]
+    if live:  # the copies stay live: every drag updates the World, as before issue 38
+        world_copies.can_park = lambda _world: False
+    if not loop:
+        rig.wants_loop = lambda _scene: False
+    bpy.ops.wm.open_mainfile(filepath=os.path.join(folder, f"{name}.blend"))
+    scene = bpy.data.scenes["light_files"]
+    view_layer = scene.view_layers[0]
+    if not loop:
+        sync.relink_scene(scene, view_layer)
+    if live:
+        world_copies.make_live(scene.world)
+    view_layer.update()
+    lights = sorted((o for o in scene.objects if o.type == "LIGHT"), key=lambda o: o.name)
+    times = [[] for _ in lights]
+    for _pass in range(passes):
+        for index, light in enumerate(lights):
+            times[index] += _block(view_layer, light, moves)
+    return {"case": case, "lights": [o.name for o in lights], "update_s": times,
+            "world_live": world_copies.is_live(scene.world) if scene.world else None}
+
+
+def run_files(objects: int, n_lights: int, moves: int, passes: int, rounds: int) -> dict:
+    """Issue 38's drag goal as a user meets it: see ``--files`` above."""
+    import subprocess  # noqa: PLC0415
+    import tempfile  # noqa: PLC0415
+
+    load_before = os.getloadavg()
+    folder = tempfile.mkdtemp(prefix="phong_light_files_")
+
+    def child(*args):
+        proc = subprocess.run([sys.executable, "-m", "phong_nodes.benchmarks.light_move",
+                               *args], capture_output=True, text=True)
+        lines = [x for x in proc.stdout.splitlines() if x.startswith("FILES ")]
+        if proc.returncode != 0 or not lines:
+            raise RuntimeError(proc.stdout[-2000:] + proc.stderr[-2000:])
+        return json.loads(lines[-1][6:])
+
+    child("--files-build", folder, str(objects), str(n_lights))
+    version = _bpy_version()
+    names = [c for c in FILE_CASES if c != "lights_group" or _has_loop(version)]
+    samples = {case: [[] for _ in range(n_lights)] for case in names}
+    worlds = {}
+    process_s = {case: [] for case in names}
+    for number in range(rounds):
+        for case in names if number % 2 == 0 else names[::-1]:
+            result = child("--files-worker", folder, case, str(moves), str(passes))
+            worlds[case] = result["world_live"]
+            process_s[case].append(statistics.median(
+                [t for times in result["update_s"] for t in times]))
+            for index, times in enumerate(result["update_s"]):
+                samples[case][index] += times
+    per_light = {case: [statistics.median(t) for t in v] for case, v in samples.items()}
+    base = per_light["principled"]
+    ratios = {case: [t / b for t, b in zip(v, base)] for case, v in per_light.items()}
+    return {"objects": objects, "lights": n_lights, "moves": moves, "passes": passes,
+            "rounds": rounds, "bpy": version, "method": "files", "update_s": per_light,
+            "median_s": {case: statistics.median(v) for case, v in per_light.items()},
+            "ratio_to_principled": ratios,
+            "median_ratio": {case: statistics.median(v) for case, v in ratios.items()},
+            "worst_ratio": {case: max(v) for case, v in ratios.items()},
+            "process_median_s": process_s, "world_copies_live": worlds,
+            "load_average": [load_before, os.getloadavg()]}
+
+
+def _has_loop(version: str) -> bool:
+    return tuple(int(x) for x in version.split()[0].split(".")[:2]) >= (5, 3)
+
+
+def _bpy_version() -> str:
+    import subprocess  # noqa: PLC0415
+
+    return subprocess.run([sys.executable, "-c", "import bpy; print(bpy.app.version_string)"],
+                          capture_output=True, text=True).stdout.strip().splitlines()[-1]
+
+
 def eevee_first(n_lights: int, design: str) -> dict:
     """One cold process (run by ``eevee``): Eevee's engine warmed up by the Emission scene,
     then the first render (shader compile included) and a second render of 3x3 spheres with
@@ -355,12 +472,38 @@ def main(argv=None) -> int:
     parser.add_argument("--parts", type=int, metavar="PASSES",
                         help="instead: the parts of a drag's cost, the cases alternating "
                              "per block of --moves updates, every light PASSES times")
-    parser.add_argument("--out", help="--parts: also write the JSON here")
+    parser.add_argument("--files", type=int, metavar="ROUNDS",
+                        help="instead: each light's drag in saved files, each case in a "
+                             "process of its own, ROUNDS rounds")
+    parser.add_argument("--passes", type=int, default=4,
+                        help="--files: each light's block of --moves updates, PASSES times "
+                             "per process")
+    parser.add_argument("--out", help="--parts, --files: also write the JSON here")
+    parser.add_argument("--files-build", nargs=3, help=argparse.SUPPRESS)
+    parser.add_argument("--files-worker", nargs=4, help=argparse.SUPPRESS)
     parser.add_argument("--eevee-worker", nargs=2, help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
     if args.eevee_worker:
         print("EEVEE " + json.dumps(eevee_first(int(args.eevee_worker[0]),
                                                 args.eevee_worker[1])))
+        return 0
+    if args.files_build:
+        folder, objects, n_lights = args.files_build
+        files_build(folder, int(objects), int(n_lights))
+        print("FILES {}", flush=True)
+        os._exit(0)
+    if args.files_worker:
+        folder, case, moves, passes = args.files_worker
+        print("FILES " + json.dumps(files_worker(folder, case, int(moves), int(passes))),
+              flush=True)
+        sys.stderr.flush()
+        os._exit(0)
+    if args.files:
+        result = run_files(args.objects, args.lights, args.moves, args.passes, args.files)
+        if args.out:
+            with open(args.out, "w", encoding="utf-8") as handle:
+                json.dump(result, handle, indent=1)
+        print(json.dumps(result, indent=1), flush=True)
         return 0
     if args.parts:
         result = run_parts(args.objects, args.lights, args.moves, args.parts)

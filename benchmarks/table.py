@@ -280,13 +280,19 @@ def loop_rows(figure):
     if drag:
         worst = drag["worst_ratio"]
         ratios = drag["ratio_to_principled"]["phong"]
+        method = (f"each file in its own process, {drag['rounds']} rounds of {drag['passes']}"
+                  f" x {drag['moves']} moves per light"
+                  if drag.get("method") == "files" else f"median of {drag['moves']} moves each")
+        others = "; ".join(f"{label}: worst {worst[key]:.2f}×"
+                           for key, label in (("phong_live", "the World's copies live"),
+                                              ("lights_group", "the lights groups of 5.2"),
+                                              ("phong_again", "again (drift)"))
+                           if key in worst)
         rows.append((
             f"10. Drag of each of {drag['lights']} lights, {drag['objects']:,} objects: Phong "
             "(light loop) / Principled, worst light", f"{worst['phong']:.2f}×",
             f"≤ {goal_drag:g}×", verdict(worst["phong"], goal_drag, "max"),
             f"median of the lights {statistics.median(ratios):.2f}×, ratio of their medians "
-            f"{statistics.median(drag['update_s']['phong']) / statistics.median(drag['update_s']['principled']):.2f}×; the lights "
-            f"groups of 5.2: worst {worst.get('lights_group', float('nan')):.2f}×; again "
-            f"(drift) worst {worst.get('phong_again', float('nan')):.2f}×; median of "
-            f"{drag['moves']} moves each, bpy {drag['bpy']}"))
+            f"{statistics.median(drag['update_s']['phong']) / statistics.median(drag['update_s']['principled']):.2f}×; "
+            f"{others}; {method}, bpy {drag['bpy']}"))
     return rows
