@@ -98,13 +98,20 @@ def _drag(bpy, light):
     bpy.context.view_layer.update()
 
 
+def _parked_scene(bpy, name, n_lights):
+    """``_scene``'s scene rendered by Eevee after one drag of its last light: parked."""
+    _rig, world_copies = _modules()
+    scene, plane, sphere, lights = _scene(bpy, name, n_lights)
+    _eevee(bpy, scene)
+    _drag(bpy, lights[-1])
+    assert not world_copies.is_live(scene.world)
+    return scene, plane, sphere, lights
+
+
 def test_a_save_writes_live_copies_and_the_next_drag_parks_them(loop_bpy, blender_tmp):
     bpy = loop_bpy
     _rig, world_copies = _modules()
-    scene, _plane, _sphere, lights = _scene(bpy, "Saved", 2)
-    _eevee(bpy, scene)
-    _drag(bpy, lights[0])
-    assert not world_copies.is_live(scene.world)
+    scene, _plane, _sphere, lights = _parked_scene(bpy, "Saved", 2)
     written = []
 
     def probe(*_args):
@@ -148,10 +155,8 @@ def test_a_cycles_render_after_an_eevee_drag_sees_the_moved_lights(loop_bpy, ble
     bpy = loop_bpy
     _rig, world_copies = _modules()
     from phong_nodes.addon.lighting import sync  # noqa: PLC0415
-    scene, plane, sphere, lights = _scene(bpy, "Parked render", 4)
-    _eevee(bpy, scene)
-    _drag(bpy, lights[1])
-    assert not world_copies.is_live(scene.world)
+
+    scene, plane, sphere, lights = _parked_scene(bpy, "Parked render", 4)
     lights[0].location = (1.5, -1.0, 1.2)   # far from where the copies were parked
     lights[2].rotation_euler.x += 0.4
     lights[3].location.z += 0.8
@@ -173,10 +178,7 @@ def test_a_per_vertex_material_makes_the_copies_live(loop_bpy):
     rig, world_copies = _modules()
     from phong_nodes.addon.shading import modes  # noqa: PLC0415
 
-    scene, _plane, sphere, lights = _scene(bpy, "Per vertex", 2)
-    _eevee(bpy, scene)
-    _drag(bpy, lights[0])
-    assert not world_copies.is_live(scene.world)
+    scene, _plane, sphere, lights = _parked_scene(bpy, "Per vertex", 2)
     modes.set_mode(sphere.active_material, modes.VERTEX)
     assert world_copies.is_live(scene.world)
     _drag(bpy, lights[0])
