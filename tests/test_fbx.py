@@ -328,6 +328,22 @@ def test_import_lights_get_decay_intensity_and_cone(bpy_clean):
     assert spot["phong_intensity"] == pytest.approx(1.1)
 
 
+def test_the_operator_reports_what_it_made(bpy_clean, capfd):
+    """File ▸ Import ▸ FBX (Phong) says, as the other importers do, how many objects and Phong
+    materials came from which file (counted here from bpy.data before and after)."""
+    bpy = bpy_clean
+    name = "maya_phong_properties_7700_ascii.fbx"
+    objects, materials = set(bpy.data.objects), set(bpy.data.materials)
+    capfd.readouterr()
+    assert bpy.ops.phong.import_fbx(filepath=_path(name)) == {"FINISHED"}
+    new_objects = [o for o in bpy.data.objects if o not in objects]
+    new_materials = [m for m in bpy.data.materials if m not in materials]
+    assert new_objects and new_materials
+    out = capfd.readouterr().out
+    assert (f"Imported {len(new_objects)} object(s) with {len(new_materials)} Phong "
+            f"material(s) from {name}") in out, out
+
+
 def test_corrupt_file_leaves_the_scene_as_it_was(bpy_clean, tmp_path):
     bpy = bpy_clean
     data = open(_path("maya_phong_properties_7700_ascii.fbx"), "rb").read()

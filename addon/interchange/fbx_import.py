@@ -53,25 +53,6 @@ CONTROLS = {"Object Color": "phong_object_color", recipe.AMBIENT_INPUT: recipe.A
             "Specular Color": "phong_specular_color", "Irradiant Color": "phong_irradiant_color"}
 #: Custom property on imported objects, lights and materials: the FBX file they came from.
 SOURCE_KEY = "phong_fbx_source"
-_DATA = ("objects", "meshes", "materials", "lights", "cameras", "images", "node_groups",
-         "collections", "worlds", "textures", "armatures", "actions")
-
-
-def _snapshot():
-    return {name: set(getattr(bpy.data, name)) for name in _DATA}
-
-
-def _rollback(before) -> None:
-    """Remove every data block added since *before* (objects first)."""
-    for name in _DATA:
-        collection = getattr(bpy.data, name)
-        for block in [b for b in collection if b not in before[name]]:
-            try:
-                collection.remove(block)
-            except (ReferenceError, RuntimeError):
-                pass
-
-
 def _base_name(name: str) -> str:
     base, dot, suffix = name.rpartition(".")
     return base if dot and suffix.isdigit() and len(suffix) == 3 else name
@@ -395,15 +376,22 @@ def apply_light(light, source: fbx.Light, warnings: list, path) -> None:
 # -- the import -------------------------------------------------------------------------------
 
 def import_file(filepath, context) -> list:
-    """Import the FBX file *filepath* into *context*'s scene; returns the warnings.  Raises
-    :class:`core.fbx.FbxError` (and leaves the scene as it was) when it cannot.
+    """Import the FBX file *filepath* into *context*'s scene; returns the warnings (see
+    :func:`import_fbx`)."""
+    return import_fbx(context, filepath)[2]
+
+
+def import_fbx(context, filepath) -> tuple:
+    """Import the FBX file *filepath* into *context*'s scene: (the new objects, the Phong
+    materials made, the warnings).  Raises :class:`core.fbx.FbxError` (and leaves the scene
+    as it was) when it cannot.
 
     A binary file of FBX 7100 and later is read by Blender's own importer while ufbx reads
     its values in the child process (``fbx.start``); other files are built from ufbx."""
     path = os.path.abspath(bpy.path.abspath(filepath))
     blender = _binary_7100(path) and _ensure_fbx_addon()
     reading = fbx.start(path, geometry=not blender)   # FbxError: file not found
-    before = _snapshot()
+    before = native.snapshot()
     objects_before = set(context.scene.objects)
     later, unread = [], False
     try:
@@ -419,7 +407,7 @@ def import_file(filepath, context) -> list:
                 later.append(f"{path}: Blender's FBX importer failed ({last}); "
                              "the scene is built from ufbx")
             if not used_blender:
-                _rollback(before)
+                native.remove_added(before)
         try:
             data = reading.result()
         except FbxError as error:
@@ -442,15 +430,16 @@ def import_file(filepath, context) -> list:
             slots = _build(context, data, path, warnings)
         new = [o for o in context.scene.objects if o not in objects_before]
         _finish(context, data, new, warnings, path, before, slots, convert_all=unread)
+        made = [m for m in native.added(before, "materials") if recipe.is_phong_material(m)]
     except FbxError:
-        _rollback(before)
+        native.remove_added(before)
         raise
     except Exception as error:  # noqa: BLE001 - any failure: nothing stays, one clear error
-        _rollback(before)
+        native.remove_added(before)
         raise FbxError(path, f"import failed ({type(error).__name__}: {error})") from None
     finally:
         reading.close()
-    return warnings
+    return new, made, warnings
 
 
 def _sources(made, data: fbx.Scene) -> dict:
@@ -536,38 +525,3 @@ def _finish(context, data: fbx.Scene, new, warnings, path, before, slots=None,
     if world is None:
         world = context.scene.world = bpy.data.worlds.new("World")
     properties.write_world(world, 1.0, data.ambient)
-
-
-class PHONG_OT_import_fbx(bpy.types.Operator):
-    """Import an FBX file with its Phong and Lambert materials and its lights as exact Phong \
-values (binary 7100+ through Blender's importer, ASCII and FBX 6.1 through ufbx)"""
-
-    bl_idname = "phong.import_fbx"
-    bl_label = "Import FBX (Phong)"
-    bl_options = {"REGISTER", "UNDO"}
-
-    filename_ext = ".fbx"
-    # not remembered between runs: a path set before invoke is a file dropped on the viewport
-    filepath: bpy.props.StringProperty(subtype="FILE_PATH", options={"SKIP_SAVE"})
-    filter_glob: bpy.props.StringProperty(default="*.fbx", options={"HIDDEN"})
-
-    def invoke(self, context, _event):
-        if self.filepath:   # dropped on the viewport (ui/fbx_ui.py's FileHandler)
-            return self.execute(context)
-        context.window_manager.fileselect_add(self)
-        return {"RUNNING_MODAL"}
-
-    def execute(self, context):
-        try:
-            warnings = import_file(self.filepath, context)
-        except FbxError as error:
-            self.report({"ERROR"}, f"Import FBX (Phong): {error}; nothing imported")
-            return {"CANCELLED"}
-        for warning in warnings:
-            self.report({"WARNING"}, f"Import FBX (Phong): {warning}")
-        self.report({"INFO"}, f"Imported {os.path.basename(self.filepath)} with Phong materials")
-        return {"FINISHED"}
-
-
-def menu_entry(self, _context):
-    self.layout.operator(PHONG_OT_import_fbx.bl_idname, text="FBX (Phong) (.fbx)")

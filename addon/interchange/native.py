@@ -37,7 +37,7 @@ def added(before: dict, kind: str) -> list:
 
 #: The order in which a failed import removes what it added (users before what they use).
 ROLLBACK_ORDER = ("objects", "collections", "meshes", "lights", "cameras", "materials", "images",
-                  "node_groups", "worlds", "textures")
+                  "node_groups", "worlds", "textures", "armatures", "actions", "curves")
 
 
 def remove_added(before: dict, kinds=ROLLBACK_ORDER) -> None:

@@ -4,24 +4,21 @@ drop of .dae files into the 3D Viewport (where the release has ``bpy.types.FileH
 
 import bpy
 from bpy.props import BoolProperty, StringProperty
-from bpy_extras.io_utils import ExportHelper, ImportHelper
+from bpy_extras.io_utils import ExportHelper
 
 from ..interchange import collada_export, collada_import
 from . import file_io
 
 
-class PHONG_OT_import_collada(bpy.types.Operator, ImportHelper):
+class PHONG_OT_import_collada(bpy.types.Operator, file_io.DroppableImport):
     """Import a COLLADA file: its profile_COMMON materials as exact Phong materials, its lights \
 as Phong lights (attenuation, cone, exponent), meshes, cameras and the node tree"""
 
     bl_idname = "phong.import_collada"
     bl_label = "Import COLLADA (Phong)"
-    bl_options = {"REGISTER", "UNDO"}
 
     filename_ext = ".dae"
     filter_glob: StringProperty(default="*.dae", options={"HIDDEN"})
-    # not remembered between runs: a path set before invoke is a file dropped on the viewport
-    filepath: StringProperty(subtype="FILE_PATH", options={"SKIP_SAVE"})
     literal_transparency: BoolProperty(
         name="Literal Transparency", default=False,
         description="Follow the spec's transparency formula even where it makes a material "
@@ -33,9 +30,6 @@ as Phong lights (attenuation, cone, exponent), meshes, cameras and the node tree
             self, "Import COLLADA", path,
             lambda: collada_import.import_collada(context, path, self.literal_transparency),
             collada_import.ColladaImportError)
-
-    def invoke(self, context, event):
-        return file_io.invoke_import(self, context, event)
 
 
 class PHONG_OT_export_collada(bpy.types.Operator, ExportHelper):

@@ -6,6 +6,7 @@ invoke of a file dropped on the 3D Viewport, and its drop handler."""
 import os
 
 import bpy
+from bpy.props import StringProperty
 from bpy_extras.io_utils import ImportHelper
 
 
@@ -40,6 +41,18 @@ def run_export(operator, label: str, path: str, write) -> set:
         operator.report({"WARNING"}, f"{label}: {warning}")
     operator.report({"INFO"}, f"Wrote {path}")
     return {"FINISHED"}
+
+
+class DroppableImport(ImportHelper):
+    """The shared part of the import operators that take a file dropped on the 3D Viewport
+    (COLLADA, X3D / VRML97, FBX): undoable, the path not remembered between runs (a path set
+    before invoke is a dropped file, imported at once: :func:`invoke_import`)."""
+
+    bl_options = {"REGISTER", "UNDO"}
+    filepath: StringProperty(subtype="FILE_PATH", options={"SKIP_SAVE"})
+
+    def invoke(self, context, event):
+        return invoke_import(self, context, event)
 
 
 def invoke_import(operator, context, event) -> set:

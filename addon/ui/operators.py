@@ -21,7 +21,6 @@ from ..scene import describe
 from ...core import mtl
 from ...core import threejs
 from ..interchange import mtl_export, obj_import, threejs_export
-from ..interchange.fbx_import import PHONG_OT_import_fbx
 from ..lighting import loop, materials, rig
 from ..lighting import sync as sync_mod
 
@@ -541,8 +540,7 @@ class PHONG_OT_export_threejs(bpy.types.Operator, ExportHelper):
 classes = (PHONG_OT_load_node_groups, PHONG_OT_add_node_group, PHONG_OT_apply_material,
            PHONG_OT_relink_lights, PHONG_OT_restore_materials, PHONG_OT_add_term_passes,
            PHONG_OT_build_demo_scene, PHONG_OT_compare_scene, PHONG_OT_bake_comparison, PHONG_OT_export_mtl,
-           PHONG_OT_import_obj, PHONG_OT_export_obj, PHONG_OT_export_threejs,
-           PHONG_OT_import_fbx)
+           PHONG_OT_import_obj, PHONG_OT_export_obj, PHONG_OT_export_threejs)
 
 
 register, unregister = bpy.utils.register_classes_factory(classes)

@@ -6,7 +6,7 @@ the headlight of VRML97 / X3D (docs/x3d.md)."""
 
 import bpy
 from bpy.props import BoolProperty, StringProperty
-from bpy_extras.io_utils import ExportHelper, ImportHelper
+from bpy_extras.io_utils import ExportHelper
 
 from ..interchange import x3d_export, x3d_import
 from ..lighting import headlight, rig
@@ -18,28 +18,22 @@ EXTENSIONS = (".wrl", ".wrz", ".x3d", ".x3dz", ".x3dv", ".x3dvz", ".gz")
 GLOB = ";".join(f"*{e}" for e in EXTENSIONS)
 
 
-class PHONG_OT_import_x3d(bpy.types.Operator, ImportHelper):
+class PHONG_OT_import_x3d(bpy.types.Operator, file_io.DroppableImport):
     """Import a VRML97 or X3D file (.wrl, .x3d, .x3dv, gzipped too): its materials as exact \
 Phong materials in the X3D lighting model, its lights (attenuation, radius, beam, scope, \
 headlight), shapes, instances and viewpoint"""
 
     bl_idname = "phong.import_x3d"
     bl_label = "Import X3D / VRML97 (Phong)"
-    bl_options = {"REGISTER", "UNDO"}
 
     filename_ext = ".wrl"
     filter_glob: StringProperty(default=GLOB, options={"HIDDEN"})
-    # not remembered between runs: a path set before invoke is a file dropped on the viewport
-    filepath: StringProperty(subtype="FILE_PATH", options={"SKIP_SAVE"})
 
     def execute(self, context):
         path = bpy.path.abspath(self.filepath)
         return file_io.run_import(self, "Import X3D", path,
                                   lambda: x3d_import.import_x3d(context, path),
                                   x3d_import.X3DImportError)
-
-    def invoke(self, context, event):
-        return file_io.invoke_import(self, context, event)
 
 
 class PHONG_OT_export_x3d(bpy.types.Operator, ExportHelper):
