@@ -203,6 +203,16 @@ def add_persp_camera(scene, location, look_at, lens=50.0):
     return obj
 
 
+def add_quad(scene, name, x0, y0, x1, y1, z=0.0):
+    """One quad [x0, x1] x [y0, y1] at height z, normal +Z, no material, linked to *scene*."""
+    bpy = import_bpy()
+    mesh = bpy.data.meshes.new(name)
+    mesh.from_pydata([(x0, y0, z), (x1, y0, z), (x1, y1, z), (x0, y1, z)], [], [(0, 1, 2, 3)])
+    obj = bpy.data.objects.new(name, mesh)
+    scene.collection.objects.link(obj)
+    return obj
+
+
 def add_uv_plane(scene, name, x0, y0, size, material):
     """Unit-UV square plane [x0, x0+size] x [y0, y0+size] at z = 0, normal +Z."""
     bpy = import_bpy()

@@ -68,10 +68,7 @@ def build_scene(bpy, kind="cycles"):
     assert bpy.ops.phong.add_term_passes() == {"FINISHED"}
     be.add_ortho_camera(scene, (0.0, 0.0), 4.0, 4.0)
 
-    plane_mesh = bpy.data.meshes.new("Plane")
-    plane_mesh.from_pydata([(-3, -3, 0), (3, -3, 0), (3, 3, 0), (-3, 3, 0)], [], [(0, 1, 2, 3)])
-    plane = bpy.data.objects.new("Plane", plane_mesh)
-    scene.collection.objects.link(plane)
+    plane = be.add_quad(scene, "Plane", -3, -3, 3, 3)
     # The sphere had a Principled material: its base colour becomes the Object Color.
     old = bpy.data.materials.new("Old Principled")
     be.compat().new_material_tree(old)

@@ -63,11 +63,8 @@ def _scene(bpy, name, kind):
 
 def _plane(bpy, scene, name, z, x1, color):
     """A plane at height z over x in [-3, x1], y in [-3, 3], its source material *color*."""
-    mesh = bpy.data.meshes.new(name)
-    mesh.from_pydata([(-3.0, -3.0, z), (x1, -3.0, z), (x1, 3.0, z), (-3.0, 3.0, z)], [],
-                     [(0, 1, 2, 3)])
-    obj = bpy.data.objects.new(name, mesh)
-    scene.collection.objects.link(obj)
+    obj = be.add_quad(scene, name, -3.0, -3.0, x1, 3.0, z)
+    mesh = obj.data
     source = bpy.data.materials.new(name + " source")
     be.compat().new_material_tree(source)
     source.node_tree.nodes["Principled BSDF"].inputs["Base Color"].default_value = color

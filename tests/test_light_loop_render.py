@@ -57,10 +57,7 @@ def _scene(bpy, name, n_lights, intensity=None, blinn=0.35):
     for aov, kind in (("P", "COLOR"), ("N", "COLOR"), ("I", "COLOR"), ("id", "VALUE")):
         be.add_aov(scene, aov, kind)
     be.add_ortho_camera(scene, (0.0, 0.0), 4.0, 4.0)
-    mesh = bpy.data.meshes.new("Plane")
-    mesh.from_pydata([(-3, -3, 0), (3, -3, 0), (3, 3, 0), (-3, 3, 0)], [], [(0, 1, 2, 3)])
-    plane = bpy.data.objects.new("Plane", mesh)
-    scene.collection.objects.link(plane)
+    plane = be.add_quad(scene, "Plane", -3, -3, 3, 3)
     source = bpy.data.materials.new("Sphere source")
     be.compat().new_material_tree(source)
     source.node_tree.nodes["Principled BSDF"].inputs["Base Color"].default_value = (
@@ -440,10 +437,7 @@ def test_before_5_3_the_material_is_the_one_of_5_2(bpy_clean):
     bpy.context.window.scene = scene
     if compat.HAS_LIGHT_LOOP:
         assert bpy.ops.phong.add_term_passes() == {"FINISHED"}
-    mesh = bpy.data.meshes.new("Plane")
-    mesh.from_pydata([(-1, -1, 0), (1, -1, 0), (1, 1, 0), (-1, 1, 0)], [], [(0, 1, 2, 3)])
-    plane = bpy.data.objects.new("Plane", mesh)
-    scene.collection.objects.link(plane)
+    plane = be.add_quad(scene, "Plane", -1, -1, 1, 1)
     for index in range(6):
         _light(bpy, scene, f"L{index}", ("POINT", "SPOT")[index % 2], (index, 0.0, 2.0))
     plane.select_set(True)
