@@ -43,7 +43,8 @@ import statistics
 import sys
 import time
 
-from .measure import artist_scene, render, set_eevee, simple_material, worker_setup
+from .measure import (apply_phong, artist_scene, render, set_eevee, simple_material,
+                      worker_setup)
 
 CASES = ("principled", "emission", "phong", "phong_lights_group", "phong_noaov",
          "phong_ungrouped", "phong_0_3", "phong_lights0", "phong_lights1", "phong_noshadow")
@@ -61,16 +62,6 @@ def _camera(bpy, scene, count):
     scene.camera = camera
     scene.render.resolution_x = scene.render.resolution_y = 256
     scene.render.resolution_percentage = 100
-
-
-def _apply(bpy, scene, meshes):
-    view_layer = scene.view_layers[0]
-    for obj in meshes:
-        obj.select_set(True, view_layer=view_layer)
-    with bpy.context.temp_override(scene=scene, view_layer=view_layer, selected_objects=meshes):
-        result = bpy.ops.phong.apply_material()
-    if result != {"FINISHED"}:
-        raise RuntimeError(f"apply_material returned {result}")
 
 
 def build(bpy, case, objects, n_lights):
@@ -94,7 +85,7 @@ def build(bpy, case, objects, n_lights):
             from phong_nodes.addon.lighting import rig  # noqa: PLC0415
 
             rig.wants_loop = lambda _scene: False
-        _apply(bpy, scene, meshes)
+        apply_phong(bpy, scene, meshes)
         scene.view_layers[0].update()  # the drivers' values, frozen by the two cases below
         materials = {slot.material for obj in meshes for slot in obj.material_slots}
         lights_group = next(iter(materials)).node_tree.nodes["phong_lights"].node_tree

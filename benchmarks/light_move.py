@@ -53,7 +53,7 @@ import statistics
 import sys
 import time
 
-from .measure import artist_scene, worker_setup
+from .measure import apply_phong, artist_scene, worker_setup
 
 
 def _timed(view_layer, change, moves, untimed=2) -> list:
@@ -102,20 +102,27 @@ def _relink(bpy, scene, view_layer):
     return time.perf_counter() - t0
 
 
+def _artist(bpy, name, objects, n_lights):
+    """``artist_scene`` shown in the window and evaluated once (untimed): (scene, its cubes,
+    its lights, its view layer)."""
+    scene, meshes, lights = artist_scene(name, objects, n_lights)
+    bpy.context.window.scene = scene
+    view_layer = scene.view_layers[0]
+    view_layer.update()
+    return scene, meshes, lights, view_layer
+
+
 def run(objects: int, n_lights: int, moves: int) -> dict:
     bpy = worker_setup()
     from phong_nodes.addon import compat  # noqa: PLC0415
     from phong_nodes.addon.lighting import materials  # noqa: PLC0415
 
     load_before = os.getloadavg()
-    scene, meshes, lights = artist_scene("light_move", objects, n_lights)
-    bpy.context.window.scene = scene
-    view_layer = scene.view_layers[0]
-    view_layer.update()
+    scene, meshes, lights, view_layer = _artist(bpy, "light_move", objects, n_lights)
     out = {"objects": objects, "lights": n_lights, "moves": moves,
            "bpy": bpy.app.version_string, "update_s": {}, "relink_s": {}}
     out["update_s"]["principled"] = _measure(bpy, view_layer, lights, moves)
-    for obj in meshes:
+    for obj in meshes:  # the operator and its update timed, as a user waits for them
         obj.select_set(True, view_layer=view_layer)
     with bpy.context.temp_override(scene=scene, view_layer=view_layer, selected_objects=meshes):
         t0 = time.perf_counter()
@@ -161,18 +168,12 @@ def run_each(objects: int, n_lights: int, moves: int) -> dict:
     from phong_nodes.addon.lighting import loop, rig, sync  # noqa: PLC0415
 
     load_before = os.getloadavg()
-    scene, meshes, lights = artist_scene("light_each", objects, n_lights)
-    bpy.context.window.scene = scene
-    view_layer = scene.view_layers[0]
-    view_layer.update()
+    scene, meshes, lights, view_layer = _artist(bpy, "light_each", objects, n_lights)
     out = {"objects": objects, "lights": n_lights, "moves": moves,
            "bpy": bpy.app.version_string, "kinds": [o.data.type for o in lights],
            "update_s": {}}
     out["update_s"]["principled"] = _each(view_layer, lights, moves)
-    for obj in meshes:
-        obj.select_set(True, view_layer=view_layer)
-    with bpy.context.temp_override(scene=scene, view_layer=view_layer, selected_objects=meshes):
-        assert bpy.ops.phong.apply_material() == {"FINISHED"}
+    apply_phong(bpy, scene, meshes)
     view_layer.update()
     group = meshes[0].material_slots[0].material.node_tree.nodes["phong_lights"].node_tree
     out["loop"] = loop.has_loop(group)
@@ -227,19 +228,13 @@ def run_parts(objects: int, n_lights: int, moves: int, passes: int) -> dict:
     from phong_nodes.addon.lighting import drivers, loop, materials, rig, sync  # noqa: PLC0415
 
     load_before = os.getloadavg()
-    scene, meshes, lights = artist_scene("light_parts", objects, n_lights)
-    bpy.context.window.scene = scene
-    view_layer = scene.view_layers[0]
-    view_layer.update()
+    scene, meshes, lights, view_layer = _artist(bpy, "light_parts", objects, n_lights)
     fresh = [[] for _ in lights]
     for _pass in range(passes):
         for index, light in enumerate(lights):
             fresh[index] += _block(view_layer, light, moves)
     originals = [[slot.material for slot in obj.material_slots] for obj in meshes]
-    for obj in meshes:
-        obj.select_set(True, view_layer=view_layer)
-    with bpy.context.temp_override(scene=scene, view_layer=view_layer, selected_objects=meshes):
-        assert bpy.ops.phong.apply_material() == {"FINISHED"}
+    apply_phong(bpy, scene, meshes)
     view_layer.update()
     phong = [[slot.material for slot in obj.material_slots] for obj in meshes]
     world = scene.world
@@ -310,41 +305,40 @@ FILE_CASES = {"principled": ("principled", False, True), "phong": ("phong", Fals
               "phong_live": ("phong", True, True), "lights_group": ("phong", True, False)}
 
 
-def files_build(folder: str, objects: int, n_lights: int) -> None:
+def files_build(folder: str, objects: int, n_lights: int) -> dict:
     """The artist scene saved as ``principled.blend``, and after Apply as ``phong.blend``
-    (Eevee, the file's render engine, as Blender makes a new scene)."""
+    (Eevee, the file's render engine, as Blender makes a new scene); returns this bpy's
+    version and whether it has the light loop."""
     bpy = worker_setup()
-    scene, meshes, _lights = artist_scene("light_files", objects, n_lights)
-    bpy.context.window.scene = scene
+    from phong_nodes.addon import compat  # noqa: PLC0415
+
+    scene, meshes, _lights, view_layer = _artist(bpy, "light_files", objects, n_lights)
     for other in [s for s in bpy.data.scenes if s != scene]:
         bpy.data.scenes.remove(other)
-    view_layer = scene.view_layers[0]
-    view_layer.update()
     bpy.ops.wm.save_as_mainfile(filepath=os.path.join(folder, "principled.blend"))
-    for obj in meshes:
-        obj.select_set(True, view_layer=view_layer)
-    with bpy.context.temp_override(scene=scene, view_layer=view_layer, selected_objects=meshes):
-        assert bpy.ops.phong.apply_material() == {"FINISHED"}
+    apply_phong(bpy, scene, meshes)
     view_layer.update()
     bpy.ops.wm.save_as_mainfile(filepath=os.path.join(folder, "phong.blend"))
+    return {"bpy": bpy.app.version_string, "loop": compat.HAS_LIGHT_LOOP}
 
 
 def files_worker(folder: str, case: str, moves: int, passes: int) -> dict:
     """One process: load the case's file, then *passes* times each light's block of *moves*
     updates; returns every update's seconds per light (lights by name)."""
     bpy = worker_setup()
-    from phong_nodes.addon.lighting import rig, sync, world_copies  # noqa: PLC0415
+    from phong_nodes.addon.lighting import loop as light_loop  # noqa: PLC0415
+    from phong_nodes.addon.lighting import rig, world_copies  # noqa: PLC0415
 
     name, live, loop = FILE_CASES[case]
     if live:  # the copies stay live: every drag updates the World, as before issue 38
         world_copies.can_park = lambda _world: False
-    if not loop:
+    if not loop:  # loading relinks the file's groups without it (sync.upgrade_on_load)
         rig.wants_loop = lambda _scene: False
     bpy.ops.wm.open_mainfile(filepath=os.path.join(folder, f"{name}.blend"))
     scene = bpy.data.scenes["light_files"]
     view_layer = scene.view_layers[0]
-    if not loop:
-        sync.relink_scene(scene, view_layer)
+    if not loop and any(light_loop.has_loop(t) for t in rig.groups_of(scene)):
+        raise RuntimeError("the lights groups kept the loop part after loading")
     if live:
         world_copies.make_live(scene.world)
     view_layer.update()
@@ -373,9 +367,8 @@ def run_files(objects: int, n_lights: int, moves: int, passes: int, rounds: int)
             raise RuntimeError(proc.stdout[-2000:] + proc.stderr[-2000:])
         return json.loads(lines[-1][6:])
 
-    child("--files-build", folder, str(objects), str(n_lights))
-    version = _bpy_version()
-    names = [c for c in FILE_CASES if c != "lights_group" or _has_loop(version)]
+    built = child("--files-build", folder, str(objects), str(n_lights))
+    names = [c for c in FILE_CASES if c != "lights_group" or built["loop"]]
     samples = {case: [[] for _ in range(n_lights)] for case in names}
     worlds = {}
     process_s = {case: [] for case in names}
@@ -391,24 +384,13 @@ def run_files(objects: int, n_lights: int, moves: int, passes: int, rounds: int)
     base = per_light["principled"]
     ratios = {case: [t / b for t, b in zip(v, base)] for case, v in per_light.items()}
     return {"objects": objects, "lights": n_lights, "moves": moves, "passes": passes,
-            "rounds": rounds, "bpy": version, "method": "files", "update_s": per_light,
+            "rounds": rounds, "bpy": built["bpy"], "method": "files", "update_s": per_light,
             "median_s": {case: statistics.median(v) for case, v in per_light.items()},
             "ratio_to_principled": ratios,
             "median_ratio": {case: statistics.median(v) for case, v in ratios.items()},
             "worst_ratio": {case: max(v) for case, v in ratios.items()},
             "process_median_s": process_s, "world_copies_live": worlds,
             "load_average": [load_before, os.getloadavg()]}
-
-
-def _has_loop(version: str) -> bool:
-    return tuple(int(x) for x in version.split()[0].split(".")[:2]) >= (5, 3)
-
-
-def _bpy_version() -> str:
-    import subprocess  # noqa: PLC0415
-
-    return subprocess.run([sys.executable, "-c", "import bpy; print(bpy.app.version_string)"],
-                          capture_output=True, text=True).stdout.strip().splitlines()[-1]
 
 
 def eevee_first(n_lights: int, design: str) -> dict:
@@ -489,8 +471,8 @@ def main(argv=None) -> int:
         return 0
     if args.files_build:
         folder, objects, n_lights = args.files_build
-        files_build(folder, int(objects), int(n_lights))
-        print("FILES {}", flush=True)
+        print("FILES " + json.dumps(files_build(folder, int(objects), int(n_lights))),
+              flush=True)
         os._exit(0)
     if args.files_worker:
         folder, case, moves, passes = args.files_worker

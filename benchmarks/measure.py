@@ -387,6 +387,18 @@ CUBE = ([(-1, -1, -1), (1, -1, -1), (1, 1, -1), (-1, 1, -1),
         [(0, 3, 2, 1), (4, 5, 6, 7), (0, 1, 5, 4), (1, 2, 6, 5), (2, 3, 7, 6), (3, 0, 4, 7)])
 
 
+def apply_phong(bpy, scene, meshes) -> None:
+    """Apply Phong Material to *meshes*, selected in *scene*'s first view layer (not timed);
+    RuntimeError unless the operator finishes."""
+    view_layer = scene.view_layers[0]
+    for obj in meshes:
+        obj.select_set(True, view_layer=view_layer)
+    with bpy.context.temp_override(scene=scene, view_layer=view_layer, selected_objects=meshes):
+        result = bpy.ops.phong.apply_material()
+    if result != {"FINISHED"}:
+        raise RuntimeError(f"apply_material returned {result}")
+
+
 def artist_scene(name, n_objects, n_lights):
     """An artist's scene: *n_objects* cubes, each with its own mesh and its own Principled
     material (one colour each), lit by *n_lights* lights cycling point, sun, spot, point."""

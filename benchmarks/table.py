@@ -288,11 +288,12 @@ def loop_rows(figure):
                                               ("lights_group", "the lights groups of 5.2"),
                                               ("phong_again", "again (drift)"))
                            if key in worst)
+        of_medians = (statistics.median(drag["update_s"]["phong"])
+                      / statistics.median(drag["update_s"]["principled"]))
         rows.append((
             f"10. Drag of each of {drag['lights']} lights, {drag['objects']:,} objects: Phong "
             "(light loop) / Principled, worst light", f"{worst['phong']:.2f}×",
             f"≤ {goal_drag:g}×", verdict(worst["phong"], goal_drag, "max"),
             f"median of the lights {statistics.median(ratios):.2f}×, ratio of their medians "
-            f"{statistics.median(drag['update_s']['phong']) / statistics.median(drag['update_s']['principled']):.2f}×; "
-            f"{others}; {method}, bpy {drag['bpy']}"))
+            f"{of_medians:.2f}×; {others}; {method}, bpy {drag['bpy']}"))
     return rows

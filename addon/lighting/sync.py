@@ -374,7 +374,8 @@ def _renew() -> None:
 _HANDLERS = (("depsgraph_update_post", materials.follow_opacity),
              ("depsgraph_update_post", light_loop.follow_lights),
              ("depsgraph_update_post", on_depsgraph_update), ("load_post", forget),
-             ("load_post", upgrade_on_load), ("undo_post", forget), ("redo_post", forget)) + world_copies.HANDLERS
+             ("load_post", upgrade_on_load), ("undo_post", forget), ("redo_post", forget),
+             *world_copies.HANDLERS)
 
 
 def register():

@@ -107,30 +107,30 @@ def make_live(world) -> int:
     return made
 
 
+def _live_if_read(world) -> None:
+    """*world*'s parked copies live again where something can read them now."""
+    if (world is not None and world.library is None and not is_live(world)
+            and any(k.startswith(rig.WORLD_PREFIX) for k in world.keys())
+            and not can_park(world)):
+        make_live(world)
+
+
 def follow(scene) -> None:
     """Make *scene*'s World's copies live where something can read them (the end of every
     Apply / Relink, and the relink handler on an engine switch).  Parking waits for a light
     drag (:func:`on_drag`): by then the depsgraph has evaluated the copies' drivers (a copy
     made for a light whose transform was never evaluated, as in a file written by a script,
     would keep a wrong value)."""
-    world = getattr(scene, "world", None)
-    if world is None or world.library is not None or not compat.HAS_LIGHT_LOOP:
-        return
-    if (not is_live(world) and any(k.startswith(rig.WORLD_PREFIX) for k in world.keys())
-            and not can_park(world)):
-        make_live(world)
+    if compat.HAS_LIGHT_LOOP:
+        _live_if_read(getattr(scene, "world", None))
 
 
 def follow_readers() -> None:
     """Every World whose parked copies something can read now (a material just set Per
     Vertex / Per Face: ``shading/modes.py``): live again."""
-    if not compat.HAS_LIGHT_LOOP:
-        return
-    for world in bpy.data.worlds:
-        if (world.library is None and not is_live(world)
-                and any(k.startswith(rig.WORLD_PREFIX) for k in world.keys())
-                and not can_park(world)):
-            make_live(world)
+    if compat.HAS_LIGHT_LOOP:
+        for world in bpy.data.worlds:
+            _live_if_read(world)
 
 
 def on_drag(scene) -> None:
