@@ -20,6 +20,8 @@ columns by depth.
 
 from __future__ import annotations
 
+import contextlib
+
 import bpy
 
 from bpy.app.handlers import persistent
@@ -101,7 +103,8 @@ def _canonical(name: str):
     candidates.sort(key=lambda t: (int(t.get(STAMP_VERSION, 0)), t.name == name), reverse=True)
     keep = candidates[0]
     for other in candidates[1:]:
-        other.user_remap(keep)
+        with keeping_links(other, keep):
+            other.user_remap(keep)
         bpy.data.node_groups.remove(other)
     if keep.name != name:
         keep.name = name
@@ -210,6 +213,84 @@ class NodeWriter:
         if self.geometry_node is not None:
             self.geometry_node.location = (-300.0, 400.0)
         group_output.location = ((self.max_depth + 1) * COLUMN_WIDTH + 80.0, 0.0)
+
+
+def _socket_ids(tree) -> dict:
+    """{(in_out, name): identifier} of *tree*'s interface sockets."""
+    return {(i.in_out, i.name): i.identifier for i in tree.interface.items_tree
+            if i.item_type == "SOCKET"}
+
+
+@contextlib.contextmanager
+def keeping_links(tree, fresh=None):
+    """Around a change of *tree*'s interface (or ``tree.user_remap(fresh)``): the group nodes
+    using it get their links and input values back on the sockets of the same name.
+
+    Blender keeps a group node's links by socket identifier, and identifiers are not stable
+    across a rebuilt interface (a new group numbers its sockets from 0; a cleared one goes on
+    counting): a file of 5.2 whose lights group gained 5.3's Eevee Shader output had every
+    material control on the wrong input (issue 42).  Used by every rewrite of a lights or
+    shading group (``lighting.rig.rewrite``) and by the merge of a library group's copies.  The users are looked up only where an
+    identifier can move: a group in use changed in place, or a remap to *fresh* where a socket
+    of the same name has another identifier."""
+    if fresh is not None:
+        before, after = _socket_ids(tree), _socket_ids(fresh)
+        moved = any(after.get(key, ident) != ident for key, ident in before.items())
+    else:
+        moved = tree.users > 0
+    saved = _group_node_links(tree) if moved else []
+    before = _socket_ids(tree)
+    yield
+    if fresh is None and _socket_ids(tree) == before:
+        return
+    for node, inputs, outputs, values in saved:
+        _put_back(node, inputs, outputs, values)
+
+
+def _group_node_links(tree) -> list:
+    """[(group node, {input name: sources}, {output name: targets}, {input name: value})]
+    of every group node using *tree*."""
+    saved = []
+    for user in bpy.data.user_map(subset={tree}).get(tree, ()):
+        owner_tree = user if isinstance(user, bpy.types.NodeTree) else getattr(
+            user, "node_tree", None)
+        if owner_tree is None:
+            continue
+        for node in owner_tree.nodes:
+            if node.bl_idname != "ShaderNodeGroup" or node.node_tree != tree:
+                continue
+            inputs = {s.name: [l.from_socket for l in s.links] for s in node.inputs}
+            outputs = {s.name: [l.to_socket for l in s.links] for s in node.outputs}
+            values = {s.name: (tuple(s.default_value) if hasattr(s.default_value, "__len__")
+                               else s.default_value)
+                      for s in node.inputs if hasattr(s, "default_value")}
+            saved.append((node, inputs, outputs, values))
+    return saved
+
+
+def _put_back(node, inputs, outputs, values) -> None:
+    """*node*'s links and input values as ``_group_node_links`` saved them, by socket name."""
+    links = node.id_data.links
+    for socket in node.inputs:
+        want = inputs.get(socket.name, [])
+        if [l.from_socket.as_pointer() for l in socket.links] != [s.as_pointer() for s in want]:
+            for link in list(socket.links):
+                links.remove(link)
+            for source in want:
+                links.new(source, socket)
+        if not want and socket.name in values and hasattr(socket, "default_value"):
+            try:
+                socket.default_value = values[socket.name]
+            except (TypeError, ValueError):  # another socket type under that name
+                pass
+    for socket in node.outputs:
+        want = outputs.get(socket.name, [])
+        if sorted(l.to_socket.as_pointer() for l in socket.links) != sorted(
+                s.as_pointer() for s in want):
+            for link in list(socket.links):
+                links.remove(link)
+            for target in want:
+                links.new(socket, target)
 
 
 def _sync_interface(tree, definition: GroupDef) -> None:

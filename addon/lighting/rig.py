@@ -227,16 +227,19 @@ def rewrite(tree, write):
     A group used by many materials is not edited in place (Blender propagates every node
     edit to each material that uses the group: 1,000 materials made a rebuild take 7 s):
     a new group is written apart, with the old one's custom properties, takes over the users
-    of the old one, and its name."""
+    of the old one, and its name.  Either way the group nodes that use it keep their links and
+    values on the sockets of the same name (``loader.keeping_links``)."""
     if tree.users <= 1:
-        write(tree)
+        with loader.keeping_links(tree):
+            write(tree)
         return tree
     fresh = bpy.data.node_groups.new(tree.name + " (new)", "ShaderNodeTree")
     for key in tree.keys():
         fresh[key] = tree[key]
     write(fresh)
     name = tree.name
-    tree.user_remap(fresh)
+    with loader.keeping_links(tree, fresh):
+        tree.user_remap(fresh)
     bpy.data.node_groups.remove(tree)
     fresh.name = name
     return fresh
@@ -427,32 +430,33 @@ def _emission(tree, color, group_out, out_x) -> None:
 
 
 def _interface(tree) -> None:
-    """The interface of INPUTS / OUTPUTS, made once (group nodes in materials keep links)."""
+    """The interface of INPUTS / OUTPUTS.  The sockets *tree* has keep their identifiers (so
+    the group nodes in materials keep their links on the inputs they mean); a socket not wanted
+    goes (a group of 5.3 opened by an earlier Blender: its Eevee Shader); a missing one is
+    added at its place (an older rig)."""
     want = ([("OUTPUT", n, t) for n, t in OUTPUTS] + [("INPUT", n, t) for n, t, _d in INPUTS])
-    for item in [i for i in tree.interface.items_tree if i.item_type == "SOCKET"
-                 and (i.in_out, i.name, i.socket_type) == ("OUTPUT", light_loop.EEVEE_SHADER,
-                                                           "NodeSocketShader")
-                 and ("OUTPUT", i.name, i.socket_type) not in want]:
-        tree.interface.remove(item)  # a group of 5.3 opened by an earlier Blender
-    have = [(i.in_out, i.name, i.socket_type) for i in tree.interface.items_tree
-            if i.item_type == "SOCKET"]
-    if have == want:
-        return
-    if set(have) <= set(want) and have == [w for w in want if w in set(have)]:
-        _append_sockets(tree, have, want)  # an older rig: links to its sockets are kept
-        return
-    tree.interface.clear()
-    for name, socket_type in OUTPUTS:
-        tree.interface.new_socket(name, in_out="OUTPUT", socket_type=socket_type)
-    for name, socket_type, default in INPUTS:
-        item = tree.interface.new_socket(name, in_out="INPUT", socket_type=socket_type)
-        item.default_value = default
-        if name in ("Blinn", "Specular Strength"):
-            item.min_value, item.max_value = 0.0, 1.0
+    while True:  # one at a time: a removal may move the other items
+        seen, doomed = set(), None
+        for item in _sockets(tree):
+            key = (item.in_out, item.name, item.socket_type)
+            if key not in want or key in seen:
+                doomed = item
+                break
+            seen.add(key)
+        if doomed is None:
+            break
+        tree.interface.remove(doomed)
+    have = [(i.in_out, i.name, i.socket_type) for i in _sockets(tree)]
+    if have != want:
+        _append_sockets(tree, have, want)
+
+
+def _sockets(tree) -> list:
+    return [i for i in tree.interface.items_tree if i.item_type == "SOCKET"]
 
 
 def _append_sockets(tree, have, want) -> None:
-    """Add the sockets of INPUTS / OUTPUTS that *tree* lacks, at their places."""
+    """Add the sockets of INPUTS / OUTPUTS that *tree* lacks, and put each at its place."""
     defaults = {name: default for name, _type, default in INPUTS}
     for in_out, name, socket_type in want:
         if (in_out, name, socket_type) in have:
@@ -460,10 +464,13 @@ def _append_sockets(tree, have, want) -> None:
         item = tree.interface.new_socket(name, in_out=in_out, socket_type=socket_type)
         if name in defaults:
             item.default_value = defaults[name]
-    items = [i for i in tree.interface.items_tree if i.item_type == "SOCKET"]
-    for position, (in_out, name, _type) in enumerate(want):
-        item = next(i for i in items if i.in_out == in_out and i.name == name)
-        tree.interface.move(item, position)
+        if name in ("Blinn", "Specular Strength"):
+            item.min_value, item.max_value = 0.0, 1.0
+    for position, key in enumerate(want):
+        items = _sockets(tree)
+        item = next(i for i in items if (i.in_out, i.name, i.socket_type) == key)
+        if items.index(item) != position:
+            tree.interface.move(item, position)
 
 
 def _group_node(tree, group_name, name, location):

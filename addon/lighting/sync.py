@@ -364,6 +364,9 @@ def _renew() -> None:
             relink_scene(scene)
         for material in materials.phong_materials():
             materials.renew_group_node(material, links.get(material.as_pointer()))
+        for scene in scenes:  # what reads the lights nodes' links (Per Vertex / Per Face)
+            for follow in AFTER_FINISH:  # ran in the relink, before the links were back
+                follow(scene)
     finally:
         _BUSY.pop()
 
