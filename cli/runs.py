@@ -130,7 +130,7 @@ def _run(args, state, registered) -> int:
     index = report.write_index(out)
     print("", *summary_table(results), sep="\n", file=say)
     ok = not failed and all(m["ok"] for m in results)
-    blind = [m["scene"] for m in results if not m["coverage"]["ok"]]
+    blind = [m["scene"] for m in results if not m.get("coverage", {}).get("ok", True)]
     off = failed + [m["scene"] for m in results if not m["ok"] and m["scene"] not in blind]
     status = "every engine matches the reference" if ok else "; ".join(
         ([f"NOTHING TO COMPARE ({', '.join(blind)}: the camera sees no Phong surface)"]
@@ -253,8 +253,9 @@ def summary_table(results) -> list:
                   else pair.endswith("reference"))
         v = m["verdict"].get(engine) if judged else None
         mark = "" if v is None else ("OK" if v["ok"] else "FAIL")
-        if v is not None and not m["coverage"]["ok"]:
-            mark = f"FAIL: sees {m['coverage']['value']}"
+        seen = m.get("coverage", {"ok": True})   # metrics.json of 0.x had none
+        if v is not None and not seen["ok"]:
+            mark = f"FAIL: sees {seen['value']}"
         psnr = "inf" if p["psnr_db"] is None else f"{p['psnr_db']:.1f}"
         lines.append(f"{m['scene']:<{scene_w}}{pair:<{pair_w}}{p['max_abs']:>10.2e}"
                      f"{p['mean_abs']:>10.2e}{psnr:>8}{p['share_over_1_255']:>9.3%}  {mark}")

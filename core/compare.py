@@ -467,7 +467,7 @@ def summary_text(metrics: dict, detail: bool = False) -> str:
     when it sees (almost) nothing (:func:`coverage`)."""
     text = verdict_text(metrics["verdict"], detail)
     seen = metrics.get("coverage", {})
-    return text if seen.get("ok", True) else f"FAIL: {seen['message']} (on those: {text})"
+    return text if seen.get("ok", True) else f"FAIL: {seen['message']} (on those pixels: {text})"
 
 
 def evaluate(scene: dict, images: dict, aovs: dict, engines, terms=None) -> tuple:
