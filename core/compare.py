@@ -435,19 +435,28 @@ def verdict(pair_metrics: dict, term_metrics: dict | None = None) -> dict:
     return out
 
 
-def coverage(mask: np.ndarray) -> dict:
-    """The verdict on how much the comparison sees: *mask* the pixels compared.  Fails, with
-    a message saying why and what to do, below :data:`COVERAGE_SHARE` of the picture."""
+def coverage(mask: np.ndarray, surfaces: np.ndarray | None = None) -> dict:
+    """The verdict on how much the comparison sees: *mask* the pixels compared, *surfaces*
+    the pixels of Phong objects (compared or not).  Fails below :data:`COVERAGE_SHARE` of the
+    picture, with a message saying why and what to do."""
     seen, total = int(mask.sum()), int(mask.size)
     share = seen / total if total else 0.0
     out = {"ok": total > 0 and seen >= COVERAGE_SHARE * total, "pixels": seen, "total": total,
            "rule": f"≥ {COVERAGE_SHARE:.0%} of the pixels Phong surfaces compared",
            "value": f"{share:.2%}"}
-    if not out["ok"]:
-        out["message"] = (f"the camera sees {seen} of {total} pixels of Phong surfaces to compare "
-                          f"({share:.2%}, fewer than {COVERAGE_SHARE:.0%}): nothing to compare; "
-                          "frame the scene (View ▸ Frame All, then View ▸ Align View ▸ Align "
-                          "Active Camera to View) or give it a camera that sees its Phong objects")
+    if out["ok"]:
+        return out
+    in_view = seen if surfaces is None else int(surfaces.sum())
+    few = f"({share:.2%}, fewer than {COVERAGE_SHARE:.0%}): nothing to compare"
+    if in_view >= COVERAGE_SHARE * total:   # in view, but see-through or ambiguous
+        out["message"] = (f"the camera sees Phong surfaces on {in_view} of {total} pixels but "
+                          f"only {seen} can be compared {few}; the others are see-through "
+                          "(Opacity below 1) or at a discontinuity of the model")
+    else:
+        out["message"] = (f"the camera sees {seen} of {total} pixels of Phong surfaces to "
+                          f"compare {few}; frame the scene (View ▸ Frame All, then View ▸ "
+                          "Align View ▸ Align Active Camera to View) or give it a camera that "
+                          "sees its Phong objects")
     return out
 
 
@@ -494,7 +503,7 @@ def evaluate(scene: dict, images: dict, aovs: dict, engines, terms=None) -> tupl
     term_metrics = {t: compare(terms[t], refimg[t], mask) for t in TERMS
                     if terms and t in terms}
     verdicts = verdict(pairs, term_metrics)
-    seen = coverage(mask)
+    seen = coverage(mask, refimg["object"] > 0)
     metrics = {
         "scene": scene["name"],
         "title": scene["title"],
