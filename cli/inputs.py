@@ -5,12 +5,13 @@ reason for exit 2 with nothing written.
 
 A scene file is a .blend, opened as it is, or a file of another program imported as Phong
 into an empty scene by the extension's own importer (``IMPORTERS``: the same code as File ▸
-Import).  An imported file that brings no camera gets one that frames its objects, and one
-that brings no light a sun at the camera (a headlight), each named on stderr."""
+Import).  An imported file that brings no camera gets one that frames its objects (an X3D
+file without Viewpoint: the standard's default view moved to frame them, ``addon.scene.
+framing``), and one that brings no light a sun at the camera (a headlight), each named on
+stderr."""
 
 from __future__ import annotations
 
-import math
 import os
 import sys
 
@@ -80,6 +81,9 @@ IMPORTERS.update({suffix: _import_x3d for suffix in (".wrl", ".wrz", ".x3d", ".x
 #: A scene custom property an importer sets where the file asks for no light at all (X3D's
 #: NavigationInfo headlight FALSE): no sun is added at the camera then.
 NO_DEFAULT_LIGHT = "phong_x3d_no_headlight"
+#: A scene custom property an imported file's scene gets where ``phong compare`` framed its
+#: objects (the file has no camera or Viewpoint): what was done, a note of the comparison.
+FRAMED_KEY = "phong_framed"
 
 
 def open_scene_file(file: str, scenes_arg, importers: bool = True) -> tuple:
@@ -123,39 +127,42 @@ def _import_into_empty_file(path, importer) -> None:
     scene.name = os.path.splitext(os.path.basename(path))[0] or "Imported"
     for warning in importer(context, path):
         print(f"phong: {os.path.basename(path)}: {warning}", file=sys.stderr)
-    if scene.camera is None:
-        _frame_camera(scene)
-        print(f"phong: {os.path.basename(path)} has no camera: added one that frames its "
-              "objects", file=sys.stderr)
+    framed = _frame(scene)
+    if framed is not None:
+        said, scene[FRAMED_KEY] = framed
+        print(f"phong: {os.path.basename(path)} {said}", file=sys.stderr)
     if not any(obj.type == "LIGHT" for obj in scene.objects) and not scene.get(NO_DEFAULT_LIGHT):
         _headlight(scene)
         print(f"phong: {os.path.basename(path)} has no light: added a sun at the camera",
               file=sys.stderr)
 
 
-def _frame_camera(scene) -> None:
-    """A perspective camera looking at every mesh's bounding box from the front, right and
-    above (a three-quarter view, so no plane of the axes is seen edge-on), from far enough
-    that the whole box is in view."""
+def _frame(scene) -> tuple | None:
+    """Frame the imported objects where the file gave no view of its own: a new camera
+    looking from the front, right and above (a three-quarter view, so no plane of the axes
+    is seen edge-on) where there is no camera, X3D's default Viewpoint moved along its own
+    direction where the file has no Viewpoint.  Returns (what was done, the comparison's
+    note), or None."""
     import bpy  # noqa: PLC0415
     from mathutils import Vector  # noqa: PLC0415
 
-    bpy.context.view_layer.update()  # the imported objects' world matrices
-    points = [obj.matrix_world @ Vector(corner) for obj in scene.objects if obj.type == "MESH"
-              for corner in obj.bound_box]
-    low = Vector([min(p[i] for p in points) for i in range(3)]) if points else Vector()
-    high = Vector([max(p[i] for p in points) for i in range(3)]) if points else Vector()
-    centre, radius = (low + high) / 2, max((high - low).length / 2, 1e-3)
-    data = bpy.data.cameras.new("Camera")
-    camera = bpy.data.objects.new("Camera", data)
-    scene.collection.objects.link(camera)
-    distance = radius / math.sin(min(data.angle_x, data.angle_y) / 2) * 1.05
-    camera.location = centre + Vector((1.0, -1.0, 1.0)).normalized() * distance
-    camera.rotation_euler = (centre - camera.location).to_track_quat("-Z", "Y").to_euler()
-    data.clip_start = min(data.clip_start, distance * 0.01)
-    data.clip_end = max(data.clip_end, distance + 2 * radius)
-    scene.camera = camera
-    bpy.context.view_layer.update()  # its world matrix, which the headlight copies
+    from ..addon.interchange import x3d_import  # noqa: PLC0415
+    from ..addon.scene import framing  # noqa: PLC0415
+
+    objects = framing.visible_meshes(scene)
+    if scene.camera is None:
+        camera = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
+        scene.collection.objects.link(camera)
+        camera.rotation_euler = (-Vector((1.0, -1.0, 1.0))).to_track_quat("-Z", "Y").to_euler()
+        scene.camera = camera
+        framing.frame(scene, camera, objects)
+        return ("has no camera: added one that frames its objects",
+                "framed: the file has no camera")
+    if scene.camera.get(x3d_import.DEFAULT_VIEWPOINT_KEY) and framing.frame(scene, scene.camera,
+                                                                            objects):
+        return ("has no Viewpoint: X3D's default view moved along its direction to frame its "
+                "objects", "framed: the file has no Viewpoint")
+    return None
 
 
 def _headlight(scene) -> None:

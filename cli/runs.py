@@ -15,8 +15,13 @@ see ``core.scenes.resolve_shard``).  Each run records the scene folders of the w
 ``DIR/run.json``; ``report DIR`` rebuilds the index from the finished folders and says which of
 those are missing or failed (exit 0 when the run is whole, 1 otherwise).
 
+An imported file without a camera or Viewpoint is framed (``inputs``: "framed: the file has
+no camera", a line of the scene's report); a comparison whose camera sees Phong surfaces on
+fewer than 1% of the pixels fails, saying so (``core.compare.coverage``).
+
 Exit codes: 0 every engine matches the reference (Cycles max |error| <= 1e-4, Eevee within
-1/255 on >= 99.5% of pixels); 1 some engine does not match, or a render failed; 2 bad
+1/255 on >= 99.5% of pixels) on a picture that shows the scene; 1 some engine does not match,
+the camera sees (almost) no Phong surface, or a render failed; 2 bad
 arguments, a bad scene file, a missing or unreadable file, or no Phong material (nothing is
 written then).
 """
@@ -28,7 +33,7 @@ import sys
 import time
 
 from ..core import compare, outputs, report, scenes
-from .inputs import BadInput, open_scene_file, peer_problem
+from .inputs import FRAMED_KEY, BadInput, open_scene_file, peer_problem
 from .terminal import check_interrupt, terminal
 
 
@@ -125,8 +130,11 @@ def _run(args, state, registered) -> int:
     index = report.write_index(out)
     print("", *summary_table(results), sep="\n", file=say)
     ok = not failed and all(m["ok"] for m in results)
-    status = "every engine matches the reference" if ok else (
-        f"MISMATCH or failure ({', '.join(failed + [m['scene'] for m in results if not m['ok']])})")
+    blind = [m["scene"] for m in results if not m.get("coverage", {}).get("ok", True)]
+    off = failed + [m["scene"] for m in results if not m["ok"] and m["scene"] not in blind]
+    status = "every engine matches the reference" if ok else "; ".join(
+        ([f"NOTHING TO COMPARE ({', '.join(blind)}: the camera sees no Phong surface)"]
+         if blind else []) + ([f"MISMATCH or failure ({', '.join(off)})"] if off else []))
     print(f"\n{status}; {len(results)} scene(s) in {time.perf_counter() - start:.1f} s; "
           f"report: {index}", file=say)
     say.flush()
@@ -135,10 +143,11 @@ def _run(args, state, registered) -> int:
 
 class Job:
     """One scene to compare: *make()* returns the Blender scene; *done(scene, folder, name)*
-    runs before its report folder is put in place."""
+    runs before its report folder is put in place; *notes*: lines for its report."""
 
-    def __init__(self, name, make, done=None, drop=False):
+    def __init__(self, name, make, done=None, drop=False, notes=()):
         self.name, self.make, self.done, self.drop = name, make, done, drop
+        self.notes = list(notes)
 
 
 def _demo_jobs(mine, args) -> list:
@@ -183,7 +192,10 @@ def _file_jobs(args):
         mine = scenes.shard(list(zip(wanted, folders)), args.shard)
     except scenes.SceneError as error:
         raise BadInput(str(error)) from None
-    jobs = [Job(folder, lambda n=name: bpy.data.scenes[n]) for name, folder in mine]
+    jobs = [Job(folder, lambda n=name: bpy.data.scenes[n],
+                notes=[bpy.data.scenes[name][FRAMED_KEY]]
+                if bpy.data.scenes[name].get(FRAMED_KEY) else ())
+            for name, folder in mine]
     return jobs, folders
 
 
@@ -207,7 +219,7 @@ def _compare_scenes(jobs, args, out, say, state):
             scene = job.make()
             metrics = engine.run(scene, os.path.join(out, job.name), engines=args.engines,
                                 progress=progress, resolution=args.resolution,
-                                peers=args.peers,
+                                peers=args.peers, notes=job.notes,
                                 on_folder=None if job.done is None
                                 else lambda folder, s=scene: job.done(s, folder, job.name))
             if job.drop:
@@ -216,7 +228,9 @@ def _compare_scenes(jobs, args, out, say, state):
             print(f"\nphong: {job.name}: the comparison failed: {error}", file=sys.stderr)
             failed.append(job.name)
             continue
-        print(f"\n      {compare.verdict_text(metrics['verdict'])}", file=say)
+        for note in job.notes:
+            print(f"\n      {note}", end="", file=say)
+        print(f"\n      {compare.summary_text(metrics)}", file=say)
         results.append(metrics)
         state["done"] += 1
         check_interrupt()
@@ -239,6 +253,9 @@ def summary_table(results) -> list:
                   else pair.endswith("reference"))
         v = m["verdict"].get(engine) if judged else None
         mark = "" if v is None else ("OK" if v["ok"] else "FAIL")
+        seen = m.get("coverage", {"ok": True})   # metrics.json of 0.x had none
+        if v is not None and not seen["ok"]:
+            mark = f"FAIL: sees {seen['value']}"
         psnr = "inf" if p["psnr_db"] is None else f"{p['psnr_db']:.1f}"
         lines.append(f"{m['scene']:<{scene_w}}{pair:<{pair_w}}{p['max_abs']:>10.2e}"
                      f"{p['mean_abs']:>10.2e}{psnr:>8}{p['share_over_1_255']:>9.3%}  {mark}")

@@ -48,6 +48,13 @@ PAIRS = (("eevee", "reference"), ("cycles", "reference"), ("eevee", "cycles"))
 #: is the same on screen, one of 1.0 where the reference is 0.99 is still 0.01 off (and one
 #: below 1 is compared as it is).  How many pixels were above 1: metrics["eevee_above_1"].
 SHOWN_MAX = 1.0
+#: A comparison must see this share of the picture's pixels as Phong surfaces it compares
+#: (pixels of objects with Phong materials, not background, see-through or ambiguous), else
+#: it compares (almost) nothing and does not pass, whatever the engines' errors: 1%, e.g.
+#: 55 of the 85 × 64 pixels of a 4:3 picture 64 px high.  A framed scene with small objects
+#: passes easily (the demo scenes at 32 px high: 14.5% to 89.8%); a camera that misses the
+#: scene (a file's default view 10 units from a part 0.24 units wide: 1 pixel) does not.
+COVERAGE_SHARE = 0.01
 
 
 def shown(image: np.ndarray) -> np.ndarray:
@@ -428,6 +435,31 @@ def verdict(pair_metrics: dict, term_metrics: dict | None = None) -> dict:
     return out
 
 
+def coverage(mask: np.ndarray, surfaces: np.ndarray | None = None) -> dict:
+    """The verdict on how much the comparison sees: *mask* the pixels compared, *surfaces*
+    the pixels of Phong objects (compared or not).  Fails below :data:`COVERAGE_SHARE` of the
+    picture, with a message saying why and what to do."""
+    seen, total = int(mask.sum()), int(mask.size)
+    share = seen / total if total else 0.0
+    out = {"ok": total > 0 and seen >= COVERAGE_SHARE * total, "pixels": seen, "total": total,
+           "rule": f"≥ {COVERAGE_SHARE:.0%} of the pixels Phong surfaces compared",
+           "value": f"{share:.2%}"}
+    if out["ok"]:
+        return out
+    in_view = seen if surfaces is None else int(surfaces.sum())
+    few = f"({share:.2%}, fewer than {COVERAGE_SHARE:.0%}): nothing to compare"
+    if in_view >= COVERAGE_SHARE * total:   # in view, but see-through or ambiguous
+        out["message"] = (f"the camera sees Phong surfaces on {in_view} of {total} pixels but "
+                          f"only {seen} can be compared {few}; the others are see-through "
+                          "(Opacity below 1) or at a discontinuity of the model")
+    else:
+        out["message"] = (f"the camera sees {seen} of {total} pixels of Phong surfaces to "
+                          f"compare {few}; frame the scene (View ▸ Frame All, then View ▸ "
+                          "Align View ▸ Align Active Camera to View) or give it a camera that "
+                          "sees its Phong objects")
+    return out
+
+
 def verdict_text(verdicts: dict, detail: bool = False) -> str:
     """One line for {engine: verdict}: "cycles 2.4e-05 OK, eevee 100.000% OK"; with
     *detail* the rule of each verdict follows its value."""
@@ -439,13 +471,22 @@ def verdict_text(verdicts: dict, detail: bool = False) -> str:
     return ", ".join(parts)
 
 
+def summary_text(metrics: dict, detail: bool = False) -> str:
+    """:func:`verdict_text` of *metrics*' verdicts, after why the comparison does not count
+    when it sees (almost) nothing (:func:`coverage`)."""
+    text = verdict_text(metrics["verdict"], detail)
+    seen = metrics.get("coverage", {})
+    return text if seen.get("ok", True) else f"FAIL: {seen['message']} (on those pixels: {text})"
+
+
 def evaluate(scene: dict, images: dict, aovs: dict, engines, terms=None) -> tuple:
     """The reference picture of *scene* (as Blender evaluates it) from the probe *aovs*, and
     the metrics of every pair of *images* ({"cycles": ..., "eevee": ...}) and of each term
     pass in *terms* ({term: Cycles' pass}) against the reference's term; returns (metrics,
     reference, mask).  *images* gains "reference", and its "eevee" becomes the picture as
     shown (:func:`shown`: Eevee's light loop leaves sums above 1), which the pairs compare;
-    metrics["eevee_above_1"] counts the compared pixels Eevee rendered above 1."""
+    metrics["eevee_above_1"] counts the compared pixels Eevee rendered above 1;
+    metrics["coverage"] (:func:`coverage`) fails a comparison of (almost) no pixels."""
     refimg = reference_image(scene, aovs)
     images["reference"] = refimg["Color"]
     mask = (refimg["object"] > 0) & ~refimg["ambiguous"]
@@ -462,6 +503,7 @@ def evaluate(scene: dict, images: dict, aovs: dict, engines, terms=None) -> tupl
     term_metrics = {t: compare(terms[t], refimg[t], mask) for t in TERMS
                     if terms and t in terms}
     verdicts = verdict(pairs, term_metrics)
+    seen = coverage(mask, refimg["object"] > 0)
     metrics = {
         "scene": scene["name"],
         "title": scene["title"],
@@ -473,7 +515,8 @@ def evaluate(scene: dict, images: dict, aovs: dict, engines, terms=None) -> tupl
         "tolerances": {"cycles_max_abs": CYCLES_TOLERANCE, "eevee_step": EEVEE_STEP,
                        "eevee_share_within": EEVEE_SHARE},
         "verdict": verdicts,
-        "ok": all(v["ok"] for v in verdicts.values()),
+        "coverage": seen,
+        "ok": seen["ok"] and all(v["ok"] for v in verdicts.values()),
         "parameters": {k: v for k, v in scene.items() if k != "path"},
     }
     if above is not None:

@@ -302,7 +302,7 @@ def write_scene(folder: str, scene: dict, images: dict, refimg: dict, mask, metr
     columns = 5 if aspect <= 1.2 else 4 if aspect <= 1.6 else 3 if aspect <= 2.2 else 2
     title = f"{scene['name']}: {scene['title']}"
     subtitle = ((scene["source"] + "   " if scene["source"] else "")
-                + compare.verdict_text(metrics["verdict"], detail=True))
+                + compare.summary_text(metrics, detail=True))
     write_png(os.path.join(folder, "sheet.png"), sheet(tiles, title, subtitle, columns))
 
 
@@ -421,7 +421,8 @@ def _rows(results: list) -> str:
 
 def _section(out_dir: str, m: dict) -> str:
     s = m["parameters"]
-    verdicts = compare.verdict_text(m["verdict"], detail=True)
+    verdicts = compare.summary_text(m, detail=True)
+    notes = "".join(f"<p>{html.escape(note)}</p>" for note in m.get("notes", []))
     scene_dir = m["scene"]
     files = sorted(os.listdir(os.path.join(out_dir, scene_dir)))
     plots_html = "".join(f"<img src='{scene_dir}/{f}' alt='{f}'>" for f in files
@@ -439,6 +440,7 @@ def _section(out_dir: str, m: dict) -> str:
 <h2>{html.escape(s['title'])} <small>({scene_dir})</small></h2>
 <p><i>{html.escape(s['source'])}</i> — {html.escape(s['description'])}</p>
 <p class="{'ok' if m['ok'] else 'bad'}">{html.escape(verdicts)}</p>
+{notes}
 <a href="{scene_dir}/sheet.png"><img class="sheet" src="{scene_dir}/sheet.png" alt="sheet"></a>
 <div class="plots">{plots_html}</div>
 <ul>{terms}</ul>
@@ -458,6 +460,10 @@ def write_index(out_dir: str) -> str:
     except RunError:
         state = None
     ok = all(m["ok"] for m in found)
+    blind = [m["scene"] for m in found if not m.get("coverage", {}).get("ok", True)]
+    headline = ("every engine matches the reference" if ok else
+                f"the camera of {html.escape(', '.join(blind))} sees (almost) no Phong "
+                "surface: not compared" if blind else "some engine does NOT match the reference")
     whole = state is not None and not state["missing"] and not state["failed"]
     run_line = "" if state is None else (f"<p class='{'ok' if whole else 'bad'}'>Run: "
                                          f"{html.escape(run_text(state))}.</p>")
@@ -471,7 +477,7 @@ td:first-child, td:nth-child(2) {{ text-align: left; }}
 img.sheet {{ max-width: 100%; }} .plots img {{ margin: 4px; border: 1px solid #ddd; }}
 </style></head><body>
 <h1>Phong Nodes: Eevee, Cycles and the numpy reference</h1>
-<p class="{'ok' if ok else 'bad'}">{len(found)} scene(s): {'every engine matches the reference' if ok else 'some engine does NOT match the reference'}
+<p class="{'ok' if ok else 'bad'}">{len(found)} scene(s): {headline}
 (Cycles: max |Δ| ≤ 1e-4; Eevee: ≥ 99.5% of pixels within 1/255).</p>
 {run_line}
 <p>Each picture is rendered with one sample at the pixel centres; the reference evaluates the seed formulas

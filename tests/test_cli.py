@@ -168,6 +168,72 @@ def test_compare_reads_files_of_other_programs(tmp_path, path, says):
     metrics = json.loads((folder / "metrics.json").read_text())
     assert metrics["pixels"]["compared"] >= 40, "the framing camera sees the objects"
     assert metrics["pairs"]["cycles-reference"]["max_abs"] <= 1e-4 and metrics["ok"]
+    framed = "has no camera: added one" in result.stderr
+    assert metrics.get("notes") == (["framed: the file has no camera"] if framed else None)
+    assert ("framed: the file has no camera" in result.stdout) is framed
+
+
+#: A part as KiCad exports it (0201: 0.24 units wide), its materials as KiCad's, and no
+#: Viewpoint: the standard's default view from (0 0 10) sees it on about one pixel.
+TINY_PART = """#VRML V2.0 utf8
+Shape {
+  appearance Appearance { material Material {
+    diffuseColor 0.8 0.3 0.2 specularColor 0.5 0.5 0.5 shininess 0.3 } }
+  geometry Box { size 0.24 0.12 0.1 }
+}
+"""
+
+
+@pytest.mark.slow
+@pytest.mark.cycles
+def test_compare_frames_a_file_without_viewpoint(tmp_path):
+    """A .wrl without Viewpoint is compared on a framed picture: X3D's default view (down
+    -Z, Blender's +Y) moved back along its direction until the part fills 90% of the
+    picture's width, said on the terminal and in the report."""
+    from phong_nodes.addon.scene import framing  # noqa: PLC0415
+    path = tmp_path / "R_0201_0603Metric.wrl"
+    path.write_text(TINY_PART)
+    out = tmp_path / "out"
+    result = run_cli(tmp_path, "compare", str(path), "--engines", "cycles", "--resolution", "64",
+                     "--out", str(out))
+    assert result.returncode == 0, result.stdout[-2000:] + result.stderr[-2000:]
+    assert "has no Viewpoint" in result.stderr and "framed: the file has no Viewpoint" in \
+        result.stdout
+    metrics = json.loads((out / "R_0201_0603Metric" / "metrics.json").read_text())
+    assert metrics["ok"] and metrics["notes"] == ["framed: the file has no Viewpoint"]
+    assert "framed: the file has no Viewpoint" in (out / "index.html").read_text()
+    # the headlight looks where the camera does: the default view's direction, kept
+    (headlight,) = metrics["parameters"]["lights"]
+    assert headlight["direction"] == pytest.approx([0.0, 1.0, 0.0], abs=1e-6)
+    # seen head-on, the box's front face (0.24 × 0.12, twice as wide as high) is wider than
+    # the picture (16:9): it spans FILL of the width and half that in height, give or take
+    # the pixels its outline crosses
+    width, height = metrics["resolution"]
+    across = framing.FILL * width
+    expected = across * across / 2.0
+    assert abs(metrics["pixels"]["compared"] - expected) <= 2 * (across + across / 2) + 4
+    assert metrics["coverage"]["pixels"] / (width * height) > 0.2
+
+
+@pytest.mark.slow
+@pytest.mark.cycles
+def test_compare_of_a_camera_that_sees_nothing_fails_and_says_why(tmp_path):
+    """A Viewpoint that looks away from every shape: exit 1 and a message, not a pass of
+    three black pictures."""
+    path = tmp_path / "away.wrl"
+    path.write_text(TINY_PART + "Viewpoint { position 0 0 10 orientation 0 1 0 3.14159 }\n")
+    out = tmp_path / "out"
+    result = run_cli(tmp_path, "compare", str(path), "--engines", "cycles", "--resolution", "32",
+                     "--out", str(out))
+    assert result.returncode == 1, result.stdout[-2000:] + result.stderr[-2000:]
+    assert "FAIL: the camera sees 0 of" in result.stdout and "frame the scene" in result.stdout
+    assert "NOTHING TO COMPARE (away" in result.stdout
+    assert "every engine matches" not in result.stdout and "framed" not in result.stdout
+    metrics = json.loads((out / "away" / "metrics.json").read_text())
+    assert not metrics["ok"] and not metrics["coverage"]["ok"]
+    assert metrics["coverage"]["pixels"] == 0 and "notes" not in metrics
+    page = (out / "index.html").read_text()
+    assert "the camera sees 0 of" in page and "sees (almost) no Phong surface" in page
 
 
 @pytest.mark.parametrize("name, text, message", [

@@ -112,3 +112,55 @@ def test_a_term_pass_off_the_reference_fails_cycles():
     metrics, _ref, _mask = compare.evaluate(SCENE, dict(images), aovs(), ("cycles",), terms)
     assert metrics["terms"]["Specular"]["max_abs"] == pytest.approx(3e-4, rel=1e-6)
     assert not metrics["ok"] and metrics["verdict"]["cycles"]["value"] == "3.00e-04"
+
+
+def _padded(height, width):
+    """aovs() at the top left of a picture of *height* × *width* whose other pixels are
+    background (object number 0): 2 pixels compared (object 1 facing the light, object 2)."""
+    out = {}
+    for name, row in aovs().items():
+        picture = np.zeros((height, width) + row.shape[2:], dtype=row.dtype)
+        picture[:1, :4] = row
+        out[name] = picture
+    return out
+
+
+def test_a_picture_of_almost_no_phong_surface_fails_and_says_why():
+    """The comparison needs Phong surfaces on at least 1% of the pixels: 2 compared of 200
+    pass, 2 of 310 (0.65%; with the pixel at the cone edge 3, 0.97%) fail with a message,
+    even though Cycles matches the reference exactly."""
+    for (height, width), ok in (((10, 20), True), ((10, 31), False)):
+        data = _padded(height, width)
+        ref = compare.reference_image(SCENE, data)["Color"]
+        metrics, _ref, mask = compare.evaluate(SCENE, {"cycles": ref.copy()}, data, ("cycles",))
+        assert int(mask.sum()) == 2 and mask.size == height * width
+        assert metrics["verdict"]["cycles"]["ok"], "the engine itself matches"
+        assert metrics["coverage"]["ok"] is ok and metrics["ok"] is ok
+        text = compare.summary_text(metrics)
+        if ok:
+            assert text == "cycles 0.00e+00 OK" and "message" not in metrics["coverage"]
+        else:
+            message = metrics["coverage"]["message"]
+            assert message.startswith("the camera sees 2 of 310 pixels of Phong surfaces")
+            assert "(0.65%, fewer than 1%)" in message and "give it a camera" in message
+            assert text == f"FAIL: {message} (on those pixels: cycles 0.00e+00 OK)"
+    # nothing at all in view: a picture of background only
+    empty = {name: np.zeros_like(a) for name, a in _padded(8, 8).items()}
+    metrics, _ref, _mask = compare.evaluate(SCENE, {"cycles": np.zeros((8, 8, 3))}, empty,
+                                            ("cycles",))
+    assert not metrics["ok"] and metrics["coverage"]["pixels"] == 0
+    assert "the camera sees 0 of 64 pixels" in metrics["coverage"]["message"]
+
+
+def test_phong_surfaces_in_view_that_cannot_be_compared_fail_with_their_own_reason():
+    """Object pixels on 3 of 210 pixels (1.4%), of which 1 is at the spot's cone edge: 2
+    compared (0.95%) fail, and the message says the surfaces are in view but not comparable,
+    not that the camera misses them."""
+    data = _padded(10, 21)
+    ref = compare.reference_image(SCENE, data)["Color"]
+    metrics, _ref, _mask = compare.evaluate(SCENE, {"cycles": ref.copy()}, data, ("cycles",))
+    assert metrics["pixels"]["object"] == 3 and not metrics["ok"]
+    message = metrics["coverage"]["message"]
+    assert message.startswith("the camera sees Phong surfaces on 3 of 210 pixels but only 2 "
+                              "can be compared (0.95%, fewer than 1%)")
+    assert "see-through" in message and "frame the scene" not in message

@@ -314,6 +314,39 @@ def test_interrupted_bake_leaves_nothing_and_puts_the_scene_back(bpy_clean, tmp_
     assert "lambert_vs_phong" not in bpy.data.scenes
 
 
+@pytest.mark.slow
+@pytest.mark.cycles
+def test_the_operator_reports_a_camera_that_sees_nothing_as_an_error(bpy_clean, tmp_path):
+    """Compare Phong Scene on a scene whose camera looks away from every Phong object: an
+    error report saying why and what to do (bpy.ops raises it), the report folder written
+    and failed; the same scene framed compares OK."""
+    bpy = bpy_clean
+    from phong_nodes.addon.interchange import x3d_import  # noqa: PLC0415
+    from phong_nodes.addon.scene import framing  # noqa: PLC0415
+    path = tmp_path / "away.wrl"
+    path.write_text("#VRML V2.0 utf8\n"
+                    "Viewpoint { position 0 0 10 orientation 0 1 0 3.14159 }\n"
+                    "Shape { appearance Appearance { material Material { "
+                    "diffuseColor 0.8 0.3 0.2 } } geometry Box { size 0.24 0.12 0.1 } }\n")
+    scene = bpy.data.scenes.new("Away")
+    bpy.context.window.scene = scene
+    scene.render.resolution_x, scene.render.resolution_y = 32, 24
+    with bpy.context.temp_override(scene=scene):
+        x3d_import.import_file(str(path), bpy.context)
+        assert not scene.camera.get(x3d_import.DEFAULT_VIEWPOINT_KEY), "the file's Viewpoint"
+        with pytest.raises(RuntimeError, match=r"Compare Phong Scene: 'Away': the camera sees "
+                           r"0 of 768 pixels of Phong surfaces .*frame the scene"):
+            bpy.ops.phong.compare_scene(directory=str(tmp_path / "op"), engines={"CYCLES"})
+    metrics = json.loads((tmp_path / "op" / "Away" / "metrics.json").read_text())
+    assert not metrics["ok"] and metrics["coverage"]["pixels"] == 0
+    assert framing.frame(scene, scene.camera, framing.visible_meshes(scene))
+    with bpy.context.temp_override(scene=scene):
+        assert bpy.ops.phong.compare_scene(directory=str(tmp_path / "op"),
+                                           engines={"CYCLES"}) == {"FINISHED"}
+    metrics = json.loads((tmp_path / "op" / "Away" / "metrics.json").read_text())
+    assert metrics["ok"] and metrics["coverage"]["pixels"] > 0.2 * 768
+
+
 def test_bake_refuses_a_scene_without_phong_materials(bpy_clean, tmp_path):
     bpy = bpy_clean
     scene = bpy.data.scenes.new("Plain")

@@ -224,14 +224,17 @@ def _threejs_peer(scene, layer, objects, data, width, height, folder) -> tuple:
 
 
 def run(scene, out_dir: str, engines=compare.ENGINES, progress=None, view_layer=None,
-         resolution=None, on_folder=None, peers=()) -> dict:
+         resolution=None, on_folder=None, peers=(), notes=()) -> dict:
     """Render and compare *scene* into *out_dir* (replaced whole).
 
     *view_layer*: the name of the view layer to render (default: the first that renders);
     *resolution*: the picture height in pixels (default: the scene's own size).
     *progress(fraction, text)* is called between steps; *on_folder(folder)* may add files
-    to the report folder before it is put in place.  Returns the metrics dict (also
-    written as metrics.json).  ComparisonError when the scene cannot be compared.
+    to the report folder before it is put in place; *notes*: lines the report shows with
+    the verdicts (metrics["notes"], e.g. "framed: the file has no camera").  Returns the
+    metrics dict (also written as metrics.json), whose "ok" is False also when the camera sees
+    (almost) no Phong surface (metrics["coverage"]).  ComparisonError when the scene cannot
+    be compared.
     """
     layer, objects = check(scene, view_layer)
     check_peers(peers)
@@ -253,6 +256,8 @@ def run(scene, out_dir: str, engines=compare.ENGINES, progress=None, view_layer=
         metrics, refimg, mask = compare.evaluate(data, images, passes, engines, terms)
         height, width = images["cycles"].shape[:2]
         metrics["resolution"] = [width, height]
+        if notes:
+            metrics["notes"] = list(notes)
         timings["reference_s"] = time.perf_counter() - t0
         peer_mask = None
         if "threejs" in peers:

@@ -32,7 +32,8 @@ module builds the Blender side:
   of exactly the objects of its scope; the headlight (``NavigationInfo { headlight TRUE }``,
   the default) a Sun that follows the camera (``lighting/headlight.py``);
 * the bound Viewpoint (or OrthoViewpoint) the scene camera; X3D's default viewpoint
-  (0 0 10, π/4) when the file has none and the scene no camera;
+  (0 0 10, π/4) when the file has none and the scene no camera (marked
+  ``DEFAULT_VIEWPOINT_KEY``: ``phong compare`` frames the objects with it);
 * the scene in the X3D model (``scene.phong.model = "x3d"``: its lights groups rebuilt), the
   World's Phong ambient intensity 0 (X3D has no global ambient light).
 
@@ -66,6 +67,7 @@ UNLIT_KEY = "phong_x3d_unlit"                     # material: a shape without Ma
 CUT_OFF_KEY = "phong_x3d_cut_off_angle"           # spot light: the file's cutOffAngle
 HEADLIGHT_OFF_KEY = "phong_x3d_no_headlight"      # scene: the file said headlight FALSE
 LIGHTS_NOTHING_KEY = "phong_x3d_lights_nothing"   # light object: a scope without shapes
+DEFAULT_VIEWPOINT_KEY = "phong_x3d_default_viewpoint"  # camera object: the file has no Viewpoint
 #: Nodes of the texture and colour chains (the export reads them back).
 TEXTURE_NODE = "phong_x3d_texture"
 UV_NODE = "phong_x3d_uv"
@@ -501,6 +503,8 @@ class _Builder:
         camera.clip_end = max(reach * 2.0, 1.0)
         camera.clip_start = min(0.1, camera.clip_end * 1e-4)
         obj = bpy.data.objects.new(name, camera)
+        if doc.viewpoint is None:   # a viewer frames such a file (``phong compare`` does)
+            obj[DEFAULT_VIEWPOINT_KEY] = 1
         self.collection.objects.link(obj)
         matrix = np.eye(4)
         matrix[:3, :3] = rotation

@@ -351,6 +351,11 @@ class _CompareScene:
             wm.progress_end()
         sheet = os.path.join(folder, name, "sheet.png")
         _show_image(context, sheet)
+        seen = metrics["coverage"]
+        if not seen["ok"]:   # a comparison of (almost) nothing: no verdict at all
+            self.report({"ERROR"}, f"{self.bl_label}: '{scene.name}': {seen['message']} "
+                                   f"({sheet})")
+            return {"FINISHED"}
         verdicts = compare.verdict_text(metrics["verdict"])
         self.report({"INFO"} if metrics["ok"] else {"WARNING"},
                     f"Phong comparison of '{scene.name}': {verdicts} ({sheet})")
