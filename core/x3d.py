@@ -303,6 +303,7 @@ class Mesh:
     edges: np.ndarray | None = None
     point_colors: np.ndarray | None = None
     primitive: dict | None = None
+    text: dict | None = None        # Text: its strings and FontStyle (the Blender side sets it)
 
 
 @dataclass(eq=False)
@@ -1248,8 +1249,9 @@ _FACE_SETS = {"IndexedFaceSet", "IndexedTriangleSet", "TriangleSet", "IndexedTri
               "TriangleFanSet", "IndexedTriangleStripSet", "TriangleStripSet", "IndexedQuadSet",
               "QuadSet", "ElevationGrid"}
 _PRIMITIVES = {"Box", "Sphere", "Cylinder", "Cone"}
-_GEOMETRY = _FACE_SETS | _PRIMITIVES | {"IndexedLineSet", "LineSet", "PointSet"}
-_GEOMETRY_SKIPPED = {"Extrusion", "Text", "Arc2D", "ArcClose2D", "Circle2D", "Disk2D",
+_GEOMETRY = _FACE_SETS | _PRIMITIVES | {"IndexedLineSet", "LineSet", "PointSet", "Extrusion",
+                                        "Text"}
+_GEOMETRY_SKIPPED = {"Arc2D", "ArcClose2D", "Circle2D", "Disk2D",
                      "Polyline2D", "Polypoint2D", "Rectangle2D", "TriangleSet2D", "NurbsCurve",
                      "NurbsPatchSurface", "NurbsTrimmedSurface", "NurbsSweptSurface",
                      "NurbsSwungSurface", "GeoElevationGrid"}
@@ -2500,6 +2502,10 @@ class _Reader:
             self.face_set(n, mesh)
         elif t == "ElevationGrid":
             self.elevation_grid(n, mesh)
+        elif t == "Extrusion":
+            self.extrusion(n, mesh)
+        elif t == "Text":
+            self.text(n, mesh)
         elif t in ("IndexedLineSet", "LineSet"):
             self.line_set(n, t, mesh)
         elif t == "PointSet":
@@ -2740,6 +2746,65 @@ class _Reader:
         mesh.solid = self.flag(n, "solid", True)
         mesh.crease_angle = 0.5     # smooth sides, sharp edges (the normals are given anyway)
 
+    def extrusion(self, n, mesh):
+        """Extrusion: its faces by :func:`extrude` (ISO/IEC 14772-1 §6.18), smoothed by
+        creaseAngle, with the standard's texture coordinates."""
+        def pairs(name, width, default):
+            values = self.numbers(n, name)
+            if values is None:
+                return np.asarray(default, dtype=np.float64).reshape(-1, width)
+            if len(values) % width:
+                self.notes.add("lists whose length is not a multiple of their tuple size: the "
+                               "rest left out", self.where(n, name))
+            return values[:len(values) - len(values) % width].reshape(-1, width)
+
+        spine = pairs("spine", 3, [(0.0, 0.0, 0.0), (0.0, 1.0, 0.0)])
+        cross = pairs("crossSection", 2, [(1, 1), (1, -1), (-1, -1), (-1, 1), (1, 1)])
+        scales = pairs("scale", 2, [(1.0, 1.0)])
+        orientations = pairs("orientation", 4, [(0.0, 0.0, 1.0, 0.0)]).copy()
+        orientations[:, 3] *= n.src.angle if n.src is not None else 1.0
+        mesh.convex = self.flag(n, "convex", True)
+        mesh.crease_angle = self.angle(n, "creaseAngle", 0.0)
+        made = extrude(spine, cross, scales, orientations, self.flag(n, "beginCap", True),
+                       self.flag(n, "endCap", True), mesh.convex)
+        for line in made["warnings"]:
+            self.notes.add(line, mesh.name)
+        mesh.positions, mesh.face_sizes = made["positions"], made["face_sizes"]
+        mesh.corners, mesh.uvs = made["corners"], made["uvs"]
+
+    def text(self, n, mesh):
+        """Text: its strings and FontStyle as plain data in ``mesh.text`` (no faces here: the
+        Blender side sets the text in its font).  Keys: strings, length (per string, 0: its
+        natural length), max_extent, solid, and the FontStyle's family (list), style, size,
+        spacing, justify (major, minor), horizontal, left_to_right, top_to_bottom,
+        language."""
+        style = self.lookup(self.node_value(n, "fontStyle"))
+        if style is not None and self.type_of(style) != "FontStyle":
+            self.notes.add("Text fontStyle that is not a FontStyle: defaults used",
+                           style.name or style.type)
+            style = None
+        lengths = self.numbers(n, "length")
+        font = {"family": ["SERIF"], "style": "PLAIN", "size": 1.0, "spacing": 1.0,
+                "justify": ["BEGIN", "FIRST"], "horizontal": True, "left_to_right": True,
+                "top_to_bottom": True, "language": ""}
+        if style is not None:
+            font.update(
+                family=self.strings(style, "family") or ["SERIF"],
+                style=self.string(style, "style", "PLAIN") or "PLAIN",
+                size=self.num(style, "size", 1.0), spacing=self.num(style, "spacing", 1.0),
+                justify=self.strings(style, "justify") or ["BEGIN"],
+                horizontal=self.flag(style, "horizontal", True),
+                left_to_right=self.flag(style, "leftToRight", True),
+                top_to_bottom=self.flag(style, "topToBottom", True),
+                language=self.string(style, "language", ""))
+        words = [str(word).strip().upper() for word in font["justify"][:2]]
+        font["justify"] = (words[0] if words and words[0] else "BEGIN",
+                           words[1] if len(words) > 1 and words[1] else "FIRST")
+        mesh.text = dict(font, strings=self.strings(n, "string"),
+                         length=[float(v) for v in lengths] if lengths is not None else [],
+                         max_extent=self.num(n, "maxExtent", 0.0),
+                         solid=self.flag(n, "solid", False))
+
     # the end ------------------------------------------------------------------------------
     def finish(self, doc):
         if self.ignored:
@@ -2932,6 +2997,239 @@ def _default_uvs(mesh) -> np.ndarray:
     s = (pos[:, order[0]] - low[order[0]]) / size
     t = (pos[:, order[1]] - low[order[1]]) / size
     return np.stack([s, t], axis=1)[mesh.corners]
+
+
+# -- Extrusion (ISO/IEC 14772-1 §6.18, 19775-1 §13.3.5) ------------------------------------
+
+def _unit_or_zero(v, reference: float) -> np.ndarray:
+    """*v* normalised, or the zero vector where it is zero within rounding of *reference*
+    (the size of the vectors it was made from)."""
+    norm = float(np.linalg.norm(v))
+    if norm <= 1e-12 * max(reference, 1e-300):
+        return np.zeros(3)
+    return np.asarray(v, dtype=np.float64) / norm
+
+
+def extrusion_frames(spine) -> np.ndarray:
+    """The spine-aligned cross-section plane of each spine point, (n, 3, 3) with columns the
+    SCP's X, Y and Z axes, as the standard computes them: Y along the spine (the next point
+    minus the previous one; at the ends of an open spine the first or last segment; at the
+    ends of a closed spine, whose first and last points are the same, spine[1] − spine[n−2]),
+    Z = (next − this) × (previous − this) (the ends of an open spine take their neighbour's;
+    a closed spine's ends (spine[1] − spine[0]) × (spine[n−2] − spine[0])), flipped where it
+    points against the previous point's Z, X = Y × Z.  Coincident points (no Y) take the
+    previous Y, collinear points (no Z) the previous Z; a spine wholly collinear turns the
+    Y = 0 plane by the rotation of +Y onto the spine, a spine wholly coincident has Y = +Y."""
+    spine = np.asarray(spine, dtype=np.float64).reshape(-1, 3)
+    n = len(spine)
+    size = float(np.abs(spine).max()) if n else 0.0
+    closed = n > 2 and np.array_equal(spine[0], spine[-1])
+    ys, zs = np.zeros((n, 3)), np.zeros((n, 3))
+    for i in range(n):
+        if closed and i in (0, n - 1):
+            before, after = spine[n - 2], spine[1]
+        else:
+            before, after = spine[max(i - 1, 0)], spine[min(i + 1, n - 1)]
+        ys[i] = _unit_or_zero(after - before, size)
+        if closed and i in (0, n - 1):
+            a, b = spine[1] - spine[0], spine[n - 2] - spine[0]
+        elif 0 < i < n - 1:
+            a, b = spine[i + 1] - spine[i], spine[i - 1] - spine[i]
+        else:
+            continue            # the ends of an open spine: their neighbour's Z, below
+        scale = float(np.linalg.norm(a) * np.linalg.norm(b))
+        zs[i] = _unit_or_zero(np.cross(a, b), scale)
+    if not closed and n > 2:
+        zs[0], zs[-1] = zs[1], zs[-2]
+    defined_y = [y for y in ys if y.any()]
+    first_y = defined_y[0] if defined_y else np.array([0.0, 1.0, 0.0])
+    defined_z = [z for z in zs if z.any()]
+    if defined_z:
+        first_z = defined_z[0]
+    else:               # the whole spine is collinear: +Y turned onto the spine turns +Z
+        axis = np.cross([0.0, 1.0, 0.0], first_y)
+        cos = float(np.clip(first_y[1], -1.0, 1.0))
+        if np.linalg.norm(axis) < 1e-12:
+            turn = np.eye(3) if cos > 0 else _rotation3((1.0, 0.0, 0.0), math.pi)
+        else:
+            turn = _rotation3(axis, math.acos(cos))
+        first_z = turn @ np.array([0.0, 0.0, 1.0])
+    frames = np.zeros((n, 3, 3))
+    y_prev, z_prev = first_y, first_z
+    for i in range(n):
+        y = ys[i] if ys[i].any() else y_prev
+        z = zs[i] if zs[i].any() else z_prev
+        if float(np.dot(z, z_prev)) < 0.0:
+            z = -z
+        x = np.cross(y, z)
+        frames[i] = np.stack([x, y, z], axis=1)
+        y_prev, z_prev = y, z
+    if closed:                      # the first and last points are one: one plane
+        frames[-1] = frames[0]
+    return frames
+
+
+def _polygon_area2(points) -> float:
+    """Twice the signed area of a 2D polygon (positive counter-clockwise)."""
+    x, y = points[:, 0], points[:, 1]
+    return float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
+
+
+def triangulate_polygon(points) -> tuple:
+    """Triangles of a simple 2D polygon, convex or not, by ear clipping: ((t, 3) indices into
+    *points*, each triangle turning the way the polygon does, whether the polygon was
+    simple).  Repeated and collinear points are left out of the triangles; a polygon that is
+    not simple (its ears run out) gets the rest as a fan and False."""
+    points = np.asarray(points, dtype=np.float64).reshape(-1, 2)
+    keep = [i for i in range(len(points))
+            if not np.array_equal(points[i], points[i - 1])] if len(points) else []
+    if len(keep) > 1 and np.array_equal(points[keep[0]], points[keep[-1]]):
+        keep.pop()
+    if len(keep) < 3:
+        return np.zeros((0, 3), np.int64), True
+    sign = 1.0 if _polygon_area2(points[keep]) >= 0.0 else -1.0
+    extent = float(np.abs(points[keep]).max()) or 1.0
+    eps = 1e-12 * extent * extent
+
+    def turn(a, b, c):
+        pa, pb, pc = points[a], points[b], points[c]
+        return sign * ((pb[0] - pa[0]) * (pc[1] - pa[1]) - (pb[1] - pa[1]) * (pc[0] - pa[0]))
+
+    ring = list(keep)
+    triangles = []
+    simple = True
+    while len(ring) > 3:
+        count = len(ring)
+        for k in range(count):
+            a, b, c = ring[k - 1], ring[k], ring[(k + 1) % count]
+            area = turn(a, b, c)
+            if abs(area) <= eps:        # collinear (or a spike): drop the middle point
+                ring.pop(k)
+                break
+            if area < 0.0:
+                continue                # a reflex corner is no ear
+            inside = False
+            for p in ring:
+                if p in (a, b, c) or np.array_equal(points[p], points[a]) \
+                        or np.array_equal(points[p], points[b]) \
+                        or np.array_equal(points[p], points[c]):
+                    continue
+                if turn(a, b, p) >= 0.0 and turn(b, c, p) >= 0.0 and turn(c, a, p) >= 0.0:
+                    inside = True
+                    break
+            if not inside:
+                triangles.append((a, b, c))
+                ring.pop(k)
+                break
+        else:                           # no ear: not a simple polygon
+            simple = False
+            triangles.extend((ring[0], ring[k], ring[k + 1]) for k in range(1, len(ring) - 1))
+            ring = []
+    if len(ring) == 3 and abs(turn(*ring)) > eps:
+        triangles.append(tuple(ring))
+    return np.array(triangles, dtype=np.int64).reshape(-1, 3), simple
+
+
+def extrude(spine, cross_section, scales=((1.0, 1.0),), orientations=((0.0, 0.0, 1.0, 0.0),),
+            begin_cap=True, end_cap=True, convex=True) -> dict:
+    """The faces of an Extrusion as the standard builds them.
+
+    Each spine point i carries the cross-section: the point (x, z) of crossSection becomes
+    spine[i] + SCP_i · R(orientation_i) · (scale_i.x · x, 0, scale_i.y · z) (SCP_i from
+    :func:`extrusion_frames`; the last scale and orientation hold for the spine points after
+    them).  Sides: quads (i, j), (i, j+1), (i+1, j+1), (i+1, j) between consecutive spine
+    points and cross-section points; caps: the cross-section at the first spine point
+    (reversed, facing back along the spine) and at the last, one polygon each (``convex``)
+    or its triangulation (:func:`triangulate_polygon`).  These faces are counter-clockwise
+    seen from outside for the standard's default square (ccw FALSE reverses them: the
+    caller's business).  Points that coincide exactly are one position (a closed
+    cross-section's seam, a spine point scaled to 0), faces left with fewer than 3
+    different points are dropped.  Texture coordinates: u the cross-section's length from
+    its first point (0 to 1), v the spine's (0 to 1); caps (x, z) of the cross-section
+    scaled so that its bounding box's larger side is 0 to 1.
+
+    Returns {"positions", "face_sizes", "corners", "uvs", "warnings"}."""
+    spine = np.asarray(spine, dtype=np.float64).reshape(-1, 3)
+    cross = np.asarray(cross_section, dtype=np.float64).reshape(-1, 2)
+    empty = {"positions": np.zeros((0, 3)), "face_sizes": np.zeros(0, np.int64),
+             "corners": np.zeros(0, np.int64), "uvs": np.zeros((0, 2)), "warnings": []}
+    if len(spine) < 2 or len(cross) < 2:
+        empty["warnings"].append("Extrusions with fewer than 2 spine or crossSection points: "
+                                 "no faces")
+        return empty
+    ns, nc = len(spine), len(cross)
+    scales = np.asarray(scales, dtype=np.float64).reshape(-1, 2)
+    orientations = np.asarray(orientations, dtype=np.float64).reshape(-1, 4)
+    if not len(scales):
+        scales = np.ones((1, 2))
+    if not len(orientations):
+        orientations = np.array([[0.0, 0.0, 1.0, 0.0]])
+    frames = extrusion_frames(spine)
+    rings = np.zeros((ns, nc, 3))
+    for i in range(ns):
+        sx, sz = scales[min(i, len(scales) - 1)]
+        axis_angle = orientations[min(i, len(orientations) - 1)]
+        local = np.stack([cross[:, 0] * sx, np.zeros(nc), cross[:, 1] * sz], axis=1)
+        matrix = frames[i] @ _rotation3(axis_angle[:3], float(axis_angle[3]))
+        rings[i] = spine[i] + local @ matrix.T
+    # texture coordinates of the sides: lengths along the cross-section and the spine
+    u = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(cross, axis=0), axis=1))]
+    u = u / u[-1] if u[-1] > 0 else np.arange(nc) / (nc - 1)
+    v = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(spine, axis=0), axis=1))]
+    v = v / v[-1] if v[-1] > 0 else np.arange(ns) / (ns - 1)
+    grid = np.arange(ns * nc).reshape(ns, nc)
+    i, j = np.meshgrid(np.arange(ns - 1), np.arange(nc - 1), indexing="ij")
+    i, j = i.ravel(), j.ravel()
+    quads = np.stack([grid[i, j], grid[i, j + 1], grid[i + 1, j + 1], grid[i + 1, j]], axis=1)
+    quad_uv = np.stack([np.stack([u[j], v[i]], 1), np.stack([u[j + 1], v[i]], 1),
+                        np.stack([u[j + 1], v[i + 1]], 1), np.stack([u[j], v[i + 1]], 1)],
+                       axis=1)
+    faces = [list(q) for q in quads]
+    face_uvs = [list(q) for q in quad_uv]
+    warnings = []
+    closed = np.array_equal(cross[0], cross[-1])
+    cap_points = cross[:-1] if closed else cross
+    low = cross.min(axis=0)
+    cap_size = float((cross.max(axis=0) - low).max())
+    if len(cap_points) >= 3 and cap_size > 0:
+        cap_uv = (cap_points - low) / cap_size
+        count = len(cap_points)
+        if convex:
+            polygons = [list(range(count))]
+        else:
+            tris, simple = triangulate_polygon(cap_points)
+            polygons = [list(t) for t in tris]
+            if not simple:
+                warnings.append("Extrusion crossSections that are not simple polygons: caps "
+                                "filled as fans")
+        for cap, ring in ((begin_cap, 0), (end_cap, ns - 1)):
+            if not cap:
+                continue
+            for polygon in polygons:
+                order = polygon[::-1] if ring == 0 else polygon
+                faces.append([int(grid[ring, k]) for k in order])
+                face_uvs.append([cap_uv[k] for k in order])
+    # one position for points that coincide exactly; faces of fewer than 3 points dropped
+    flat = rings.reshape(-1, 3)
+    _, first, inverse = np.unique(flat, axis=0, return_index=True, return_inverse=True)
+    inverse = np.asarray(inverse).reshape(-1)
+    order = np.argsort(first, kind="stable")
+    rank = np.empty(len(order), np.int64)
+    rank[order] = np.arange(len(order))
+    positions = flat[np.sort(first)]
+    remap = rank[inverse]
+    sizes, corners, uvs = [], [], []
+    for face, face_uv in zip(faces, face_uvs):
+        ids = [int(remap[k]) for k in face]
+        keep = [m for m in range(len(ids)) if ids[m] != ids[m - 1]]
+        if len(set(ids[m] for m in keep)) < 3:
+            continue
+        sizes.append(len(keep))
+        corners.extend(ids[m] for m in keep)
+        uvs.extend(face_uv[m] for m in keep)
+    return {"positions": positions, "face_sizes": np.array(sizes, np.int64),
+            "corners": np.array(corners, np.int64),
+            "uvs": np.array(uvs, dtype=np.float64).reshape(-1, 2), "warnings": warnings}
 
 
 # -- flattening -----------------------------------------------------------------------------
