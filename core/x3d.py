@@ -3078,8 +3078,10 @@ def _polygon_area2(points) -> float:
 def triangulate_polygon(points) -> tuple:
     """Triangles of a simple 2D polygon, convex or not, by ear clipping: ((t, 3) indices into
     *points*, each triangle turning the way the polygon does, whether the polygon was
-    simple).  Repeated and collinear points are left out of the triangles; a polygon that is
-    not simple (its ears run out) gets the rest as a fan and False."""
+    simple).  Repeated points are left out; a point on a straight stretch is a corner of
+    the triangles like any other (no T-junction with the faces along that edge), unless only
+    such points are left (then it is dropped); a polygon that is not simple (its ears run
+    out) gets the rest as a fan and False."""
     points = np.asarray(points, dtype=np.float64).reshape(-1, 2)
     keep = [i for i in range(len(points))
             if not np.array_equal(points[i], points[i - 1])] if len(points) else []
@@ -3100,12 +3102,13 @@ def triangulate_polygon(points) -> tuple:
     simple = True
     while len(ring) > 3:
         count = len(ring)
+        flat = None
         for k in range(count):
             a, b, c = ring[k - 1], ring[k], ring[(k + 1) % count]
             area = turn(a, b, c)
-            if abs(area) <= eps:        # collinear (or a spike): drop the middle point
-                ring.pop(k)
-                break
+            if abs(area) <= eps:        # on a straight stretch (or a spike): no ear
+                flat = k if flat is None else flat
+                continue
             if area < 0.0:
                 continue                # a reflex corner is no ear
             inside = False
@@ -3121,8 +3124,11 @@ def triangulate_polygon(points) -> tuple:
                 triangles.append((a, b, c))
                 ring.pop(k)
                 break
-        else:                           # no ear: not a simple polygon
-            simple = False
+        else:
+            if flat is not None:        # only straight stretches left: drop a point
+                ring.pop(flat)
+                continue
+            simple = False              # no ear: not a simple polygon
             triangles.extend((ring[0], ring[k], ring[k + 1]) for k in range(1, len(ring) - 1))
             ring = []
     if len(ring) == 3 and abs(turn(*ring)) > eps:
