@@ -1451,7 +1451,9 @@ class _Xml:
         node = _N(tag, name, proto, self.src)
         for key, value in element.attrib.items():
             key = _local(key)
-            if key not in _XML_SKIP and not key.startswith("xmlns"):
+            if (key not in _XML_SKIP or (key == "style" and tag in ("FontStyle",
+                                                                     "ScreenFontStyle"))) \
+                    and not key.startswith("xmlns"):
                 node.fields[key] = _Raw(value)
         self.children(element, node, depth, scope)
         if name is not None:
@@ -3964,7 +3966,34 @@ class _Emit:
         return (w.add("center", "vec", t.center).add("rotation", "float", t.rotation)
                 .add("scale", "vec", t.scale).add("translation", "vec", t.translation))
 
+    def text(self, mesh: Mesh):
+        """A Text read from a file written back as Text with its FontStyle."""
+        w, use = self.define(mesh, "Text")
+        if use:
+            return self.use("Text", use)
+        t = mesh.text
+        w.add("string", "strings", [str(s) for s in t["strings"]])
+        if any(t["length"]):
+            w.add("length", "floats", t["length"])
+        if t["max_extent"]:
+            w.add("maxExtent", "float", t["max_extent"])
+        if self.x3d and t["solid"]:
+            w.add("solid", "bool", True)
+        style = (_W("FontStyle").add("family", "strings", [str(f) for f in t["family"]])
+                 .add("style", "string", t["style"]).add("size", "float", t["size"])
+                 .add("spacing", "float", t["spacing"])
+                 .add("justify", "strings", list(t["justify"])))
+        for key, field_ in (("horizontal", "horizontal"), ("left_to_right", "leftToRight"),
+                            ("top_to_bottom", "topToBottom")):
+            if not t[key]:
+                style.add(field_, "bool", False)
+        if t["language"]:
+            style.add("language", "string", t["language"])
+        return w.node("fontStyle", style)
+
     def geometry(self, mesh: Mesh):
+        if mesh.text is not None:
+            return self.text(mesh)
         # VRML97's primitives are always solid: a two-sided one is written as its faces
         primitive = mesh.kind in _PRIMITIVES and mesh.primitive and (self.x3d or mesh.solid)
         kind = mesh.kind if primitive else \

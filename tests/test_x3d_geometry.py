@@ -281,3 +281,20 @@ def test_text_strings_and_font_style_are_read():
     _, mesh = only_mesh(X3DV + 'Shape { geometry Text { string "a" fontStyle FontStyle { '
                         'justify "END" } } }')
     assert mesh.text["justify"] == ("END", "FIRST")
+
+
+@pytest.mark.parametrize("writer, name", [(x3d.dumps_x3d, "o.x3d"), (x3d.dumps_x3dv, "o.x3dv"),
+                                          (x3d.dumps_vrml, "o.wrl")])
+def test_the_writers_write_text_back_as_text_and_an_extrusion_as_its_faces(writer, name):
+    doc, _ = only_mesh(X3DV + """Shape { geometry Text {
+        string ["Hello", "there"] length [2, 0] maxExtent 5
+        fontStyle FontStyle { size 0.5 spacing 1.5 justify ["END" "MIDDLE"] family "SANS"
+                              style "ITALIC" topToBottom FALSE } } }""")
+    back = x3d.loads(writer(doc), f"/nonexistent-folder/{name}")
+    assert back.instances[0].shape.geometry.text == doc.instances[0].shape.geometry.text
+    doc, mesh = only_mesh(X3DV + "Shape { geometry Extrusion { spine [0 0 0, 0 1 0, 1 1 0] } }")
+    back = x3d.loads(writer(doc), f"/nonexistent-folder/{name}").instances[0].shape.geometry
+    assert back.kind == "IndexedFaceSet"
+    np.testing.assert_allclose(back.positions, mesh.positions, atol=1e-12)
+    assert back.face_sizes.tolist() == mesh.face_sizes.tolist()
+    assert back.corners.tolist() == mesh.corners.tolist()
