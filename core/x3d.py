@@ -78,8 +78,8 @@ every world matrix, at the root.
   is the standard's Tc' = -C·S·R·C·T·Tc and :func:`apply_texture_transform` applies it to UVs.
 
 * :class:`Mesh` (every geometry): ``name``, ``kind`` (the node type read: IndexedFaceSet,
-  IndexedTriangleSet, ..., Box, Sphere, Cylinder, Cone, ElevationGrid, IndexedLineSet,
-  LineSet, PointSet), ``positions`` ((n, 3) float64), ``face_sizes`` ((f,) int64, each ≥ 3),
+  IndexedTriangleSet, ..., Box, Sphere, Cylinder, Cone, ElevationGrid, Extrusion, Text,
+  IndexedLineSet, LineSet, PointSet), ``positions`` ((n, 3) float64), ``face_sizes`` ((f,) int64, each ≥ 3),
   ``corners`` ((Σ face_sizes,) int64: each corner's position index, face after face, in the
   file's order: with ``ccw`` False the faces are clockwise, :func:`counter_clockwise` reverses
   them), per corner ``normals`` ((c, 3) or None: the file's normals, per vertex or per face,
@@ -93,7 +93,10 @@ every world matrix, at the root.
   per position: PointSet and line sets whose colours follow their positions), ``primitive``
   (Box / Sphere / Cylinder / Cone / ElevationGrid: their fields as read, so that the writer
   writes the node back; the tessellation has 32 segments around, a sphere 16 rings, with
-  normals and the standard's texture coordinates).
+  normals and the standard's texture coordinates).  An Extrusion is its faces
+  (:func:`extrude`: the standard's spine-aligned cross-section planes, caps, texture
+  coordinates); a Text has no faces but ``text`` (its strings and FontStyle: the Blender side
+  sets them in a font, the writers write a Text back).
 
 * :class:`Light`: ``kind`` ("directional", "point", "spot"), ``name``, ``on``, ``intensity``,
   ``ambient_intensity``, ``color``, ``location``, ``direction``, ``attenuation`` (a0, a1, a2),

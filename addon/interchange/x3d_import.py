@@ -15,7 +15,10 @@ module builds the Blender side:
 * meshes through numpy at once (``foreach_set`` of the corner, face and attribute arrays):
   faces counter-clockwise, the file's normals as custom split normals, else smooth by the
   ``creaseAngle``; texture coordinates as "UVMap", colours per corner (per point for line and
-  point sets) as the colour attribute "Col"; line sets loose edges, point sets vertices;
+  point sets) as the colour attribute "Col"; line sets loose edges, point sets vertices; an
+  Extrusion its faces (``core.x3d.extrude``), a Text its strings set in Blender's built-in font
+  (:func:`text_geometry`: a FONT curve converted to a mesh, then removed), one warning a file
+  for the font families and styles it cannot match;
 * every Material a Phong material from birth under the file's name, with
   ``core.x3d.phong_values``: Kd = diffuseColor, Ka = ambientIntensity × diffuseColor (the
   Ambient Object Color control), Ks = specularColor, Ke = emissiveColor, Exponent = 128 ×
