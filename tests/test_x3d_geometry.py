@@ -226,7 +226,7 @@ def test_degenerate_extrusions_warn_or_drop_faces_without_area():
 
 
 def test_unit_angle_applies_to_orientation():
-    _, mesh = only_mesh("#X3D V3.3 utf8\nPROFILE Immersive\nUNIT angle degree 0.017453292519943295\n"
+    _, mesh = only_mesh(X3DV + "UNIT angle degree 0.017453292519943295\n"
                         "Shape { geometry Extrusion { crossSection [1 0, 0 1, -1 0] "
                         "orientation 0 1 0 90 } }")
     np.testing.assert_allclose(ring(mesh, 0, 3), [(0, 0, -1), (1, 0, 0), (0, 0, 1)], atol=1e-9)
