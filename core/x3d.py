@@ -78,11 +78,11 @@ every world matrix, at the root.
   is the standard's Tc' = -C·S·R·C·T·Tc and :func:`apply_texture_transform` applies it to UVs.
 
 * :class:`Mesh` (every geometry): ``name``, ``kind`` (the node type read: IndexedFaceSet,
-  IndexedTriangleSet, ..., Box, Sphere, Cylinder, Cone, ElevationGrid, Extrusion, Text,
-  IndexedLineSet, LineSet, PointSet), ``positions`` ((n, 3) float64), ``face_sizes``
-  ((f,) int64, each ≥ 3), ``corners`` ((Σ face_sizes,) int64: each corner's position index,
-  face after face, in the file's order: with ``ccw`` False the faces are clockwise,
-  :func:`counter_clockwise` reverses them), per corner ``normals`` ((c, 3) or None: the file's normals, per vertex or per face,
+  IndexedTriangleSet, ..., Box, Sphere, Cylinder, Cone, ElevationGrid, IndexedLineSet,
+  LineSet, PointSet), ``positions`` ((n, 3) float64), ``face_sizes`` ((f,) int64, each ≥ 3),
+  ``corners`` ((Σ face_sizes,) int64: each corner's position index, face after face, in the
+  file's order: with ``ccw`` False the faces are clockwise, :func:`counter_clockwise` reverses
+  them), per corner ``normals`` ((c, 3) or None: the file's normals, per vertex or per face,
   with or without their own index, resolved to corners as the standard says), ``colors``
   ((c, 4) RGBA or None: Color gives alpha 1) and ``uvs`` ((c, 2) or None; an IndexedFaceSet
   whose shape has a texture and no texCoord gets the standard's default bounding-box
