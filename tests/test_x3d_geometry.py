@@ -146,6 +146,23 @@ def test_a_collinear_spine_turns_the_y0_plane_by_the_rotation_of_y_onto_it(spine
                                atol=1e-12)
 
 
+def test_coincident_spine_points_share_their_plane_and_a_wholly_coincident_spine_is_flat():
+    """Spine (0 0 0), (0 1 0), (0 1 0), (0 2 0): the two middle points are one ring (their Y
+    from their neighbours, (0 1 0)); the sides between them have no area and are left out:
+    3 rings of 4 points, 2 × 4 sides and 2 caps.  A spine of one point twice: Y falls back to
+    +Y, Z to +Z: the cross-section lies in the Y = 0 plane, its two caps back to back."""
+    _, mesh = only_mesh(X3DV + f"""Shape {{ geometry Extrusion {{
+        spine [0 0 0, 0 1 0, 0 1 0, 0 2 0] {SQUARE} }} }}""")
+    assert (len(mesh.positions), len(mesh.face_sizes)) == (12, 10)
+    np.testing.assert_allclose(ring(mesh, 1, 4), [(1, 1, 1), (1, 1, -1), (-1, 1, -1),
+                                                  (-1, 1, 1)], atol=1e-12)
+    _, mesh = only_mesh(X3DV + f"""Shape {{ geometry Extrusion {{
+        spine [0 0 0, 0 0 0] {SQUARE} }} }}""")
+    np.testing.assert_allclose(mesh.positions, [(1, 0, 1), (1, 0, -1), (-1, 0, -1),
+                                                (-1, 0, 1)], atol=1e-12)
+    assert faces(mesh) == [[3, 2, 1, 0], [0, 1, 2, 3]]
+
+
 def test_a_closed_spine_has_one_plane_at_its_ends_and_shares_their_points():
     """Spine (0 0 0), (2 0 0), (2 0 2), (0 0 2), (0 0 0): closed.  At its ends
     Y = spine[1] − spine[3] = (2 0 −2)/√8, Z = (spine[1] − spine[0]) × (spine[3] − spine[0])
