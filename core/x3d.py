@@ -3149,7 +3149,9 @@ def extrude(spine, cross_section, scales=((1.0, 1.0),), orientations=((0.0, 0.0,
     spine[i] + SCP_i · R(orientation_i) · (scale_i.x · x, 0, scale_i.y · z) (SCP_i from
     :func:`extrusion_frames`; the last scale and orientation hold for the spine points after
     them).  Sides: quads (i, j), (i, j+1), (i+1, j+1), (i+1, j) between consecutive spine
-    points and cross-section points; caps: the cross-section at the first spine point
+    points and cross-section points, or where one is not planar (at a bend of the spine)
+    the triangles (i, j), (i, j+1), (i+1, j+1) and (i, j), (i+1, j+1), (i+1, j), as X_ITE
+    draws them; caps: the cross-section at the first spine point
     (reversed, facing back along the spine) and at the last, one polygon each (``convex``)
     or its triangulation (:func:`triangulate_polygon`).  These faces are counter-clockwise
     seen from outside for the standard's default square (ccw FALSE reverses them: the
@@ -3195,8 +3197,23 @@ def extrude(spine, cross_section, scales=((1.0, 1.0),), orientations=((0.0, 0.0,
     quad_uv = np.stack([np.stack([u[j], v[i]], 1), np.stack([u[j + 1], v[i]], 1),
                         np.stack([u[j + 1], v[i + 1]], 1), np.stack([u[j], v[i + 1]], 1)],
                        axis=1)
-    faces = [list(q) for q in quads]
-    face_uvs = [list(q) for q in quad_uv]
+    # a quad that is not planar (between spine points whose planes are not parallel: the
+    # cross-section is not stretched at a bend) is two triangles, split along (i, j)–(i+1, j+1)
+    flat = rings.reshape(-1, 3)
+    corner = flat[quads]
+    normal = np.cross(corner[:, 1] - corner[:, 0], corner[:, 2] - corner[:, 0])
+    length = np.linalg.norm(normal, axis=1)
+    off_plane = np.abs(np.einsum("ij,ij->i", corner[:, 3] - corner[:, 0], normal))
+    size = float(np.abs(flat).max()) or 1.0
+    bent = off_plane > 1e-9 * size * np.where(length > 0, length, np.inf)
+    faces, face_uvs = [], []
+    for quad, quad_uvs, split in zip(quads, quad_uv, bent):
+        if split:
+            faces += [list(quad[[0, 1, 2]]), list(quad[[0, 2, 3]])]
+            face_uvs += [list(quad_uvs[[0, 1, 2]]), list(quad_uvs[[0, 2, 3]])]
+        else:
+            faces.append(list(quad))
+            face_uvs.append(list(quad_uvs))
     warnings = []
     closed = np.array_equal(cross[0], cross[-1])
     cap_points = cross[:-1] if closed else cross
@@ -3221,7 +3238,6 @@ def extrude(spine, cross_section, scales=((1.0, 1.0),), orientations=((0.0, 0.0,
                 faces.append([int(grid[ring, k]) for k in order])
                 face_uvs.append([cap_uv[k] for k in order])
     # one position for points that coincide exactly; faces of fewer than 3 points dropped
-    flat = rings.reshape(-1, 3)
     _, first, inverse = np.unique(flat, axis=0, return_index=True, return_inverse=True)
     inverse = np.asarray(inverse).reshape(-1)
     order = np.argsort(first, kind="stable")

@@ -117,6 +117,20 @@ def test_bent_spine_follows_the_scp_rule():
     assert sorted(set(np.round(mesh.uvs[:, 1], 12))) == [0.0, 0.5, 1.0]
 
 
+def test_a_quad_that_is_not_planar_at_a_bend_is_two_triangles():
+    """The bent spine above with a diamond [1 0, 0 −1, −1 0, 0 1]: the first side quad runs
+    from (−1 0 0), (0 0 1) (spine point 0, X = (−1 0 0), Z = (0 0 −1)) to (0 1 1),
+    (−R 1+R 0) (the corner: X = (−1 1 0)/√2); the plane of its first three points has the
+    normal (1 0 1) × (1 1 1) = (−1 0 1), and the fourth point lies (1−R 1+R 0)·(−1 0 1) = R − 1
+    off it: split along its first diagonal, as every side quad of this spine (16 triangles)."""
+    _, mesh = only_mesh(X3DV + """Shape { geometry Extrusion {
+        spine [0 0 0, 0 1 0, 1 1 0] crossSection [1 0, 0 -1, -1 0, 0 1, 1 0] } }""")
+    assert mesh.face_sizes.tolist() == [3] * 16 + [4, 4]
+    np.testing.assert_allclose(mesh.positions[[0, 1, 5, 4]],
+                               [(-1, 0, 0), (0, 0, 1), (0, 1, 1), (-R, 1 + R, 0)], atol=1e-12)
+    assert faces(mesh)[:2] == [[0, 1, 5], [0, 5, 4]]
+
+
 def test_z_flips_where_it_would_point_against_the_previous_one():
     """Spine (0 0 0), (0 1 0), (1 2 0), (1 3 0): Z at point 1 = (1 1 0) × (0 −1 0) = (0 0 −1);
     at point 2 (0 1 0) × (−1 −1 0) = (0 0 1), against the previous one: flipped to (0 0 −1).
