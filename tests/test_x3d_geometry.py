@@ -84,6 +84,29 @@ def test_the_outward_faces_of_the_default_box_and_ccw_false_flips_them():
             assert sign * np.dot(normal, outward) > 0, (ccw, face)
 
 
+def test_crease_angle_gives_corner_normals_of_the_faces_within_it():
+    """The default box with creaseAngle 3.14: at its point (1 1 1) (spine point 1, cross-
+    section point 0) meet the side x = 1 (quad 0 1 5 4: the point is its 4th corner, in one
+    triangle of its fan), the side z = 1 (quad 3 0 4 7: 3rd corner, two triangles) and the end
+    cap (4 5 6 7: 1st corner, two triangles): (1 0 0) + 2 (0 0 1) + 2 (0 1 0) = (1 2 2), /3.
+    creaseAngle 1 (under the box's 90°): each corner its own face's normal.  ccw FALSE: the
+    same normals turned round (the faces are reversed too)."""
+    for ccw, sign in (("TRUE", 1.0), ("FALSE", -1.0)):
+        _, mesh = only_mesh(X3DV + f"Shape {{ geometry Extrusion {{ creaseAngle 3.14 ccw {ccw} "
+                            "} }")
+        at_point = mesh.normals[mesh.corners == 4]
+        assert len(at_point) == 3
+        np.testing.assert_allclose(at_point, [np.multiply(sign / 3, (1, 2, 2))] * 3,
+                                   atol=1e-12)
+    _, mesh = only_mesh(X3DV + "Shape { geometry Extrusion { creaseAngle 1 } }")
+    per_face = np.repeat([(1, 0, 0), (0, 0, -1), (-1, 0, 0), (0, 0, 1), (0, -1, 0), (0, 1, 0)],
+                         4, axis=0)
+    np.testing.assert_allclose(mesh.normals, per_face, atol=1e-12)
+    # creaseAngle 0 (the default): no normals, flat faces
+    _, mesh = only_mesh(X3DV + "Shape { geometry Extrusion { } }")
+    assert mesh.normals is None and mesh.crease_angle == 0
+
+
 def test_caps_present_or_absent():
     counts = {}
     for begin in ("TRUE", "FALSE"):

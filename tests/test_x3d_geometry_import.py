@@ -298,6 +298,7 @@ DEF Pipe Shape {
     spine [ -1.5 0.3 0, -0.5 0.3 0, -0.5 1.3 0, 0.5 1.3 0 ]
     crossSection [ 0.3 0, 0.212 -0.212, 0 -0.3, -0.212 -0.212, -0.3 0, -0.212 0.212, 0 0.3,
                    0.212 0.212, 0.3 0 ]
+    creaseAngle 1.0
   }
 }
 DEF Ell Transform { translation 1.2 0.2 0.5 rotation 1 0.3 0 0.9 children Shape {
@@ -312,8 +313,8 @@ DEF Ell Transform { translation 1.2 0.2 0.5 rotation 1 0.3 0 0.9 children Shape 
 def test_x_ite_draws_the_files_extrusions_as_the_imported_meshes(bpy_clean, tmp_path):
     """X_ITE as the peer of the geometry: the file's Extrusions drawn by X_ITE (its own
     Extrusion code) and the same scene imported, exported by x3d_export as face sets and drawn
-    by X_ITE again give the same pixels (flat faces: a bent pipe, a concave L with convex FALSE
-    caps) away from silhouettes."""
+    by X_ITE again give the same pixels (a bent pipe smoothed by creaseAngle 1, a concave L
+    with convex FALSE caps) away from silhouettes: the same faces, the same corner normals."""
     from phong_nodes.core import x_ite  # noqa: PLC0415
 
     problem = x_ite.unavailable()
