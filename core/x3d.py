@@ -205,6 +205,10 @@ MAX_VISITS = 1_000_000
 PATH_LIMIT = 32
 #: Segments around a tessellated Sphere, Cylinder or Cone (a Sphere has half as many rings).
 SEGMENTS = 32
+#: An Extrusion of more spine × crossSection points is left out (a warning); a convex FALSE
+#: cap of more points is one polygon (Blender fills it) rather than triangulated.
+MAX_EXTRUSION_POINTS = 10_000_000
+MAX_CAP_TRIANGULATION = 20_000
 
 ENCODINGS = ("vrml97", "x3d-classic", "x3d-xml")
 LIGHT_KINDS = ("directional", "point", "spot")
@@ -3106,13 +3110,29 @@ def triangulate_polygon(points) -> tuple:
         pa, pb, pc = points[a], points[b], points[c]
         return sign * ((pb[0] - pa[0]) * (pc[1] - pa[1]) - (pb[1] - pa[1]) * (pc[0] - pa[0]))
 
+    def holds_a_point(a, b, c, ring_points):
+        """Whether a point of the ring (other than a, b, c and their copies) lies in or on
+        the triangle (a, b, c)."""
+        pa, pb, pc = points[a], points[b], points[c]
+        x, y = ring_points[:, 0], ring_points[:, 1]
+        side_ab = sign * ((pb[0] - pa[0]) * (y - pa[1]) - (pb[1] - pa[1]) * (x - pa[0]))
+        side_bc = sign * ((pc[0] - pb[0]) * (y - pb[1]) - (pc[1] - pb[1]) * (x - pb[0]))
+        side_ca = sign * ((pa[0] - pc[0]) * (y - pc[1]) - (pa[1] - pc[1]) * (x - pc[0]))
+        inside = (side_ab >= 0.0) & (side_bc >= 0.0) & (side_ca >= 0.0)
+        for corner in (pa, pb, pc):
+            inside &= (x != corner[0]) | (y != corner[1])
+        return bool(inside.any())
+
     ring = list(keep)
     triangles = []
     simple = True
+    k = 0
     while len(ring) > 3:
         count = len(ring)
+        ring_points = points[ring]
         flat = None
-        for k in range(count):
+        for step in range(count):
+            k = (k + step) % count if step == 0 else (k + 1) % count
             a, b, c = ring[k - 1], ring[k], ring[(k + 1) % count]
             area = turn(a, b, c)
             if abs(area) <= eps:        # on a straight stretch (or a spike): no ear
@@ -3120,25 +3140,18 @@ def triangulate_polygon(points) -> tuple:
                 continue
             if area < 0.0:
                 continue                # a reflex corner is no ear
-            inside = False
-            for p in ring:
-                if p in (a, b, c) or np.array_equal(points[p], points[a]) \
-                        or np.array_equal(points[p], points[b]) \
-                        or np.array_equal(points[p], points[c]):
-                    continue
-                if turn(a, b, p) >= 0.0 and turn(b, c, p) >= 0.0 and turn(c, a, p) >= 0.0:
-                    inside = True
-                    break
-            if not inside:
+            if not holds_a_point(a, b, c, ring_points):
                 triangles.append((a, b, c))
                 ring.pop(k)
+                k = max(k - 1, 0)
                 break
         else:
             if flat is not None:        # only straight stretches left: drop a point
                 ring.pop(flat)
+                k = 0
                 continue
             simple = False              # no ear: not a simple polygon
-            triangles.extend((ring[0], ring[k], ring[k + 1]) for k in range(1, len(ring) - 1))
+            triangles.extend((ring[0], ring[m], ring[m + 1]) for m in range(1, len(ring) - 1))
             ring = []
     if len(ring) == 3 and abs(turn(*ring)) > eps:
         triangles.append(tuple(ring))
@@ -3165,8 +3178,8 @@ def crease_normals(positions, face_sizes, corners, crease_angle) -> np.ndarray:
     ends = starts + sizes
     following[ends - 1] = starts
     here, there = positions[corners], positions[corners[following]]
-    newell = np.zeros((len(sizes), 3))
-    np.add.at(newell, face_of, np.cross(here, there))
+    edges = np.cross(here, there)
+    newell = np.stack([np.bincount(face_of, edges[:, k], len(sizes)) for k in range(3)], axis=1)
     length = np.linalg.norm(newell, axis=1, keepdims=True)
     unit = np.where(length > 0, newell / np.where(length > 0, length, 1.0), 0.0)
     local = np.arange(count) - np.repeat(starts, sizes)
@@ -3188,8 +3201,8 @@ def crease_normals(positions, face_sizes, corners, crease_angle) -> np.ndarray:
     near = np.einsum("ij,ij->i", unit[self_face], unit[other_face]) > \
         math.cos(min(max(float(crease_angle), 0.0), math.pi))
     near |= self_face == other_face
-    normals = np.zeros((count, 3))
-    np.add.at(normals, order[mine][near], weighted[order[partner][near]])
+    target, source = order[mine][near], weighted[order[partner][near]]
+    normals = np.stack([np.bincount(target, source[:, k], count) for k in range(3)], axis=1)
     norm = np.linalg.norm(normals, axis=1, keepdims=True)
     return np.where(norm > 0, normals / np.where(norm > 0, norm, 1.0), unit[face_of])
 
@@ -3222,6 +3235,10 @@ def extrude(spine, cross_section, scales=((1.0, 1.0),), orientations=((0.0, 0.0,
     if len(spine) < 2 or len(cross) < 2:
         empty["warnings"].append("Extrusions with fewer than 2 spine or crossSection points: "
                                  "no faces")
+        return empty
+    if len(spine) * len(cross) > MAX_EXTRUSION_POINTS:
+        empty["warnings"].append(f"Extrusions of more than {MAX_EXTRUSION_POINTS:,} points "
+                                 "(spine × crossSection): left out")
         return empty
     ns, nc = len(spine), len(cross)
     scales = np.asarray(scales, dtype=np.float64).reshape(-1, 2)
@@ -3259,14 +3276,21 @@ def extrude(spine, cross_section, scales=((1.0, 1.0),), orientations=((0.0, 0.0,
     off_plane = np.abs(np.einsum("ij,ij->i", corner[:, 3] - corner[:, 0], normal))
     size = float(np.abs(flat).max()) or 1.0
     bent = off_plane > 1e-9 * size * np.where(length > 0, length, np.inf)
-    faces, face_uvs = [], []
-    for quad, quad_uvs, split in zip(quads, quad_uv, bent):
-        if split:
-            faces += [list(quad[[0, 1, 2]]), list(quad[[0, 2, 3]])]
-            face_uvs += [list(quad_uvs[[0, 1, 2]]), list(quad_uvs[[0, 2, 3]])]
-        else:
-            faces.append(list(quad))
-            face_uvs.append(list(quad_uvs))
+    # faces as (sizes, corners, uvs) parts: whole quads and split ones, in spine order
+    tri_first, tri_second = quads[:, [0, 1, 2]], quads[:, [0, 2, 3]]
+    sides = np.where(bent[:, None], np.concatenate([tri_first, tri_second[:, :1]], axis=1),
+                     quads)
+    side_sizes = np.where(bent, 3, 4)
+    side_corners = np.concatenate([sides, tri_second], axis=1)   # 4 + 3 a quad, some unused
+    side_uvs = np.concatenate([np.where(bent[:, None, None], quad_uv[:, [0, 1, 2, 0]], quad_uv),
+                               quad_uv[:, [0, 2, 3]]], axis=1)
+    used = np.concatenate([np.stack([np.ones_like(bent), np.ones_like(bent), np.ones_like(bent),
+                                     ~bent], axis=1), np.repeat(bent[:, None], 3, axis=1)],
+                          axis=1)
+    face_sizes = [np.stack([side_sizes, np.where(bent, 3, 0)], axis=1).reshape(-1)]
+    face_sizes[0] = face_sizes[0][face_sizes[0] > 0]
+    face_corners = [side_corners[used]]
+    face_uvs = [side_uvs[used]]
     warnings = []
     closed = np.array_equal(cross[0], cross[-1])
     cap_points = cross[:-1] if closed else cross
@@ -3275,21 +3299,22 @@ def extrude(spine, cross_section, scales=((1.0, 1.0),), orientations=((0.0, 0.0,
     if len(cap_points) >= 3 and cap_size > 0:
         cap_uv = (cap_points - low) / cap_size
         count = len(cap_points)
-        if convex:
-            polygons = [list(range(count))]
-        else:
-            tris, simple = triangulate_polygon(cap_points)
-            polygons = [list(t) for t in tris]
+        polygons = np.arange(count)[None, :]
+        if not convex and count > MAX_CAP_TRIANGULATION:
+            warnings.append(f"Extrusion caps of more than {MAX_CAP_TRIANGULATION} points not "
+                            "triangulated: one polygon each")
+        elif not convex:
+            polygons, simple = triangulate_polygon(cap_points)
             if not simple:
                 warnings.append("Extrusion crossSections that are not simple polygons: caps "
                                 "filled as fans")
         for cap, ring in ((begin_cap, 0), (end_cap, ns - 1)):
-            if not cap:
+            if not cap or not len(polygons):
                 continue
-            for polygon in polygons:
-                order = polygon[::-1] if ring == 0 else polygon
-                faces.append([int(grid[ring, k]) for k in order])
-                face_uvs.append([cap_uv[k] for k in order])
+            order = polygons[:, ::-1] if ring == 0 else polygons
+            face_sizes.append(np.full(len(order), order.shape[1], np.int64))
+            face_corners.append(grid[ring][order].reshape(-1))
+            face_uvs.append(cap_uv[order].reshape(-1, 2))
     # one position for points that coincide exactly; faces of fewer than 3 points dropped
     _, first, inverse = np.unique(flat, axis=0, return_index=True, return_inverse=True)
     inverse = np.asarray(inverse).reshape(-1)
@@ -3297,19 +3322,18 @@ def extrude(spine, cross_section, scales=((1.0, 1.0),), orientations=((0.0, 0.0,
     rank = np.empty(len(order), np.int64)
     rank[order] = np.arange(len(order))
     positions = flat[np.sort(first)]
-    remap = rank[inverse]
-    sizes, corners, uvs = [], [], []
-    for face, face_uv in zip(faces, face_uvs):
-        ids = [int(remap[k]) for k in face]
-        keep = [m for m in range(len(ids)) if ids[m] != ids[m - 1]]
-        if len(set(ids[m] for m in keep)) < 3:
-            continue
-        sizes.append(len(keep))
-        corners.extend(ids[m] for m in keep)
-        uvs.extend(face_uv[m] for m in keep)
-    return {"positions": positions, "face_sizes": np.array(sizes, np.int64),
-            "corners": np.array(corners, np.int64),
-            "uvs": np.array(uvs, dtype=np.float64).reshape(-1, 2), "warnings": warnings}
+    sizes = np.concatenate(face_sizes).astype(np.int64)
+    ids = rank[inverse][np.concatenate(face_corners).astype(np.int64)]
+    uvs = np.concatenate(face_uvs).reshape(-1, 2)
+    starts = np.r_[0, np.cumsum(sizes)[:-1]].astype(np.int64)
+    previous = np.arange(len(ids)) - 1
+    previous[starts] = starts + sizes - 1
+    keep = ids != ids[previous]        # a corner at the point of the one before: left out
+    kept = np.add.reduceat(keep.astype(np.int64), starts) if len(sizes) else sizes
+    whole = kept >= 3
+    keep &= np.repeat(whole, sizes)
+    return {"positions": positions, "face_sizes": kept[whole].astype(np.int64),
+            "corners": ids[keep], "uvs": uvs[keep], "warnings": warnings}
 
 
 # -- flattening -----------------------------------------------------------------------------

@@ -13,6 +13,7 @@ from __future__ import annotations
 import math
 import os
 import re
+import time
 
 import numpy as np
 import pytest
@@ -352,3 +353,32 @@ def test_the_writers_write_text_back_as_text_and_an_extrusion_as_its_faces(write
     np.testing.assert_allclose(back.positions, mesh.positions, atol=1e-12)
     assert back.face_sizes.tolist() == mesh.face_sizes.tolist()
     assert back.corners.tolist() == mesh.corners.tolist()
+
+
+def test_large_extrusions_are_quick_and_absurd_ones_left_out():
+    """A helix of 1,000 spine points × a 101-point circle (100,000 points, 200,000 faces once
+    its quads split) builds with its crease normals within seconds; 100,000 × 200 points are
+    left out with a warning; a concave 2,000-point cap triangulates into 1,998 triangles."""
+    t = np.linspace(0, 20 * np.pi, 1000)
+    spine = " ".join(f"{math.cos(a)} {a / 10} {math.sin(a)}," for a in t)
+    circle = [f"{0.1 * math.cos(a)} {0.1 * math.sin(a)}," for a in np.arange(100) * np.pi / 50]
+    circle = " ".join(circle + circle[:1])
+    start = time.perf_counter()
+    _, mesh = only_mesh(X3DV + f"Shape {{ geometry Extrusion {{ spine [{spine}] "
+                        f"crossSection [{circle}] creaseAngle 1 }} }}")
+    assert time.perf_counter() - start < 10.0
+    assert len(mesh.positions) == 1000 * 100 and mesh.normals is not None
+    spine = " ".join(f"0 {k} 0," for k in range(100_000))
+    section = " ".join(f"{math.cos(a)} {math.sin(a)}," for a in np.linspace(0, 6, 200))
+    start = time.perf_counter()
+    doc, mesh = only_mesh(X3DV + f"Shape {{ geometry Extrusion {{ spine [{spine}] "
+                          f"crossSection [{section}] }} }}")
+    assert time.perf_counter() - start < 5.0
+    assert len(mesh.face_sizes) == 0 and any("left out" in w and "Extrusion" in w
+                                             for w in doc.warnings)
+    a = np.linspace(0, 2 * np.pi, 2001)[:-1]
+    star = np.stack([(1 + 0.3 * np.sin(7 * a)) * np.cos(a),
+                     (1 + 0.3 * np.sin(7 * a)) * np.sin(a)], axis=1)
+    start = time.perf_counter()
+    tris, simple = x3d.triangulate_polygon(star)
+    assert time.perf_counter() - start < 5.0 and simple and len(tris) == 1998
