@@ -207,7 +207,7 @@ PATH_LIMIT = 32
 SEGMENTS = 32
 #: An Extrusion of more spine × crossSection points is left out (a warning); a convex FALSE
 #: cap of more points is one polygon (Blender fills it) rather than triangulated.
-MAX_EXTRUSION_POINTS = 10_000_000
+MAX_EXTRUSION_POINTS = 2_000_000
 MAX_CAP_TRIANGULATION = 20_000
 
 ENCODINGS = ("vrml97", "x3d-classic", "x3d-xml")
