@@ -93,7 +93,10 @@ every world matrix, at the root.
   per position: PointSet and line sets whose colours follow their positions), ``primitive``
   (Box / Sphere / Cylinder / Cone / ElevationGrid: their fields as read, so that the writer
   writes the node back; the tessellation has 32 segments around, a sphere 16 rings, with
-  normals and the standard's texture coordinates).
+  normals and the standard's texture coordinates).  An Extrusion is its faces
+  (:func:`extrude`: the standard's spine-aligned cross-section planes, caps, texture
+  coordinates); a Text has no faces but ``text`` (its strings and FontStyle: the Blender side
+  sets them in a font, the writers write a Text back).
 
 * :class:`Light`: ``kind`` ("directional", "point", "spot"), ``name``, ``on``, ``intensity``,
   ``ambient_intensity``, ``color``, ``location``, ``direction``, ``attenuation`` (a0, a1, a2),
@@ -202,6 +205,10 @@ MAX_VISITS = 1_000_000
 PATH_LIMIT = 32
 #: Segments around a tessellated Sphere, Cylinder or Cone (a Sphere has half as many rings).
 SEGMENTS = 32
+#: An Extrusion of more spine × crossSection points is left out (a warning); a convex FALSE
+#: cap of more points is one polygon (Blender fills it) rather than triangulated.
+MAX_EXTRUSION_POINTS = 2_000_000
+MAX_CAP_TRIANGULATION = 20_000
 
 ENCODINGS = ("vrml97", "x3d-classic", "x3d-xml")
 LIGHT_KINDS = ("directional", "point", "spot")
@@ -303,6 +310,7 @@ class Mesh:
     edges: np.ndarray | None = None
     point_colors: np.ndarray | None = None
     primitive: dict | None = None
+    text: dict | None = None        # Text: its strings and FontStyle (the Blender side sets it)
 
 
 @dataclass(eq=False)
@@ -1248,8 +1256,9 @@ _FACE_SETS = {"IndexedFaceSet", "IndexedTriangleSet", "TriangleSet", "IndexedTri
               "TriangleFanSet", "IndexedTriangleStripSet", "TriangleStripSet", "IndexedQuadSet",
               "QuadSet", "ElevationGrid"}
 _PRIMITIVES = {"Box", "Sphere", "Cylinder", "Cone"}
-_GEOMETRY = _FACE_SETS | _PRIMITIVES | {"IndexedLineSet", "LineSet", "PointSet"}
-_GEOMETRY_SKIPPED = {"Extrusion", "Text", "Arc2D", "ArcClose2D", "Circle2D", "Disk2D",
+_GEOMETRY = _FACE_SETS | _PRIMITIVES | {"IndexedLineSet", "LineSet", "PointSet", "Extrusion",
+                                        "Text"}
+_GEOMETRY_SKIPPED = {"Arc2D", "ArcClose2D", "Circle2D", "Disk2D",
                      "Polyline2D", "Polypoint2D", "Rectangle2D", "TriangleSet2D", "NurbsCurve",
                      "NurbsPatchSurface", "NurbsTrimmedSurface", "NurbsSweptSurface",
                      "NurbsSwungSurface", "GeoElevationGrid"}
@@ -1449,7 +1458,9 @@ class _Xml:
         node = _N(tag, name, proto, self.src)
         for key, value in element.attrib.items():
             key = _local(key)
-            if key not in _XML_SKIP and not key.startswith("xmlns"):
+            if (key not in _XML_SKIP or (key == "style" and tag in ("FontStyle",
+                                                                     "ScreenFontStyle"))) \
+                    and not key.startswith("xmlns"):
                 node.fields[key] = _Raw(value)
         self.children(element, node, depth, scope)
         if name is not None:
@@ -2500,6 +2511,10 @@ class _Reader:
             self.face_set(n, mesh)
         elif t == "ElevationGrid":
             self.elevation_grid(n, mesh)
+        elif t == "Extrusion":
+            self.extrusion(n, mesh)
+        elif t == "Text":
+            self.text(n, mesh)
         elif t in ("IndexedLineSet", "LineSet"):
             self.line_set(n, t, mesh)
         elif t == "PointSet":
@@ -2740,6 +2755,69 @@ class _Reader:
         mesh.solid = self.flag(n, "solid", True)
         mesh.crease_angle = 0.5     # smooth sides, sharp edges (the normals are given anyway)
 
+    def extrusion(self, n, mesh):
+        """Extrusion: its faces by :func:`extrude` (ISO/IEC 14772-1 §6.18), smoothed by
+        creaseAngle, with the standard's texture coordinates."""
+        def pairs(name, width, default):
+            values = self.numbers(n, name)
+            if values is None:
+                return np.asarray(default, dtype=np.float64).reshape(-1, width)
+            if len(values) % width:
+                self.notes.add("lists whose length is not a multiple of their tuple size: the "
+                               "rest left out", self.where(n, name))
+            return values[:len(values) - len(values) % width].reshape(-1, width)
+
+        spine = pairs("spine", 3, [(0.0, 0.0, 0.0), (0.0, 1.0, 0.0)])
+        cross = pairs("crossSection", 2, [(1, 1), (1, -1), (-1, -1), (-1, 1), (1, 1)])
+        scales = pairs("scale", 2, [(1.0, 1.0)])
+        orientations = pairs("orientation", 4, [(0.0, 0.0, 1.0, 0.0)]).copy()
+        orientations[:, 3] *= n.src.angle if n.src is not None else 1.0
+        mesh.convex = self.flag(n, "convex", True)
+        mesh.crease_angle = self.angle(n, "creaseAngle", 0.0)
+        made = extrude(spine, cross, scales, orientations, self.flag(n, "beginCap", True),
+                       self.flag(n, "endCap", True), mesh.convex)
+        for line in made["warnings"]:
+            self.notes.add(line, mesh.name)
+        mesh.positions, mesh.face_sizes = made["positions"], made["face_sizes"]
+        mesh.corners, mesh.uvs = made["corners"], made["uvs"]
+        if mesh.crease_angle > 0 and len(mesh.corners):   # flat without: Blender's faces
+            normals = crease_normals(mesh.positions, mesh.face_sizes, mesh.corners,
+                                     mesh.crease_angle)
+            mesh.normals = normals if mesh.ccw else -normals
+
+    def text(self, n, mesh):
+        """Text: its strings and FontStyle as plain data in ``mesh.text`` (no faces here: the
+        Blender side sets the text in its font).  Keys: strings, length (per string, 0: its
+        natural length), max_extent, solid, and the FontStyle's family (list), style, size,
+        spacing, justify (major, minor), horizontal, left_to_right, top_to_bottom,
+        language."""
+        style = self.lookup(self.node_value(n, "fontStyle"))
+        if style is not None and self.type_of(style) != "FontStyle":
+            self.notes.add("Text fontStyle that is not a FontStyle: defaults used",
+                           style.name or style.type)
+            style = None
+        lengths = self.numbers(n, "length")
+        font = {"family": ["SERIF"], "style": "PLAIN", "size": 1.0, "spacing": 1.0,
+                "justify": ["BEGIN", "FIRST"], "horizontal": True, "left_to_right": True,
+                "top_to_bottom": True, "language": ""}
+        if style is not None:
+            font.update(
+                family=self.strings(style, "family") or ["SERIF"],
+                style=self.string(style, "style", "PLAIN") or "PLAIN",
+                size=self.num(style, "size", 1.0), spacing=self.num(style, "spacing", 1.0),
+                justify=self.strings(style, "justify") or ["BEGIN"],
+                horizontal=self.flag(style, "horizontal", True),
+                left_to_right=self.flag(style, "leftToRight", True),
+                top_to_bottom=self.flag(style, "topToBottom", True),
+                language=self.string(style, "language", ""))
+        words = [str(word).strip().upper() for word in font["justify"][:2]]
+        font["justify"] = (words[0] if words and words[0] else "BEGIN",
+                           words[1] if len(words) > 1 and words[1] else "FIRST")
+        mesh.text = dict(font, strings=self.strings(n, "string"),
+                         length=[float(v) for v in lengths] if lengths is not None else [],
+                         max_extent=self.num(n, "maxExtent", 0.0),
+                         solid=self.flag(n, "solid", False))
+
     # the end ------------------------------------------------------------------------------
     def finish(self, doc):
         if self.ignored:
@@ -2932,6 +3010,330 @@ def _default_uvs(mesh) -> np.ndarray:
     s = (pos[:, order[0]] - low[order[0]]) / size
     t = (pos[:, order[1]] - low[order[1]]) / size
     return np.stack([s, t], axis=1)[mesh.corners]
+
+
+# -- Extrusion (ISO/IEC 14772-1 §6.18, 19775-1 §13.3.5) ------------------------------------
+
+def _unit_or_zero(v, reference: float) -> np.ndarray:
+    """*v* normalised, or the zero vector where it is zero within rounding of *reference*
+    (the size of the vectors it was made from)."""
+    norm = float(np.linalg.norm(v))
+    if norm <= 1e-12 * max(reference, 1e-300):
+        return np.zeros(3)
+    return np.asarray(v, dtype=np.float64) / norm
+
+
+def extrusion_frames(spine) -> np.ndarray:
+    """The spine-aligned cross-section plane of each spine point, (n, 3, 3) with columns the
+    SCP's X, Y and Z axes, as the standard computes them: Y along the spine (the next point
+    minus the previous one; at the ends of an open spine the first or last segment; at the
+    ends of a closed spine, whose first and last points are the same, spine[1] − spine[n−2]),
+    Z = (next − this) × (previous − this) (the ends of an open spine take their neighbour's;
+    a closed spine's ends (spine[1] − spine[0]) × (spine[n−2] − spine[0])), flipped where it
+    points against the previous point's Z, X = Y × Z.  Coincident points (no Y) take the
+    previous Y, collinear points (no Z) the previous Z; a spine wholly collinear turns the
+    Y = 0 plane by the rotation of +Y onto the spine, a spine wholly coincident has Y = +Y."""
+    spine = np.asarray(spine, dtype=np.float64).reshape(-1, 3)
+    n = len(spine)
+    size = float(np.abs(spine).max()) if n else 0.0
+    closed = n > 2 and np.array_equal(spine[0], spine[-1])
+    ys, zs = np.zeros((n, 3)), np.zeros((n, 3))
+    for i in range(n):
+        if closed and i in (0, n - 1):
+            before, after = spine[n - 2], spine[1]
+        else:
+            before, after = spine[max(i - 1, 0)], spine[min(i + 1, n - 1)]
+        ys[i] = _unit_or_zero(after - before, size)
+        if closed and i in (0, n - 1):
+            a, b = spine[1] - spine[0], spine[n - 2] - spine[0]
+        elif 0 < i < n - 1:
+            a, b = spine[i + 1] - spine[i], spine[i - 1] - spine[i]
+        else:
+            continue            # the ends of an open spine: their neighbour's Z, below
+        scale = float(np.linalg.norm(a) * np.linalg.norm(b))
+        zs[i] = _unit_or_zero(np.cross(a, b), scale)
+    if not closed and n > 2:
+        zs[0], zs[-1] = zs[1], zs[-2]
+    defined_y = [y for y in ys if y.any()]
+    first_y = defined_y[0] if defined_y else np.array([0.0, 1.0, 0.0])
+    defined_z = [z for z in zs if z.any()]
+    if defined_z:
+        first_z = defined_z[0]
+    else:               # the whole spine is collinear: +Y turned onto the spine turns +Z
+        axis = np.cross([0.0, 1.0, 0.0], first_y)
+        cos = float(np.clip(first_y[1], -1.0, 1.0))
+        if np.linalg.norm(axis) < 1e-12:
+            turn = np.eye(3) if cos > 0 else _rotation3((1.0, 0.0, 0.0), math.pi)
+        else:
+            turn = _rotation3(axis, math.acos(cos))
+        first_z = turn @ np.array([0.0, 0.0, 1.0])
+    frames = np.zeros((n, 3, 3))
+    y_prev, z_prev = first_y, first_z
+    for i in range(n):
+        y = ys[i] if ys[i].any() else y_prev
+        z = zs[i] if zs[i].any() else z_prev
+        if float(np.dot(z, z_prev)) < 0.0:
+            z = -z
+        x = np.cross(y, z)
+        frames[i] = np.stack([x, y, z], axis=1)
+        y_prev, z_prev = y, z
+    if closed:                      # the first and last points are one: one plane
+        frames[-1] = frames[0]
+    return frames
+
+
+def _polygon_area2(points) -> float:
+    """Twice the signed area of a 2D polygon (positive counter-clockwise)."""
+    x, y = points[:, 0], points[:, 1]
+    return float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
+
+
+def triangulate_polygon(points) -> tuple:
+    """Triangles of a simple 2D polygon, convex or not, by ear clipping: ((t, 3) indices into
+    *points*, each triangle turning the way the polygon does, whether the polygon was
+    simple).  Repeated points are left out; a point on a straight stretch is a corner of
+    the triangles like any other (no T-junction with the faces along that edge), unless only
+    such points are left (then it is dropped); a polygon that is not simple (its ears run
+    out) gets the rest as a fan and False."""
+    points = np.asarray(points, dtype=np.float64).reshape(-1, 2)
+    keep = [i for i in range(len(points))
+            if not np.array_equal(points[i], points[i - 1])] if len(points) else []
+    if len(keep) > 1 and np.array_equal(points[keep[0]], points[keep[-1]]):
+        keep.pop()
+    if len(keep) < 3:
+        return np.zeros((0, 3), np.int64), True
+    sign = 1.0 if _polygon_area2(points[keep]) >= 0.0 else -1.0
+    extent = float(np.abs(points[keep]).max()) or 1.0
+    eps = 1e-12 * extent * extent
+
+    def turn(a, b, c):
+        pa, pb, pc = points[a], points[b], points[c]
+        return sign * ((pb[0] - pa[0]) * (pc[1] - pa[1]) - (pb[1] - pa[1]) * (pc[0] - pa[0]))
+
+    def holds_a_point(a, b, c, ring_points):
+        """Whether a point of the ring (other than a, b, c and their copies) lies in or on
+        the triangle (a, b, c)."""
+        pa, pb, pc = points[a], points[b], points[c]
+        x, y = ring_points[:, 0], ring_points[:, 1]
+        side_ab = sign * ((pb[0] - pa[0]) * (y - pa[1]) - (pb[1] - pa[1]) * (x - pa[0]))
+        side_bc = sign * ((pc[0] - pb[0]) * (y - pb[1]) - (pc[1] - pb[1]) * (x - pb[0]))
+        side_ca = sign * ((pa[0] - pc[0]) * (y - pc[1]) - (pa[1] - pc[1]) * (x - pc[0]))
+        inside = (side_ab >= 0.0) & (side_bc >= 0.0) & (side_ca >= 0.0)
+        for corner in (pa, pb, pc):
+            inside &= (x != corner[0]) | (y != corner[1])
+        return bool(inside.any())
+
+    ring = list(keep)
+    triangles = []
+    simple = True
+    k = 0
+    while len(ring) > 3:
+        count = len(ring)
+        ring_points = points[ring]
+        flat = None
+        for step in range(count):
+            k = (k + step) % count if step == 0 else (k + 1) % count
+            a, b, c = ring[k - 1], ring[k], ring[(k + 1) % count]
+            area = turn(a, b, c)
+            if abs(area) <= eps:        # on a straight stretch (or a spike): no ear
+                flat = k if flat is None else flat
+                continue
+            if area < 0.0:
+                continue                # a reflex corner is no ear
+            if not holds_a_point(a, b, c, ring_points):
+                triangles.append((a, b, c))
+                ring.pop(k)
+                k = max(k - 1, 0)
+                break
+        else:
+            if flat is not None:        # only straight stretches left: drop a point
+                ring.pop(flat)
+                k = 0
+                continue
+            simple = False              # no ear: not a simple polygon
+            triangles.extend((ring[0], ring[m], ring[m + 1]) for m in range(1, len(ring) - 1))
+            ring = []
+    if len(ring) == 3 and abs(turn(*ring)) > eps:
+        triangles.append(tuple(ring))
+    return np.array(triangles, dtype=np.int64).reshape(-1, 3), simple
+
+
+def crease_normals(positions, face_sizes, corners, crease_angle) -> np.ndarray:
+    """Per-corner normals by the crease angle, corner by corner as X3D browsers compute them
+    (X_ITE's ``refineNormals``): a corner's normal is the sum of the normals of the faces at its
+    point that turn less than *crease_angle* from its own face's, each face counted once for
+    each triangle of its fan (v0, vk, vk+1) that holds the point (a quad: twice at its first
+    and third corner, once at the others), its normal by Newell's formula; so two faces that
+    meet at more than the angle keep a lighting discontinuity along their edge (ISO/IEC
+    14772-1 §6.23)."""
+    positions = np.asarray(positions, dtype=np.float64)
+    sizes = np.asarray(face_sizes, dtype=np.int64)
+    corners = np.asarray(corners, dtype=np.int64)
+    count = len(corners)
+    if not count:
+        return np.zeros((0, 3))
+    starts = np.r_[0, np.cumsum(sizes)[:-1]]
+    face_of = np.repeat(np.arange(len(sizes)), sizes)
+    following = np.arange(count) + 1
+    ends = starts + sizes
+    following[ends - 1] = starts
+    here, there = positions[corners], positions[corners[following]]
+    edges = np.cross(here, there)
+    newell = np.stack([np.bincount(face_of, edges[:, k], len(sizes)) for k in range(3)], axis=1)
+    length = np.linalg.norm(newell, axis=1, keepdims=True)
+    unit = np.where(length > 0, newell / np.where(length > 0, length, 1.0), 0.0)
+    local = np.arange(count) - np.repeat(starts, sizes)
+    size_c = np.repeat(sizes, sizes)
+    fans = np.where(local == 0, size_c - 2, np.where((local == 1) | (local == size_c - 1), 1, 2))
+    weighted = unit[face_of] * fans[:, None]
+    # every pair of corners at one point: Σ (corners of a point)² pairs
+    order = np.argsort(corners, kind="stable")
+    point = corners[order]
+    first = np.r_[True, point[1:] != point[:-1]]
+    group_start = np.flatnonzero(first)
+    group_size = np.diff(np.r_[group_start, count])
+    group_of = np.cumsum(first) - 1
+    size_of = group_size[group_of]
+    mine = np.repeat(np.arange(count), size_of)
+    within = np.arange(int(size_of.sum())) - np.repeat(np.cumsum(size_of) - size_of, size_of)
+    partner = group_start[group_of][mine] + within
+    self_face, other_face = face_of[order[mine]], face_of[order[partner]]
+    near = np.einsum("ij,ij->i", unit[self_face], unit[other_face]) > \
+        math.cos(min(max(float(crease_angle), 0.0), math.pi))
+    near |= self_face == other_face
+    target, source = order[mine][near], weighted[order[partner][near]]
+    normals = np.stack([np.bincount(target, source[:, k], count) for k in range(3)], axis=1)
+    norm = np.linalg.norm(normals, axis=1, keepdims=True)
+    return np.where(norm > 0, normals / np.where(norm > 0, norm, 1.0), unit[face_of])
+
+
+def extrude(spine, cross_section, scales=((1.0, 1.0),), orientations=((0.0, 0.0, 1.0, 0.0),),
+            begin_cap=True, end_cap=True, convex=True) -> dict:
+    """The faces of an Extrusion as the standard builds them.
+
+    Each spine point i carries the cross-section: the point (x, z) of crossSection becomes
+    spine[i] + SCP_i · R(orientation_i) · (scale_i.x · x, 0, scale_i.y · z) (SCP_i from
+    :func:`extrusion_frames`; the last scale and orientation hold for the spine points after
+    them).  Sides: quads (i, j), (i, j+1), (i+1, j+1), (i+1, j) between consecutive spine
+    points and cross-section points, or where one is not planar (at a bend of the spine)
+    the triangles (i, j), (i, j+1), (i+1, j+1) and (i, j), (i+1, j+1), (i+1, j), as X_ITE
+    draws them; caps: the cross-section at the first spine point
+    (reversed, facing back along the spine) and at the last, one polygon each (``convex``)
+    or its triangulation (:func:`triangulate_polygon`).  These faces are counter-clockwise
+    seen from outside for the standard's default square (ccw FALSE reverses them: the
+    caller's business).  Points that coincide exactly are one position (a closed
+    cross-section's seam, a spine point scaled to 0), faces left with fewer than 3
+    different points are dropped.  Texture coordinates: u the cross-section's length from
+    its first point (0 to 1), v the spine's (0 to 1); caps (x, z) of the cross-section
+    scaled so that its bounding box's larger side is 0 to 1.
+
+    Returns {"positions", "face_sizes", "corners", "uvs", "warnings"}."""
+    spine = np.asarray(spine, dtype=np.float64).reshape(-1, 3)
+    cross = np.asarray(cross_section, dtype=np.float64).reshape(-1, 2)
+    empty = {"positions": np.zeros((0, 3)), "face_sizes": np.zeros(0, np.int64),
+             "corners": np.zeros(0, np.int64), "uvs": np.zeros((0, 2)), "warnings": []}
+    if len(spine) < 2 or len(cross) < 2:
+        empty["warnings"].append("Extrusions with fewer than 2 spine or crossSection points: "
+                                 "no faces")
+        return empty
+    if len(spine) * len(cross) > MAX_EXTRUSION_POINTS:
+        empty["warnings"].append(f"Extrusions of more than {MAX_EXTRUSION_POINTS:,} points "
+                                 "(spine × crossSection): left out")
+        return empty
+    ns, nc = len(spine), len(cross)
+    scales = np.asarray(scales, dtype=np.float64).reshape(-1, 2)
+    orientations = np.asarray(orientations, dtype=np.float64).reshape(-1, 4)
+    if not len(scales):
+        scales = np.ones((1, 2))
+    if not len(orientations):
+        orientations = np.array([[0.0, 0.0, 1.0, 0.0]])
+    frames = extrusion_frames(spine)
+    rings = np.zeros((ns, nc, 3))
+    for i in range(ns):
+        sx, sz = scales[min(i, len(scales) - 1)]
+        axis_angle = orientations[min(i, len(orientations) - 1)]
+        local = np.stack([cross[:, 0] * sx, np.zeros(nc), cross[:, 1] * sz], axis=1)
+        matrix = frames[i] @ _rotation3(axis_angle[:3], float(axis_angle[3]))
+        rings[i] = spine[i] + local @ matrix.T
+    # texture coordinates of the sides: lengths along the cross-section and the spine
+    u = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(cross, axis=0), axis=1))]
+    u = u / u[-1] if u[-1] > 0 else np.arange(nc) / (nc - 1)
+    v = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(spine, axis=0), axis=1))]
+    v = v / v[-1] if v[-1] > 0 else np.arange(ns) / (ns - 1)
+    grid = np.arange(ns * nc).reshape(ns, nc)
+    i, j = np.meshgrid(np.arange(ns - 1), np.arange(nc - 1), indexing="ij")
+    i, j = i.ravel(), j.ravel()
+    quads = np.stack([grid[i, j], grid[i, j + 1], grid[i + 1, j + 1], grid[i + 1, j]], axis=1)
+    quad_uv = np.stack([np.stack([u[j], v[i]], 1), np.stack([u[j + 1], v[i]], 1),
+                        np.stack([u[j + 1], v[i + 1]], 1), np.stack([u[j], v[i + 1]], 1)],
+                       axis=1)
+    # a quad that is not planar (between spine points whose planes are not parallel: the
+    # cross-section is not stretched at a bend) is two triangles, split along (i, j)–(i+1, j+1)
+    flat = rings.reshape(-1, 3)
+    corner = flat[quads]
+    normal = np.cross(corner[:, 1] - corner[:, 0], corner[:, 2] - corner[:, 0])
+    length = np.linalg.norm(normal, axis=1)
+    off_plane = np.abs(np.einsum("ij,ij->i", corner[:, 3] - corner[:, 0], normal))
+    size = float(np.abs(flat).max()) or 1.0
+    bent = off_plane > 1e-9 * size * np.where(length > 0, length, np.inf)
+    # faces as (sizes, corners, uvs) parts: whole quads and split ones, in spine order
+    tri_first, tri_second = quads[:, [0, 1, 2]], quads[:, [0, 2, 3]]
+    sides = np.where(bent[:, None], np.concatenate([tri_first, tri_second[:, :1]], axis=1),
+                     quads)
+    side_sizes = np.where(bent, 3, 4)
+    side_corners = np.concatenate([sides, tri_second], axis=1)   # 4 + 3 a quad, some unused
+    side_uvs = np.concatenate([np.where(bent[:, None, None], quad_uv[:, [0, 1, 2, 0]], quad_uv),
+                               quad_uv[:, [0, 2, 3]]], axis=1)
+    used = np.concatenate([np.stack([np.ones_like(bent), np.ones_like(bent), np.ones_like(bent),
+                                     ~bent], axis=1), np.repeat(bent[:, None], 3, axis=1)],
+                          axis=1)
+    face_sizes = [np.stack([side_sizes, np.where(bent, 3, 0)], axis=1).reshape(-1)]
+    face_sizes[0] = face_sizes[0][face_sizes[0] > 0]
+    face_corners = [side_corners[used]]
+    face_uvs = [side_uvs[used]]
+    warnings = []
+    closed = np.array_equal(cross[0], cross[-1])
+    cap_points = cross[:-1] if closed else cross
+    low = cross.min(axis=0)
+    cap_size = float((cross.max(axis=0) - low).max())
+    if len(cap_points) >= 3 and cap_size > 0:
+        cap_uv = (cap_points - low) / cap_size
+        count = len(cap_points)
+        polygons = np.arange(count)[None, :]
+        if not convex and count > MAX_CAP_TRIANGULATION:
+            warnings.append(f"Extrusion caps of more than {MAX_CAP_TRIANGULATION} points not "
+                            "triangulated: one polygon each")
+        elif not convex:
+            polygons, simple = triangulate_polygon(cap_points)
+            if not simple:
+                warnings.append("Extrusion crossSections that are not simple polygons: caps "
+                                "filled as fans")
+        for cap, ring in ((begin_cap, 0), (end_cap, ns - 1)):
+            if not cap or not len(polygons):
+                continue
+            order = polygons[:, ::-1] if ring == 0 else polygons
+            face_sizes.append(np.full(len(order), order.shape[1], np.int64))
+            face_corners.append(grid[ring][order].reshape(-1))
+            face_uvs.append(cap_uv[order].reshape(-1, 2))
+    # one position for points that coincide exactly; faces of fewer than 3 points dropped
+    _, first, inverse = np.unique(flat, axis=0, return_index=True, return_inverse=True)
+    inverse = np.asarray(inverse).reshape(-1)
+    order = np.argsort(first, kind="stable")
+    rank = np.empty(len(order), np.int64)
+    rank[order] = np.arange(len(order))
+    positions = flat[np.sort(first)]
+    sizes = np.concatenate(face_sizes).astype(np.int64)
+    ids = rank[inverse][np.concatenate(face_corners).astype(np.int64)]
+    uvs = np.concatenate(face_uvs).reshape(-1, 2)
+    starts = np.r_[0, np.cumsum(sizes)[:-1]].astype(np.int64)
+    previous = np.arange(len(ids)) - 1
+    previous[starts] = starts + sizes - 1
+    keep = ids != ids[previous]        # a corner at the point of the one before: left out
+    kept = np.add.reduceat(keep.astype(np.int64), starts) if len(sizes) else sizes
+    whole = kept >= 3
+    keep &= np.repeat(whole, sizes)
+    return {"positions": positions, "face_sizes": kept[whole].astype(np.int64),
+            "corners": ids[keep], "uvs": uvs[keep], "warnings": warnings}
 
 
 # -- flattening -----------------------------------------------------------------------------
@@ -3660,7 +4062,34 @@ class _Emit:
         return (w.add("center", "vec", t.center).add("rotation", "float", t.rotation)
                 .add("scale", "vec", t.scale).add("translation", "vec", t.translation))
 
+    def text(self, mesh: Mesh):
+        """A Text read from a file written back as Text with its FontStyle."""
+        w, use = self.define(mesh, "Text")
+        if use:
+            return self.use("Text", use)
+        t = mesh.text
+        w.add("string", "strings", [str(s) for s in t["strings"]])
+        if any(t["length"]):
+            w.add("length", "floats", t["length"])
+        if t["max_extent"]:
+            w.add("maxExtent", "float", t["max_extent"])
+        if self.x3d and t["solid"]:
+            w.add("solid", "bool", True)
+        style = (_W("FontStyle").add("family", "strings", [str(f) for f in t["family"]])
+                 .add("style", "string", t["style"]).add("size", "float", t["size"])
+                 .add("spacing", "float", t["spacing"])
+                 .add("justify", "strings", list(t["justify"])))
+        for key, field_ in (("horizontal", "horizontal"), ("left_to_right", "leftToRight"),
+                            ("top_to_bottom", "topToBottom")):
+            if not t[key]:
+                style.add(field_, "bool", False)
+        if t["language"]:
+            style.add("language", "string", t["language"])
+        return w.node("fontStyle", style)
+
     def geometry(self, mesh: Mesh):
+        if mesh.text is not None:
+            return self.text(mesh)
         # VRML97's primitives are always solid: a two-sided one is written as its faces
         primitive = mesh.kind in _PRIMITIVES and mesh.primitive and (self.x3d or mesh.solid)
         kind = mesh.kind if primitive else \

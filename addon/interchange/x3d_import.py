@@ -15,7 +15,10 @@ module builds the Blender side:
 * meshes through numpy at once (``foreach_set`` of the corner, face and attribute arrays):
   faces counter-clockwise, the file's normals as custom split normals, else smooth by the
   ``creaseAngle``; texture coordinates as "UVMap", colours per corner (per point for line and
-  point sets) as the colour attribute "Col"; line sets loose edges, point sets vertices;
+  point sets) as the colour attribute "Col"; line sets loose edges, point sets vertices; an
+  Extrusion its faces (``core.x3d.extrude``), a Text its strings set in Blender's built-in font
+  (:func:`text_geometry`: a FONT curve converted to a mesh, then removed), one warning a file
+  for the font families and styles it cannot match;
 * every Material a Phong material from birth under the file's name, with
   ``core.x3d.phong_values``: Kd = diffuseColor, Ka = ambientIntensity × diffuseColor (the
   Ambient Object Color control), Ks = specularColor, Ke = emissiveColor, Exponent = 128 ×
@@ -185,6 +188,108 @@ def _scale_of(matrix) -> tuple:
     return scale, uniform
 
 
+#: FontStyle's major justification → Blender's horizontal alignment of a line.
+ALIGN_X = {"BEGIN": "LEFT", "FIRST": "LEFT", "MIDDLE": "CENTER", "END": "RIGHT"}
+#: The font families and styles Blender's built-in font (a sans serif, plain) shows.
+BUILTIN_FAMILIES = {"SANS"}
+BUILTIN_STYLES = {"PLAIN"}
+
+
+def _glyphs(line: str, size: float, align: str):
+    """(positions (n, 3), face sizes, corners) of one line of text in Blender's built-in
+    font: baseline at y = 0, aligned at x = 0 (LEFT, CENTER, RIGHT), *size* the em."""
+    fonts_before = set(bpy.data.fonts)
+    curve = bpy.data.curves.new("X3D Text", "FONT")
+    try:
+        curve.body = line
+        curve.size = size
+        curve.align_x = align
+        obj = bpy.data.objects.new("X3D Text", curve)
+        try:
+            mesh = bpy.data.meshes.new_from_object(obj)
+        finally:
+            bpy.data.objects.remove(obj)
+    finally:
+        bpy.data.curves.remove(curve)
+        for font in set(bpy.data.fonts) - fonts_before:
+            if not font.users:
+                bpy.data.fonts.remove(font)
+    try:
+        positions = np.zeros(len(mesh.vertices) * 3)
+        mesh.vertices.foreach_get("co", positions)
+        sizes = np.zeros(len(mesh.polygons), np.int64)
+        mesh.polygons.foreach_get("loop_total", sizes)
+        corners = np.zeros(len(mesh.loops), np.int64)
+        mesh.loops.foreach_get("vertex_index", corners)
+    finally:
+        bpy.data.meshes.remove(mesh)
+    return positions.reshape(-1, 3), sizes, corners
+
+
+def text_geometry(text: dict, notes: dict) -> x3d.Mesh:
+    """A Text node's strings set in Blender's built-in font as a flat mesh in the node's
+    local XY plane (+Y up, facing +Z): FontStyle ``size`` the em, lines ``size × spacing``
+    apart (downward, upward with ``topToBottom`` FALSE), the major justification
+    (BEGIN / FIRST at x = 0, MIDDLE centred, END ending there) per line, the minor one
+    (FIRST: the first baseline at y = 0; BEGIN, MIDDLE, END: the glyphs' top, middle or
+    bottom), ``length`` (each line's glyphs stretched or squeezed along x to it) and
+    ``maxExtent`` (every line squeezed along x when the longest is longer).  What the
+    font cannot follow is gathered in *notes* ({kind: set of values}) for one warning."""
+    size = float(text["size"]) if text["size"] > 0 else 1.0
+    spacing = float(text["spacing"])
+    major, minor = text["justify"]
+    align = ALIGN_X.get(major, "LEFT")
+    for kind, values, known in (("family", text["family"], BUILTIN_FAMILIES),
+                                ("style", [text["style"]], BUILTIN_STYLES)):
+        notes.setdefault(kind, set()).update(str(v) for v in values if str(v).upper() not in known)
+    if not text["horizontal"]:
+        notes.setdefault("layout", set()).add("horizontal FALSE")
+    if not text["left_to_right"]:
+        notes.setdefault("layout", set()).add("leftToRight FALSE")
+    if major not in ALIGN_X or minor not in ("BEGIN", "FIRST", "MIDDLE", "END"):
+        notes.setdefault("layout", set()).add(f"justify {major} {minor}")
+    direction = -1.0 if text["top_to_bottom"] else 1.0
+    lines = []
+    for index, line in enumerate(text["strings"]):
+        positions, sizes, corners = _glyphs(line, size, align)
+        positions[:, 1] += direction * index * size * spacing
+        length = text["length"][index] if index < len(text["length"]) else 0.0
+        if length > 0 and len(positions):
+            width = positions[:, 0].max() - positions[:, 0].min()
+            if width > 0:
+                positions[:, 0] *= length / width
+        lines.append((positions, sizes, corners))
+    positions = np.concatenate([p for p, _, _ in lines]) if lines else np.zeros((0, 3))
+    if text["max_extent"] > 0 and len(positions):
+        widths = [p[:, 0].max() - p[:, 0].min() for p, _, _ in lines if len(p)]
+        if max(widths) > text["max_extent"]:
+            positions[:, 0] *= text["max_extent"] / max(widths)
+    if len(positions) and minor in ("BEGIN", "MIDDLE", "END"):
+        top, bottom = positions[:, 1].max(), positions[:, 1].min()
+        positions[:, 1] -= {"BEGIN": top, "END": bottom, "MIDDLE": (top + bottom) / 2.0}[minor]
+    offsets = np.cumsum([0] + [len(p) for p, _, _ in lines])
+    corners = np.concatenate([c + offsets[k] for k, (_, _, c) in enumerate(lines)]) \
+        if lines else np.zeros(0, np.int64)
+    sizes = np.concatenate([s for _, s, _ in lines]) if lines else np.zeros(0, np.int64)
+    positions[:, 2] = 0.0
+    return x3d.Mesh(name="Text", kind="Text", positions=positions, face_sizes=sizes,
+                    corners=corners.astype(np.int64), solid=text["solid"])
+
+
+def font_warnings(notes: dict) -> list:
+    """One warning for everything the Text nodes of a file asked that the font cannot
+    show (*notes* of :func:`text_geometry`)."""
+    parts = []
+    unmatched = sorted(notes.get("family", set()) | notes.get("style", set()))
+    if unmatched:
+        parts.append("Blender's built-in font (a plain sans serif) used for " +
+                     ", ".join(unmatched))
+    if notes.get("layout"):
+        parts.append("not followed: " + ", ".join(sorted(notes["layout"])) +
+                     " (set left to right, top to bottom, BEGIN / FIRST)")
+    return ["Text: " + "; ".join(parts)] if parts else []
+
+
 class _Builder:
     def __init__(self, context, doc):
         self.context = context
@@ -209,6 +314,7 @@ class _Builder:
         self.world_before = None    # (world, {key: value or None})
         self.scene_keys = {HEADLIGHT_OFF_KEY: self.scene.get(HEADLIGHT_OFF_KEY)}
         self.retargeted = []        # (a scene's own headlight, the camera it followed)
+        self.font_notes = {}        # what the Text nodes asked of the font: {kind: {value}}
 
     def warn(self, text: str) -> None:
         if text not in self.own:
@@ -252,6 +358,8 @@ class _Builder:
             self.warn("the file has no shape with geometry")
         for inst in doc.instances:
             self.shape(inst)
+        for line in font_warnings(self.font_notes):
+            self.warn(line)
         self.make_camera()
         lights = self.lights()
         if doc.headlight:   # the viewer has one headlight: a scene's own follows the camera
@@ -317,6 +425,8 @@ class _Builder:
 
     # -- meshes -----------------------------------------------------------------------------
     def mesh(self, source, name):
+        if source.text is not None:
+            return self.mesh(text_geometry(source.text, self.font_notes), name)
         source = x3d.counter_clockwise(source)
         mesh = bpy.data.meshes.new(name)
         positions = np.asarray(source.positions, dtype=np.float64) * self.doc.meter
