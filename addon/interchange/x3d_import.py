@@ -27,7 +27,8 @@ module builds the Blender side:
   (and the comparison's reference, which reads the material's inputs, predicts it);
 * lights: DirectionalLight → Sun, PointLight → Point, SpotLight → Spot (``spot_size`` = 2 ×
   cutOffAngle), Phong Intensity, Ambient, attenuation (a0, a1, a2) and Radius through
-  ``core.x3d.light_values``, Beam Width; ``on FALSE`` hidden from render; a scoped light
+  ``core.x3d.light_values``, both for distances in the world (the standard measures them in
+  the light's coordinate system: under a scale s, a1 / s, a2 / s², radius × s), Beam Width; ``on FALSE`` hidden from render; a scoped light
   (VRML97's DirectionalLight, X3D's ``global FALSE``) Light-Linked to a receiver collection
   of exactly the objects of its scope; the headlight (``NavigationInfo { headlight TRUE }``,
   the default) a Sun that follows the camera (``lighting/headlight.py``);
@@ -181,6 +182,16 @@ def _scale_of(matrix) -> tuple:
     scale = float(abs(np.linalg.det(linear))) ** (1.0 / 3.0)
     uniform = values.max() - values.min() <= 1e-6 * max(values.max(), 1e-30)
     return scale, uniform
+
+
+def light_attenuation(attenuation, scale) -> tuple:
+    """The attenuation (a0, a1, a2) of a light under a Transform of uniform *scale* s, for
+    world distances: the standard's 1/max(a0 + a1·d + a2·d², 1) takes d in the light's
+    coordinate system, d = d_world / s, so a1' = a1 / s and a2' = a2 / s² (a scale of 0,
+    which the file cannot mean, is read as 1)."""
+    a0, a1, a2 = (float(v) for v in attenuation)
+    s = float(scale) if scale > 0.0 and math.isfinite(scale) else 1.0
+    return a0, a1 / s, a2 / (s * s)
 
 
 class _Builder:
@@ -414,11 +425,13 @@ class _Builder:
             self.warn(f"negative light intensities read as 0: {name}")
         settings = {"intensity": max(intensity, 0.0), "ambient": max(ambient, 0.0)}
         if source.kind != "directional":
+            # the standard measures d (attenuation and radius) in the light's coordinate
+            # system: under a scale s, d_local = d_world / s (light_attenuation)
             scale, uniform = _scale_of(inst.matrix)
             if not uniform:
-                self.warn(f"lights under a non-uniform scale: their radius scaled by the cube "
-                          f"root of the volume scale: {name}")
-            a0, a1, a2 = values["attenuation"]
+                self.warn(f"lights under a non-uniform scale: their attenuation and radius "
+                          f"measured with the cube root of the volume scale: {name}")
+            a0, a1, a2 = light_attenuation(values["attenuation"], scale)
             settings.update(constant=a0, linear=a1, quadratic=a2,
                             radius=values["radius"] * scale)
         if source.kind == "spot":

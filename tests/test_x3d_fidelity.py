@@ -1,0 +1,171 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""What VRML97 / X3D files say that the importer and exporter keep (issue 42): lights under a
+scaled Transform attenuate by the distance in their own coordinate system (rendered by Cycles
+against the standard's equation computed here by hand), the file's material names survive an
+export for any reader, a texture's alpha is the material's opacity, ``solid`` is the
+material's Backface Culling, each both ways."""
+
+from __future__ import annotations
+
+import math
+import os
+import re
+
+import numpy as np
+import pytest
+
+import blender_env as be
+from test_x3d_import import DATA, png, write
+
+# -- lights under a scaled Transform ----------------------------------------------------------
+
+#: A floor 8 × 6 in the file's XZ plane seen from above by an orthographic view; a point
+#: light under a Transform of scale 2.5 and a spot light under one of scale 0.4.
+SCALED_LIGHTS = """#X3D V3.3 utf8
+PROFILE Immersive
+NavigationInfo { headlight FALSE }
+OrthoViewpoint { position 0 10 0 orientation 1 0 0 -1.5707963 fieldOfView -4 -3 4 3 }
+DEF Floor Shape {
+  appearance Appearance { material DEF Ground Material { diffuseColor 0.8 0.7 0.6
+    ambientIntensity 0.2 specularColor 0.3 0.3 0.3 shininess 0.2 } }
+  geometry IndexedFaceSet { coord Coordinate { point [ -4 0 -3, 4 0 -3, 4 0 3, -4 0 3 ] }
+    coordIndex [ 0 3 2 1 -1 ] }
+}
+Transform { translation -2 0 0.5 scale 2.5 2.5 2.5 children [
+  DEF Bulb PointLight { location 0.1 0.6 0 intensity 0.9 ambientIntensity 0.1
+                        color 1 0.9 0.8 attenuation 0.5 0.8 0.6 radius 1.2 }
+] }
+Transform { translation 2 0 -0.5 scale 0.4 0.4 0.4 children [
+  DEF Cone SpotLight { location 0 5 0 direction 0.2 -1 0 beamWidth 0.4 cutOffAngle 0.8
+                       intensity 0.8 ambientIntensity 0.15 color 0.8 0.9 1
+                       attenuation 0.2 0.3 0.05 radius 8 }
+] }
+"""
+#: The lights as the file states them: (translation, scale, location, direction or None,
+#: intensity, ambientIntensity, colour, attenuation, radius, beamWidth, cutOffAngle).
+LIGHTS = (
+    ((-2.0, 0.0, 0.5), 2.5, (0.1, 0.6, 0.0), None, 0.9, 0.1, (1.0, 0.9, 0.8),
+     (0.5, 0.8, 0.6), 1.2, None, None),
+    ((2.0, 0.0, -0.5), 0.4, (0.0, 5.0, 0.0), (0.2, -1.0, 0.0), 0.8, 0.15, (0.8, 0.9, 1.0),
+     (0.2, 0.3, 0.05), 8.0, 0.4, 0.8),
+)
+GROUND = {"diffuse": np.array([0.8, 0.7, 0.6]), "ambient": 0.2,
+          "specular": np.array([0.3, 0.3, 0.3]), "shininess": 0.2}
+
+
+def standard_equation(points):
+    """X3D §17.2.2.4 for the floor (file coordinates, N = V = +Y, the view orthographic), each
+    light's distance dL measured in the light's own coordinate system (the Transform's
+    inverse applied to the point), as the standard says."""
+    n = np.array([0.0, 1.0, 0.0])
+    v = n
+    total = np.zeros((len(points), 3))
+    od, os_ = GROUND["diffuse"], GROUND["specular"]
+    oa = GROUND["ambient"] * od
+    for (move, scale, location, direction, intensity, ambient, colour, (a0, a1, a2), radius,
+         beam, cut) in LIGHTS:
+        local = (points - np.array(move)) / scale                 # the light's coordinates
+        to_light = np.array(location) - local
+        d = np.linalg.norm(to_light, axis=1)
+        lv = to_light / d[:, None]                                # a direction: scale-free
+        att = 1.0 / np.maximum(a0 + a1 * d + a2 * d * d, 1.0)
+        inside = d <= radius
+        spot = np.ones(len(points))
+        if direction is not None:
+            u = np.array(direction) / np.linalg.norm(direction)
+            omega = np.arccos(np.clip(-(lv @ u), -1.0, 1.0))
+            spot = np.clip((cut - omega) / (cut - beam), 0.0, 1.0)
+        h = lv + v
+        h /= np.linalg.norm(h, axis=1)[:, None]
+        diffuse = np.maximum(lv @ n, 0.0)[:, None] * od
+        highlight = np.maximum(h @ n, 0.0)[:, None] ** (128.0 * GROUND["shininess"]) * os_
+        term = ambient * oa + intensity * (diffuse + highlight)
+        total += (inside * att * spot)[:, None] * np.array(colour) * term
+    return np.minimum(total, 1.0)
+
+
+def _near_a_radius(points):
+    """Pixels within 1e-3 of a light's radius (the hard edge may fall on either side)."""
+    near = np.zeros(len(points), bool)
+    for move, scale, location, *_rest in LIGHTS:
+        radius = _rest[5]
+        d = np.linalg.norm((points - np.array(move)) / scale - np.array(location), axis=1)
+        near |= np.abs(d - radius) < 1e-3
+    return near
+
+
+def _render_floor(bpy, tmp_path, path, size=(80, 60)):
+    """Import *path* into a new Cycles scene, probe the floor's positions, render: (file
+    coordinates of the floor's pixels, their colours)."""
+    from phong_scene import _add_probe_aovs, render  # noqa: PLC0415
+
+    scene = be.new_scene("scaled lights", *size, "cycles")
+    bpy.context.window.scene = scene
+    assert bpy.ops.phong.import_x3d(filepath=str(path)) == {"FINISHED"}
+    for name, kind in (("P", "COLOR"), ("N", "COLOR"), ("I", "COLOR"), ("id", "VALUE")):
+        be.add_aov(scene, name, kind)
+    floor = bpy.data.objects["Floor"]
+    _add_probe_aovs(bpy, floor.active_material, 1)
+    passes, _seconds = render(bpy, scene, str(tmp_path / "floor.exr"))
+    hit = np.rint(passes["id"][..., 0]).astype(int) == 1
+    blender = passes["P"][..., :3].astype(np.float64)[hit]
+    points = np.stack([blender[:, 0], blender[:, 2], -blender[:, 1]], axis=1)  # Z up → Y up
+    return scene, points, passes["Combined"][..., :3].astype(np.float64)[hit]
+
+
+def _check_against_the_standard(points, got, label):
+    keep = ~_near_a_radius(points)
+    want = standard_equation(points[keep])
+    error = np.abs(got[keep] - want).max(axis=1)
+    be.report(f"[x3d scaled lights {label}] {keep.sum()} pixels, max |Δ| {error.max():.2e}, "
+              f"{(error <= 1e-4).mean():.2%} within 1e-4")
+    assert keep.sum() > 4000
+    assert error.max() <= 1e-4, error.max()
+    # the scene is one where a light's distance in the world would differ
+    lit = want.max(axis=1) > 0.05
+    assert lit.mean() > 0.5
+
+
+@pytest.mark.cycles
+def test_lights_under_a_scaled_transform_attenuate_in_their_own_coordinates(bpy_clean,
+                                                                            tmp_path):
+    """Cycles within 1e-4 of the standard's equation with dL measured in each light's
+    coordinate system (scale 2.5 and 0.4); the values: a1 / s, a2 / s², radius × s."""
+    bpy = bpy_clean
+    path = write(tmp_path, "scaled_lights.x3dv", SCALED_LIGHTS)
+    _scene, points, got = _render_floor(bpy, tmp_path, path)
+    _check_against_the_standard(points, got, "import")
+    for name, (_move, s, *_r, (a0, a1, a2), radius, _b, _c) in zip(("Bulb", "Cone"), LIGHTS):
+        light = bpy.data.lights[name]
+        assert light["phong_constant"] == pytest.approx(a0, rel=1e-6)
+        assert light["phong_linear"] == pytest.approx(a1 / s, rel=1e-6)
+        assert light["phong_quadratic"] == pytest.approx(a2 / (s * s), rel=1e-6)
+        assert light["phong_radius"] == pytest.approx(radius * s, rel=1e-6)
+
+
+@pytest.mark.cycles
+def test_scaled_lights_survive_export_and_import(bpy_clean, tmp_path):
+    """import → export (lights written in the world) → import: the same values and the same
+    rendered pixels of the standard's equation."""
+    bpy = bpy_clean
+    from phong_nodes.addon.interchange import x3d_export  # noqa: PLC0415
+
+    path = write(tmp_path, "scaled_lights.x3dv", SCALED_LIGHTS)
+    scene, _points, _got = _render_floor(bpy, tmp_path, path)
+    first = {n: {k: float(bpy.data.lights[n][k]) for k in
+                 ("phong_constant", "phong_linear", "phong_quadratic", "phong_radius")}
+             for n in ("Bulb", "Cone")}
+    out = str(tmp_path / "again.x3d")
+    x3d_export.export(bpy.context, out)
+    bpy.data.scenes.remove(scene)
+    for block in list(bpy.data.objects) + list(bpy.data.lights):
+        if block.name in bpy.data.objects:
+            bpy.data.objects.remove(block)
+    for light in list(bpy.data.lights):
+        bpy.data.lights.remove(light)
+    _scene, points, got = _render_floor(bpy, tmp_path, out)
+    _check_against_the_standard(points, got, "round trip")
+    for name, values in first.items():
+        light = bpy.data.lights[name]
+        for key, value in values.items():
+            assert float(light[key]) == pytest.approx(value, rel=1e-6), (name, key)
