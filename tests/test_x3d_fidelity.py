@@ -169,3 +169,65 @@ def test_scaled_lights_survive_export_and_import(bpy_clean, tmp_path):
         light = bpy.data.lights[name]
         for key, value in values.items():
             assert float(light[key]) == pytest.approx(value, rel=1e-6), (name, key)
+
+
+# -- the file's material names for every reader ------------------------------------------------
+
+KICAD = os.path.join(DATA, "kicad_R_0805_2012Metric_excerpt.wrl")
+DEF_MATERIAL = re.compile(r"DEF\s+([^\s{}\[\],\"'#]+)\s+Material\b")
+DEF_MATERIAL_XML = re.compile(r"<Material\b[^>]*\bDEF=['\"]([^'\"]+)['\"]")
+
+
+def _material_defs(path):
+    """The DEF names of the Materials of a written file, by a plain regular expression (as
+    any other reader sees them: no WorldInfo)."""
+    text = open(path, encoding="utf-8").read()
+    return set(DEF_MATERIAL.findall(text)) | set(DEF_MATERIAL_XML.findall(text))
+
+
+@pytest.mark.parametrize("ending", [".wrl", ".x3dv", ".x3d"])
+def test_a_round_trip_of_a_kicad_file_keeps_every_material_name(bpy_clean, tmp_path, ending):
+    """KiCad names its materials on purpose (PIN-01, RES-SMD-01 ...); its shapes have no DEF,
+    so the importer names their objects after their materials.  Exported, the materials keep
+    exactly those names as their DEF, the objects yield; re-imported, the same materials."""
+    bpy = bpy_clean
+    from phong_nodes.addon.interchange import x3d_export  # noqa: PLC0415
+
+    want = _material_defs(KICAD)
+    assert want == {"PIN-01", "PLASTIC-WHITE-01", "RES-SMD-01"}
+    assert bpy.ops.phong.import_x3d(filepath=KICAD) == {"FINISHED"}
+    objects = {o.name for o in bpy.data.objects if o.type == "MESH"}
+    assert objects & want, "objects named after their materials: the collision this is about"
+    out = str(tmp_path / ("again" + ending))
+    x3d_export.export(bpy.context, out)
+    assert _material_defs(out) == want
+    text = open(out, encoding="utf-8").read()
+    groups = set(re.findall(r"DEF\s+(\S+)\s+Transform\b", text)) | \
+        set(re.findall(r"<Transform\b[^>]*\bDEF=['\"]([^'\"]+)['\"]", text))
+    assert groups and not groups & want, "the objects yield their names"
+    before = {m.name for m in bpy.data.materials}
+    assert bpy.ops.phong.import_x3d(filepath=out) == {"FINISHED"}
+    again = {m.name for m in bpy.data.materials} - before
+    assert {name.rsplit(".", 1)[0] for name in again} == want   # Blender's .001 on clashes
+
+
+def test_material_defs_come_before_colliding_groups():
+    """core.x3d alone: a Transform and a Shape named as a material get another DEF; the
+    material keeps its own, in all three encodings."""
+    from phong_nodes.core import x3d  # noqa: PLC0415
+
+    paint = x3d.Material(name="Paint")
+    mesh = x3d.Mesh(name="Paint", kind="IndexedFaceSet",
+                    positions=np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0]], float),
+                    face_sizes=np.array([3]), corners=np.array([0, 1, 2]))
+    shape = x3d.Shape(name="Paint", geometry=mesh, appearance=x3d.Appearance(material=paint))
+    doc = x3d.Document(path="t.x3d", encoding="x3d-xml")
+    doc.root.children.append(x3d.Transform(name="Paint", kind="Transform",
+                                           matrix=np.diag([2.0, 2.0, 2.0, 1.0]),
+                                           children=[shape]))
+    for dump in (x3d.dumps_vrml, x3d.dumps_x3dv, x3d.dumps_x3d):
+        text = dump(doc)
+        names = set(DEF_MATERIAL.findall(text)) | set(DEF_MATERIAL_XML.findall(text))
+        assert names == {"Paint"}, (dump.__name__, names)
+        back = x3d.loads(text)
+        assert back.instances[0].shape.material.name == "Paint"
