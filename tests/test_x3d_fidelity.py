@@ -231,3 +231,98 @@ def test_material_defs_come_before_colliding_groups():
         assert names == {"Paint"}, (dump.__name__, names)
         back = x3d.loads(text)
         assert back.instances[0].shape.material.name == "Paint"
+
+
+# -- a texture's alpha --------------------------------------------------------------------------
+
+#: A textured quad (its material transparency 0.25) in front of a green quad, seen from the
+#: front by an orthographic view of exactly the quad; the texture's four bands of 16 texels.
+ALPHA_SCENE = """#X3D V3.3 utf8
+PROFILE Immersive
+NavigationInfo { headlight FALSE }
+OrthoViewpoint { position 0 0 5 fieldOfView -2 -0.5 2 0.5 }
+DirectionalLight { direction 0 0 -1 intensity 0.8 ambientIntensity 0 }
+DEF Label Shape {
+  appearance Appearance { texture ImageTexture { url "label.png" }
+    material DEF Ink Material { diffuseColor 1 1 1 ambientIntensity 0 transparency 0.25 } }
+  geometry IndexedFaceSet { coord Coordinate { point [ -2 -0.5 1, 2 -0.5 1, 2 0.5 1, -2 0.5 1 ] }
+    coordIndex [ 0 1 2 3 -1 ] texCoord TextureCoordinate { point [ 0 0, 1 0, 1 1, 0 1 ] } }
+}
+DEF Behind Shape {
+  appearance Appearance { material DEF Back Material { diffuseColor 0 0 0 ambientIntensity 0
+                                                       emissiveColor 0.2 0.5 0.3 } }
+  geometry IndexedFaceSet { coord Coordinate { point [ -3 -1 0, 3 -1 0, 3 1 0, -3 1 0 ] }
+    coordIndex [ 0 1 2 3 -1 ] }
+}
+"""
+#: Per band: the texel's RGB and alpha (bytes).
+BANDS = (((200, 100, 50), 0), ((200, 100, 50), 255), ((50, 150, 250), 128),
+         ((50, 150, 250), 255))
+BACK = np.array([0.2, 0.5, 0.3])
+
+
+def _alpha_png(path):
+    texels = np.zeros((16, 64, 4), dtype=np.int64)
+    for band, (rgb, alpha) in enumerate(BANDS):
+        texels[:, 16 * band:16 * band + 16, :3] = rgb
+        texels[:, 16 * band:16 * band + 16, 3] = alpha
+    return png(path, texels)
+
+
+def _render_bands(bpy, path, tmp_path, label):
+    from phong_scene import render  # noqa: PLC0415
+
+    scene = be.new_scene(label, 64, 16, "cycles")
+    bpy.context.window.scene = scene
+    assert bpy.ops.phong.import_x3d(filepath=str(path)) == {"FINISHED"}
+    passes, _seconds = render(bpy, scene, str(tmp_path / f"{label}.exr"))
+    return scene, passes["Combined"][..., :3].astype(np.float64)
+
+
+def _check_bands(picture):
+    """By hand: a = A × (1 − transparency); the pixel a · 0.8 · RGB + (1 − a) · behind."""
+    for band, (rgb, alpha) in enumerate(BANDS):
+        a = alpha / 255.0 * (1.0 - 0.25)
+        want = a * 0.8 * np.array(rgb) / 255.0 + (1.0 - a) * BACK
+        got = picture[4:12, 16 * band + 4:16 * band + 12].reshape(-1, 3)
+        assert np.abs(got - want).max() <= 1e-5, (band, got[0], want)
+
+
+@pytest.mark.cycles
+def test_a_textures_alpha_is_the_materials_opacity_both_ways(bpy_clean, tmp_path):
+    """An RGBA PNG: where its alpha is 0 the quad behind shows, where it is 1 the material's
+    own 1 − transparency blends, between the product; exported, the texture and transparency
+    are written back and a re-import renders the same pixels."""
+    bpy = bpy_clean
+    from phong_nodes.addon.interchange import x3d_export  # noqa: PLC0415
+    from phong_nodes.addon.lighting import materials  # noqa: PLC0415
+
+    _alpha_png(tmp_path / "label.png")
+    path = write(tmp_path, "label.x3dv", ALPHA_SCENE)
+    scene, picture = _render_bands(bpy, path, tmp_path, "alpha")
+    ink = bpy.data.materials["Ink"]
+    assert materials.blends(ink) and materials.opacity(ink) == pytest.approx(0.75)
+    assert not materials.blends(bpy.data.materials["Back"])
+    _check_bands(picture)
+    out = tmp_path / "out"
+    out.mkdir()
+    warnings = x3d_export.export(bpy.context, str(out / "label.x3dv"))
+    assert not [w for w in warnings if "opacity map" in w], warnings
+    text = (out / "label.x3dv").read_text()
+    assert "label.png" in text and re.search(r"transparency 0\.25\b", text)
+    bpy.data.scenes.remove(scene)
+    for obj in list(bpy.data.objects):
+        bpy.data.objects.remove(obj)
+    _scene, again = _render_bands(bpy, out / "label.x3dv", tmp_path, "again")
+    _check_bands(again)
+
+
+@pytest.mark.cycles
+def test_an_opaque_rgba_texture_leaves_the_material_opaque(bpy_clean, tmp_path):
+    bpy = bpy_clean
+    from phong_nodes.addon.lighting import materials  # noqa: PLC0415
+
+    png(tmp_path / "label.png", np.tile([10, 20, 30, 255], (4, 4, 1)))
+    path = write(tmp_path, "label.x3dv", ALPHA_SCENE.replace("transparency 0.25", ""))
+    assert bpy.ops.phong.import_x3d(filepath=path) == {"FINISHED"}
+    assert not materials.blends(bpy.data.materials["Ink"])

@@ -13,7 +13,8 @@ The inverse of ``x3d_import`` (docs/interchange.md, "X3D / VRML97"):
   = Specular Color, emissiveColor = Irradiant Color, shininess = Exponent / 128 (clamped to
   [0, 1], with a warning above 128), ambientIntensity = Ka / Kd where the Ambient Object Color
   is a multiple of the Object Color (else the best multiple, with a warning), transparency = 1
-  − Opacity; an Image Texture feeding Object Color an ImageTexture (with its TextureTransform),
+  − Opacity; an Image Texture feeding Object Color an ImageTexture (with its TextureTransform;
+  its alpha × Opacity as the opacity map is what X3D says with the texture's alpha),
   a colour attribute a Color node; a material imported from a shape without Material (Kd, Ka,
   Ks black) a Shape without Material again;
 * lights with their X3D values: ``on`` (hidden from render: FALSE), intensity, ambient
@@ -403,7 +404,8 @@ class _Writer:
                            emissive=_colour(ke_feed.control if ke_feed.control is not None
                                             else ke_feed.constant),
                            shininess=max(shininess, 0.0), transparency=f32(1.0 - opacity))
-        if tree.nodes.get(recipe.OPACITY_MAP) is not None:
+        if tree.nodes.get(recipe.OPACITY_MAP) is not None and not (
+                texture is not None and _texture_alpha(tree, kd_feed.texture)):
             self.warnings.add(f"material {name}: its opacity map left out (X3D 3's "
                               "transparency is one number)")
         blinn = float(compat.value_output(tree.nodes["phong_blinn"]).default_value)
@@ -699,6 +701,23 @@ def _walk(source, out, depth) -> None:
             _walk(socket.links[0].from_socket, out, depth + 1)
     else:
         out.unknown = True
+
+
+def _texture_alpha(tree, node) -> bool:
+    """Whether the opacity map of *tree* is the alpha of the Image Texture *node* (the one
+    written) times the Opacity control: what X3D says with the texture's alpha and
+    transparency (``x3d_import._Builder.texture_alpha``)."""
+    product = tree.nodes.get(recipe.OPACITY_MAP)
+    if node is None or product is None or product.operation != "MULTIPLY":
+        return False
+    sources = set()
+    for identifier in ("Value", "Value_001"):
+        socket = compat.input_socket(product, identifier)
+        if not socket.is_linked:
+            return False
+        link = socket.links[0]
+        sources.add((link.from_node.name, link.from_socket.identifier))
+    return sources == {(node.name, "Alpha"), (recipe.OPACITY, "Value")}
 
 
 def _grey(texture) -> bool:

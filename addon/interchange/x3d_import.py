@@ -21,7 +21,9 @@ module builds the Blender side:
   Ambient Object Color control), Ks = specularColor, Ke = emissiveColor, Exponent = 128 ×
   shininess, Opacity = 1 − transparency.  An RGB(A) texture or the Color node replaces the
   diffuse colour (Ka = ambientIntensity × it), a one- or two-channel texture multiplies it
-  (the image's channels read from its file); TextureTransform a Mapping node.  A shape
+  (the image's channels read from its file); a two- or four-channel texture's alpha times
+  1 − transparency the material's opacity (its opacity map); TextureTransform a Mapping
+  node.  A shape
   without Material is unlit: a Phong material whose Irradiant Color is its texture, its
   colours or white and whose Kd, Ka and Ks are black, so the picture is that colour exactly
   (and the comparison's reference, which reads the material's inputs, predicts it);
@@ -641,6 +643,8 @@ class _Builder:
                 tree, "texture x colours", "MULTIPLY", base, colour, (-700.0, 500.0))
         if base is None:
             return self.finish(material, values)
+        if image is not None and components in (2, 4) and self.has_alpha(image):
+            self.texture_alpha(material, values["opacity"])
         if values["source"] == "texture*material":   # a grey texture multiplies the term
             feed = self.vector(tree, "texture x colour", "MULTIPLY", base,
                                compat.value_output(nodes[term]), (-700.0, 300.0))
@@ -666,9 +670,37 @@ class _Builder:
 
     @staticmethod
     def finish(material, values):
-        if values["opacity"] < 1.0:
+        if values["opacity"] < 1.0 and material.node_tree.nodes.get(recipe.OPACITY_MAP) is None:
             recipe.set_opacity(material, values["opacity"])
         return material
+
+    @staticmethod
+    def texture_alpha(material, opacity):
+        """A two- or four-channel texture's alpha as the material's opacity (cut-out leaves,
+        labels): the opacity map (``materials.OPACITY_MAP``) = the texture's alpha × the
+        Opacity control, which keeps the file's 1 − transparency (X3D 4's texturing table:
+        A × (1 − transparency); VRML97 and X3D 3 say A alone, the same where transparency
+        is 0, as it mostly is)."""
+        tree = material.node_tree
+        recipe.set_opacity(material, opacity)   # the control: kept for the export
+        alpha = compat.output_socket(tree.nodes[TEXTURE_NODE], "Alpha")
+        control = compat.value_output(tree.nodes[recipe.OPACITY])
+        native.math(tree, recipe.OPACITY_MAP, "MULTIPLY", alpha, control, (-400.0, 600.0),
+                    clamp=True)
+        tree.nodes[recipe.OPACITY_MAP].label = "texture alpha x Opacity"
+        recipe.apply_opacity(material)
+
+    @staticmethod
+    def has_alpha(image) -> bool:
+        """Whether *image* has a texel whose alpha is below 1 (an RGBA file of opaque texels
+        blends nothing: it stays an opaque material).  Images over 16 Mpixels are not
+        read: taken as having one."""
+        width, height = image.size
+        if width * height > (1 << 24):
+            return True
+        pixels = np.empty(width * height * 4, dtype=np.float32)
+        image.pixels.foreach_get(pixels)
+        return bool(len(pixels)) and float(pixels[3::4].min()) < 1.0
 
     @staticmethod
     def vector(tree, what, operation, a, b, location):
