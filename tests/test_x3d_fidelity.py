@@ -326,3 +326,108 @@ def test_an_opaque_rgba_texture_leaves_the_material_opaque(bpy_clean, tmp_path):
     path = write(tmp_path, "label.x3dv", ALPHA_SCENE.replace("transparency 0.25", ""))
     assert bpy.ops.phong.import_x3d(filepath=path) == {"FINISHED"}
     assert not materials.blends(bpy.data.materials["Ink"])
+
+
+# -- solid ----------------------------------------------------------------------------------------
+
+SOLID = """#X3D V3.3 utf8
+PROFILE Immersive
+NavigationInfo { headlight FALSE }
+OrthoViewpoint { position 0 0 5 fieldOfView -3 -1 3 1 }
+DirectionalLight { direction 0 0 1 intensity 1 ambientIntensity 0.5 }
+# the viewer sees the backs of both quads of Paint (counter-clockwise seen from behind)
+DEF Front Shape { appearance Appearance { material DEF Paint Material { diffuseColor 1 0 0
+                                                                         emissiveColor 0 0 0.5 } }
+  geometry IndexedFaceSet { coord Coordinate { point [ -2 -1 0, -2 1 0, 0 1 0, 0 -1 0 ] }
+    coordIndex [ 0 1 2 3 -1 ] } }
+DEF Open Shape { appearance Appearance { material USE Paint }
+  geometry IndexedFaceSet { solid FALSE
+    coord Coordinate { point [ 0 -1 0, 0 1 0, 2 1 0, 2 -1 0 ] } coordIndex [ 0 1 2 3 -1 ] } }
+DEF Ball Shape { appearance Appearance { material DEF Chalk Material { } }
+  geometry Sphere { radius 0.1 } }
+DEF Disc Shape { appearance Appearance { material DEF Soap Material { } }
+  geometry Cylinder { radius 0.1 height 0.1 solid FALSE } }
+"""
+
+
+def test_solid_is_the_materials_backface_culling_with_a_variant_where_shapes_differ(
+        bpy_clean, tmp_path):
+    """X3D's default solid TRUE (IndexedFaceSet and primitives) culls back faces, solid FALSE
+    draws both; one material whose shapes differ becomes two variants.  VRML97's default is
+    TRUE too."""
+    bpy = bpy_clean
+    path = write(tmp_path, "solid.x3dv", SOLID)
+    assert bpy.ops.phong.import_x3d(filepath=path) == {"FINISHED"}
+    material = {o.name: o.active_material for o in bpy.data.objects if o.type == "MESH"}
+    assert material["Front"].name == "Paint" and material["Front"].use_backface_culling
+    assert material["Open"].name == "Paint [two-sided]"
+    assert not material["Open"].use_backface_culling
+    assert material["Ball"].use_backface_culling and not material["Disc"].use_backface_culling
+    vrml = write(tmp_path, "solid.wrl", """#VRML V2.0 utf8
+Shape { appearance Appearance { material DEF Wood Material { } }
+  geometry IndexedFaceSet { coord Coordinate { point [ 0 0 0, 1 0 0, 0 1 0 ] }
+    coordIndex [ 0 1 2 -1 ] } }
+Shape { appearance Appearance { material DEF Glass Material { } }
+  geometry IndexedFaceSet { solid FALSE coord Coordinate { point [ 0 0 0, 1 0 0, 0 1 0 ] }
+    coordIndex [ 0 1 2 -1 ] } }
+""")
+    assert bpy.ops.phong.import_x3d(filepath=vrml) == {"FINISHED"}
+    assert bpy.data.materials["Wood"].use_backface_culling
+    assert not bpy.data.materials["Glass"].use_backface_culling
+
+
+@pytest.mark.parametrize("ending", [".x3dv", ".wrl", ".x3d"])
+def test_solid_is_written_from_backface_culling_and_read_back(bpy_clean, tmp_path, ending):
+    bpy = bpy_clean
+    from phong_nodes.addon.interchange import x3d_export  # noqa: PLC0415
+    from phong_nodes.core import x3d  # noqa: PLC0415
+
+    path = write(tmp_path, "solid.x3dv", SOLID)
+    assert bpy.ops.phong.import_x3d(filepath=path) == {"FINISHED"}
+    culling = {m.name: m.use_backface_culling for m in bpy.data.materials}
+    out = str(tmp_path / ("again" + ending))
+    x3d_export.export(bpy.context, out)
+    doc = x3d.load(out)   # the file as written: solid per shape, by its material's name
+    written = {inst.shape.material.name: inst.shape.geometry.solid for inst in doc.instances}
+    assert written == {name: culling[name] for name in written}
+    assert set(written) == {"Paint", "Paint [two-sided]", "Chalk", "Soap"}
+    text = open(out, encoding="utf-8").read()
+    assert len(re.findall(r"solid(?:=['\"]false['\"]| FALSE)", text)) == 2   # Open and Disc
+    for obj in list(bpy.data.objects):
+        bpy.data.objects.remove(obj)
+    before = set(bpy.data.materials)
+    assert bpy.ops.phong.import_x3d(filepath=out) == {"FINISHED"}
+    again = {m.name.rsplit(".", 1)[0]: m.use_backface_culling
+             for m in set(bpy.data.materials) - before}
+    assert again == culling
+
+
+@pytest.mark.cycles
+@pytest.mark.eevee
+def test_solid_culls_in_eevee_and_cycles_draws_both_sides(bpy_clean, tmp_path):
+    """The viewer sees the back of Front (solid) and of Open (solid FALSE): Eevee leaves out
+    Front's back; Cycles does not honour Backface Culling and draws it (documented in
+    docs/x3d.md; this notices a release that changes it)."""
+    bpy = bpy_clean
+    from phong_scene import render  # noqa: PLC0415
+
+    path = write(tmp_path, "solid.x3dv", SOLID.replace("DEF Ball", "#").replace(
+        "geometry Sphere { radius 0.1 } }", "").replace("DEF Disc", "#").replace(
+        "geometry Cylinder { radius 0.1 height 0.1 solid FALSE } }", ""))
+    seen = {}
+    for engine in ("cycles", "eevee"):
+        scene = be.new_scene(engine, 24, 8, engine)
+        bpy.context.window.scene = scene
+        assert bpy.ops.phong.import_x3d(filepath=path) == {"FINISHED"}
+        passes, _seconds = render(bpy, scene, str(tmp_path / f"{engine}.exr"))
+        seen[engine] = passes["Combined"][..., :3].astype(np.float64)
+    # by hand: the light (direction +z) shines on the faces' fronts, away from the viewer:
+    # what the viewer sees of a drawn quad is Ke + Ia·ambientIntensity·Od = (0.1, 0, 0.5)
+    want = np.array([0.5 * 0.2 * 1.0, 0.0, 0.5])
+    for engine, picture in seen.items():   # Front: x −2..0 (pixels 4..11), Open: 0..2
+        front, open_ = picture[2:6, 6:10].reshape(-1, 3), picture[2:6, 14:18].reshape(-1, 3)
+        assert np.abs(open_ - want).max() < 2 / 255, (engine, open_[0])
+        if engine == "eevee":
+            assert np.abs(front).max() < 1e-3, "the back of a solid face is not drawn"
+        else:
+            assert np.abs(front - want).max() < 1e-5, "Cycles draws both sides"

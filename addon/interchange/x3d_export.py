@@ -5,7 +5,8 @@
 The inverse of ``x3d_import`` (docs/interchange.md, "X3D / VRML97"):
 
 * every mesh object a Transform (its world matrix, Z up turned to Y up) named after it,
-  holding a Shape per material slot it uses: an IndexedFaceSet of the slot's faces (corner
+  holding a Shape per material slot it uses: an IndexedFaceSet of the slot's faces (``solid``
+  the material's Backface Culling; corner
   normals unless every face is flat, texture coordinates where its material has a texture,
   colours where its material shows the colour attribute), loose edges an IndexedLineSet, a
   mesh of bare vertices a PointSet; objects that share a mesh share its geometry (DEF/USE);
@@ -186,11 +187,13 @@ class _Writer:
         for index in used:
             material = slots[index] if index < len(slots) else None
             appearance, colours, texture = self.appearance(material)
-            key = (mesh.name, index if len(used) > 1 else -1, texture, colours)
+            # solid: the material's Backface Culling (Blender draws both sides without it)
+            solid = bool(material is not None and material.use_backface_culling)
+            key = (mesh.name, index if len(used) > 1 else -1, texture, colours, solid)
             geometry = self.geometries.get(key)
             if geometry is None:
                 geometry = self.geometries[key] = self.geometry(
-                    mesh, index if len(used) > 1 else None, texture, colours)
+                    mesh, index if len(used) > 1 else None, texture, colours, solid)
             if geometry is None:
                 continue
             out.children.append(x3d.Shape(name="", geometry=geometry, appearance=appearance))
@@ -211,8 +214,9 @@ class _Writer:
         index = np.clip(index, 0, max(count - 1, 0))
         return sorted(set(np.unique(index).tolist()))
 
-    def geometry(self, mesh, slot, texture, colours):
-        """The faces of *mesh* (of material slot *slot*, or all) as an x3d.Mesh."""
+    def geometry(self, mesh, slot, texture, colours, solid=False):
+        """The faces of *mesh* (of material slot *slot*, or all) as an x3d.Mesh (*solid*:
+        its back faces not drawn)."""
         n = len(mesh.vertices)
         positions = np.zeros(n * 3, dtype=np.float32)
         mesh.vertices.foreach_get("co", positions)
@@ -249,7 +253,7 @@ class _Writer:
         name = mesh.name if slot is None else f"{mesh.name} {slot}"
         out = x3d.Mesh(name=name, kind="IndexedFaceSet", positions=positions[used],
                        face_sizes=sizes[keep].astype(np.int64),
-                       corners=remap[corners[corner_keep]], normals=normals, solid=False,
+                       corners=remap[corners[corner_keep]], normals=normals, solid=solid,
                        crease_angle=crease)
         if texture:
             layer = mesh.uv_layers.get(imp.UV_MAP) or mesh.uv_layers.active

@@ -21,7 +21,8 @@ module builds the Blender side:
   Ambient Object Color control), Ks = specularColor, Ke = emissiveColor, Exponent = 128 ×
   shininess, Opacity = 1 − transparency.  An RGB(A) texture or the Color node replaces the
   diffuse colour (Ka = ambientIntensity × it), a one- or two-channel texture multiplies it
-  (the image's channels read from its file); a two- or four-channel texture's alpha times
+  (the image's channels read from its file); ``solid`` its Backface Culling (a material
+  whose shapes differ in it two variants); a two- or four-channel texture's alpha times
   1 − transparency the material's opacity (its opacity map); TextureTransform a Mapping
   node.  A shape
   without Material is unlit: a Phong material whose Irradiant Color is its texture, its
@@ -561,14 +562,19 @@ class _Builder:
         key, reach = self.sync.light_set(obj)
         material = shape.material
         transform = shape.texture_transform if image is not None else None
-        # a material of equal texture, transform, colours and light set is made once
+        # a material of equal texture, transform, colours, light set and ``solid`` is made
+        # once; lines and points (which have no back) take any variant of the rest
+        faces = geometry.edges is None and geometry.kind != "PointSet"
+        solid = bool(geometry.solid) if faces else None
         variant = (id(material) if material is not None else None,
                    (image.name, texture.repeat_s, texture.repeat_t) if image is not None
                    else None,
                    (tuple(transform.center), transform.rotation, tuple(transform.scale),
                     tuple(transform.translation)) if transform is not None else None,
-                   colors, key)
+                   colors, key, solid)
         made = self.materials.get(variant)
+        if made is None and solid is None:
+            made = next((m for v, m in self.materials.items() if v[:5] == variant[:5]), None)
         if made is None:
             group = self.sync.group(key, reach)
             name = self.name_of(material, variant, texture if image is not None else None,
@@ -576,6 +582,9 @@ class _Builder:
             made = self.material(name, group, material, image, components, colors,
                                  shape.texture_transform if image is not None else None,
                                  texture)
+            # solid TRUE: the back of a face is not drawn (Eevee, Workbench; Cycles draws
+            # both sides whatever the setting: docs/x3d.md)
+            made.use_backface_culling = bool(solid)
             self.materials[variant] = made
             self.made.append(made)
         mesh = obj.data
@@ -588,7 +597,7 @@ class _Builder:
 
     def name_of(self, material, variant, texture, reach, key) -> str:
         """The file's name for the first variant of a material; for the others (another
-        texture, colours or light set) the name and what differs, in brackets."""
+        texture, colours, light set or ``solid``) the name and what differs, in brackets."""
         base = material.name if material is not None else "Unlit"
         first = self.first.setdefault(variant[0], variant)
         if first == variant:
@@ -601,6 +610,8 @@ class _Builder:
             parts.append("colours" if variant[3] else "no colours")
         if variant[4] != first[4]:
             parts.append(", ".join(o.name for o in reach) or "no light")
+        if variant[5] != first[5]:
+            parts.append("solid" if variant[5] else "two-sided")
         return f"{base} [{'; '.join(parts)}]"
 
     def material(self, name, group, source, image, components, colors, transform, texture):
