@@ -171,6 +171,26 @@ def test_scaled_lights_survive_export_and_import(bpy_clean, tmp_path):
             assert float(light[key]) == pytest.approx(value, rel=1e-6), (name, key)
 
 
+def test_a_light_under_a_non_uniform_scale_takes_the_cube_root_with_a_warning(bpy_clean,
+                                                                                tmp_path):
+    """Scale 1 2 4 has no single distance: s = (1 · 2 · 4)^(1/3) = 2, said in the report."""
+    bpy = bpy_clean
+    from phong_nodes.addon.interchange import x3d_import  # noqa: PLC0415
+
+    path = write(tmp_path, "stretched.x3dv", """#X3D V3.3 utf8
+PROFILE Immersive
+Transform { scale 1 2 4 children [ DEF Lamp PointLight { attenuation 0.5 0.6 0.8 radius 3 } ] }
+Shape { geometry Box { } }
+""")
+    warnings = x3d_import.import_file(path, bpy.context)
+    assert any("non-uniform scale" in w and "Lamp" in w for w in warnings), warnings
+    lamp = bpy.data.lights["Lamp"]
+    assert lamp["phong_constant"] == pytest.approx(0.5)
+    assert lamp["phong_linear"] == pytest.approx(0.6 / 2)
+    assert lamp["phong_quadratic"] == pytest.approx(0.8 / 4)
+    assert lamp["phong_radius"] == pytest.approx(3 * 2)
+
+
 # -- the file's material names for every reader ------------------------------------------------
 
 KICAD = os.path.join(DATA, "kicad_R_0805_2012Metric_excerpt.wrl")
