@@ -338,6 +338,24 @@ def test_a_textures_alpha_is_the_materials_opacity_both_ways(bpy_clean, tmp_path
 
 
 @pytest.mark.cycles
+def test_the_comparison_leaves_out_what_a_textures_alpha_blends(bpy_clean, tmp_path):
+    """``phong compare`` of a file with a texture's alpha: the reference (the nearest
+    surface's colour) cannot know what shows through, so the label's pixels are left out
+    as for an Opacity below 1, and the rest agrees."""
+    bpy = bpy_clean
+    from phong_nodes.addon.comparison import engine  # noqa: PLC0415
+
+    _alpha_png(tmp_path / "label.png")
+    path = write(tmp_path, "label.x3dv", ALPHA_SCENE.replace("transparency 0.25", ""))
+    scene = be.new_scene("compare alpha", 64, 32, "cycles")
+    bpy.context.window.scene = scene
+    assert bpy.ops.phong.import_x3d(filepath=path) == {"FINISHED"}
+    metrics = engine.run(scene, str(tmp_path / "compare"), engines=("cycles",))
+    assert metrics["ok"], metrics["verdict"]
+    assert metrics["pixels"]["compared"] > 0
+
+
+@pytest.mark.cycles
 def test_an_opaque_rgba_texture_leaves_the_material_opaque(bpy_clean, tmp_path):
     bpy = bpy_clean
     from phong_nodes.addon.lighting import materials  # noqa: PLC0415
