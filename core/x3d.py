@@ -149,8 +149,9 @@ Writing
 and :func:`dumps_vrml` (VRML97, what KiCad reads) write the same graph: an object used more
 than once is DEF'd once and USE'd after (so ``load(dumps(doc))`` shares what ``doc`` shares);
 every Material is DEF'd (its name, taken before any other node's: a material keeps the file's
-name for every reader, and a group or shape whose name collides with it yields); a Transform's matrix is written as translation, rotation,
-scale and scaleOrientation (:func:`decompose`: exact for any affine matrix, mirrors included);
+name for every reader, and a group or shape whose name collides with it yields); a
+Transform's matrix is written as translation, rotation, scale and scaleOrientation
+(:func:`decompose`: exact for any affine matrix, mirrors included);
 a mesh as an IndexedFaceSet with per-corner normals, colours and texture coordinates (each
 list de-duplicated, with its index), a primitive as itself; every light field explicitly.
 DEF names are identifiers valid in both encodings (other characters become ``_``, a repeated
