@@ -469,3 +469,25 @@ def test_solid_culls_in_eevee_and_cycles_draws_both_sides(bpy_clean, tmp_path):
             assert np.abs(front).max() < 1e-3, "the back of a solid face is not drawn"
         else:
             assert np.abs(front - want).max() < 1e-5, "Cycles draws both sides"
+
+
+@pytest.mark.cycles
+@pytest.mark.eevee
+def test_the_comparison_judges_both_sides_and_puts_culling_back(bpy_clean, tmp_path):
+    """Choreonoid's fog file: the viewer inside a solid Sphere (radius 90) sees only its
+    back.  The comparison judges the lighting equation on both sides (Cycles draws them and
+    the reference knows no culling), so Eevee draws them too while it renders; the
+    material's Backface Culling is put back afterwards."""
+    bpy = bpy_clean
+    from phong_nodes.addon.comparison import engine  # noqa: PLC0415
+
+    scene = be.new_scene("inside", 48, 36, "cycles")
+    bpy.context.window.scene = scene
+    path = os.path.join(DATA, "choreonoid_fog.wrl")
+    assert bpy.ops.phong.import_x3d(filepath=path) == {"FINISHED"}
+    (material,) = [m for m in bpy.data.materials if m.users]
+    assert material.use_backface_culling, "the Sphere is solid"
+    metrics = engine.run(scene, str(tmp_path / "compare"), engines=("cycles", "eevee"))
+    assert metrics["ok"], metrics["verdict"]
+    assert metrics["pixels"]["compared"] == 48 * 36
+    assert material.use_backface_culling, "put back"
