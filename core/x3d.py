@@ -3502,7 +3502,7 @@ class _Emit:
                 continue
             seen.add(id(obj))
             if isinstance(obj, Material):
-                out[id(obj)] = self.identifier(getattr(obj, "name", "") or "Material", obj)
+                out[id(obj)] = self.identifier(getattr(obj, "name", "") or "Material")
             elif isinstance(obj, Transform):
                 stack.extend(reversed(obj.children))
             elif isinstance(obj, Shape) and obj.appearance is not None:
@@ -3511,7 +3511,7 @@ class _Emit:
                 stack.append(obj.material)
         return out
 
-    def identifier(self, name, obj) -> str:
+    def identifier(self, name) -> str:
         """A valid identifier for *name* not used before (``_2`` ... when it was), taken;
         the exact name is kept (WorldInfo) where it differs."""
         ident = _IDENT.sub("_", name)
@@ -3555,7 +3555,7 @@ class _Emit:
         if not name:
             self.written[key] = ""
             return _W(kind), None
-        ident = self.written[key] = self.identifier(name, obj)
+        ident = self.written[key] = self.identifier(name)
         return _W(kind, ident), None
 
     def use(self, kind, name):

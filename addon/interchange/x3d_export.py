@@ -6,10 +6,10 @@ The inverse of ``x3d_import`` (docs/interchange.md, "X3D / VRML97"):
 
 * every mesh object a Transform (its world matrix, Z up turned to Y up) named after it,
   holding a Shape per material slot it uses: an IndexedFaceSet of the slot's faces (``solid``
-  the material's Backface Culling; corner
-  normals unless every face is flat, texture coordinates where its material has a texture,
-  colours where its material shows the colour attribute), loose edges an IndexedLineSet, a
-  mesh of bare vertices a PointSet; objects that share a mesh share its geometry (DEF/USE);
+  the material's Backface Culling; corner normals unless every face is flat, texture
+  coordinates where its material has a texture, colours where its material shows the colour
+  attribute), loose edges an IndexedLineSet, a mesh of bare vertices a PointSet; objects
+  that share a mesh share its geometry (DEF/USE);
 * each Phong material a Material from its controls: diffuseColor = Object Color, specularColor
   = Specular Color, emissiveColor = Irradiant Color, shininess = Exponent / 128 (clamped to
   [0, 1], with a warning above 128), ambientIntensity = Ka / Kd where the Ambient Object Color

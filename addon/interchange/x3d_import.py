@@ -24,18 +24,18 @@ module builds the Blender side:
   (the image's channels read from its file); ``solid`` its Backface Culling (a material
   whose shapes differ in it two variants); a two- or four-channel texture's alpha times
   1 − transparency the material's opacity (its opacity map); TextureTransform a Mapping
-  node.  A shape
-  without Material is unlit: a Phong material whose Irradiant Color is its texture, its
-  colours or white and whose Kd, Ka and Ks are black, so the picture is that colour exactly
-  (and the comparison's reference, which reads the material's inputs, predicts it);
+  node.  A shape without Material is unlit: a Phong material whose Irradiant Color is its
+  texture, its colours or white and whose Kd, Ka and Ks are black, so the picture is that
+  colour exactly (and the comparison's reference, which reads the material's inputs,
+  predicts it);
 * lights: DirectionalLight → Sun, PointLight → Point, SpotLight → Spot (``spot_size`` = 2 ×
   cutOffAngle), Phong Intensity, Ambient, attenuation (a0, a1, a2) and Radius through
   ``core.x3d.light_values``, both for distances in the world (the standard measures them in
   the light's coordinate system: under a scale s, a1 / s, a2 / s², radius × s), Beam
   Width; ``on FALSE`` hidden from render; a scoped light (VRML97's DirectionalLight, X3D's
   ``global FALSE``) Light-Linked to a receiver collection of exactly the objects of its
-  scope; the headlight (``NavigationInfo { headlight TRUE }``,
-  the default) a Sun that follows the camera (``lighting/headlight.py``);
+  scope; the headlight (``NavigationInfo { headlight TRUE }``, the default) a Sun that
+  follows the camera (``lighting/headlight.py``);
 * the bound Viewpoint (or OrthoViewpoint) the scene camera; X3D's default viewpoint
   (0 0 10, π/4) when the file has none and the scene no camera;
 * the scene in the X3D model (``scene.phong.model = "x3d"``: its lights groups rebuilt), the
