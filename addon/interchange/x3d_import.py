@@ -705,14 +705,17 @@ class _Builder:
     @staticmethod
     def has_alpha(image) -> bool:
         """Whether *image* has a texel whose alpha is below 1 (an RGBA file of opaque texels
-        blends nothing: it stays an opaque material).  Images over 16 Mpixels are not
-        read: taken as having one."""
+        blends nothing: it stays an opaque material).  Images over 16 Mpixels, or whose
+        pixels cannot be read, are taken as having one (as the file's channels say)."""
         width, height = image.size
-        if width * height > (1 << 24):
+        if width * height > (1 << 24) or width * height == 0:
             return True
-        pixels = np.empty(width * height * 4, dtype=np.float32)
-        image.pixels.foreach_get(pixels)
-        return bool(len(pixels)) and float(pixels[3::4].min()) < 1.0
+        try:
+            pixels = np.empty(len(image.pixels), dtype=np.float32)
+            image.pixels.foreach_get(pixels)
+        except (RuntimeError, ValueError, TypeError):
+            return True
+        return not len(pixels) or float(pixels[3::4].min()) < 1.0
 
     @staticmethod
     def vector(tree, what, operation, a, b, location):
