@@ -183,8 +183,8 @@ def reference_image(scene: dict, aovs: dict) -> dict:
     {intensity, color}, "lights" [{type, color, intensity, diffuse, specular, position,
     direction, quadratic, linear, constant, half_angle (degrees), edge_exponent, falloff
     ("quadratic" or "power": i0/d^k, k = power_k)}] and
-    "objects" [{"lights": [indices into lights], "transparent": an Opacity below 1 (its pixels
-    are ambiguous)}]: object number k (1-based, the probe's
+    "objects" [{"lights": [indices into lights], "transparent": an Opacity below 1 or an
+    opacity map (its pixels are ambiguous)}]: object number k (1-based, the probe's
     third "params" channel) is objects[k - 1].  Per pixel the probes hold what its lights
     group sees: P, N, I (the geometry), the Normal and View Vector inputs (zero: the
     geometry's), Object Color, Ambient Object Color, Specular Color, Irradiant Color,

@@ -151,8 +151,10 @@ Writing
 :func:`dumps_x3d` (X3D 3.3 XML, profile Immersive), :func:`dumps_x3dv` (X3D 3.3 ClassicVRML)
 and :func:`dumps_vrml` (VRML97, what KiCad reads) write the same graph: an object used more
 than once is DEF'd once and USE'd after (so ``load(dumps(doc))`` shares what ``doc`` shares);
-every Material is DEF'd (its name); a Transform's matrix is written as translation, rotation,
-scale and scaleOrientation (:func:`decompose`: exact for any affine matrix, mirrors included);
+every Material is DEF'd (its name, taken before any other node's: a material keeps the file's
+name for every reader, and a group or shape whose name collides with it yields); a
+Transform's matrix is written as translation, rotation, scale and scaleOrientation
+(:func:`decompose`: exact for any affine matrix, mirrors included);
 a mesh as an IndexedFaceSet with per-corner normals, colours and texture coordinates (each
 list de-duplicated, with its index), a primitive as itself; every light field explicitly.
 DEF names are identifiers valid in both encodings (other characters become ``_``, a repeated
@@ -3868,6 +3870,7 @@ class _Emit:
         self.exact = {}
         self.serial = 0
         self.uses = self.count_uses()
+        self.reserved = self.reserve_materials()
 
     def count_uses(self) -> dict:
         uses = {}
@@ -3888,6 +3891,43 @@ class _Emit:
                              if x is not None)
         return uses
 
+    def reserve_materials(self) -> dict:
+        """{id(Material): its DEF}, given before any other node's: the materials keep the
+        file's names for every reader (KiCad's library names them on purpose: ``PIN-01``),
+        and a group or shape whose name collides with one yields (``_2`` ...).  In the order
+        of the document, so that equal identifiers number alike in every run."""
+        out = {}
+        stack, seen = [self.doc.root], set()
+        while stack:
+            obj = stack.pop()
+            if id(obj) in seen:
+                continue
+            seen.add(id(obj))
+            if isinstance(obj, Material):
+                out[id(obj)] = self.identifier(getattr(obj, "name", "") or "Material")
+            elif isinstance(obj, Transform):
+                stack.extend(reversed(obj.children))
+            elif isinstance(obj, Shape) and obj.appearance is not None:
+                stack.append(obj.appearance)
+            elif isinstance(obj, Appearance) and obj.material is not None:
+                stack.append(obj.material)
+        return out
+
+    def identifier(self, name) -> str:
+        """A valid identifier for *name* not used before (``_2`` ... when it was), taken;
+        the exact name is kept (WorldInfo) where it differs."""
+        ident = _IDENT.sub("_", name)
+        if not re.match(r"[A-Za-z_]", ident):
+            ident = "_" + ident
+        base, n = ident, 1
+        while ident in self.used:
+            n += 1
+            ident = f"{base}_{n}"
+        self.used.add(ident)
+        if ident != name:
+            self.exact[ident] = name
+        return ident
+
     def reachable(self, target) -> bool:
         stack, seen = [self.doc.root], set()
         while stack:
@@ -3907,6 +3947,9 @@ class _Emit:
             name = self.written[key]
             if name:
                 return None, name
+        if key in self.reserved:   # a material: its DEF given first (reserve_materials)
+            ident = self.written[key] = self.reserved[key]
+            return _W(kind, ident), None
         name = getattr(obj, "name", "") or ""
         if not name and (always or self.uses.get(key, 0) > 1):
             self.serial += 1
@@ -3914,17 +3957,7 @@ class _Emit:
         if not name:
             self.written[key] = ""
             return _W(kind), None
-        ident = _IDENT.sub("_", name)
-        if not re.match(r"[A-Za-z_]", ident):
-            ident = "_" + ident
-        base, n = ident, 1
-        while ident in self.used:
-            n += 1
-            ident = f"{base}_{n}"
-        self.used.add(ident)
-        if ident != name:
-            self.exact[ident] = name
-        self.written[key] = ident
+        ident = self.written[key] = self.identifier(name)
         return _W(kind, ident), None
 
     def use(self, kind, name):

@@ -116,7 +116,8 @@ def test_every_light_type_with_its_fields_after_unit_scale_and_axes(bpy_clean, t
     """By hand: a file unit of half a metre, Y up (Blender (x, y, z) = (fx, −fz, fy)), the
     lights under translation (0 4 0) and scale 2.  Bulb at 2·(1, 2, 3) + (0, 4, 0) = (2, 8, 6)
     half-units = (1, 4, 3) m → Blender (1, −3, 4); its radius 5 × 2 (the group's scale) × 0.5
-    = 5 m; attenuation a1 = 0.2 / 0.5 = 0.4 per metre, a2 = 0.1 / 0.25 = 0.4 per m²."""
+    = 5 m; the attenuation's distance is the light's own (half-units of the scaled group: 1 m
+    is 1 / (0.5 · 2) = 1 of them), a1 = 0.2 / 1 = 0.2 per metre, a2 = 0.1 / 1² = 0.1 per m²."""
     bpy = bpy_clean
     _import(bpy, write(tmp_path, "lights.x3dv", LIGHTS))
     objects = bpy.data.objects
@@ -126,8 +127,8 @@ def test_every_light_type_with_its_fields_after_unit_scale_and_axes(bpy_clean, t
     assert tuple(bulb.data.color) == _f32((1, 0.5, 0.25))
     assert bulb.data["phong_intensity"] == 0.75 and bulb.data["phong_light_ambient"] == 0.125
     assert bulb.data["phong_constant"] == 0.5
-    assert bulb.data["phong_linear"] == pytest.approx(0.4, rel=1e-15)
-    assert bulb.data["phong_quadratic"] == pytest.approx(0.4, rel=1e-15)
+    assert bulb.data["phong_linear"] == pytest.approx(0.2, rel=1e-15)
+    assert bulb.data["phong_quadratic"] == pytest.approx(0.1, rel=1e-15)
     assert bulb.data["phong_radius"] == pytest.approx(5.0, rel=1e-12)
     # Beam at 2·(0, 1, 0) + (0, 4, 0) = (0, 6, 0) half-units = (0, 3, 0) m → Blender (0, 0, 3);
     # its direction (1, −1, 0)/√2 → Blender (1, 0, −1)/√2, the light's −Z axis
@@ -137,7 +138,7 @@ def test_every_light_type_with_its_fields_after_unit_scale_and_axes(bpy_clean, t
     assert beam.data.spot_size == pytest.approx(1.0, abs=1e-7), "2 × cutOffAngle"
     assert beam.data["phong_beam_width"] == 0.2
     assert beam.data["phong_radius"] == pytest.approx(7.0) and beam.data["phong_linear"] == \
-        pytest.approx(0.8)
+        pytest.approx(0.4)
     assert (beam.data["phong_intensity"], beam.data["phong_light_ambient"]) == (0.5, 0.25)
     assert -np.array(sky.matrix_world.col[2][:3]) == pytest.approx((0, 0, -1), abs=1e-7)
     assert (sky.data["phong_intensity"], sky.data["phong_light_ambient"]) == (0.25, 0.5)
@@ -562,7 +563,9 @@ REAL = {
     "threejs_meshWithLines.wrl": (18, 18, ["_material0", "_material1"], ["Headlight"],
                                   "Main Viewpoint"),
     "threejs_meshWithTexture.wrl": (1, 1, ["Plane001"], ["Headlight"], "Viewpoint"),
-    "x3dom_Drum55Gallon.x3d": (6, 5, ["Blue", "Bunghole"], ["Headlight"], "Viewpoint"),
+    # Blue's lids are solid='false', its barrel solid: two variants
+    "x3dom_Drum55Gallon.x3d": (6, 5, ["Blue", "Blue [two-sided]", "Bunghole"], ["Headlight"],
+                               "Viewpoint"),
 }
 
 

@@ -156,6 +156,20 @@ def _add_term_aovs(tree) -> None:
             aov.inputs["Color"].default_value = target.default_value
 
 
+def _culled(objects) -> list:
+    """The materials of *objects* with Backface Culling (an imported ``solid``).  The
+    comparison judges the lighting equation on both sides of every face: Cycles ignores
+    Backface Culling and the reference knows none, so Eevee (and X_ITE, ``x_ite_peer``) are
+    made to draw both sides too while it renders."""
+    out = {}
+    for obj in objects:
+        for slot in obj.material_slots:
+            material = slot.material
+            if material is not None and material.use_backface_culling:
+                out[material.name] = material
+    return list(out.values())
+
+
 def render_all(scene, layer, objects, engines, folder, resolution=None, progress=None):
     """({engine: picture}, probe and term passes of Cycles) of *scene*, rendered with exact
     settings that are put back afterwards; call it inside ``sync.paused()`` (the lights
@@ -177,6 +191,8 @@ def render_all(scene, layer, objects, engines, folder, resolution=None, progress
             o.set(other, "use", other == layer)
         for index, obj in enumerate(objects, start=1):
             o.set(obj, "pass_index", index)
+        for material in _culled(objects):   # both sides, as Cycles and the reference see them
+            o.set(material, "use_backface_culling", False)
         if "eevee" in engines:
             progress(0.35, "Eevee (picture)")
             images["eevee"] = _render(scene, "eevee", folder, o)["Combined"][..., :3]

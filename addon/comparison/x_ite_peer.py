@@ -8,13 +8,16 @@ metrics.json.
 
 The export runs with the scene's render size set to the comparison's (and put back after), so
 that the Viewpoint's ``fieldOfView`` (the angle of the picture's smaller side) is the one of the
-picture X_ITE draws.
+picture X_ITE draws, and with every face set ``solid FALSE`` (Backface Culling off meanwhile):
+the comparison judges both sides of every face, as Cycles draws them.
 """
 
 from __future__ import annotations
 
 import os
 from types import SimpleNamespace
+
+import bpy
 
 from ...core import x_ite
 from ..interchange import x3d_export
@@ -40,9 +43,16 @@ def write(scene, layer, width: int, height: int, path: str) -> list:
     width × height; returns the exporter's warnings."""
     render = scene.render
     saved = (render.resolution_x, render.resolution_y, render.resolution_percentage)
+    # every face set solid FALSE: the comparison judges both sides of every face, as Cycles
+    # draws them whatever Backface Culling says (engine._culled)
+    culled = [m for m in bpy.data.materials if m.use_backface_culling]
     try:
         render.resolution_x, render.resolution_y = int(width), int(height)
         render.resolution_percentage = 100
+        for material in culled:
+            material.use_backface_culling = False
         return list(x3d_export.export(SimpleNamespace(scene=scene, view_layer=layer), path))
     finally:
         render.resolution_x, render.resolution_y, render.resolution_percentage = saved
+        for material in culled:
+            material.use_backface_culling = True

@@ -5,15 +5,17 @@
 The inverse of ``x3d_import`` (docs/interchange.md, "X3D / VRML97"):
 
 * every mesh object a Transform (its world matrix, Z up turned to Y up) named after it,
-  holding a Shape per material slot it uses: an IndexedFaceSet of the slot's faces (corner
-  normals unless every face is flat, texture coordinates where its material has a texture,
-  colours where its material shows the colour attribute), loose edges an IndexedLineSet, a
-  mesh of bare vertices a PointSet; objects that share a mesh share its geometry (DEF/USE);
+  holding a Shape per material slot it uses: an IndexedFaceSet of the slot's faces (``solid``
+  the material's Backface Culling; corner normals unless every face is flat, texture
+  coordinates where its material has a texture, colours where its material shows the colour
+  attribute), loose edges an IndexedLineSet, a mesh of bare vertices a PointSet; objects
+  that share a mesh share its geometry (DEF/USE);
 * each Phong material a Material from its controls: diffuseColor = Object Color, specularColor
   = Specular Color, emissiveColor = Irradiant Color, shininess = Exponent / 128 (clamped to
   [0, 1], with a warning above 128), ambientIntensity = Ka / Kd where the Ambient Object Color
   is a multiple of the Object Color (else the best multiple, with a warning), transparency = 1
-  − Opacity; an Image Texture feeding Object Color an ImageTexture (with its TextureTransform),
+  − Opacity; an Image Texture feeding Object Color an ImageTexture (with its TextureTransform;
+  its alpha × Opacity as the opacity map is what X3D says with the texture's alpha),
   a colour attribute a Color node; a material imported from a shape without Material (Kd, Ka,
   Ks black) a Shape without Material again;
 * lights with their X3D values: ``on`` (hidden from render: FALSE), intensity, ambient
@@ -185,11 +187,13 @@ class _Writer:
         for index in used:
             material = slots[index] if index < len(slots) else None
             appearance, colours, texture = self.appearance(material)
-            key = (mesh.name, index if len(used) > 1 else -1, texture, colours)
+            # solid: the material's Backface Culling (Blender draws both sides without it)
+            solid = bool(material is not None and material.use_backface_culling)
+            key = (mesh.name, index if len(used) > 1 else -1, texture, colours, solid)
             geometry = self.geometries.get(key)
             if geometry is None:
                 geometry = self.geometries[key] = self.geometry(
-                    mesh, index if len(used) > 1 else None, texture, colours)
+                    mesh, index if len(used) > 1 else None, texture, colours, solid)
             if geometry is None:
                 continue
             out.children.append(x3d.Shape(name="", geometry=geometry, appearance=appearance))
@@ -210,8 +214,9 @@ class _Writer:
         index = np.clip(index, 0, max(count - 1, 0))
         return sorted(set(np.unique(index).tolist()))
 
-    def geometry(self, mesh, slot, texture, colours):
-        """The faces of *mesh* (of material slot *slot*, or all) as an x3d.Mesh."""
+    def geometry(self, mesh, slot, texture, colours, solid=False):
+        """The faces of *mesh* (of material slot *slot*, or all) as an x3d.Mesh (*solid*:
+        its back faces not drawn)."""
         n = len(mesh.vertices)
         positions = np.zeros(n * 3, dtype=np.float32)
         mesh.vertices.foreach_get("co", positions)
@@ -248,7 +253,7 @@ class _Writer:
         name = mesh.name if slot is None else f"{mesh.name} {slot}"
         out = x3d.Mesh(name=name, kind="IndexedFaceSet", positions=positions[used],
                        face_sizes=sizes[keep].astype(np.int64),
-                       corners=remap[corners[corner_keep]], normals=normals, solid=False,
+                       corners=remap[corners[corner_keep]], normals=normals, solid=solid,
                        crease_angle=crease)
         if texture:
             layer = mesh.uv_layers.get(imp.UV_MAP) or mesh.uv_layers.active
@@ -403,7 +408,8 @@ class _Writer:
                            emissive=_colour(ke_feed.control if ke_feed.control is not None
                                             else ke_feed.constant),
                            shininess=max(shininess, 0.0), transparency=f32(1.0 - opacity))
-        if tree.nodes.get(recipe.OPACITY_MAP) is not None:
+        if tree.nodes.get(recipe.OPACITY_MAP) is not None and not (
+                texture is not None and _texture_alpha(tree, kd_feed.texture)):
             self.warnings.add(f"material {name}: its opacity map left out (X3D 3's "
                               "transparency is one number)")
         blinn = float(compat.value_output(tree.nodes["phong_blinn"]).default_value)
@@ -699,6 +705,23 @@ def _walk(source, out, depth) -> None:
             _walk(socket.links[0].from_socket, out, depth + 1)
     else:
         out.unknown = True
+
+
+def _texture_alpha(tree, node) -> bool:
+    """Whether the opacity map of *tree* is the alpha of the Image Texture *node* (the one
+    written) times the Opacity control: what X3D says with the texture's alpha and
+    transparency (``x3d_import._Builder.texture_alpha``)."""
+    product = tree.nodes.get(recipe.OPACITY_MAP)
+    if node is None or product is None or product.operation != "MULTIPLY":
+        return False
+    sources = set()
+    for identifier in ("Value", "Value_001"):
+        socket = compat.input_socket(product, identifier)
+        if not socket.is_linked:
+            return False
+        link = socket.links[0]
+        sources.add((link.from_node.name, link.from_socket.identifier))
+    return sources == {(node.name, "Alpha"), (recipe.OPACITY, "Value")}
 
 
 def _grey(texture) -> bool:

@@ -24,16 +24,21 @@ module builds the Blender side:
   Ambient Object Color control), Ks = specularColor, Ke = emissiveColor, Exponent = 128 ×
   shininess, Opacity = 1 − transparency.  An RGB(A) texture or the Color node replaces the
   diffuse colour (Ka = ambientIntensity × it), a one- or two-channel texture multiplies it
-  (the image's channels read from its file); TextureTransform a Mapping node.  A shape
-  without Material is unlit: a Phong material whose Irradiant Color is its texture, its
-  colours or white and whose Kd, Ka and Ks are black, so the picture is that colour exactly
-  (and the comparison's reference, which reads the material's inputs, predicts it);
+  (the image's channels read from its file); ``solid`` its Backface Culling (a material
+  whose shapes differ in it two variants); a two- or four-channel texture's alpha times
+  1 − transparency the material's opacity (its opacity map); TextureTransform a Mapping
+  node.  A shape without Material is unlit: a Phong material whose Irradiant Color is its
+  texture, its colours or white and whose Kd, Ka and Ks are black, so the picture is that
+  colour exactly (and the comparison's reference, which reads the material's inputs,
+  predicts it);
 * lights: DirectionalLight → Sun, PointLight → Point, SpotLight → Spot (``spot_size`` = 2 ×
   cutOffAngle), Phong Intensity, Ambient, attenuation (a0, a1, a2) and Radius through
-  ``core.x3d.light_values``, Beam Width; ``on FALSE`` hidden from render; a scoped light
-  (VRML97's DirectionalLight, X3D's ``global FALSE``) Light-Linked to a receiver collection
-  of exactly the objects of its scope; the headlight (``NavigationInfo { headlight TRUE }``,
-  the default) a Sun that follows the camera (``lighting/headlight.py``);
+  ``core.x3d.light_values``, both for distances in the world (the standard measures them in
+  the light's coordinate system: under a scale s, a1 / s, a2 / s², radius × s), Beam
+  Width; ``on FALSE`` hidden from render; a scoped light (VRML97's DirectionalLight, X3D's
+  ``global FALSE``) Light-Linked to a receiver collection of exactly the objects of its
+  scope; the headlight (``NavigationInfo { headlight TRUE }``, the default) a Sun that
+  follows the camera (``lighting/headlight.py``);
 * the bound Viewpoint (or OrthoViewpoint) the scene camera; X3D's default viewpoint
   (0 0 10, π/4) when the file has none and the scene no camera (marked
   ``DEFAULT_VIEWPOINT_KEY``: ``phong compare`` frames the objects with it);
@@ -290,6 +295,16 @@ def font_warnings(notes: dict) -> list:
     return ["Text: " + "; ".join(parts)] if parts else []
 
 
+def light_attenuation(attenuation, scale) -> tuple:
+    """The attenuation (a0, a1, a2) of a light under a Transform of uniform *scale* s, for
+    world distances: the standard's 1/max(a0 + a1·d + a2·d², 1) takes d in the light's
+    coordinate system, d = d_world / s, so a1' = a1 / s and a2' = a2 / s² (a scale of 0,
+    which the file cannot mean, is read as 1)."""
+    a0, a1, a2 = (float(v) for v in attenuation)
+    s = float(scale) if scale > 0.0 and math.isfinite(scale) else 1.0
+    return a0, a1 / s, a2 / (s * s)
+
+
 class _Builder:
     def __init__(self, context, doc):
         self.context = context
@@ -526,11 +541,13 @@ class _Builder:
             self.warn(f"negative light intensities read as 0: {name}")
         settings = {"intensity": max(intensity, 0.0), "ambient": max(ambient, 0.0)}
         if source.kind != "directional":
+            # the standard measures d (attenuation and radius) in the light's coordinate
+            # system: under a scale s, d_local = d_world / s (light_attenuation)
             scale, uniform = _scale_of(inst.matrix)
             if not uniform:
-                self.warn(f"lights under a non-uniform scale: their radius scaled by the cube "
-                          f"root of the volume scale: {name}")
-            a0, a1, a2 = values["attenuation"]
+                self.warn(f"lights under a non-uniform scale: their attenuation and radius "
+                          f"measured with the cube root of the volume scale: {name}")
+            a0, a1, a2 = light_attenuation(values["attenuation"], scale)
             settings.update(constant=a0, linear=a1, quadratic=a2,
                             radius=values["radius"] * scale)
         if source.kind == "spot":
@@ -660,14 +677,19 @@ class _Builder:
         key, reach = self.sync.light_set(obj)
         material = shape.material
         transform = shape.texture_transform if image is not None else None
-        # a material of equal texture, transform, colours and light set is made once
+        # a material of equal texture, transform, colours, light set and ``solid`` is made
+        # once; lines and points (which have no back) take any variant of the rest
+        faces = geometry.edges is None and geometry.kind != "PointSet"
+        solid = bool(geometry.solid) if faces else None
         variant = (id(material) if material is not None else None,
                    (image.name, texture.repeat_s, texture.repeat_t) if image is not None
                    else None,
                    (tuple(transform.center), transform.rotation, tuple(transform.scale),
                     tuple(transform.translation)) if transform is not None else None,
-                   colors, key)
+                   colors, key, solid)
         made = self.materials.get(variant)
+        if made is None and solid is None:
+            made = next((m for v, m in self.materials.items() if v[:5] == variant[:5]), None)
         if made is None:
             group = self.sync.group(key, reach)
             name = self.name_of(material, variant, texture if image is not None else None,
@@ -675,6 +697,9 @@ class _Builder:
             made = self.material(name, group, material, image, components, colors,
                                  shape.texture_transform if image is not None else None,
                                  texture)
+            # solid TRUE: the back of a face is not drawn (Eevee, Workbench; Cycles draws
+            # both sides whatever the setting: docs/x3d.md)
+            made.use_backface_culling = bool(solid)
             self.materials[variant] = made
             self.made.append(made)
         mesh = obj.data
@@ -687,7 +712,7 @@ class _Builder:
 
     def name_of(self, material, variant, texture, reach, key) -> str:
         """The file's name for the first variant of a material; for the others (another
-        texture, colours or light set) the name and what differs, in brackets."""
+        texture, colours, light set or ``solid``) the name and what differs, in brackets."""
         base = material.name if material is not None else "Unlit"
         first = self.first.setdefault(variant[0], variant)
         if first == variant:
@@ -700,6 +725,8 @@ class _Builder:
             parts.append("colours" if variant[3] else "no colours")
         if variant[4] != first[4]:
             parts.append(", ".join(o.name for o in reach) or "no light")
+        if variant[5] != first[5]:
+            parts.append("solid" if variant[5] else "two-sided")
         return f"{base} [{'; '.join(parts)}]"
 
     def material(self, name, group, source, image, components, colors, transform, texture):
@@ -742,6 +769,8 @@ class _Builder:
                 tree, "texture x colours", "MULTIPLY", base, colour, (-700.0, 500.0))
         if base is None:
             return self.finish(material, values)
+        if image is not None and components in (2, 4) and self.has_alpha(image):
+            self.texture_alpha(material, values["opacity"])
         if values["source"] == "texture*material":   # a grey texture multiplies the term
             feed = self.vector(tree, "texture x colour", "MULTIPLY", base,
                                compat.value_output(nodes[term]), (-700.0, 300.0))
@@ -767,9 +796,40 @@ class _Builder:
 
     @staticmethod
     def finish(material, values):
-        if values["opacity"] < 1.0:
+        if values["opacity"] < 1.0 and material.node_tree.nodes.get(recipe.OPACITY_MAP) is None:
             recipe.set_opacity(material, values["opacity"])
         return material
+
+    @staticmethod
+    def texture_alpha(material, opacity):
+        """A two- or four-channel texture's alpha as the material's opacity (cut-out leaves,
+        labels): the opacity map (``materials.OPACITY_MAP``) = the texture's alpha × the
+        Opacity control, which keeps the file's 1 − transparency (X3D 4's texturing table:
+        A × (1 − transparency); VRML97 and X3D 3 say A alone, the same where transparency
+        is 0, as it mostly is)."""
+        tree = material.node_tree
+        recipe.set_opacity(material, opacity)   # the control: kept for the export
+        alpha = compat.output_socket(tree.nodes[TEXTURE_NODE], "Alpha")
+        control = compat.value_output(tree.nodes[recipe.OPACITY])
+        native.math(tree, recipe.OPACITY_MAP, "MULTIPLY", alpha, control, (-400.0, 600.0),
+                    clamp=True)
+        tree.nodes[recipe.OPACITY_MAP].label = "texture alpha x Opacity"
+        recipe.apply_opacity(material)
+
+    @staticmethod
+    def has_alpha(image) -> bool:
+        """Whether *image* has a texel whose alpha is below 1 (an RGBA file of opaque texels
+        blends nothing: it stays an opaque material).  Images over 16 Mpixels, or whose
+        pixels cannot be read, are taken as having one (as the file's channels say)."""
+        width, height = image.size
+        if width * height > (1 << 24) or width * height == 0:
+            return True
+        try:
+            pixels = np.empty(len(image.pixels), dtype=np.float32)
+            image.pixels.foreach_get(pixels)
+        except (RuntimeError, ValueError, TypeError):
+            return True
+        return not len(pixels) or float(pixels[3::4].min()) < 1.0
 
     @staticmethod
     def vector(tree, what, operation, a, b, location):

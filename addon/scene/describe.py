@@ -83,9 +83,10 @@ def describe(scene, view_layer, objects) -> dict:
             "lights": [k for k, rule in enumerate(rules) if lights_mod.reaches(rule, obj)],
             "materials": sorted({slot.material.name for slot in obj.material_slots
                                  if materials.is_phong_material(slot.material)}),
-            # Opacity below 1: the picture blends what is behind, which the reference (from
-            # the nearest surface's probes) cannot know: its pixels are left out
-            "transparent": any(materials.opacity(slot.material) < 1.0
+            # Opacity below 1 or an opacity map (a texture's alpha): the picture blends what
+            # is behind, which the reference (from the nearest surface's probes) cannot
+            # know: its pixels are left out
+            "transparent": any(materials.blends(slot.material)
                                for slot in obj.material_slots
                                if materials.is_phong_material(slot.material)),
         } for obj in objects],
