@@ -36,8 +36,6 @@ UP_AXES = {
 MAX_BYTES = 1 << 31
 #: Largest number of values one primitive may index (bounded memory on absurd counts).
 MAX_INDICES = 200_000_000
-
-
 PROFILE = "phong_nodes"   # the <technique profile> of our <extra>: an exact name
 
 

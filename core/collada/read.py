@@ -17,15 +17,14 @@ import xml.etree.ElementTree as ET
 
 import numpy as np
 
-from ..xmlsafe import local as _local
 from .. import xmlsafe
+from ..xmlsafe import local as _local
 from .model import (
     LIGHT_KINDS, MAX_BYTES, MAX_INDICES, OPAQUE_MODES, PROFILE, TECHNIQUES, UP_AXES, Camera,
     ColladaError, Document, Instance, Light, Material, Mesh, Node, Texture, _uri_path)
 
 
 # -- parsing helpers -----------------------------------------------------------------------
-
 
 def _strip_namespaces(root) -> None:
     for element in root.iter():

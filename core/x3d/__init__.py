@@ -25,7 +25,7 @@ The package, one job a module, each importing only the modules before it in this
 * ``numeric`` — numbers tokenised in bulk, non-finite values made safe; Transform matrices and
   their decomposition.
 * ``model`` — the data model (Transform, Shape, Mesh, Material, Light, Viewpoint, the
-  flattened instances), the limits of the reading as a whole, :class:`X3DError`, warnings.
+  flattened instances), the nesting limit, :class:`X3DError`, the warnings collected.
 * ``graph`` — the generic node graph both encodings parse into, the table of node types, and
   PROTO expansion.
 * ``parse_classic`` — ClassicVRML (VRML97 and X3D classic) into the graph.
@@ -42,7 +42,7 @@ The package, one job a module, each importing only the modules before it in this
 
 Every name callers use is imported here: ``from phong_nodes.core import x3d``;
 ``x3d.load(path)``.  A limit lives in the module that applies it (``x3d.files.MAX_BYTES``,
-``x3d.flatten.MAX_INSTANCES`` ...); the names here are copies for reading.
+``x3d.flatten.MAX_INSTANCES`` ...): the name here is a copy, to read; set it there.
 
 Limits (hostile input ends in bounded time and memory)
 ======================================================

@@ -28,6 +28,8 @@ from .geometry import _Geometry, _default_uvs
 
 
 class _Reader(_Files, _Fields, _Protos, _Geometry):
+    """One reading: its state, and each node of the graph built once into the model."""
+
     def __init__(self, resolver=None):
         self.resolver = resolver or resolve_local
         self.notes = _Notes()
@@ -46,7 +48,6 @@ class _Reader(_Files, _Fields, _Protos, _Geometry):
         self.bound = set()
         self.arrays = {}
         self.tessellated = {}
-
 
     # nodes --------------------------------------------------------------------------------
     def lookup(self, value):
@@ -151,7 +152,6 @@ class _Reader(_Files, _Fields, _Protos, _Geometry):
         self.notes.add("nodes where the standard allows none of their type: left out",
                        f"{t} as {want}")
         return None
-
 
     def group(self, n, t, depth, hint):
         name = n.name or ""
@@ -405,7 +405,6 @@ class _Reader(_Files, _Fields, _Protos, _Geometry):
         finally:
             self.loading.pop()
         return group
-
 
     # the end ------------------------------------------------------------------------------
     def finish(self, doc):

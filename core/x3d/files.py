@@ -17,14 +17,12 @@ from .model import X3DError
 from .graph import _Source
 from .parse_classic import _Classic, _strip_comments
 from .parse_xml import _Xml, _xml_root
-from ..xmlsafe import local as _local, unquote as _unquote
 from .. import xmlsafe
+from ..xmlsafe import local as _local, unquote as _unquote
 
 
 #: Largest file read, in bytes (also the largest decompressed size of a gzipped file).
 MAX_BYTES = 1 << 30
-
-
 #: Deepest nesting of Inline files (and EXTERNPROTO files).
 MAX_INLINE_DEPTH = 8
 
@@ -109,7 +107,6 @@ def resolve_local(url: str, base: str) -> str | None:
 
 class _Files:
     """The reader's files: sniffing, parsing, units (a mixin of ``build._Reader``)."""
-
 
     # files ------------------------------------------------------------------------------
     def unit(self, src, category, name, factor):

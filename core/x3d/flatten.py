@@ -19,8 +19,6 @@ from .model import Light, LightInstance, Shape, ShapeInstance, Transform, Viewpo
 
 #: Most shape and light instances that flattening keeps (DEF/USE can multiply a file).
 MAX_INSTANCES = 100_000
-
-
 #: Most groups that flattening visits (shared groups count once per use unless they can be
 #: placed whole); with MAX_INSTANCES this bounds the time DEF/USE can cost.
 MAX_VISITS = 1_000_000

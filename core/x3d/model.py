@@ -99,8 +99,6 @@ from .numeric import rotation_matrix
 
 #: Deepest nesting of nodes read (deeper ones are left out with a warning).
 MAX_DEPTH = 150
-
-
 ENCODINGS = ("vrml97", "x3d-classic", "x3d-xml")
 LIGHT_KINDS = ("directional", "point", "spot")
 #: Blender's axes (Z up) from X3D's (Y up): +90° about X.
