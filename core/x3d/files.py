@@ -12,13 +12,13 @@ import os
 import re
 import zlib
 
+from .. import xmlsafe
+from ..xmlsafe import local as _local, unquote as _unquote
 from .numeric import _word_number
 from .model import X3DError
 from .graph import _Source
 from .parse_classic import _Classic, _strip_comments
 from .parse_xml import _Xml, _xml_root
-from .. import xmlsafe
-from ..xmlsafe import local as _local, unquote as _unquote
 
 
 #: Largest file read, in bytes (also the largest decompressed size of a gzipped file).

@@ -10,11 +10,11 @@ from __future__ import annotations
 import re
 import xml.etree.ElementTree as ET
 
+from ..xmlsafe import local as _local
 from .model import MAX_DEPTH, X3DError
 from .graph import (
     _CONTAINER, _IS, _KNOWN_LOWER, _MISSING, _N, _XML_SKIP, _Proto, _Raw, _Scope, _Use)
 from .parse_classic import _UNESCAPE
-from ..xmlsafe import local as _local
 
 
 def _xml_root(data: bytes, path: str, notes):

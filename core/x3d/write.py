@@ -30,13 +30,13 @@ import xml.etree.ElementTree as ET
 
 import numpy as np
 
+from .. import outputs
 from .numeric import decompose
 from .model import (
     NAME_PREFIX, Appearance, Light, Material, Mesh, Shape, Texture, TextureTransform, Transform,
     Viewpoint)
 from .graph import _CONTAINER, _PRIMITIVES
 from .document import Document
-from .. import outputs
 
 
 # -- writing --------------------------------------------------------------------------------
