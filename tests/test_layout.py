@@ -43,7 +43,8 @@ def test_pure_packages_import_where_bpy_cannot():
     names = result.stdout.split()
     assert "LOADED" not in names, result.stdout
     for expected in ("node_groups.expr", "node_groups.library", "node_groups.reference",
-                     "core.scenes", "core.compare", "core.report", "core.outputs", "core.mtl"):
+                     "core.scenes", "core.compare", "core.report", "core.outputs", "core.mtl",
+                     "core.xmlsafe", "core.x3d", "core.collada"):
         assert expected in names, f"{expected} missing from {names}"
 
 
@@ -164,6 +165,78 @@ def test_addon_rooms_import_only_the_rooms_below_them():
                     bad.append(f"addon/{room}/{os.path.basename(path)} imports {name}")
     assert not bad, bad
 
+
+#: The packages of ``core/`` from the ground up (docs/architecture.md): a module imports only
+#: modules before it in its list (never one after it, nor the package's ``__init__``, which
+#: imports them all and re-exports what callers use).  Every module of the folder is listed.
+CORE_PACKAGES = {
+    "x3d": ("numeric", "model", "graph", "parse_classic", "parse_xml", "fields", "files",
+            "geometry", "build", "flatten", "document", "phong", "write"),
+    "collada": ("model", "read", "write"),
+}
+#: The most lines a module of ``core/`` may have (issue 44: one job a file).
+CORE_MODULE_LINES = 1200
+
+
+def _sibling_targets(path):
+    """The modules of its own package that *path* imports (``from .x import y``, ``from . import
+    x``), anywhere in the file (a function's import counts too)."""
+    tree = ast.parse(open(path, encoding="utf-8").read(), path)
+    for node in ast.walk(tree):
+        if isinstance(node, ast.ImportFrom) and node.level == 1:
+            if node.module:
+                yield node.module.split(".")[0]
+            else:
+                yield from (alias.name for alias in node.names)
+
+
+def test_the_order_check_finds_what_it_should(tmp_path):
+    (tmp_path / "low.py").write_text("from .high import x\n\ndef f():\n    from . import high\n")
+    assert list(_sibling_targets(str(tmp_path / "low.py"))) == ["high", "high"]
+    (tmp_path / "ok.py").write_text("from ..outputs import write_file\nimport os\n")
+    assert list(_sibling_targets(str(tmp_path / "ok.py"))) == []
+
+
+def test_core_packages_import_only_the_modules_below_them():
+    bad = []
+    for package, order in CORE_PACKAGES.items():
+        folder = os.path.join(ROOT, "core", package)
+        found = sorted(f[:-3] for f in os.listdir(folder)
+                       if f.endswith(".py") and f != "__init__.py")
+        assert found == sorted(order), f"core/{package}/ holds {found}, the order {order}"
+        for index, module in enumerate(order):
+            for name in _sibling_targets(os.path.join(folder, module + ".py")):
+                if name not in order[:index]:
+                    bad.append(f"core/{package}/{module}.py imports {name}")
+    assert not bad, bad
+
+
+def test_no_core_module_is_longer_than_its_limit():
+    long = []
+    for folder, _dirs, files in os.walk(os.path.join(ROOT, "core")):
+        for name in (f for f in files if f.endswith(".py")):
+            path = os.path.join(folder, name)
+            with open(path, encoding="utf-8") as handle:
+                lines = sum(1 for _ in handle)
+            if lines > CORE_MODULE_LINES:
+                long.append(f"{os.path.relpath(path, ROOT)}: {lines} lines")
+    assert not long, long
+
+
+def test_the_architecture_names_every_core_module():
+    """docs/architecture.md's core row names each module of ``core/``, and each package with its
+    modules in their order: ``x3d/`` (`numeric`, `model`, ...)."""
+    with open(os.path.join(ROOT, "docs", "architecture.md"), encoding="utf-8") as handle:
+        text = handle.read()
+    folder = os.path.join(ROOT, "core")
+    missing = [f"`{name}`" for name in sorted(os.listdir(folder))
+               if name.endswith(".py") and name != "__init__.py" and f"`{name}`" not in text]
+    for package, order in CORE_PACKAGES.items():
+        listed = re.search(rf"`{package}/` \(([^):]*)", text)   # up to a colon
+        named = re.findall(r"`(\w+)`", listed.group(1)) if listed else []
+        if named != list(order):
+            missing.append(f"`{package}/` ({', '.join(order)}); the page has {named}")
+    assert not missing, missing
 
 # -- sockets by identifier, never by position (issue 37) -----------------------------------
 

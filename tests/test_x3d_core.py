@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""VRML97 / X3D (issue 36): pure tests of ``core/x3d.py`` (no bpy).
+"""VRML97 / X3D (issue 36): pure tests of ``core/x3d/`` (no bpy).
 
 Each rule of ISO/IEC 14772-1 (VRML97) and 19775-1 (X3D) that the reader implements is checked
 on a small file written here, with the expected values worked out by hand in the test: the
@@ -1053,7 +1053,7 @@ def test_truncated_files_keep_what_came_before():
 
 
 def test_files_beyond_the_size_limit_are_refused(tmp_path, monkeypatch):
-    monkeypatch.setattr(x3d, "MAX_BYTES", 1000)
+    monkeypatch.setattr(x3d.files, "MAX_BYTES", 1000)   # the module that applies it
     path = write(tmp_path, "big.wrl", VRML + "Shape { geometry Box {} }" + " " * 2000)
     with pytest.raises(x3d.X3DError, match="larger than"):
         x3d.load(path)
@@ -1114,7 +1114,7 @@ def random_graph(seed):
 @pytest.mark.parametrize("seed", range(8))
 def test_flattening_equals_a_plain_walk_also_when_the_budget_cuts_it(seed, monkeypatch):
     for limit in (x3d.MAX_INSTANCES, 37):
-        monkeypatch.setattr(x3d, "MAX_INSTANCES", limit)
+        monkeypatch.setattr(x3d.flatten, "MAX_INSTANCES", limit)
         doc = random_graph(seed)
         doc.flatten()
         shapes, lights = reference_flatten(doc, limit)
