@@ -1,14 +1,20 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""The Blender layer, by feature.
+"""The Blender layer, by feature; its rooms from the ground up (docs/architecture.md), each
+importing only the rooms before it (tests/test_layout.py):
 
-* ``loader``   the library's groups into the file: version stamps, upgrade in place, merge
-  of appended copies;
-* ``lighting`` Phong materials driven by Blender lights: the material recipe, drivers, the
-  lights' and world's Phong settings;
-* ``demos``    demo scenes from ``scenes/*.toml``, exact render settings, the comparison bake;
-* ``baking``   Bake Phong Lighting into images and vertex colours, showing the bake, glTF;
-* ``ui``       every operator, menu and panel, and the asset library of the groups;
-* ``compat``   every difference between Blender versions.
+* ``compat``      every difference between Blender releases;
+* ``loader``      the library's groups into the file: version stamps, upgrade in place, merge
+  of appended copies (their users keep their links by socket name);
+* ``lighting``    Phong materials driven by Blender lights: the material recipe, the lights
+  groups, Eevee's light loop, the World's copies of the lights' transforms, the lights' and
+  World's Phong settings, Apply / Relink / Restore;
+* ``shading``     Per Vertex / Per Face shading;
+* ``scene``       exact render settings, the scene as plain data, meshes, framing;
+* ``interchange`` OBJ/MTL, COLLADA, FBX and X3D import and export, three.js pages;
+* ``baking``      Bake Phong Lighting into images and vertex colours, showing the bake, glTF;
+* ``comparison``  Eevee, Cycles and the peers against the numpy reference, into a report;
+* ``demos``       demo scenes from ``scenes/*.toml``;
+* ``ui``          every operator, menu and panel, and the asset library of the groups.
 
 Register and unregister are symmetric.
 """

@@ -238,6 +238,32 @@ def test_the_architecture_names_every_core_module():
             missing.append(f"`{package}/` ({', '.join(order)}); the page has {named}")
     assert not missing, missing
 
+def test_the_architecture_names_every_module():
+    """docs/architecture.md names every module of the package (issue 44: the map had gone
+    stale): each file in backticks, by its name, or by its room and name where two rooms
+    have a file of that name (``lighting/forwarding.py``)."""
+    with open(os.path.join(ROOT, "docs", "architecture.md"), encoding="utf-8") as handle:
+        text = handle.read()
+    paths = []
+    for top in ("node_groups", "core", "addon", "cli"):
+        for folder, _dirs, files in os.walk(os.path.join(ROOT, top)):
+            if "__pycache__" in folder:
+                continue
+            paths += [os.path.relpath(os.path.join(folder, f), ROOT) for f in files
+                      if f.endswith(".py") and f != "__init__.py"]
+    names = [os.path.basename(p) for p in paths]
+    missing = []
+    for path in sorted(paths):
+        name = os.path.basename(path)
+        if os.path.basename(os.path.dirname(path)) in CORE_PACKAGES:
+            continue  # named with their package (test above)
+        room = os.path.basename(os.path.dirname(path))
+        wanted = f"`{name}`" if names.count(name) == 1 else f"`{room}/{name}`"
+        if wanted not in text:
+            missing.append(f"{path} (as {wanted})")
+    assert not missing, missing
+
+
 # -- sockets by identifier, never by position (issue 37) -----------------------------------
 
 SOCKET_COLLECTIONS = {"inputs", "outputs"}
