@@ -206,3 +206,14 @@ def smooth_by_angle(mesh, angle: float) -> None:
     else:  # Blender 4.0 and earlier (not supported, kept for a reader of the recipe)
         mesh.use_auto_smooth = True
         mesh.auto_smooth_angle = float(angle)
+
+
+def rename(id_block, name: str) -> None:
+    """``id_block.name = name`` (a numeric suffix where the name is taken), by ``ID.rename``
+    where Blender has it (4.3+): setting ``name`` from Python first checks that the ID is in
+    the file by walking its list from the start (``BKE_id_is_in_main``), so naming each of
+    N new materials cost O(N) (Apply at 10,000 objects: 40 of its 62 s)."""
+    if hasattr(id_block, "rename"):
+        id_block.rename(name, mode="NEVER")
+    else:
+        id_block.name = name

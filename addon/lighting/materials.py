@@ -591,12 +591,12 @@ def from_source(source, name, lights_group, template=None):
     texture = base_color_link(source) if source is not None else None
     if texture is not None:
         material = _strip_to_texture(source.copy(), texture)
-        material.name = name
+        compat.rename(material, name)
         _controls(material.node_tree, base_color(source))
         wire(material, lights_group, _socket_in_copy(material, texture))
     elif template is not None:
         material = template.copy()
-        material.name = name
+        compat.rename(material, name)
         value = base_color(source)
         default = CONTROLS["phong_object_color"][2]
         set_quietly(compat.value_output(material.node_tree.nodes["phong_object_color"]),

@@ -88,6 +88,27 @@ class Sync:
         self.changed.add(material.name)
         return material
 
+    def prepare(self, objects) -> None:
+        """Make the Phong materials that ``apply`` will give *objects* ahead, in the order of
+        their names.  Blender keeps a file's materials sorted by name, and naming one walks
+        that list from its end to the name's place: materials named in the objects' order
+        cost up to the number of materials each (Apply at 10,000 objects: 40 of its 62 s),
+        named in ascending order each lands at the end."""
+        todo = {}
+        for obj in objects:
+            key, reach = self.light_set(obj)
+            for material in [s.material for s in obj.material_slots] or [None]:
+                if materials.is_phong_material(material):
+                    continue
+                origin = material.as_pointer() if material is not None else "empty"
+                if (origin, (self.scene.as_pointer(), key)) in self.index:
+                    continue
+                base = material.name if material is not None else "Material"
+                todo.setdefault((origin, key), (self._name(base, reach, key), material, key,
+                                                reach))
+        for _name, source, key, reach in sorted(todo.values(), key=lambda t: t[0].casefold()):
+            self.convert(source, key, reach)
+
     def rewire(self, material, key, reach, only_set=False):
         """*material* (a Phong material) for the light set *key* of this scene: itself when it
         fits (or has no set yet), else its variant for that set (a material used in two scenes
@@ -110,7 +131,7 @@ class Sync:
                 variant = material.copy()
                 source = materials.source_of(material)
                 base = source.name if source is not None else material.name.removeprefix("Phong ")
-                variant.name = self._name(base.split(" [")[0], reach, key)
+                compat.rename(variant, self._name(base.split(" [")[0], reach, key))
                 self.index[(origin, wanted)] = variant
                 material = variant
             else:

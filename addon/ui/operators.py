@@ -170,6 +170,7 @@ originals are kept)"""
             context.scene[rig.MODEL_KEY] = self.model.lower()
         sync = sync_mod.Sync(context.scene, context.view_layer)
         sync.rebuild_groups()
+        sync.prepare(meshes)
         done = {}
         for obj in meshes:
             for material in sync.apply(obj):

@@ -1,0 +1,84 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Apply Phong Material against the size of the scene (issue 44 item 5: linear in the number of
+objects, 10× the objects within 11× the time).
+
+The artist scene of ``measure.artist_scene`` (cubes, each with its own mesh and its own
+Principled material, 4 lights), at 1,000 and 10,000 objects; each case in a process of its own,
+the sizes alternating round by round; timed: the operator ``phong.apply_material`` on every
+cube (selection and scene building not timed).  Writes ``apply_scale_results.json`` beside
+this file (or ``--out``) and prints the ratio of the medians.
+
+    .venv/bin/python -m phong_nodes.benchmarks.apply_scale --rounds 3
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import statistics
+import subprocess
+import sys
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+SIZES = (1000, 10000)
+
+
+def worker(n_objects: int) -> float:
+    """Seconds of one Apply on *n_objects* cubes (run in a process of its own)."""
+    from . import measure  # noqa: PLC0415  (imports bpy)
+
+    bpy = measure.worker_setup()
+    scene, objects, _lights = measure.artist_scene("Apply", n_objects, 4)
+    view_layer = scene.view_layers[0]
+    for obj in objects:
+        obj.select_set(True, view_layer=view_layer)
+    start = time.perf_counter()
+    with bpy.context.temp_override(scene=scene, view_layer=view_layer, selected_objects=objects):
+        result = bpy.ops.phong.apply_material()
+    seconds = time.perf_counter() - start
+    if result != {"FINISHED"}:
+        raise RuntimeError(f"apply_material returned {result}")
+    return seconds
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--rounds", type=int, default=3)
+    parser.add_argument("--out", default=os.path.join(HERE, "apply_scale_results.json"))
+    parser.add_argument("--worker", type=int, help=argparse.SUPPRESS)
+    args = parser.parse_args(argv)
+    if args.worker:
+        print(json.dumps({"seconds": worker(args.worker)}))
+        sys.stdout.flush()
+        os._exit(0)  # noqa: SLF001  (bpy's exit is slow with 10,000 objects and not measured)
+    times = {n: [] for n in SIZES}
+    for round_index in range(args.rounds):
+        for n in SIZES:
+            run = subprocess.run([sys.executable, "-m", "phong_nodes.benchmarks.apply_scale",
+                                  "--worker", str(n)], capture_output=True, text=True,
+                                 check=True)
+            seconds = json.loads(run.stdout.strip().splitlines()[-1])["seconds"]
+            times[n].append(seconds)
+            print(f"round {round_index + 1}: {n} objects, Apply {seconds:.2f} s", flush=True)
+    import bpy  # noqa: PLC0415
+
+    medians = {n: statistics.median(v) for n, v in times.items()}
+    ratio = medians[SIZES[1]] / medians[SIZES[0]]
+    result = {"bpy": bpy.app.version_string, "rounds": args.rounds,
+              "load_average": os.getloadavg(),
+              "seconds": {str(n): v for n, v in times.items()},
+              "median_s": {str(n): m for n, m in medians.items()},
+              "ratio_10x_objects": ratio, "goal": 11.0, "met": ratio <= 11.0}
+    with open(args.out, "w", encoding="utf-8") as handle:
+        json.dump(result, handle, indent=2)
+        handle.write("\n")
+    print(f"Apply: {medians[SIZES[0]]:.2f} s at {SIZES[0]}, {medians[SIZES[1]]:.2f} s at "
+          f"{SIZES[1]}: {ratio:.1f}x for 10x the objects (goal 11x: "
+          f"{'met' if ratio <= 11.0 else 'missed'})")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
