@@ -126,6 +126,9 @@ class Material:
     exponent: float = 20.0
     opacity: float = 1.0
     blinn: bool = False
+    # the opacity is the alpha of the TransparencyFactor / TransparentColor map, as Blender's
+    # importer reads it (a file of Blender's exporter, which writes its alpha texture there)
+    alpha_map: bool = False
     transparent_color: tuple = (0.0, 0.0, 0.0)   # TransparentColor (for its map)
     transparency_factor: float = 0.0             # TransparencyFactor (for its map)
     textures: dict = field(default_factory=dict)  # lights-group input -> Texture
@@ -281,19 +284,38 @@ def _texture(prop_name, index, textures, base) -> Texture:
     return Texture(prop_name, name, tuple(candidates), content, texture.name)
 
 
-def read_material(mat, base="", textures=None) -> Material:
+#: Properties that only a Phong surface has: a material of a shading model ufbx does not
+#: know ("Blinn" of 3ds Max, "Anisotropic" ...) that holds one is read as FbxSurfacePhong.
+PHONG_ONLY = ("SpecularColor", "SpecularFactor", "ShininessExponent", "Shininess")
+#: The start of the Creator of a file of Blender's own FBX exporter.
+BLENDER_CREATOR = "Blender (stable FBX IO)"
+
+
+def phong_like(kind, own) -> bool:
+    """Whether a material of ufbx shader type *kind* whose own properties are *own* (names)
+    is read as FbxSurfacePhong: ufbx's FBX_PHONG, or a shading model ufbx does not know
+    (UNKNOWN) with a property of :data:`PHONG_ONLY` on the material itself."""
+    ufbx = _ufbx()
+    if kind == ufbx.ShaderType.FBX_PHONG:
+        return True
+    return kind == ufbx.ShaderType.UNKNOWN and any(name in own for name in PHONG_ONLY)
+
+
+def read_material(mat, base="", textures=None, blender=False) -> Material:
     """The Phong values of the ufbx material *mat* (``base``: the file's folder; *textures*:
-    the scene's textures, ``items(scene.textures)``, for the material's maps)."""
+    the scene's textures, ``items(scene.textures)``, for the material's maps; *blender*: the
+    file was written by Blender's exporter, whose map on TransparencyFactor is an alpha
+    texture: :attr:`Material.alpha_map`)."""
     ufbx = _ufbx()
     shading = mat.shading_model_name or ""
     kind = mat.shader_type
+    own = {p.name: p for p in items(mat.props.props)}
     # (``mat.shader`` is not touched: ufbx 0.0.5's Shader object crashes the garbage collector)
-    if kind not in (ufbx.ShaderType.FBX_LAMBERT, ufbx.ShaderType.FBX_PHONG):
+    if kind != ufbx.ShaderType.FBX_LAMBERT and not phong_like(kind, own):
         return Material(mat.name, "OTHER", shading or kind.name)
     lambert = kind == ufbx.ShaderType.FBX_LAMBERT
     out = Material(mat.name, "LAMBERT" if lambert else "PHONG", shading,
                    blinn=shading.strip().lower() == "blinn")
-    own = {p.name: p for p in items(mat.props.props)}
 
     def get(name, width):
         value, source = lookup(mat.props, (name,), SURFACE_DEFAULTS[name], width, own)
@@ -335,6 +357,10 @@ def read_material(mat, base="", textures=None) -> Material:
         if textures is None:
             textures = items(mat.scene.textures)
         out.textures[slot] = _texture(prop, index, textures, base)
+    # Blender's exporter writes its alpha texture on TransparencyFactor (with the factor
+    # 1 − alpha, 0 for an opaque one: by the SDK's rule the map would change nothing), and
+    # Blender's importer reads a map there as the opacity's alpha texture: read it so
+    out.alpha_map = blender and any(key in out.textures for key in OPACITY_MAPS)
     return out
 
 
@@ -367,7 +393,8 @@ def from_scene(scene, path: str) -> Scene:
     base = os.path.dirname(os.path.abspath(path))
     warnings = []
     textures = items(scene.textures)
-    materials = [read_material(m, base, textures) for m in items(scene.materials)]
+    blender = (scene.metadata.creator or "").startswith(BLENDER_CREATOR)
+    materials = [read_material(m, base, textures, blender) for m in items(scene.materials)]
     lights = []
     for light in items(scene.lights):
         item = read_light(light)

@@ -277,6 +277,7 @@ def _controls(material):
     out = {k: colour(k) for k in ("Object Color", "Ambient Object Color", "Specular Color",
                                   "Irradiant Color")}
     out["exponent"] = nodes["phong_exponent"].outputs[0].default_value
+    out["blinn"] = nodes["phong_blinn"].outputs[0].default_value
     return out
 
 
@@ -741,3 +742,120 @@ def test_more_uv_sets_than_blender_holds_is_one_warning(bpy_clean, capfd):
     assert sets == 14 and logged.count(f"UV sets after the 8th left out ({sets} in the file)") == 1
     (mesh,) = [o.data for o in bpy.context.scene.objects if o.type == "MESH"]
     assert len(mesh.uv_layers) == 8
+
+
+# -- issue 45: shading models ufbx does not know --------------------------------------------
+
+def _blinn_variant(tmp_path, model="Blinn"):
+    """The hand-written file with its material's ShadingModel *model* (3ds Max writes
+    "Blinn" for its Blinn shader, an FbxSurfacePhong with the Phong properties)."""
+    return _handmade_variant(tmp_path, f"{model.lower()}.fbx",
+                             [('ShadingModel: "phong"', f'ShadingModel: "{model}"')])
+
+
+@pytest.mark.parametrize("model, blinn", [("Blinn", True), ("blinn", True),
+                                          ("Anisotropic", False)])
+def test_blinn_shading_model_is_read_as_phong_with_blinn(tmp_path, model, blinn):
+    """ufbx does not know ShadingModel "Blinn" (shader type UNKNOWN): a material of such a
+    model holding Phong properties is read as FbxSurfacePhong, with Blinn for "Blinn";
+    every value as the independent reading of the file gives it."""
+    from phong_nodes.core import fbx
+    path = _blinn_variant(tmp_path, model)
+    probe = ufbx.load_file(path, ignore_geometry=True)
+    assert probe.materials[0].shader_type == ufbx.ShaderType.UNKNOWN, "ufbx does not know it"
+    del probe
+    material = fbx.read(path).material("shiny")
+    objects, templates = _ascii_objects(path, "Material")
+    want = _expected_material(objects["shiny"], templates["FbxSurfacePhong"], False)
+    assert (material.model, material.shading, material.blinn) == ("PHONG", model, blinn)
+    for slot in ("Object Color", "Ambient Object Color", "Specular Color", "Irradiant Color"):
+        np.testing.assert_allclose(material.colors[slot], want[slot], rtol=0, atol=1e-12)
+    assert material.exponent == want["exponent"] == 10.0
+    assert material.opacity == pytest.approx(want["opacity"], abs=1e-12)
+
+
+def test_unknown_model_without_phong_properties_stays_other(tmp_path):
+    """A shading model ufbx does not know whose material has no Phong property stays a
+    material of another model (made as Apply Phong Material makes it)."""
+    from phong_nodes.core import fbx
+    path = _handmade_variant(tmp_path, "other.fbx", [
+        ('ShadingModel: "phong"', 'ShadingModel: "Blinn"'),
+        ('\t\t\tP: "SpecularColor", "Color", "", "A",1,1,1\n', ''),
+        ('\t\t\tP: "ShininessExponent", "Number", "", "A",10\n', '')])
+    assert fbx.read(path).material("shiny").model == "OTHER"
+
+
+def test_blinn_material_imports_with_blinn_on(bpy_clean, tmp_path):
+    """File ▸ Import ▸ FBX (Phong) of the "Blinn" file: a Phong material with Blinn = 1 and
+    the file's values in its controls (docs/interchange.md's "Blinn → Blinn = 1" row)."""
+    bpy = bpy_clean
+    path = _blinn_variant(tmp_path)
+    assert bpy.ops.phong.import_fbx(filepath=path) == {"FINISHED"}
+    objects, templates = _ascii_objects(path, "Material")
+    want = _expected_material(objects["shiny"], templates["FbxSurfacePhong"], False)
+    got = _controls(bpy.data.materials["shiny"])
+    assert got["blinn"] == 1.0
+    assert got["exponent"] == pytest.approx(want["exponent"])
+    for slot in ("Object Color", "Specular Color", "Irradiant Color"):
+        np.testing.assert_allclose(got[slot], want[slot], atol=1e-6)
+
+
+def _alpha_plane_fbx(bpy, path, alpha):
+    """A plane whose Principled material takes its Alpha from the Alpha output of an RGBA
+    image (*alpha*: rows × columns, bottom row first), written by Blender's own FBX
+    exporter with the texture embedded: what Blender's exporter writes on
+    TransparencyFactor."""
+    rows, cols = alpha.shape
+    image = bpy.data.images.new("cutout", cols, rows, alpha=True)
+    rgba = np.ones((rows, cols, 4), np.float32)
+    rgba[..., 0] = 0.25
+    rgba[..., 3] = alpha
+    image.pixels[:] = rgba.ravel()
+    image.filepath_raw = os.path.join(os.path.dirname(path), "cutout.png")
+    image.file_format = "PNG"
+    image.save()
+    material = bpy.data.materials.new("Leaf")
+    if not material.use_nodes:
+        material.use_nodes = True
+    tree = material.node_tree
+    principled = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeBsdfPrincipled")
+    texture = tree.nodes.new("ShaderNodeTexImage")
+    texture.image = image
+    tree.links.new(texture.outputs["Alpha"], principled.inputs["Alpha"])
+    bpy.ops.mesh.primitive_plane_add()
+    bpy.context.active_object.data.materials.append(material)
+    assert bpy.ops.export_scene.fbx(filepath=path, path_mode="COPY",
+                                    embed_textures=True) == {"FINISHED"}
+
+
+def test_blender_exporters_alpha_texture_is_the_opacity(bpy_clean, tmp_path):
+    """Blender's exporter writes an alpha texture on TransparencyFactor with the factor 0
+    (read here from the file with parse_fbx): by the FBX SDK's rule the map changes nothing,
+    but Blender's importer reads it as the opacity (the image's Alpha output on the
+    Principled Alpha), and so does File ▸ Import ▸ FBX (Phong): the opacity map is the
+    texels' alpha (a cut-out), equal to what was written."""
+    bpy = bpy_clean
+    alpha = np.array([[0.0, 1.0, 1.0, 0.0], [1.0, 0.0, 0.0, 1.0]], np.float32)
+    path = str(tmp_path / "cutout.fbx")
+    _alpha_plane_fbx(bpy, path, alpha)
+    from io_scene_fbx import parse_fbx
+    root, _version = parse_fbx.parse(path)
+    objects = next(e for e in root.elems if e.id == b"Objects")
+    connections = next(e for e in root.elems if e.id == b"Connections")
+    assert [c.props[3] for c in connections.elems if len(c.props) > 3 and c.props[0] == b"OP"
+            and c.props[3] == b"TransparencyFactor"], "the map is on TransparencyFactor"
+    material = next(e for e in objects.elems if e.id == b"Material")
+    own = {p.props[0]: p.props[4:] for p in next(
+        e for e in material.elems if e.id == b"Properties70").elems}
+    assert tuple(own.get(b"TransparencyFactor", (0.0,))) == (0.0,)
+    be.reset_empty_file()
+    assert bpy.ops.phong.import_fbx(filepath=path) == {"FINISHED"}
+    from phong_nodes.addon import compat
+    tree = bpy.data.materials["Leaf"].node_tree
+    clamp = compat.input_socket(tree.nodes["phong_opacity_mix"], "Fac").links[0].from_node
+    assert clamp.name == "phong_opacity_map"
+    link = compat.input_socket(clamp, "Value").links[0]
+    assert link.from_socket.identifier == "Alpha"
+    pixels = np.array(link.from_node.image.pixels[:], np.float64).reshape(*alpha.shape, 4)
+    np.testing.assert_allclose(pixels[..., 3], alpha, atol=1 / 255)
+    assert 0.0 in pixels[..., 3] and 1.0 in pixels[..., 3], "a cut-out"

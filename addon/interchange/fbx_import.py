@@ -13,7 +13,8 @@ FBX SDK's rules (see there), and:
     Specular Color      SpecularColor × SpecularFactor        (Lambert: black)
     Exponent            ShininessExponent, else Shininess     (Blinn shading: Blinn = 1)
     Irradiant Color     EmissiveColor × EmissiveFactor        (× an EmissiveColor texture)
-    Opacity             Opacity, else 1 − TransparencyFactor × mean(TransparentColor)
+    Opacity             Opacity, else 1 − TransparencyFactor × mean(TransparentColor);
+                        a file of Blender's exporter: its TransparencyFactor map's alpha
     light               colour; Phong Intensity = Intensity / 100; DecayType k = 0, 1, 2
                         as γ = 1 / β = 1 / α = 1, k = 3 as the power falloff 1/d³;
                         spot: spot_size = OuterAngle, spot_blend = 1 − Inner/Outer,
@@ -302,6 +303,9 @@ def _opacity_maps(material, source, images, warnings, where) -> None:
     read), t_f the mean RGB of the TransparencyFactor map (a scalar: read as data), as an
     opacity map (``native.opacity_map``).  A factor of 0 makes the maps change nothing."""
     maps = {key: source.textures.get(key) for key in fbx.OPACITY_MAPS}
+    if source.alpha_map:   # Blender's exporter's alpha texture, read as Blender's importer does
+        _alpha_map(material, maps, images, warnings, where)
+        return
     if not any(maps.values()) or source.transparency_factor == 0.0:
         return
     tree = material.node_tree
@@ -336,6 +340,18 @@ def _opacity_maps(material, source, images, warnings, where) -> None:
                                (-650.0, 650.0))
     native.opacity_map(material, native.math(tree, native.MAP_NODE + "1 - transparency",
                                               "SUBTRACT", 1.0, transparency, (-500.0, 650.0)))
+
+
+def _alpha_map(material, maps, images, warnings, where) -> None:
+    """The opacity of a file of Blender's exporter: the alpha channel of its map on
+    TransparencyFactor (else on TransparentColor), as Blender's importer reads it (the
+    image's Alpha output feeds the Principled BSDF's Alpha), as the opacity map."""
+    texture = maps["TransparencyFactor"] or maps["TransparentColor"]
+    image = _image(texture, images, warnings, where)
+    if image is None:
+        return
+    node = native.image_node(material.node_tree, "alpha", image, (-1450.0, 650.0))
+    native.opacity_map(material, compat.output_socket(node, "Alpha"))
 
 
 # -- lights -------------------------------------------------------------------------------------
