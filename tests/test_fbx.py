@@ -761,9 +761,14 @@ def test_blinn_shading_model_is_read_as_phong_with_blinn(tmp_path, model, blinn)
     every value as the independent reading of the file gives it."""
     from phong_nodes.core import fbx
     path = _blinn_variant(tmp_path, model)
-    probe = ufbx.load_file(path, ignore_geometry=True)
-    assert probe.materials[0].shader_type == ufbx.ShaderType.UNKNOWN, "ufbx does not know it"
-    del probe
+    import subprocess
+    import sys
+    probe = ("import gc, os, sys; gc.disable(); import ufbx; "
+             "s = ufbx.load_file(sys.argv[1], ignore_geometry=True); "
+             "print(ufbx.ShaderType(s.materials[0].shader_type).name, flush=True); os._exit(0)")
+    done = subprocess.run([sys.executable, "-c", probe, path], capture_output=True, text=True,
+                          timeout=120, check=True)
+    assert done.stdout.split() == ["UNKNOWN"], "ufbx does not know the model"
     material = fbx.read(path).material("shiny")
     objects, templates = _ascii_objects(path, "Material")
     want = _expected_material(objects["shiny"], templates["FbxSurfacePhong"], False)

@@ -281,7 +281,11 @@ def apply_material(material, source: fbx.Material, warnings: list, images: dict,
             keep |= {obj_import.MAP_NODE + name, obj_import.MULTIPLY_NODE + name}
         tree.links.new(socket, lights.inputs[name])
     compat.value_output(tree.nodes["phong_exponent"]).default_value = source.exponent
-    compat.value_output(tree.nodes["phong_blinn"]).default_value = 1.0 if source.blinn else 0.0
+    compat.value_output(tree.nodes["phong_blinn"]).default_value = source.user.get(
+        "Blinn", 1.0 if source.blinn else 0.0)
+    if "SpecularStrength" in source.user:
+        compat.value_output(tree.nodes["phong_specular_strength"]).default_value = \
+            source.user["SpecularStrength"]
     recipe.set_opacity(material, source.opacity)
     if lights.inputs["Normal"].is_linked:
         tree.links.remove(lights.inputs["Normal"].links[0])
@@ -377,6 +381,11 @@ def apply_light(light, source: fbx.Light, warnings: list, path) -> None:
         settings["edge_exponent"] = fbx.spot_edge_exponent(source.outer_angle,
                                                            source.inner_angle)
         settings["penumbra"] = min(max(share, 0.0), 1.0)
+    for key, value in source.user.items():   # what Phong Nodes' export kept (fbx_write)
+        if key == "falloff_power":
+            settings["falloff"] = "POWER" if value else "QUADRATIC"
+        elif key in properties.LIGHT_KEYS:
+            settings[key] = value
     if not _power_supported():  # before the power falloff existed: stored, 1/d² rendered
         for key in ("falloff", "power_k"):
             if key in settings:
@@ -540,4 +549,9 @@ def _finish(context, data: fbx.Scene, new, warnings, path, before, slots=None,
     world = context.scene.world
     if world is None:
         world = context.scene.world = bpy.data.worlds.new("World")
+    user = data.user   # the World's own intensity and colour, kept by Phong Nodes' export
+    if "AmbientIntensity" in user and all(f"Ambient{c}" in user for c in "RGB"):
+        properties.write_world(world, user["AmbientIntensity"],
+                               tuple(user[f"Ambient{c}"] for c in "RGB"))
+        return
     properties.write_world(world, 1.0, data.ambient)
