@@ -399,3 +399,28 @@ def test_real_files_imported_then_exported_import_the_same(bpy_clean, tmp_path, 
                 (light, attr)
     assert again[2][0] == pytest.approx(first[2][0])
     np.testing.assert_allclose(again[2][1], first[2][1], atol=1e-7)
+
+
+@pytest.mark.parametrize("model", ["threejs", "x3d"])
+def test_spot_inner_angle_follows_the_scenes_model(bpy_clean, tmp_path, model):
+    """The soft edge as each model states it: three.js, InnerAngle = (1 − penumbra) ×
+    OuterAngle; X3D, InnerAngle = the beam width (a full angle, in degrees); and the import
+    of the export gives the model's setting again."""
+    bpy = bpy_clean
+    from phong_nodes.addon.lighting import rig
+    scene = bpy.context.scene
+    scene[rig.MODEL_KEY] = model
+    light = bpy.data.lights.new("Spot", "SPOT")
+    light.spot_size = math.radians(60.0)
+    scene.collection.objects.link(bpy.data.objects.new("Spot", light))
+    setting, value = ("penumbra", 0.25) if model == "threejs" else ("beam_width", 0.3)
+    light.phong.intensity = 2.0
+    setattr(light.phong, setting, value)
+    props, _children = _parsed(_export(bpy, tmp_path))["NodeAttribute"]["Spot"]
+    outer, inner = props["OuterAngle"][2][0], props["InnerAngle"][2][0]
+    assert outer == pytest.approx(60.0, abs=1e-5)
+    want = (1 - 0.25) * 60.0 if model == "threejs" else 2 * math.degrees(np.float32(0.3))
+    assert inner == pytest.approx(want, abs=1e-4)
+    be.reset_empty_file()
+    assert bpy.ops.phong.import_fbx(filepath=str(tmp_path / "scene.fbx")) == {"FINISHED"}
+    assert getattr(bpy.data.lights["Spot"].phong, setting) == pytest.approx(value, rel=1e-6)
