@@ -424,3 +424,105 @@ def test_spot_inner_angle_follows_the_scenes_model(bpy_clean, tmp_path, model):
     be.reset_empty_file()
     assert bpy.ops.phong.import_fbx(filepath=str(tmp_path / "scene.fbx")) == {"FINISHED"}
     assert getattr(bpy.data.lights["Spot"].phong, setting) == pytest.approx(value, rel=1e-6)
+
+
+# -- three.js's FBXLoader in Chromium (a peer reader) -----------------------------------------
+
+FBXLOADER_MODULES = (("build/three.module.js", "three/three.module.js"),
+                     ("build/three.core.js", "three/three.core.js"),
+                     ("examples/jsm/loaders/FBXLoader.js", "three/addons/loaders/FBXLoader.js"),
+                     ("examples/jsm/libs/fflate.module.js", "three/addons/libs/fflate.module.js"),
+                     ("examples/jsm/curves/NURBSCurve.js", "three/addons/curves/NURBSCurve.js"),
+                     ("examples/jsm/curves/NURBSUtils.js", "three/addons/curves/NURBSUtils.js"))
+
+FBXLOADER_PAGE = """<!DOCTYPE html>
+<html lang="en"><head><meta charset="utf-8"><title>phong: loading</title>
+<script type="importmap">
+{"imports": {"three": "./three/three.module.js", "three/addons/": "./three/addons/"}}
+</script></head><body>
+<pre id="phong-errors"></pre>
+<pre id="phong-pixels" data-width="1" data-height="1">AAAAAA==</pre>
+<script type="text/plain" id="fbx">@FBX@</script>
+<script type="module">
+import * as THREE from "three";
+import { FBXLoader } from "three/addons/loaders/FBXLoader.js";
+try {
+  const text = atob(document.getElementById("fbx").textContent.trim());
+  const bytes = new Uint8Array(text.length);
+  for (let i = 0; i < text.length; i++) { bytes[i] = text.charCodeAt(i); }
+  const group = new FBXLoader().parse(bytes.buffer, "./");
+  const srgb = (c) => { const t = new THREE.Color(); c.getRGB(t, THREE.SRGBColorSpace);
+                        return [t.r, t.g, t.b]; };
+  const out = {materials: {}, lights: {}};
+  group.traverse((o) => {
+    if (o.isMesh) {
+      for (const m of [].concat(o.material)) {
+        out.materials[m.name] = {type: m.type, color: srgb(m.color), opacity: m.opacity,
+          transparent: m.transparent, emissive: srgb(m.emissive),
+          specular: m.specular ? srgb(m.specular) : null,
+          shininess: m.shininess === undefined ? null : m.shininess};
+      }
+    }
+    if (o.isLight) {
+      out.lights[o.name] = {type: o.type, color: srgb(o.color), intensity: o.intensity};
+    }
+  });
+  document.title = "phong: done " + JSON.stringify(out);
+} catch (error) {
+  document.getElementById("phong-errors").textContent = String(error && error.stack || error);
+  document.title = "phong: error";
+}
+</script></body></html>
+"""
+
+
+def _fbxloader(path, folder):
+    """What three.js's FBXLoader reads of the FBX file *path* (in headless Chromium): {"materials":
+    {name: {type, color, specular, shininess, opacity, ...}}, "lights": {name: {...}}}, the
+    colours back in the file's numbers (FBXLoader reads them as sRGB)."""
+    import base64
+    import json
+    from phong_nodes.core import browser, threejs
+    if browser.find_browser() is None:
+        be.skip_unless_ci("Chromium is missing: the FBXLoader peer needs it")
+    try:
+        package = os.path.dirname(os.path.dirname(threejs.three_module()))
+    except Exception as error:  # noqa: BLE001 - three.js not installed
+        be.skip_unless_ci(f"three.js is missing ({error})")
+    for source, target in FBXLOADER_MODULES:
+        os.makedirs(os.path.dirname(os.path.join(folder, target)), exist_ok=True)
+        with open(os.path.join(package, source), "rb") as stream, \
+                open(os.path.join(folder, target), "wb") as out:
+            out.write(stream.read())
+    page = os.path.join(folder, "fbx.html")
+    with open(path, "rb") as stream, open(page, "w", encoding="utf-8") as out:
+        out.write(FBXLOADER_PAGE.replace("@FBX@", base64.b64encode(stream.read()).decode()))
+    result = browser.render_page(page, timeout=120)
+    assert result.title.startswith("phong: done "), (result.title, result.errors)
+    return json.loads(result.title[len("phong: done "):])
+
+
+def test_threejs_fbxloader_reads_the_export(bpy_clean, tmp_path):
+    """three.js's FBXLoader (a reader of its own, in Chromium): MeshPhongMaterial for Phong,
+    MeshLambertMaterial for Lambert, the colours, shininess = Exponent, the opacity, and each
+    light's Intensity / 100 = the Phong intensity where the falloff is a unit one."""
+    bpy = bpy_clean
+    _planes, made = _hand_scene(bpy)
+    names = {name: material.name for name, material in made.items()}
+    read = _fbxloader(_export(bpy, tmp_path), str(tmp_path / "page"))
+    for name, material in names.items():
+        kd, ks, exponent, _blinn, ke, opacity = MATERIALS[name]
+        got = read["materials"][material]
+        lambert = ks == (0.0, 0.0, 0.0)
+        assert got["type"] == ("MeshLambertMaterial" if lambert else "MeshPhongMaterial")
+        np.testing.assert_allclose(got["color"], kd, atol=1e-5)
+        np.testing.assert_allclose(got["emissive"], ke, atol=1e-5)
+        assert got["opacity"] == pytest.approx(opacity, abs=1e-6)
+        assert got["transparent"] == (opacity < 1.0)
+        if not lambert:
+            np.testing.assert_allclose(got["specular"], ks, atol=1e-5)
+            assert got["shininess"] == pytest.approx(exponent)
+    for name in ("Quad", "Lin", "Flat", "Cone", "Sky"):
+        got = read["lights"][name]
+        assert got["intensity"] == pytest.approx(LIGHTS[name][2]), name
+        np.testing.assert_allclose(got["color"], LIGHTS[name][1], atol=1e-5)
