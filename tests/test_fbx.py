@@ -864,3 +864,77 @@ def test_blender_exporters_alpha_texture_is_the_opacity(bpy_clean, tmp_path):
     pixels = np.array(link.from_node.image.pixels[:], np.float64).reshape(*alpha.shape, 4)
     np.testing.assert_allclose(pixels[..., 3], alpha, atol=1 / 255)
     assert 0.0 in pixels[..., 3] and 1.0 in pixels[..., 3], "a cut-out"
+
+
+def _reencoded(parse_fbx, encode_bin, path, edit):
+    """The binary FBX *path* read by Blender's parse_fbx, each element passed to *edit*
+    (which may change it), written again by Blender's encode_bin: a binary file edited by
+    Blender's own FBX code, independently of this project's."""
+    root, version = parse_fbx.parse(path)
+
+    def convert(elem):
+        out = encode_bin.FBXElem(elem.id)
+        props, kinds = edit(elem)
+        for kind, value in zip(kinds, props):
+            kind = bytes((kind,)) if isinstance(kind, int) else kind
+            if kind in b"fdlib" and len(kind) == 1:
+                code = {b"f": "f", b"d": "d", b"l": "q", b"i": "i", b"b": "b"}[kind]
+                value = np.asarray(value, dtype={"f": np.float32, "d": np.float64,
+                                                 "q": np.int64, "i": np.int32,
+                                                 "b": np.bool_}[code])
+                {b"f": out.add_float32_array, b"d": out.add_float64_array,
+                 b"l": out.add_int64_array, b"i": out.add_int32_array,
+                 b"b": out.add_bool_array}[kind](value)
+            elif kind == b"C":   # a char or a bool, as parse_fbx gives it
+                (out.add_char if isinstance(value, bytes) else out.add_bool)(
+                    value if isinstance(value, bytes) else bool(value))
+            else:
+                {b"Y": out.add_int16, b"I": out.add_int32,
+                 b"F": out.add_float32, b"D": out.add_float64, b"L": out.add_int64,
+                 b"R": out.add_bytes, b"S": out.add_string}[kind](value)
+        for child in elem.elems:
+            out.elems.append(convert(child))
+        return out
+
+    top = encode_bin.FBXElem(b"")
+    for elem in root.elems:
+        top.elems.append(convert(elem))
+    out = path[:-4] + "_edited.fbx"
+    encode_bin.write(out, top, version)
+    return out
+
+
+def test_binary_blinn_file_through_blenders_importer(bpy_clean, tmp_path):
+    """A binary FBX 7.4 (Blender's importer's path) whose material says ShadingModel "Blinn"
+    (Blender's exporter's file, edited with Blender's parse_fbx / encode_bin): a Phong
+    material with Blinn = 1 and the values written in the file."""
+    bpy = bpy_clean
+    from io_scene_fbx import encode_bin, parse_fbx
+    bpy.ops.mesh.primitive_plane_add()
+    material = bpy.data.materials.new("Shiny")
+    material.diffuse_color = (0.3, 0.5, 0.7, 1.0)
+    bpy.context.active_object.data.materials.append(material)
+    plain = str(tmp_path / "plain.fbx")
+    assert bpy.ops.export_scene.fbx(filepath=plain) == {"FINISHED"}
+    diffuse = (0.25, 0.5, 0.75)
+
+    def edit(elem):
+        props, kinds = list(elem.props), bytes(elem.props_type)
+        if elem.id == b"ShadingModel":
+            props = [b"Blinn"]
+        elif elem.id == b"P" and props[0] == b"ShadingModel":
+            props[4] = b"Blinn"
+        elif elem.id == b"P" and props[0] == b"DiffuseColor" and len(props) == 7:
+            props[4:7] = diffuse
+        return props, kinds
+
+    path = _reencoded(parse_fbx, encode_bin, plain, edit)
+    root, _version = parse_fbx.parse(path)
+    objects = next(e for e in root.elems if e.id == b"Objects")
+    shiny = next(e for e in objects.elems if e.id == b"Material")
+    assert next(e for e in shiny.elems if e.id == b"ShadingModel").props == [b"Blinn"]
+    be.reset_empty_file()
+    assert bpy.ops.phong.import_fbx(filepath=path) == {"FINISHED"}
+    got = _controls(bpy.data.materials["Shiny"])
+    assert got["blinn"] == 1.0
+    np.testing.assert_allclose(got["Object Color"], diffuse, atol=1e-7)
