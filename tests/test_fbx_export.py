@@ -526,3 +526,12 @@ def test_threejs_fbxloader_reads_the_export(bpy_clean, tmp_path):
         got = read["lights"][name]
         assert got["intensity"] == pytest.approx(LIGHTS[name][2]), name
         np.testing.assert_allclose(got["color"], LIGHTS[name][1], atol=1e-5)
+
+
+def test_an_unknown_option_is_one_clear_error(bpy_clean, tmp_path):
+    bpy = bpy_clean
+    from phong_nodes.addon.interchange import fbx_export
+    _hand_scene(bpy)
+    with pytest.raises(ValueError, match="Blender's FBX exporter failed"):
+        fbx_export.export(bpy.context, str(tmp_path / "x.fbx"), no_such_option=True)
+    assert os.listdir(tmp_path) == []

@@ -40,7 +40,7 @@ from ...core import fbx as fbx_read
 from ...core import fbx_write, outputs
 from ..lighting import materials as recipe
 from ..lighting import properties, rig
-from .fbx_import import _ensure_fbx_addon
+from .fbx_import import ensure_fbx_addon
 
 #: The importer's reading of a material's user properties: key -> lights-group input.
 MATERIAL_USER = {"Blinn": "Blinn", "SpecularStrength": "Specular Strength"}
@@ -171,7 +171,7 @@ def export(context, filepath, use_selection=False, **options) -> list:
     """Write *context*'s scene to the FBX file *filepath* (Blender's exporter with *options*,
     its keyword arguments, then the Phong parts); returns the warnings.  Raises OSError or
     ValueError (the file is then left as it was)."""
-    if not _ensure_fbx_addon():
+    if not ensure_fbx_addon():
         raise ValueError("Blender's FBX exporter (io_scene_fbx) is not available")
     path = os.path.abspath(bpy.path.abspath(filepath))
     warnings = []
@@ -196,8 +196,12 @@ def export(context, filepath, use_selection=False, **options) -> list:
                                  suffix=".fbx", dir=folder)
     os.close(fd)
     try:
-        result = bpy.ops.export_scene.fbx(filepath=first, use_selection=use_selection,
-                                          **options)
+        try:
+            result = bpy.ops.export_scene.fbx(filepath=first, use_selection=use_selection,
+                                              **options)
+        except (RuntimeError, TypeError) as error:   # its own error, or an unknown option
+            last = [line for line in str(error).splitlines() if line.strip()][-1:] or [""]
+            raise ValueError(f"Blender's FBX exporter failed ({last[0][:200]})") from None
         if result != {"FINISHED"}:
             raise ValueError(f"Blender's FBX exporter did not finish ({result})")
         with open(first, "rb") as handle:

@@ -75,7 +75,9 @@ def _blender_reads(data: fbx.Scene) -> bool:
     return not data.ascii and data.version >= 7100
 
 
-def _ensure_fbx_addon() -> bool:
+def ensure_fbx_addon() -> bool:
+    """Whether Blender's FBX add-on (io_scene_fbx: its importer and exporter) is enabled,
+    enabling it where it is not."""
     if hasattr(bpy.ops.import_scene, "fbx"):
         try:
             bpy.ops.import_scene.fbx.get_rna_type()
@@ -414,7 +416,7 @@ def import_fbx(context, filepath) -> tuple:
     A binary file of FBX 7100 and later is read by Blender's own importer while ufbx reads
     its values in the child process (``fbx.start``); other files are built from ufbx."""
     path = os.path.abspath(bpy.path.abspath(filepath))
-    blender = _binary_7100(path) and _ensure_fbx_addon()
+    blender = _binary_7100(path) and ensure_fbx_addon()
     reading = fbx.start(path, geometry=not blender)   # FbxError: file not found
     before = native.snapshot()
     objects_before = set(context.scene.objects)
