@@ -40,6 +40,43 @@ def test_walk_reencodes_every_header_to_the_same_bytes(path):
     assert out == data and missing == []
 
 
+def test_rewritten_material_and_ambient_are_what_ufbx_reads(tmp_path):
+    """Blender 2.93's file (tests/data/fbx) with its material rewritten as a Lambert and
+    its ambient set, without Blender: ufbx (through core.fbx's child process) reads the
+    values written, the model, the opacity and the user property; every node but the
+    rewritten ones keeps its bytes (the file grows by the new properties only)."""
+    from phong_nodes.core import fbx, fbx_write
+    path = os.path.join(DATA, "blender_293_embedded_textures_7400_binary.fbx")
+    data = open(path, "rb").read()
+    material = fbx_write.Material(lambert=True, diffuse=(0.1, 0.2, 0.3),
+                                  ambient=(0.4, 0.5, 0.6), specular=(0.0, 0.0, 0.0),
+                                  emissive=(0.01, 0.02, 0.03), exponent=7.0, opacity=0.75,
+                                  user={"Exponent": 7.0})
+    out, missing = fbx_write.rewrite(data, {"Material.001": material, "Nowhere": material},
+                                     ambient=(0.2, 0.3, 0.4))
+    assert missing == ["material Nowhere"]
+    target = tmp_path / "rewritten.fbx"
+    target.write_bytes(out)
+    scene = fbx.read(str(target))
+    m = scene.material("Material.001")
+    assert (m.model, m.shading) == ("LAMBERT", "Lambert")
+    assert m.colors["Object Color"] == (0.1, 0.2, 0.3)
+    assert m.colors["Ambient Object Color"] == (0.4, 0.5, 0.6)
+    assert m.colors["Irradiant Color"] == (0.01, 0.02, 0.03)
+    assert m.opacity == 0.75 and m.user == {"Exponent": 7.0} and m.exponent == 7.0
+    assert all(m.sources[k] == "object" for k in ("DiffuseFactor", "AmbientFactor",
+                                                  "EmissiveFactor", "TransparencyFactor"))
+    assert scene.ambient == (0.2, 0.3, 0.4)
+    # the embedded textures (Video Content) keep their bytes
+    pngs, at = [], data.find(b"\x89PNG")
+    while at >= 0:
+        end = data.index(b"IEND", at) + 8
+        pngs.append(data[at:end])
+        at = data.find(b"\x89PNG", end)
+    assert len(pngs) >= 4 and all(png in out for png in pngs)
+    assert len(out) > len(data)
+
+
 def test_not_a_binary_fbx_7_is_one_error():
     from phong_nodes.core import fbx_write
     for data in (b"", b"; FBX 7.4.0 project file", open(os.path.join(
