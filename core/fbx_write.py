@@ -170,9 +170,9 @@ def _prop(kind, value) -> bytes:
     return kind.encode() + struct.pack(_SCALARS[kind], value)
 
 
-def p_node(name, ptype, label, flags, values, kinds) -> bytes:
-    """A ``P`` node (a property: name, type, label, flags, values) as bytes, offsets 0:
-    placed by :func:`_emit`."""
+def p_node(name, ptype, label, flags, values, kinds) -> "_Synthetic":
+    """A ``P`` node (a property: name, type, label, flags, *values* of the FBX property
+    types *kinds*), placed by :func:`_emit`."""
     props = b"".join([_prop("S", name), _prop("S", ptype), _prop("S", label),
                       _prop("S", flags)] + [_prop(k, v) for k, v in zip(kinds, values)])
     return _Synthetic(b"P", props, 4 + len(values))
