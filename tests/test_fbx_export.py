@@ -436,6 +436,15 @@ def test_real_files_imported_then_exported_import_the_same(bpy_clean, tmp_path, 
                 (light, attr)
     assert again[2][0] == pytest.approx(first[2][0])
     np.testing.assert_allclose(again[2][1], first[2][1], atol=1e-7)
+    # Blender's own importer: the object colour as Base Color, never metallic
+    be.reset_empty_file()
+    assert bpy.ops.import_scene.fbx(filepath=path) == {"FINISHED"}
+    for material, controls in first[0].items():
+        principled = next(n for n in bpy.data.materials[material].node_tree.nodes
+                          if n.bl_idname == "ShaderNodeBsdfPrincipled")
+        assert principled.inputs["Metallic"].default_value == 0.0, material
+        np.testing.assert_allclose(tuple(principled.inputs["Base Color"].default_value)[:3],
+                                   controls["Object Color"], atol=1e-6, err_msg=material)
 
 
 @pytest.mark.parametrize("model", ["threejs", "x3d"])
