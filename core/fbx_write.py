@@ -49,6 +49,14 @@ class FbxWriteError(ValueError):
 
 
 @dataclass
+class Texture:
+    """An image file a material property is multiplied by (FBX Texture and Video objects)."""
+    path: str                 # absolute
+    relative: str             # relative to the FBX file's folder
+    name: str
+
+
+@dataclass
 class Material:
     """A Phong material as FBX says it (linear colours)."""
     lambert: bool
@@ -59,6 +67,7 @@ class Material:
     exponent: float
     opacity: float
     user: dict = field(default_factory=dict)   # key (without USER) -> float
+    textures: dict = field(default_factory=dict)   # FBX property (DiffuseColor ...) -> Texture
 
 
 @dataclass
@@ -179,11 +188,18 @@ def p_node(name, ptype, label, flags, values, kinds) -> "_Synthetic":
 
 
 class _Synthetic:
-    """A node made here (no children, no null record)."""
-    __slots__ = ("name", "props", "count")
+    """A node made here (*children*: nodes below it, then a null record)."""
+    __slots__ = ("name", "props", "count", "children")
 
-    def __init__(self, name, props, count):
+    def __init__(self, name, props, count, children=None):
         self.name, self.props, self.count = name, props, count
+        self.children = children
+
+
+def _made(name: bytes, values, kinds, children=None) -> _Synthetic:
+    """A node *name* with properties *values* of FBX types *kinds* (and *children*)."""
+    return _Synthetic(name, b"".join(_prop(k, v) for k, v in zip(kinds, values)),
+                      len(values), children)
 
 
 def color(name, value, ptype="Color", label="") -> tuple:
@@ -277,10 +293,10 @@ def rewrite(data: bytes, materials: dict | None = None, lights: dict | None = No
     except (struct.error, IndexError) as error:
         raise FbxWriteError(f"corrupt node list ({error})") from None
     materials, lights = dict(materials or {}), dict(lights or {})
-    found = set()
+    found, links = set(), []   # links: (material id, property, Texture)
     for section in top:
         if section.name == b"Objects":
-            for obj in section.children:
+            for obj in list(section.children):
                 if obj.name not in (b"Material", b"NodeAttribute"):
                     continue
                 values = reader.props(obj)
@@ -290,6 +306,7 @@ def rewrite(data: bytes, materials: dict | None = None, lights: dict | None = No
                     _set_props(reader, obj, material_props(m))
                     _set_string_child(reader, obj, b"ShadingModel",
                                       "Lambert" if m.lambert else "Phong")
+                    links += [(values[0], prop, t) for prop, t in sorted(m.textures.items())]
                     section.edited = True
                     found.add(("material", name))
                 elif obj.name == b"NodeAttribute" and len(values) > 2 and \
@@ -300,6 +317,8 @@ def rewrite(data: bytes, materials: dict | None = None, lights: dict | None = No
         elif section.name == b"GlobalSettings" and ambient is not None:
             _set_props(reader, section, [color("AmbientColor", ambient, "ColorRGB", "Color")]
                        + [user(k, v) for k, v in sorted((ambient_user or {}).items())])
+    if links:
+        _add_textures(reader, top, links)
     missing = [f"material {n}" for n in materials if ("material", n) not in found] + \
               [f"light {n}" for n in lights if ("light", n) not in found]
     chunks = [memoryview(data)[:27]]
@@ -312,14 +331,92 @@ def rewrite(data: bytes, materials: dict | None = None, lights: dict | None = No
     return b"".join(chunks), missing
 
 
+def _ids(reader, objects) -> set:
+    return {v for obj in objects.children if not isinstance(obj, _Synthetic)
+            for v in reader.props(obj)[:1] if isinstance(v, int)}
+
+
+def _add_textures(reader, top, links) -> None:
+    """A Texture and a Video object per image file of *links* ((material id, property,
+    Texture)), as Blender's exporter writes them (TextureVideoClip, Clip), connected: Video
+    to Texture (OO), Texture to the material's property (OP); the Definitions' counts."""
+    objects = next(n for n in top if n.name == b"Objects")
+    connections = next((n for n in top if n.name == b"Connections"), None)
+    if connections is None:
+        raise FbxWriteError("no Connections section")
+    taken = _ids(reader, objects)
+    next_id = [max(taken, default=1 << 40) + 1]
+
+    def new_id():
+        while next_id[0] in taken or next_id[0] >= 1 << 63:
+            next_id[0] = (next_id[0] + 7919) % (1 << 62) + 1
+        taken.add(next_id[0])
+        return next_id[0]
+
+    made = {}
+    for material, prop, texture in links:
+        key = texture.path
+        if key not in made:
+            video_id, texture_id = new_id(), new_id()
+            name = texture.name.replace("\x00", "")
+            video = _made(b"Video", (video_id, f"{name}\x00\x01Video", "Clip"), "LSS", [
+                _made(b"Type", ("Clip",), "S"),
+                _made(b"Properties70", (), "", [p_node("Path", "KString", "XRefUrl", "",
+                                                       (texture.path,), "S")]),
+                _made(b"UseMipMap", (0,), "I"),
+                _made(b"Filename", (texture.path,), "S"),
+                _made(b"RelativeFilename", (texture.relative,), "S")])
+            tex = _made(b"Texture", (texture_id, f"{name}\x00\x01Texture", ""), "LSS", [
+                _made(b"Type", ("TextureVideoClip",), "S"),
+                _made(b"Version", (202,), "I"),
+                _made(b"TextureName", (f"{name}\x00\x01Texture",), "S"),
+                _made(b"Media", (f"{name}\x00\x01Video",), "S"),
+                _made(b"FileName", (texture.path,), "S"),
+                _made(b"RelativeFilename", (texture.relative,), "S")])
+            objects.children += [tex, video]
+            connections.children.append(_made(b"C", ("OO", video_id, texture_id), "SLL"))
+            made[key] = texture_id
+        connections.children.append(_made(b"C", ("OP", made[key], material, prop), "SLLS"))
+    objects.edited = connections.edited = True
+    _count(reader, top, {b"Texture": len(made), b"Video": len(made)})
+
+
+def _count(reader, top, added: dict) -> None:
+    """The Definitions section's counts with *added* objects ({type: how many})."""
+    definitions = next((n for n in top if n.name == b"Definitions"), None)
+    if definitions is None:
+        return
+    for child in definitions.children:
+        if child.name != b"ObjectType" or isinstance(child, _Synthetic):
+            continue
+        kind = reader.props(child)[0].encode()
+        if kind in added:
+            for j, grand in enumerate(child.children):
+                if grand.name == b"Count":
+                    child.children[j] = _made(b"Count", (reader.props(grand)[0]
+                                                         + added.pop(kind),), "I")
+                    child.edited = definitions.edited = True
+    for kind, count in added.items():
+        definitions.children.append(_made(b"ObjectType", (kind.decode(),), "S",
+                                          [_made(b"Count", (count,), "I")]))
+        definitions.edited = True
+
+
 def _emit(reader, node, pos, chunks, force) -> int:
     """Append the bytes of *node* placed at *pos*; returns the position after it."""
     data = reader.data
     if isinstance(node, _Synthetic):
-        end = pos + reader.head.size + 1 + len(node.name) + len(node.props)
-        chunks.append(reader.head.pack(end, node.count, len(node.props)))
+        inner = pos + reader.head.size + 1 + len(node.name) + len(node.props)
+        header = len(chunks)
+        chunks.append(None)
         chunks.append(bytes((len(node.name),)) + node.name + node.props)
-        return end
+        if node.children is not None:
+            for child in node.children:
+                inner = _emit(reader, child, inner, chunks, force)
+            chunks.append(bytes(reader.null))
+            inner += reader.null
+        chunks[header] = reader.head.pack(inner, node.count, len(node.props))
+        return inner
     if not node.edited and not force and pos == node.start:
         chunks.append(memoryview(data)[node.start:node.end])
         return node.end

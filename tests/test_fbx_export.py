@@ -593,3 +593,90 @@ def test_an_unknown_option_is_one_clear_error(bpy_clean, tmp_path):
     with pytest.raises(ValueError, match="Blender's FBX exporter failed"):
         fbx_export.export(bpy.context, str(tmp_path / "x.fbx"), no_such_option=True)
     assert os.listdir(tmp_path) == []
+
+
+def _textured_scene(bpy, folder):
+    """A plane whose Phong material takes Object Color = a colour × an image (the importers'
+    chain: a Vector Math Multiply of the control and an Image Texture) and Irradiant Color =
+    another image alone; the images are PNG files in *folder*."""
+    from phong_nodes.addon import compat
+    from phong_nodes.addon.lighting import materials
+    images = {}
+    for key, rgb in (("diffuse", (0.2, 0.8, 0.4)), ("glow", (0.5, 0.1, 0.9))):
+        image = bpy.data.images.new(key, 2, 2)
+        image.pixels[:] = [*rgb, 1.0] * 4
+        image.filepath_raw = os.path.join(folder, f"{key}.png")
+        image.file_format = "PNG"
+        image.save()
+        images[key] = image
+    mesh = bpy.data.meshes.new("Tile")
+    mesh.from_pydata([(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0)], [], [(0, 1, 2, 3)])
+    mesh.uv_layers.new(name="UVMap")
+    mesh.materials.append(bpy.data.materials.new("Tile"))
+    obj = bpy.data.objects.new("Tile", mesh)
+    bpy.context.scene.collection.objects.link(obj)
+    obj.select_set(True)
+    bpy.context.view_layer.objects.active = obj
+    assert bpy.ops.phong.apply_material() == {"FINISHED"}
+    material = obj.material_slots[0].material
+    tree = material.node_tree
+    lights = tree.nodes[materials.LIGHTS_NODE]
+    control = tree.nodes["phong_object_color"]
+    control.outputs[0].default_value = (0.5, 0.25, 1.0, 1.0)
+    texture = tree.nodes.new("ShaderNodeTexImage")
+    texture.image = images["diffuse"]
+    multiply = tree.nodes.new("ShaderNodeVectorMath")
+    multiply.operation = "MULTIPLY"
+    tree.links.new(compat.value_output(control), compat.input_socket(multiply, "Vector"))
+    tree.links.new(texture.outputs["Color"], compat.input_socket(multiply, "Vector_001"))
+    tree.links.new(compat.output_socket(multiply, "Vector"), lights.inputs["Object Color"])
+    glow = tree.nodes.new("ShaderNodeTexImage")
+    glow.image = images["glow"]
+    tree.links.new(glow.outputs["Color"], lights.inputs["Irradiant Color"])
+    return material
+
+
+def test_image_textures_are_written_and_read_back(bpy_clean, tmp_path):
+    """An image texture on a colour is an FBX Texture and Video connected to its property
+    (Blender's parse_fbx reads the connections and the file names), with the colour the
+    control's (times the map) or white (the map alone); the importer reads colour × map back
+    from the same file, and Blender's importer shows the diffuse map as its Base Color."""
+    bpy = bpy_clean
+    material = _textured_scene(bpy, str(tmp_path))
+    name = material.name
+    path = _export(bpy, tmp_path)
+    from io_scene_fbx import parse_fbx
+    root, _version = parse_fbx.parse(path)
+    objects = next(e for e in root.elems if e.id == b"Objects")
+    ids = {e.props[0]: e for e in objects.elems}
+    connections = [c.props for c in next(e for e in root.elems if e.id == b"Connections").elems]
+    mat_id = next(i for i, e in ids.items() if e.id == b"Material"
+                  and e.props[1].split(b"\x00\x01")[0].decode() == name)
+    on = {}
+    for kind, child, parent, *prop in connections:
+        if kind == b"OP" and parent == mat_id:
+            texture = ids[child]
+            assert texture.id == b"Texture"
+            file = next(e for e in texture.elems if e.id == b"RelativeFilename").props[0]
+            videos = [ids[c] for k, c, p, *_ in connections if k == b"OO" and p == child]
+            assert [v.id for v in videos] == [b"Video"]
+            on[prop[0].decode()] = file.decode()
+    # (the Ambient Object Color stays linked to the control itself: no map on AmbientColor)
+    assert on == {"DiffuseColor": "diffuse.png", "EmissiveColor": "glow.png"}
+    props = _parsed(path)["Material"][name][0]
+    np.testing.assert_allclose(props["DiffuseColor"][2], (0.5, 0.25, 1.0), atol=0)
+    np.testing.assert_allclose(props["EmissiveColor"][2], (1.0, 1.0, 1.0), atol=0)
+    be.reset_empty_file()
+    assert bpy.ops.phong.import_fbx(filepath=path) == {"FINISHED"}
+    from phong_nodes.addon.lighting import materials
+    feeds = materials.feeds(bpy.data.materials[name])
+    assert feeds["Object Color"].value == pytest.approx((0.5, 0.25, 1.0))
+    assert bpy.path.basename(feeds["Object Color"].texture.image.filepath) == "diffuse.png"
+    assert feeds["Irradiant Color"].value == pytest.approx((1.0, 1.0, 1.0))
+    assert bpy.path.basename(feeds["Irradiant Color"].texture.image.filepath) == "glow.png"
+    be.reset_empty_file()
+    assert bpy.ops.import_scene.fbx(filepath=path) == {"FINISHED"}
+    principled = next(n for n in bpy.data.materials[name].node_tree.nodes
+                      if n.bl_idname == "ShaderNodeBsdfPrincipled")
+    base = principled.inputs["Base Color"].links[0].from_node
+    assert bpy.path.basename(base.image.filepath) == "diffuse.png"

@@ -23,9 +23,10 @@ What FBX cannot say is kept as user properties ``PhongNodes|<key>`` that the imp
 back, so that import ∘ export gives every control again, each kind named in one warning: a
 material's Blinn, Specular Strength and a Lambert's Exponent; a light's settings that the
 written FBX values do not give back (coefficients of a mixed falloff, the power falloff, the
-other models' settings ...); the World's ambient intensity.  Principled and other materials
-are written as Blender writes them; textures feeding a Phong input are not written (the
-control's value is, with a warning).
+other models' settings ...); the World's ambient intensity.  An image texture feeding a
+colour (alone, or times a colour control as the importers make it) is an FBX Texture (and
+Video) on its property, the colour white or that control's (the importer reads colour ×
+texture back).  Principled and other materials are written as Blender writes them.
 """
 
 from __future__ import annotations
@@ -51,24 +52,61 @@ def _close(a, b) -> bool:
     return abs(a - b) <= 1e-6 * max(1.0, abs(a), abs(b))
 
 
-def material_of(material, warnings: list) -> fbx_write.Material:
-    """The FBX Phong (or Lambert) values of the Phong material *material*."""
+#: The colour inputs that take a texture, and the FBX property it is written on.
+TEXTURE_PROPS = {"Object Color": "DiffuseColor", recipe.AMBIENT_INPUT: "AmbientColor",
+                 "Specular Color": "SpecularColor", "Irradiant Color": "EmissiveColor"}
+
+
+def _texture(node, folder):
+    """The fbx_write.Texture of the Image Texture *node* (its file), or None for an image
+    without a file (packed or generated)."""
+    image = node.image
+    if image.packed_file is not None or image.source != "FILE":
+        return None
+    path = os.path.abspath(bpy.path.abspath(image.filepath, library=image.library))
+    try:
+        relative = os.path.relpath(path, folder)
+    except ValueError:   # another drive (Windows)
+        relative = path
+    return fbx_write.Texture(path, relative, os.path.basename(path) or image.name)
+
+
+def material_of(material, warnings: list, folder: str = "") -> fbx_write.Material:
+    """The FBX Phong (or Lambert) values of the Phong material *material* (*folder*: the
+    FBX file's, for the textures' relative paths).  A colour fed by an image texture (alone:
+    colour white, or times a colour: that colour) is that colour with the texture on its
+    property, as the importer reads it back (colour × texture)."""
     feeds = recipe.feeds(material)
     name = material.name
-    fed = [k for k, f in feeds.items() if f.other is not None and k != "Opacity"]
+    textures, values = {}, {}
+    for key, prop in TEXTURE_PROPS.items():
+        feed = feeds[key]
+        values[key] = feed.value
+        if feed.texture is None:
+            continue
+        texture = _texture(feed.texture, folder)
+        if texture is None:
+            warnings.append(f"material {name}: {key}'s image {feed.texture.image.name!r} has "
+                            "no file (packed or generated): the colour written without it")
+            continue
+        textures[prop] = texture
+        if feed.other is feed.texture:   # the texture alone: white × texture
+            values[key] = (1.0, 1.0, 1.0)
+    fed = [k for k, f in feeds.items() if f.other is not None and f.texture is None
+           and k != "Opacity"]
     if fed:
-        warnings.append(f"material {name}: {', '.join(fed)} fed by nodes (a texture); "
+        warnings.append(f"material {name}: {', '.join(fed)} fed by nodes FBX cannot say; "
                         "the control's value written")
     if feeds["Opacity"].other is not None:
         warnings.append(f"material {name}: its opacity map left out (the Opacity control's "
                         "value written)")
-    specular = feeds["Specular Color"].value
-    lambert = all(c == 0.0 for c in specular)
+    specular = values["Specular Color"]
+    lambert = all(c == 0.0 for c in specular) and "SpecularColor" not in textures
     out = fbx_write.Material(
-        lambert=lambert, diffuse=feeds["Object Color"].value,
-        ambient=feeds[recipe.AMBIENT_INPUT].value, specular=specular,
-        emissive=feeds["Irradiant Color"].value, exponent=max(feeds["Exponent"].value, 0.0),
-        opacity=min(max(feeds["Opacity"].value, 0.0), 1.0))
+        lambert=lambert, diffuse=values["Object Color"], ambient=values[recipe.AMBIENT_INPUT],
+        specular=specular, emissive=values["Irradiant Color"],
+        exponent=max(feeds["Exponent"].value, 0.0),
+        opacity=min(max(feeds["Opacity"].value, 0.0), 1.0), textures=textures)
     blinn = feeds["Blinn"].value
     if blinn != 0.0:
         out.user["Blinn"] = blinn
@@ -188,7 +226,7 @@ def export(context, filepath, use_selection=False, **options) -> list:
         if obj.type == "LIGHT" and obj.data.type in fbx_write.LIGHT_TYPES and \
                 obj.data.name not in lights:
             lights[obj.data.name] = obj.data
-    values = {n: material_of(m, warnings) for n, m in phong.items()}
+    values = {n: material_of(m, warnings, os.path.dirname(path)) for n, m in phong.items()}
     light_values = {n: light_of(l, scene, warnings) for n, l in lights.items()}
     ambient, ambient_user = _ambient(scene)
     folder = os.path.dirname(path)

@@ -729,12 +729,15 @@ class Feed:
     """What feeds one input of a Phong material's lights group: *value* (a float, or 3
     floats for a colour), the value the material states (its control's, an RGB / Value
     node's, else the socket's own); *other*: the node that feeds the input instead when that
-    is not a plain value (a texture, a chain), else None."""
+    is not a plain value (a texture, a chain), else None; *texture*: the Image Texture node
+    (with an image) when *other* is one, or the importers' colour × map (a Vector Math
+    Multiply of an RGB node and an Image Texture: *value* is then that RGB node's colour),
+    else None."""
 
-    __slots__ = ("value", "other")
+    __slots__ = ("value", "other", "texture")
 
-    def __init__(self, value, other=None):
-        self.value, self.other = value, other
+    def __init__(self, value, other=None, texture=None):
+        self.value, self.other, self.texture = value, other, texture
 
     def __repr__(self):
         return f"Feed({self.value!r}, {getattr(self.other, 'name', None)!r})"
@@ -767,12 +770,24 @@ def feeds(material) -> dict:
         upstream = socket.links[0].from_node
         if upstream.bl_idname in compat.VALUE_OUTPUTS:
             out[target] = Feed(_plain_value(compat.value_output(upstream).default_value))
-        else:
-            out[target] = Feed(stated if stated is not None
-                               else _plain_value(socket.default_value), upstream)
+            continue
+        feed = Feed(stated if stated is not None else _plain_value(socket.default_value),
+                    upstream)
+        if upstream.bl_idname == "ShaderNodeTexImage" and upstream.image is not None:
+            feed.texture = upstream
+        elif upstream.bl_idname == "ShaderNodeVectorMath" and upstream.operation == "MULTIPLY":
+            a, b = (compat.input_socket(upstream, k) for k in ("Vector", "Vector_001"))
+            if a.is_linked and b.is_linked:
+                rgb, image = a.links[0].from_node, b.links[0].from_node
+                if rgb.bl_idname == "ShaderNodeRGB" and \
+                        image.bl_idname == "ShaderNodeTexImage" and image.image is not None:
+                    feed.value = _plain_value(compat.value_output(rgb).default_value)
+                    feed.texture = image
+        out[target] = feed
     ambient = out.get(AMBIENT_INPUT)
     if ambient is not None and ambient.other is not None and \
             tree.nodes.get(AMBIENT_CONTROL) is None and "Object Color" in out:
-        out[AMBIENT_INPUT] = Feed(out["Object Color"].value, ambient.other)
+        colour = out["Object Color"]
+        out[AMBIENT_INPUT] = Feed(colour.value, ambient.other, colour.texture)
     out["Opacity"] = Feed(opacity(material), tree.nodes.get(OPACITY_MAP))
     return out
