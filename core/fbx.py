@@ -20,7 +20,12 @@ turns what it reads into plain data, by the FBX SDK's rules:
 * a light's colour, Intensity / 100, DecayType as the falloff 1/dᵏ (k = 0, 1, 2, 3) and a
   spot's OuterAngle / InnerAngle (FBX 6.1: ``Cone angle`` / ``HotSpot``), full cone angles in
   degrees;
-* the scene ambient is GlobalSettings' AmbientColor.
+* the scene ambient is GlobalSettings' AmbientColor;
+* a material of a shading model ufbx does not know ("Blinn" of 3ds Max: shader type UNKNOWN)
+  that holds a Phong property is read as FbxSurfacePhong (Blinn on for "Blinn"); a file of
+  Blender's exporter has its alpha texture on TransparencyFactor (:attr:`Material.alpha_map`);
+* the user properties ``PhongNodes|...`` that Phong Nodes' export writes (``fbx_write.py``)
+  are read into ``user`` of materials, lights and the scene.
 
 ufbx 0.0.5 gives every property of an element (``props.props``) and finds a property through
 the template (``props.find_prop``).  Its Python binding is fragile: some of its objects crash
@@ -89,6 +94,11 @@ MAX_EMBEDDED = 256 * 1024 * 1024
 TIME_LIMIT = 300.0
 MEMORY_LIMIT = 8 * 1024 ** 3
 _NO_VALUE = 0x4000 | 0x10000  # ufbx PropFlags NOT_FOUND | NO_VALUE
+#: The prefix of the user properties Phong Nodes' FBX export writes for what FBX cannot say
+#: (``core/fbx_write.py``), read back into :attr:`Material.user`, :attr:`Light.user` and
+#: :attr:`Scene.user`: a Phong material's Blinn, Specular Strength and a Lambert's exponent;
+#: a light's Phong settings; the World's ambient intensity.
+USER = "PhongNodes|"
 
 
 class FbxError(ValueError):
@@ -126,6 +136,10 @@ class Material:
     exponent: float = 20.0
     opacity: float = 1.0
     blinn: bool = False
+    # the opacity is the alpha of the TransparencyFactor / TransparentColor map, as Blender's
+    # importer reads it (a file of Blender's exporter, which writes its alpha texture there)
+    alpha_map: bool = False
+    user: dict = field(default_factory=dict)     # USER properties: key -> float
     transparent_color: tuple = (0.0, 0.0, 0.0)   # TransparentColor (for its map)
     transparency_factor: float = 0.0             # TransparencyFactor (for its map)
     textures: dict = field(default_factory=dict)  # lights-group input -> Texture
@@ -144,6 +158,7 @@ class Light:
     outer_angle: float        # degrees, full cone (spot)
     inner_angle: float        # degrees, full cone (spot)
     sources: dict = field(default_factory=dict)
+    user: dict = field(default_factory=dict)     # USER properties: key -> float
 
 
 @dataclass
@@ -158,6 +173,7 @@ class Scene:
     warnings: list
     nodes: list = field(default_factory=list)    # Node, parents first (with geometry only)
     meshes: dict = field(default_factory=dict)   # mesh id -> MeshData
+    user: dict = field(default_factory=dict)     # GlobalSettings' USER properties
 
     def material(self, name):
         return next((m for m in self.materials if m.name == name), None)
@@ -257,6 +273,18 @@ def lookup(props, names, default, width, own=None):
     return default, "default"
 
 
+def user_props(own: dict) -> dict:
+    """{key: value} of the :data:`USER` properties among *own* ({name: ufbx prop}) that hold
+    a finite number."""
+    out = {}
+    for name, prop in own.items():
+        if name.startswith(USER) and not prop.flags & _NO_VALUE:
+            value = float(prop.value_vec4.x)
+            if math.isfinite(value):
+                out[name[len(USER):]] = value
+    return out
+
+
 def _texture(prop_name, index, textures, base) -> Texture:
     """The texture *index* (typed id) of the scene's *textures*, connected to *prop_name*."""
     texture = textures[index]
@@ -281,19 +309,42 @@ def _texture(prop_name, index, textures, base) -> Texture:
     return Texture(prop_name, name, tuple(candidates), content, texture.name)
 
 
-def read_material(mat, base="", textures=None) -> Material:
+#: Properties that only a Phong surface has: a material of a shading model ufbx does not
+#: know ("Blinn" of 3ds Max, "Anisotropic" ...) that holds one is read as FbxSurfacePhong.
+PHONG_ONLY = ("SpecularColor", "SpecularFactor", "ShininessExponent", "Shininess")
+#: The start of the Creator of a file of Blender's own FBX exporter.
+BLENDER_CREATOR = "Blender (stable FBX IO)"
+
+
+def phong_like(kind, own) -> bool:
+    """Whether a material of ufbx shader type *kind* whose own properties are *own* (names)
+    is read as FbxSurfacePhong: ufbx's FBX_PHONG, or a shading model ufbx does not know
+    (UNKNOWN) with a property of :data:`PHONG_ONLY` on the material itself."""
+    ufbx = _ufbx()
+    if kind == ufbx.ShaderType.FBX_PHONG:
+        return True
+    return kind == ufbx.ShaderType.UNKNOWN and any(name in own for name in PHONG_ONLY)
+
+
+def read_material(mat, base="", textures=None, blender=False) -> Material:
     """The Phong values of the ufbx material *mat* (``base``: the file's folder; *textures*:
-    the scene's textures, ``items(scene.textures)``, for the material's maps)."""
+    the scene's textures, ``items(scene.textures)``, for the material's maps; *blender*: the
+    file was written by Blender's exporter, whose map on TransparencyFactor is an alpha
+    texture: :attr:`Material.alpha_map`)."""
     ufbx = _ufbx()
     shading = mat.shading_model_name or ""
     kind = mat.shader_type
+    own = {p.name: p for p in items(mat.props.props)}
     # (``mat.shader`` is not touched: ufbx 0.0.5's Shader object crashes the garbage collector)
-    if kind not in (ufbx.ShaderType.FBX_LAMBERT, ufbx.ShaderType.FBX_PHONG):
+    if kind != ufbx.ShaderType.FBX_LAMBERT and not phong_like(kind, own):
         return Material(mat.name, "OTHER", shading or kind.name)
     lambert = kind == ufbx.ShaderType.FBX_LAMBERT
     out = Material(mat.name, "LAMBERT" if lambert else "PHONG", shading,
-                   blinn=shading.strip().lower() == "blinn")
-    own = {p.name: p for p in items(mat.props.props)}
+                   blinn=shading.strip().lower() == "blinn", user=user_props(own))
+    if "Blinn" in out.user:   # (the control's own value: fbx_import reads out.user)
+        out.blinn = out.user["Blinn"] > 0.0
+    if lambert and "Exponent" in out.user:   # a Phong material written as Lambert
+        out.exponent = max(out.user["Exponent"], 0.0)
 
     def get(name, width):
         value, source = lookup(mat.props, (name,), SURFACE_DEFAULTS[name], width, own)
@@ -335,6 +386,10 @@ def read_material(mat, base="", textures=None) -> Material:
         if textures is None:
             textures = items(mat.scene.textures)
         out.textures[slot] = _texture(prop, index, textures, base)
+    # Blender's exporter writes its alpha texture on TransparencyFactor (with the factor
+    # 1 − alpha, 0 for an opaque one: by the SDK's rule the map would change nothing), and
+    # Blender's importer reads a map there as the opacity's alpha texture: read it so
+    out.alpha_map = blender and any(key in out.textures for key in OPACITY_MAPS)
     return out
 
 
@@ -357,7 +412,8 @@ def read_light(light) -> Light:
         type={0: "POINT", 1: "SUN", 2: "SPOT"}.get(fbx_type, "POINT"),
         color=tuple(get("Color", 3)), intensity=get("Intensity", 1) / 100.0,
         decay=decay if decay in (0, 1, 2, 3) else 2,
-        outer_angle=get("OuterAngle", 1), inner_angle=get("InnerAngle", 1), sources=sources)
+        outer_angle=get("OuterAngle", 1), inner_angle=get("InnerAngle", 1), sources=sources,
+        user=user_props(own))
 
 
 
@@ -367,7 +423,8 @@ def from_scene(scene, path: str) -> Scene:
     base = os.path.dirname(os.path.abspath(path))
     warnings = []
     textures = items(scene.textures)
-    materials = [read_material(m, base, textures) for m in items(scene.materials)]
+    blender = (scene.metadata.creator or "").startswith(BLENDER_CREATOR)
+    materials = [read_material(m, base, textures, blender) for m in items(scene.materials)]
     lights = []
     for light in items(scene.lights):
         item = read_light(light)
@@ -383,7 +440,8 @@ def from_scene(scene, path: str) -> Scene:
         ambient = (0.0, 0.0, 0.0)
     meta = scene.metadata
     return Scene(path, int(meta.version), bool(meta.ascii), meta.creator, ambient,
-                 materials, lights, warnings)
+                 materials, lights, warnings,
+                 user=user_props({p.name: p for p in items(scene.settings.props.props)}))
 
 
 def spot_edge_exponent(outer_deg: float, inner_deg: float) -> float:

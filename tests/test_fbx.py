@@ -277,6 +277,7 @@ def _controls(material):
     out = {k: colour(k) for k in ("Object Color", "Ambient Object Color", "Specular Color",
                                   "Irradiant Color")}
     out["exponent"] = nodes["phong_exponent"].outputs[0].default_value
+    out["blinn"] = nodes["phong_blinn"].outputs[0].default_value
     return out
 
 
@@ -741,3 +742,199 @@ def test_more_uv_sets_than_blender_holds_is_one_warning(bpy_clean, capfd):
     assert sets == 14 and logged.count(f"UV sets after the 8th left out ({sets} in the file)") == 1
     (mesh,) = [o.data for o in bpy.context.scene.objects if o.type == "MESH"]
     assert len(mesh.uv_layers) == 8
+
+
+# -- issue 45: shading models ufbx does not know --------------------------------------------
+
+def _blinn_variant(tmp_path, model="Blinn"):
+    """The hand-written file with its material's ShadingModel *model* (3ds Max writes
+    "Blinn" for its Blinn shader, an FbxSurfacePhong with the Phong properties)."""
+    return _handmade_variant(tmp_path, f"{model.lower()}.fbx",
+                             [('ShadingModel: "phong"', f'ShadingModel: "{model}"')])
+
+
+@pytest.mark.parametrize("model, blinn", [("Blinn", True), ("blinn", True),
+                                          ("Anisotropic", False)])
+def test_blinn_shading_model_is_read_as_phong_with_blinn(tmp_path, model, blinn):
+    """ufbx does not know ShadingModel "Blinn" (shader type UNKNOWN): a material of such a
+    model holding Phong properties is read as FbxSurfacePhong, with Blinn for "Blinn";
+    every value as the independent reading of the file gives it."""
+    from phong_nodes.core import fbx
+    path = _blinn_variant(tmp_path, model)
+    import subprocess
+    import sys
+    probe = ("import gc, os, sys; gc.disable(); import ufbx; "
+             "s = ufbx.load_file(sys.argv[1], ignore_geometry=True); "
+             "print(ufbx.ShaderType(s.materials[0].shader_type).name, flush=True); os._exit(0)")
+    done = subprocess.run([sys.executable, "-c", probe, path], capture_output=True, text=True,
+                          timeout=120, check=True)
+    assert done.stdout.split() == ["UNKNOWN"], "ufbx does not know the model"
+    material = fbx.read(path).material("shiny")
+    objects, templates = _ascii_objects(path, "Material")
+    want = _expected_material(objects["shiny"], templates["FbxSurfacePhong"], False)
+    assert (material.model, material.shading, material.blinn) == ("PHONG", model, blinn)
+    for slot in ("Object Color", "Ambient Object Color", "Specular Color", "Irradiant Color"):
+        np.testing.assert_allclose(material.colors[slot], want[slot], rtol=0, atol=1e-12)
+    assert material.exponent == want["exponent"] == 10.0
+    assert material.opacity == pytest.approx(want["opacity"], abs=1e-12)
+
+
+def test_unknown_model_without_phong_properties_stays_other(tmp_path):
+    """A shading model ufbx does not know whose material has no Phong property stays a
+    material of another model (made as Apply Phong Material makes it)."""
+    from phong_nodes.core import fbx
+    path = _handmade_variant(tmp_path, "other.fbx", [
+        ('ShadingModel: "phong"', 'ShadingModel: "Blinn"'),
+        ('\t\t\tP: "SpecularColor", "Color", "", "A",1,1,1\n', ''),
+        ('\t\t\tP: "ShininessExponent", "Number", "", "A",10\n', '')])
+    assert fbx.read(path).material("shiny").model == "OTHER"
+
+
+def test_blinn_material_imports_with_blinn_on(bpy_clean, tmp_path):
+    """File ▸ Import ▸ FBX (Phong) of the "Blinn" file: a Phong material with Blinn = 1 and
+    the file's values in its controls (docs/interchange.md's "Blinn → Blinn = 1" row)."""
+    bpy = bpy_clean
+    path = _blinn_variant(tmp_path)
+    assert bpy.ops.phong.import_fbx(filepath=path) == {"FINISHED"}
+    objects, templates = _ascii_objects(path, "Material")
+    want = _expected_material(objects["shiny"], templates["FbxSurfacePhong"], False)
+    got = _controls(bpy.data.materials["shiny"])
+    assert got["blinn"] == 1.0
+    assert got["exponent"] == pytest.approx(want["exponent"])
+    for slot in ("Object Color", "Specular Color", "Irradiant Color"):
+        np.testing.assert_allclose(got[slot], want[slot], atol=1e-6)
+
+
+def _alpha_plane_fbx(bpy, path, alpha):
+    """A plane whose Principled material takes its Alpha from the Alpha output of an RGBA
+    image (*alpha*: rows × columns, bottom row first), written by Blender's own FBX
+    exporter with the texture embedded: what Blender's exporter writes on
+    TransparencyFactor."""
+    rows, cols = alpha.shape
+    image = bpy.data.images.new("cutout", cols, rows, alpha=True)
+    rgba = np.ones((rows, cols, 4), np.float32)
+    rgba[..., 0] = 0.25
+    rgba[..., 3] = alpha
+    image.pixels[:] = rgba.ravel()
+    image.filepath_raw = os.path.join(os.path.dirname(path), "cutout.png")
+    image.file_format = "PNG"
+    image.save()
+    material = bpy.data.materials.new("Leaf")
+    if not material.use_nodes:
+        material.use_nodes = True
+    tree = material.node_tree
+    principled = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeBsdfPrincipled")
+    texture = tree.nodes.new("ShaderNodeTexImage")
+    texture.image = image
+    tree.links.new(texture.outputs["Alpha"], principled.inputs["Alpha"])
+    bpy.ops.mesh.primitive_plane_add()
+    bpy.context.active_object.data.materials.append(material)
+    assert bpy.ops.export_scene.fbx(filepath=path, path_mode="COPY",
+                                    embed_textures=True) == {"FINISHED"}
+
+
+def test_blender_exporters_alpha_texture_is_the_opacity(bpy_clean, tmp_path):
+    """Blender's exporter writes an alpha texture on TransparencyFactor with the factor 0
+    (read here from the file with parse_fbx): by the FBX SDK's rule the map changes nothing,
+    but Blender's importer reads it as the opacity (the image's Alpha output on the
+    Principled Alpha), and so does File ▸ Import ▸ FBX (Phong): the opacity map is the
+    texels' alpha (a cut-out), equal to what was written."""
+    bpy = bpy_clean
+    alpha = np.array([[0.0, 1.0, 1.0, 0.0], [1.0, 0.0, 0.0, 1.0]], np.float32)
+    path = str(tmp_path / "cutout.fbx")
+    _alpha_plane_fbx(bpy, path, alpha)
+    from io_scene_fbx import parse_fbx
+    root, _version = parse_fbx.parse(path)
+    objects = next(e for e in root.elems if e.id == b"Objects")
+    connections = next(e for e in root.elems if e.id == b"Connections")
+    assert [c.props[3] for c in connections.elems if len(c.props) > 3 and c.props[0] == b"OP"
+            and c.props[3] == b"TransparencyFactor"], "the map is on TransparencyFactor"
+    material = next(e for e in objects.elems if e.id == b"Material")
+    own = {p.props[0]: p.props[4:] for p in next(
+        e for e in material.elems if e.id == b"Properties70").elems}
+    assert tuple(own.get(b"TransparencyFactor", (0.0,))) == (0.0,)
+    be.reset_empty_file()
+    assert bpy.ops.phong.import_fbx(filepath=path) == {"FINISHED"}
+    from phong_nodes.addon import compat
+    tree = bpy.data.materials["Leaf"].node_tree
+    clamp = compat.input_socket(tree.nodes["phong_opacity_mix"], "Fac").links[0].from_node
+    assert clamp.name == "phong_opacity_map"
+    link = compat.input_socket(clamp, "Value").links[0]
+    assert link.from_socket.identifier == "Alpha"
+    pixels = np.array(link.from_node.image.pixels[:], np.float64).reshape(*alpha.shape, 4)
+    np.testing.assert_allclose(pixels[..., 3], alpha, atol=1 / 255)
+    assert 0.0 in pixels[..., 3] and 1.0 in pixels[..., 3], "a cut-out"
+
+
+def _reencoded(parse_fbx, encode_bin, path, edit):
+    """The binary FBX *path* read by Blender's parse_fbx, each element passed to *edit*
+    (which may change it), written again by Blender's encode_bin: a binary file edited by
+    Blender's own FBX code, independently of this project's."""
+    root, version = parse_fbx.parse(path)
+
+    def convert(elem):
+        out = encode_bin.FBXElem(elem.id)
+        props, kinds = edit(elem)
+        for kind, value in zip(kinds, props):
+            kind = bytes((kind,)) if isinstance(kind, int) else kind
+            if kind in b"fdlib" and len(kind) == 1:
+                code = {b"f": "f", b"d": "d", b"l": "q", b"i": "i", b"b": "b"}[kind]
+                value = np.asarray(value, dtype={"f": np.float32, "d": np.float64,
+                                                 "q": np.int64, "i": np.int32,
+                                                 "b": np.bool_}[code])
+                {b"f": out.add_float32_array, b"d": out.add_float64_array,
+                 b"l": out.add_int64_array, b"i": out.add_int32_array,
+                 b"b": out.add_bool_array}[kind](value)
+            elif kind == b"C":   # a char or a bool, as parse_fbx gives it
+                (out.add_char if isinstance(value, bytes) else out.add_bool)(
+                    value if isinstance(value, bytes) else bool(value))
+            else:
+                {b"Y": out.add_int16, b"I": out.add_int32,
+                 b"F": out.add_float32, b"D": out.add_float64, b"L": out.add_int64,
+                 b"R": out.add_bytes, b"S": out.add_string}[kind](value)
+        for child in elem.elems:
+            out.elems.append(convert(child))
+        return out
+
+    top = encode_bin.FBXElem(b"")
+    for elem in root.elems:
+        top.elems.append(convert(elem))
+    out = path[:-4] + "_edited.fbx"
+    encode_bin.write(out, top, version)
+    return out
+
+
+def test_binary_blinn_file_through_blenders_importer(bpy_clean, tmp_path):
+    """A binary FBX 7.4 (Blender's importer's path) whose material says ShadingModel "Blinn"
+    (Blender's exporter's file, edited with Blender's parse_fbx / encode_bin): a Phong
+    material with Blinn = 1 and the values written in the file."""
+    bpy = bpy_clean
+    from io_scene_fbx import encode_bin, parse_fbx
+    bpy.ops.mesh.primitive_plane_add()
+    material = bpy.data.materials.new("Shiny")
+    material.diffuse_color = (0.3, 0.5, 0.7, 1.0)
+    bpy.context.active_object.data.materials.append(material)
+    plain = str(tmp_path / "plain.fbx")
+    assert bpy.ops.export_scene.fbx(filepath=plain) == {"FINISHED"}
+    diffuse = (0.25, 0.5, 0.75)
+
+    def edit(elem):
+        props, kinds = list(elem.props), bytes(elem.props_type)
+        if elem.id == b"ShadingModel":
+            props = [b"Blinn"]
+        elif elem.id == b"P" and props[0] == b"ShadingModel":
+            props[4] = b"Blinn"
+        elif elem.id == b"P" and props[0] == b"DiffuseColor" and len(props) == 7:
+            props[4:7] = diffuse
+        return props, kinds
+
+    path = _reencoded(parse_fbx, encode_bin, plain, edit)
+    root, _version = parse_fbx.parse(path)
+    objects = next(e for e in root.elems if e.id == b"Objects")
+    shiny = next(e for e in objects.elems if e.id == b"Material")
+    assert next(e for e in shiny.elems if e.id == b"ShadingModel").props == [b"Blinn"]
+    be.reset_empty_file()
+    assert bpy.ops.phong.import_fbx(filepath=path) == {"FINISHED"}
+    got = _controls(bpy.data.materials["Shiny"])
+    assert got["blinn"] == 1.0
+    np.testing.assert_allclose(got["Object Color"], diffuse, atol=1e-7)

@@ -435,10 +435,32 @@ def test_blender_293_maps_of_the_exponent_and_the_transparency_factor(bpy_clean)
     """Blender 2.93's exporter connects its roughness texture to ShininessExponent and its
     alpha texture to TransparencyFactor (tests/data/fbx, binary: Blender's importer's
     scene): the exponent is the control (the file's ShininessExponent) × the map's mean RGB,
-    read as data; the file's TransparencyFactor is 0, so 1 − 0 × map is opaque everywhere:
-    no opacity map."""
+    read as data; the opacity is the alpha channel of the TransparencyFactor map, as
+    Blender's importer reads it (its Principled Alpha fed by the same image's Alpha output),
+    though the file's TransparencyFactor is 0 (issue 45): the texels' alpha, decoded here
+    from the PNG embedded in the file, reach the opacity map (a cut-out: test_fbx_export's
+    alpha texture written by Blender 5's exporter)."""
     bpy = bpy_clean
     path = os.path.join(DATA, "fbx", "blender_293_embedded_textures_7400_binary.fbx")
+    from io_scene_fbx import parse_fbx  # noqa: PLC0415
+    root, _version = parse_fbx.parse(path)
+    objects = next(e for e in root.elems if e.id == b"Objects")
+    videos = {}
+    for video in (e for e in objects.elems if e.id == b"Video"):
+        name = next(e for e in video.elems if e.id == b"RelativeFilename").props[0]
+        content = next((e for e in video.elems if e.id == b"Content"), None)
+        videos[name.decode().replace("\\", "/").split("/")[-1]] = content.props[0]
+    material = next(e for e in objects.elems if e.id == b"Material")
+    props = {p.props[0]: p.props[4:] for p in next(
+        e for e in material.elems if e.id == b"Properties70").elems}
+    definitions = next(e for e in root.elems if e.id == b"Definitions")
+    template = next(t for o in definitions.elems for t in o.elems
+                    if t.id == b"PropertyTemplate" and t.props[0] == b"FbxSurfacePhong")
+    template = {p.props[0]: p.props[4:] for p in template.elems[0].elems}
+    factor = props.get(b"TransparencyFactor", template[b"TransparencyFactor"])
+    assert tuple(factor) == (0.0,), "the SDK's rule would read the map as opaque"
+    texels = _png_rows_bytes(videos["checkerboard_weight.png"])
+    assert texels.shape[2] == 4   # (its alpha is 255 throughout: opaque, in both readers)
     assert bpy.ops.phong.import_fbx(filepath=path) == {"FINISHED"}
     from phong_nodes.addon import compat  # noqa: PLC0415
 
@@ -453,14 +475,39 @@ def test_blender_293_maps_of_the_exponent_and_the_transparency_factor(bpy_clean)
     image = compat.input_socket(mean, "Vector").links[0].from_node.image
     assert image.name == "checkerboard_roughness.png"
     assert image.colorspace_settings.name == "Non-Color" and image.packed_file is not None
-    assert "phong_opacity_map" not in tree.nodes and "phong_opacity_mix" not in tree.nodes
+    # the opacity: the Mix Shader's Fac <- clamp(alpha of the TransparencyFactor map)
+    mix = tree.nodes["phong_opacity_mix"]
+    clamp = compat.input_socket(mix, "Fac").links[0].from_node
+    assert clamp.name == "phong_opacity_map" and clamp.use_clamp
+    link = compat.input_socket(clamp, "Value").links[0]
+    assert link.from_socket.identifier == "Alpha"
+    alpha_image = link.from_node.image
+    assert alpha_image.packed_file is not None
+    width, height = alpha_image.size
+    pixels = np.array(alpha_image.pixels[:], np.float64).reshape(height, width, 4)
+    np.testing.assert_allclose(pixels[::-1, :, 3], texels[..., 3] / 255.0, atol=1e-6)
+    # Blender's own importer reads it the same way (the peer the issue names)
+    for m in list(bpy.data.materials):
+        bpy.data.materials.remove(m)
+    assert bpy.ops.import_scene.fbx(filepath=path) == {"FINISHED"}
+    principled = next(n for m in bpy.data.materials if m.node_tree
+                      for n in m.node_tree.nodes if n.bl_idname == "ShaderNodeBsdfPrincipled")
+    theirs = principled.inputs["Alpha"].links[0]
+    assert theirs.from_socket.identifier == "Alpha"
+    theirs_pixels = np.array(theirs.from_node.image.pixels[:], np.float64).reshape(
+        height, width, 4)
+    np.testing.assert_allclose(theirs_pixels[..., 3], pixels[..., 3], atol=1e-6)
 
 
 # -- COLLADA <transparent><texture> ------------------------------------------------------------
 
 def _png_rows(path):
     """The texels of an 8-bit RGB / RGBA PNG (filters 0-4), top row first, decoded here."""
-    data = open(path, "rb").read()
+    return _png_rows_bytes(open(path, "rb").read())
+
+
+def _png_rows_bytes(data):
+    """The texels of the 8-bit RGB / RGBA PNG *data* (filters 0-4), top row first."""
     pos, idat, header = 8, b"", None
     while pos < len(data):
         length, = struct.unpack(">I", data[pos:pos + 4])

@@ -13,7 +13,8 @@ FBX SDK's rules (see there), and:
     Specular Color      SpecularColor × SpecularFactor        (Lambert: black)
     Exponent            ShininessExponent, else Shininess     (Blinn shading: Blinn = 1)
     Irradiant Color     EmissiveColor × EmissiveFactor        (× an EmissiveColor texture)
-    Opacity             Opacity, else 1 − TransparencyFactor × mean(TransparentColor)
+    Opacity             Opacity, else 1 − TransparencyFactor × mean(TransparentColor);
+                        a file of Blender's exporter: its TransparencyFactor map's alpha
     light               colour; Phong Intensity = Intensity / 100; DecayType k = 0, 1, 2
                         as γ = 1 / β = 1 / α = 1, k = 3 as the power falloff 1/d³;
                         spot: spot_size = OuterAngle, spot_blend = 1 − Inner/Outer,
@@ -74,7 +75,9 @@ def _blender_reads(data: fbx.Scene) -> bool:
     return not data.ascii and data.version >= 7100
 
 
-def _ensure_fbx_addon() -> bool:
+def ensure_fbx_addon() -> bool:
+    """Whether Blender's FBX add-on (io_scene_fbx: its importer and exporter) is enabled,
+    enabling it where it is not."""
     if hasattr(bpy.ops.import_scene, "fbx"):
         try:
             bpy.ops.import_scene.fbx.get_rna_type()
@@ -280,7 +283,11 @@ def apply_material(material, source: fbx.Material, warnings: list, images: dict,
             keep |= {obj_import.MAP_NODE + name, obj_import.MULTIPLY_NODE + name}
         tree.links.new(socket, lights.inputs[name])
     compat.value_output(tree.nodes["phong_exponent"]).default_value = source.exponent
-    compat.value_output(tree.nodes["phong_blinn"]).default_value = 1.0 if source.blinn else 0.0
+    compat.value_output(tree.nodes["phong_blinn"]).default_value = source.user.get(
+        "Blinn", 1.0 if source.blinn else 0.0)
+    if "SpecularStrength" in source.user:
+        compat.value_output(tree.nodes["phong_specular_strength"]).default_value = \
+            source.user["SpecularStrength"]
     recipe.set_opacity(material, source.opacity)
     if lights.inputs["Normal"].is_linked:
         tree.links.remove(lights.inputs["Normal"].links[0])
@@ -302,6 +309,9 @@ def _opacity_maps(material, source, images, warnings, where) -> None:
     read), t_f the mean RGB of the TransparencyFactor map (a scalar: read as data), as an
     opacity map (``native.opacity_map``).  A factor of 0 makes the maps change nothing."""
     maps = {key: source.textures.get(key) for key in fbx.OPACITY_MAPS}
+    if source.alpha_map:   # Blender's exporter's alpha texture, read as Blender's importer does
+        _alpha_map(material, maps, images, warnings, where)
+        return
     if not any(maps.values()) or source.transparency_factor == 0.0:
         return
     tree = material.node_tree
@@ -338,6 +348,18 @@ def _opacity_maps(material, source, images, warnings, where) -> None:
                                               "SUBTRACT", 1.0, transparency, (-500.0, 650.0)))
 
 
+def _alpha_map(material, maps, images, warnings, where) -> None:
+    """The opacity of a file of Blender's exporter: the alpha channel of its map on
+    TransparencyFactor (else on TransparentColor), as Blender's importer reads it (the
+    image's Alpha output feeds the Principled BSDF's Alpha), as the opacity map."""
+    texture = maps["TransparencyFactor"] or maps["TransparentColor"]
+    image = _image(texture, images, warnings, where)
+    if image is None:
+        return
+    node = native.image_node(material.node_tree, "alpha", image, (-1450.0, 650.0))
+    native.opacity_map(material, compat.output_socket(node, "Alpha"))
+
+
 # -- lights -------------------------------------------------------------------------------------
 
 def _power_supported() -> bool:
@@ -361,6 +383,11 @@ def apply_light(light, source: fbx.Light, warnings: list, path) -> None:
         settings["edge_exponent"] = fbx.spot_edge_exponent(source.outer_angle,
                                                            source.inner_angle)
         settings["penumbra"] = min(max(share, 0.0), 1.0)
+    for key, value in source.user.items():   # what Phong Nodes' export kept (fbx_write)
+        if key == "falloff_power":
+            settings["falloff"] = "POWER" if value else "QUADRATIC"
+        elif key in properties.LIGHT_KEYS:
+            settings[key] = value
     if not _power_supported():  # before the power falloff existed: stored, 1/d² rendered
         for key in ("falloff", "power_k"):
             if key in settings:
@@ -389,7 +416,7 @@ def import_fbx(context, filepath) -> tuple:
     A binary file of FBX 7100 and later is read by Blender's own importer while ufbx reads
     its values in the child process (``fbx.start``); other files are built from ufbx."""
     path = os.path.abspath(bpy.path.abspath(filepath))
-    blender = _binary_7100(path) and _ensure_fbx_addon()
+    blender = _binary_7100(path) and ensure_fbx_addon()
     reading = fbx.start(path, geometry=not blender)   # FbxError: file not found
     before = native.snapshot()
     objects_before = set(context.scene.objects)
@@ -524,4 +551,9 @@ def _finish(context, data: fbx.Scene, new, warnings, path, before, slots=None,
     world = context.scene.world
     if world is None:
         world = context.scene.world = bpy.data.worlds.new("World")
+    user = data.user   # the World's own intensity and colour, kept by Phong Nodes' export
+    if "AmbientIntensity" in user and all(f"Ambient{c}" in user for c in "RGB"):
+        properties.write_world(world, user["AmbientIntensity"],
+                               tuple(user[f"Ambient{c}"] for c in "RGB"))
+        return
     properties.write_world(world, 1.0, data.ambient)

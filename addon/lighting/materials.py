@@ -716,3 +716,78 @@ def restore(obj, names=None) -> int:
             slot.material = None
             changed += 1
     return changed
+
+
+# -- reading a Phong material back (for the exporters) ------------------------------------------
+
+#: The inputs of the lights group that a Phong material's controls feed, and their controls.
+FEED_CONTROLS = {target: name for name, (_k, _l, _d, target) in CONTROLS.items()}
+FEED_CONTROLS[AMBIENT_INPUT] = AMBIENT_CONTROL
+
+
+class Feed:
+    """What feeds one input of a Phong material's lights group: *value* (a float, or 3
+    floats for a colour), the value the material states (its control's, an RGB / Value
+    node's, else the socket's own); *other*: the node that feeds the input instead when that
+    is not a plain value (a texture, a chain), else None; *texture*: the Image Texture node
+    (with an image) when *other* is one, or the importers' colour × map (a Vector Math
+    Multiply of an RGB node and an Image Texture: *value* is then that RGB node's colour),
+    else None."""
+
+    __slots__ = ("value", "other", "texture")
+
+    def __init__(self, value, other=None, texture=None):
+        self.value, self.other, self.texture = value, other, texture
+
+    def __repr__(self):
+        return f"Feed({self.value!r}, {getattr(self.other, 'name', None)!r})"
+
+
+def _plain_value(value):
+    return tuple(float(v) for v in tuple(value)[:3]) if hasattr(value, "__len__") \
+        else float(value)
+
+
+def feeds(material) -> dict:
+    """{input of the lights group: :class:`Feed`} of the Phong material *material*, for every
+    input a control feeds (Object Color, Ambient Object Color, Specular Color, Exponent,
+    Blinn, Irradiant Color, Specular Strength), and "Opacity": the Opacity control, *other*
+    the opacity map (``OPACITY_MAP``) where one feeds the blend.  The Ambient Object Color
+    follows whatever feeds Object Color unless the material has its own control."""
+    tree = material.node_tree
+    lights = tree.nodes[LIGHTS_NODE]
+    out = {}
+    for target, control in FEED_CONTROLS.items():
+        socket = lights.inputs.get(target)
+        if socket is None:
+            continue
+        node = tree.nodes.get(control)
+        stated = _plain_value(compat.value_output(node).default_value) \
+            if node is not None and node.bl_idname in compat.VALUE_OUTPUTS else None
+        if not socket.is_linked:
+            out[target] = Feed(_plain_value(socket.default_value))
+            continue
+        upstream = socket.links[0].from_node
+        if upstream.bl_idname in compat.VALUE_OUTPUTS:
+            out[target] = Feed(_plain_value(compat.value_output(upstream).default_value))
+            continue
+        feed = Feed(stated if stated is not None else _plain_value(socket.default_value),
+                    upstream)
+        if upstream.bl_idname == "ShaderNodeTexImage" and upstream.image is not None:
+            feed.texture = upstream
+        elif upstream.bl_idname == "ShaderNodeVectorMath" and upstream.operation == "MULTIPLY":
+            a, b = (compat.input_socket(upstream, k) for k in ("Vector", "Vector_001"))
+            if a.is_linked and b.is_linked:
+                rgb, image = a.links[0].from_node, b.links[0].from_node
+                if rgb.bl_idname == "ShaderNodeRGB" and \
+                        image.bl_idname == "ShaderNodeTexImage" and image.image is not None:
+                    feed.value = _plain_value(compat.value_output(rgb).default_value)
+                    feed.texture = image
+        out[target] = feed
+    ambient = out.get(AMBIENT_INPUT)
+    if ambient is not None and ambient.other is not None and \
+            tree.nodes.get(AMBIENT_CONTROL) is None and "Object Color" in out:
+        colour = out["Object Color"]
+        out[AMBIENT_INPUT] = Feed(colour.value, ambient.other, colour.texture)
+    out["Opacity"] = Feed(opacity(material), tree.nodes.get(OPACITY_MAP))
+    return out
