@@ -732,12 +732,14 @@ class Feed:
     is not a plain value (a texture, a chain), else None; *texture*: the Image Texture node
     (with an image) when *other* is one, or the importers' colour × map (a Vector Math
     Multiply of an RGB node and an Image Texture: *value* is then that RGB node's colour),
-    else None."""
+    else None; *socket*: the output socket linked to the input (None when unlinked): two
+    inputs fed by the same socket show the same thing (the seeds' Ka = Kd)."""
 
-    __slots__ = ("value", "other", "texture")
+    __slots__ = ("value", "other", "texture", "socket")
 
-    def __init__(self, value, other=None, texture=None):
+    def __init__(self, value, other=None, texture=None, socket=None):
         self.value, self.other, self.texture = value, other, texture
+        self.socket = socket
 
     def __repr__(self):
         return f"Feed({self.value!r}, {getattr(self.other, 'name', None)!r})"
@@ -769,10 +771,11 @@ def feeds(material) -> dict:
             continue
         upstream = socket.links[0].from_node
         if upstream.bl_idname in compat.VALUE_OUTPUTS:
-            out[target] = Feed(_plain_value(compat.value_output(upstream).default_value))
+            out[target] = Feed(_plain_value(compat.value_output(upstream).default_value),
+                               socket=socket.links[0].from_socket)
             continue
         feed = Feed(stated if stated is not None else _plain_value(socket.default_value),
-                    upstream)
+                    upstream, socket=socket.links[0].from_socket)
         if upstream.bl_idname == "ShaderNodeTexImage" and upstream.image is not None:
             feed.texture = upstream
         elif upstream.bl_idname == "ShaderNodeVectorMath" and upstream.operation == "MULTIPLY":
@@ -784,10 +787,9 @@ def feeds(material) -> dict:
                     feed.value = _plain_value(compat.value_output(rgb).default_value)
                     feed.texture = image
         out[target] = feed
-    ambient = out.get(AMBIENT_INPUT)
-    if ambient is not None and ambient.other is not None and \
-            tree.nodes.get(AMBIENT_CONTROL) is None and "Object Color" in out:
-        colour = out["Object Color"]
-        out[AMBIENT_INPUT] = Feed(colour.value, ambient.other, colour.texture)
+    ambient, colour = out.get(AMBIENT_INPUT), out.get("Object Color")
+    if ambient is not None and colour is not None and ambient.other is not None and (
+            ambient.socket == colour.socket or tree.nodes.get(AMBIENT_CONTROL) is None):
+        out[AMBIENT_INPUT] = Feed(colour.value, ambient.other, colour.texture, ambient.socket)
     out["Opacity"] = Feed(opacity(material), tree.nodes.get(OPACITY_MAP))
     return out
