@@ -754,8 +754,8 @@ def feeds(material) -> dict:
     """{input of the lights group: :class:`Feed`} of the Phong material *material*, for every
     input a control feeds (Object Color, Ambient Object Color, Specular Color, Exponent,
     Blinn, Irradiant Color, Specular Strength), and "Opacity": the Opacity control, *other*
-    the opacity map (``OPACITY_MAP``) where one feeds the blend.  The Ambient Object Color
-    follows whatever feeds Object Color unless the material has its own control."""
+    the opacity map (``OPACITY_MAP``) where one feeds the blend.  An Ambient Object Color fed
+    by the socket that feeds Object Color (the seeds' model) is Object Color's feed."""
     tree = material.node_tree
     lights = tree.nodes[LIGHTS_NODE]
     out = {}
@@ -788,8 +788,8 @@ def feeds(material) -> dict:
                     feed.texture = image
         out[target] = feed
     ambient, colour = out.get(AMBIENT_INPUT), out.get("Object Color")
-    if ambient is not None and colour is not None and ambient.other is not None and (
-            ambient.socket == colour.socket or tree.nodes.get(AMBIENT_CONTROL) is None):
-        out[AMBIENT_INPUT] = Feed(colour.value, ambient.other, colour.texture, ambient.socket)
+    if ambient is not None and colour is not None and ambient.other is not None and \
+            ambient.socket == colour.socket:   # the seeds' model: what feeds Object Color
+        out[AMBIENT_INPUT] = Feed(colour.value, colour.other, colour.texture, colour.socket)
     out["Opacity"] = Feed(opacity(material), tree.nodes.get(OPACITY_MAP))
     return out
