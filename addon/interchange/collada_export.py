@@ -23,7 +23,7 @@ from ...core import collada
 from .. import compat
 from ..lighting import materials as recipe
 from ..lighting import properties
-from . import collada_import as imp
+from . import keys
 
 
 def _feed(feed, name, material, warnings):
@@ -51,7 +51,7 @@ def material_of(material, warnings) -> collada.Material:
     tree = material.node_tree
     feeds = recipe.feeds(material)
     blinn = float(feeds["Blinn"].value)
-    technique = material.get(imp.TECHNIQUE_KEY)
+    technique = material.get(keys.COLLADA_TECHNIQUE)
     if technique not in collada.TECHNIQUES:
         technique = "blinn" if blinn >= 0.5 else "phong"
     elif technique in ("phong", "blinn"):
@@ -60,7 +60,7 @@ def material_of(material, warnings) -> collada.Material:
         warnings.append(f"material {material.name}: Blinn {blinn:g} between Phong and Blinn "
                         f"written as {technique}")
     out.technique = technique
-    for socket_name, (element, _control) in imp.INPUTS.items():
+    for socket_name, (element, _control) in keys.COLLADA_INPUTS.items():
         color, texture = _feed(feeds[socket_name], socket_name, material, warnings)
         out.colors[element] = (*color, 1.0)
         if texture is not None:
@@ -72,20 +72,20 @@ def material_of(material, warnings) -> collada.Material:
             out.textures[element] = collada.Texture(path, path, texcoord, texture.image.name)
     out.shininess = float(feeds["Exponent"].value)
     opacity = feeds["Opacity"].value
-    mode = material.get(imp.OPAQUE_KEY)
+    mode = material.get(keys.COLLADA_OPAQUE)
     mapped = _transparent_texture(tree, feeds["Opacity"])
     if mode in collada.OPAQUE_MODES and mapped is not None:   # the file's opacity map
         out.opaque, out.textures["transparent"] = mode, mapped
-        if imp.TRANSPARENCY_KEY in material.keys():
-            out.transparency = float(material[imp.TRANSPARENCY_KEY])
+        if keys.COLLADA_TRANSPARENCY in material.keys():
+            out.transparency = float(material[keys.COLLADA_TRANSPARENCY])
         return out
-    if mode in collada.OPAQUE_MODES and imp.TRANSPARENT_KEY in material.keys():
+    if mode in collada.OPAQUE_MODES and keys.COLLADA_TRANSPARENT in material.keys():
         # the file's own transparency, unless Opacity was changed since the import (an
         # invisible material imported opaque keeps its file's values)
         out.opaque = mode
-        out.transparent = tuple(float(c) for c in material[imp.TRANSPARENT_KEY])
-        if imp.TRANSPARENCY_KEY in material.keys():
-            out.transparency = float(material[imp.TRANSPARENCY_KEY])
+        out.transparent = tuple(float(c) for c in material[keys.COLLADA_TRANSPARENT])
+        if keys.COLLADA_TRANSPARENCY in material.keys():
+            out.transparency = float(material[keys.COLLADA_TRANSPARENCY])
         read = min(max(out.opacity(), 0.0), 1.0)
         if abs(read - opacity) <= 1e-6 or (read <= 0.0 and opacity == 1.0):
             return out
@@ -99,7 +99,7 @@ def _transparent_texture(tree, feed):
     """The collada.Texture of an imported ``<transparent><texture>`` that still feeds the
     material's opacity map (*feed*: its Opacity in ``materials.feeds``;
     ``collada_import.transparent_map``), or None."""
-    node = tree.nodes.get(imp.TEXTURE_NODE + "transparent")
+    node = tree.nodes.get(keys.COLLADA_TEXTURE_NODE + "transparent")
     mix = tree.nodes.get(recipe.OPACITY_MIX)
     if node is None or node.image is None or feed.other is None or \
             mix is None or not compat.input_socket(mix, "Fac").is_linked or \

@@ -29,7 +29,7 @@ import bpy
 
 from ...core import mtl, outputs
 from ..lighting import materials as recipe
-from .obj_import import ILLUM_KEY
+from .keys import MTL_ILLUM
 
 HEADER = "Phong materials written by Phong Nodes (docs/model.md: MTL illum 2 with Ka = Kd)"
 
@@ -118,7 +118,7 @@ def to_mtl(material, mtl_folder, name=None):
     :func:`mtl_name` by default)."""
     out = mtl.Material(name or mtl_name(material), "", 0)
     warnings = []
-    read_as = material.get(ILLUM_KEY)      # the model an imported material was read as
+    read_as = material.get(MTL_ILLUM)      # the model an imported material was read as
     feeds = recipe.feeds(material)
     only = _colour_only(material, feeds, mtl_folder) if read_as in (None, 0) else None
     if only is not None:      # MTL illum 0: Kd is the colour, lights play no part
