@@ -48,7 +48,7 @@ from ..lighting import headlight as headlight_mod
 from ..lighting import lights as lights_mod
 from ..lighting import materials as recipe
 from ..lighting import properties, rig
-from . import x3d_import as imp
+from . import keys, native
 
 #: Blender's Z up to the file's Y up (the inverse of x3d.Y_UP_TO_Z_UP: a rotation).
 Z_UP_TO_Y_UP = x3d.Y_UP_TO_Z_UP.T.copy()
@@ -256,7 +256,7 @@ class _Writer:
                        corners=remap[corners[corner_keep]], normals=normals, solid=solid,
                        crease_angle=crease)
         if texture:
-            layer = mesh.uv_layers.get(imp.UV_MAP) or mesh.uv_layers.active
+            layer = mesh.uv_layers.get(keys.X3D_UV_MAP) or mesh.uv_layers.active
             if layer is not None:
                 uv = np.zeros(loops * 2, dtype=np.float32)
                 layer.data.foreach_get("uv", uv)
@@ -344,7 +344,7 @@ class _Writer:
         ke_feed = _feed(lights.inputs["Irradiant Color"])
         exponent = float(compat.value_output(tree.nodes["phong_exponent"]).default_value)
         opacity = recipe.opacity(material)
-        unlit = bool(material.get(imp.UNLIT_KEY))
+        unlit = bool(material.get(keys.X3D_UNLIT))
         black = all(f.constant == (0.0, 0.0, 0.0) and f.texture is None and not f.colours
                     for f in (kd_feed, ka_feed, ks_feed))
         if unlit and black:   # a shape without Material: its texture / colours / white
@@ -391,7 +391,7 @@ class _Writer:
                               "the diffuse colour; the colours written")
         transform = self.texture_transform(material) if texture is not None else None
         shininess = exponent / 128.0
-        kept = material.get(imp.SHININESS_KEY)
+        kept = material.get(keys.X3D_SHININESS)
         if isinstance(kept, float) and np.float32(128.0 * kept) == np.float32(exponent):
             shininess = kept
         elif shininess > 1.0:
@@ -433,7 +433,7 @@ class _Writer:
                       kd_feed.constant, dtype=np.float64)
         ka = np.array(ka_feed.control if ka_feed.control is not None else ka_feed.constant,
                       dtype=np.float64)
-        kept = material.get(imp.AMBIENT_KEY)
+        kept = material.get(keys.X3D_AMBIENT)
         if isinstance(kept, float) and all(
                 np.float32(kept * float(str(np.float32(d)))) == np.float32(a)
                 for d, a in zip(kd, ka)):
@@ -472,7 +472,7 @@ class _Writer:
         texture = x3d.Texture(name=image.name, urls=[url], paths=[path], path=path,
                               repeat_s=node.extension == "REPEAT",
                               repeat_t=node.extension == "REPEAT")
-        texture.components = imp.image_components(path)
+        texture.components = native.image_components(path)
         if multiplied and not _grey(texture):
             self.warnings.add(f"material {material.name}: an RGB texture times a colour: X3D's "
                               "RGB textures replace the diffuse colour; the texture written")
@@ -480,8 +480,8 @@ class _Writer:
 
     @staticmethod
     def texture_transform(material):
-        node = material.node_tree.nodes.get(imp.MAPPING_NODE)
-        values = material.get(imp.TRANSFORM_KEY)
+        node = material.node_tree.nodes.get(keys.X3D_MAPPING_NODE)
+        values = material.get(keys.X3D_TRANSFORM)
         if node is None or values is None or len(values) != 7:
             return None
         values = [float(v) for v in values]
@@ -493,7 +493,7 @@ class _Writer:
         """{"root": lights at the root, "groups": [(Group, its mesh objects)]}."""
         root, scoped = [], []
         for obj in sorted(objects, key=lambda o: o.name):
-            if obj.data.type not in imp.LIGHT_TYPES.values():
+            if obj.data.type not in keys.X3D_LIGHT_TYPES.values():
                 self.warnings.add(f"lights of a type X3D has not left out: {obj.name} "
                                   f"({obj.data.type})")
                 continue
@@ -503,7 +503,7 @@ class _Writer:
                                                  if lights_mod.reaches(rule, m)]
             if reached is not None and len(reached) == len(meshes) and meshes:
                 reached = None   # it reaches everything written: global
-            if obj.get(imp.LIGHTS_NOTHING_KEY):   # an imported scope without shapes
+            if obj.get(keys.X3D_LIGHTS_NOTHING):   # an imported scope without shapes
                 reached = []
                 if self.encoding == "vrml97" and light.kind != "directional":
                     light.on = False   # VRML97 cannot scope it: off shows the same
@@ -537,15 +537,15 @@ class _Writer:
 
     def light(self, obj) -> x3d.Light:
         data = obj.data
-        kind = {v: k for k, v in imp.LIGHT_TYPES.items()}[data.type]
+        kind = {v: k for k, v in keys.X3D_LIGHT_TYPES.items()}[data.type]
 
         def value(attr):
             key, default = properties.LIGHT_KEYS[attr]
             return float(data.get(key, default))
 
-        nothing = bool(obj.get(imp.LIGHTS_NOTHING_KEY))   # hidden: its scope is empty
+        nothing = bool(obj.get(keys.X3D_LIGHTS_NOTHING))   # hidden: its scope is empty
         on = (not obj.hide_render or nothing) and lights_mod.visible(obj, self.layer)
-        name = obj.name.removesuffix(imp.OFF) if not on else obj.name
+        name = obj.name.removesuffix(keys.X3D_OFF) if not on else obj.name
         matrix = Z_UP_TO_Y_UP @ np.array(obj.matrix_world, dtype=np.float64)
         direction = -matrix[:3, 2]
         length = float(np.linalg.norm(direction))
@@ -568,7 +568,7 @@ class _Writer:
                     out.attenuation = terms.get(k, (0.0, 0.0, 1.0))
         if kind == "spot":
             size = float(data.spot_size)
-            kept = data.get(imp.CUT_OFF_KEY)
+            kept = data.get(keys.X3D_CUT_OFF)
             cut = kept if isinstance(kept, float) and np.float32(2.0 * kept) == np.float32(size) \
                 else f32(size / 2.0)
             out.cut_off_angle = cut
