@@ -336,14 +336,14 @@ class _Writer:
 
     def phong(self, material):
         tree = material.node_tree
-        lights = tree.nodes[recipe.LIGHTS_NODE]
         name = material.name
-        kd_feed = _feed(lights.inputs["Object Color"])
-        ka_feed = _feed(lights.inputs[recipe.AMBIENT_INPUT])
-        ks_feed = _feed(lights.inputs["Specular Color"])
-        ke_feed = _feed(lights.inputs["Irradiant Color"])
-        exponent = float(compat.value_output(tree.nodes["phong_exponent"]).default_value)
-        opacity = recipe.opacity(material)
+        feeds = recipe.feeds(material)
+        kd_feed = _feed(feeds["Object Color"])
+        ka_feed = _feed(feeds[recipe.AMBIENT_INPUT])
+        ks_feed = _feed(feeds["Specular Color"])
+        ke_feed = _feed(feeds["Irradiant Color"])
+        exponent = float(feeds["Exponent"].value)
+        opacity = float(feeds["Opacity"].value)
         unlit = bool(material.get(keys.X3D_UNLIT))
         black = all(f.constant == (0.0, 0.0, 0.0) and f.texture is None and not f.colours
                     for f in (kd_feed, ka_feed, ks_feed))
@@ -377,7 +377,7 @@ class _Writer:
                               "its colour control written")
         # the Object Color control keeps the file's diffuseColor where a texture or the
         # colours replace it (X3D writes it all the same)
-        control = tuple(compat.value_output(tree.nodes["phong_object_color"]).default_value)
+        control = feeds["Object Color"].value
         diffuse = _colour(kd_feed.control if kd_feed.control is not None else
                           control if (kd_feed.texture is not None or kd_feed.colours) else
                           kd_feed.constant)
@@ -408,11 +408,12 @@ class _Writer:
                            emissive=_colour(ke_feed.control if ke_feed.control is not None
                                             else ke_feed.constant),
                            shininess=max(shininess, 0.0), transparency=f32(1.0 - opacity))
-        if tree.nodes.get(recipe.OPACITY_MAP) is not None and not (
-                texture is not None and _texture_alpha(tree, kd_feed.texture)):
+        if feeds["Opacity"].other is not None and not (
+                texture is not None and _texture_alpha(feeds["Opacity"].other,
+                                                       kd_feed.texture)):
             self.warnings.add(f"material {name}: its opacity map left out (X3D 3's "
                               "transparency is one number)")
-        blinn = float(compat.value_output(tree.nodes["phong_blinn"]).default_value)
+        blinn = float(feeds["Blinn"].value)
         if self.model != "x3d" and blinn < 1.0 and any(out.specular):
             self.warnings.add(f"material {name}: Phong's (r·v)^e highlight written as X3D's "
                               "Blinn highlight (n·h)^e")
@@ -648,8 +649,9 @@ class _Writer:
 
 
 class _Feed:
-    """What feeds an input of the lights group: a constant colour (a control's or the
-    socket's), an Image Texture, the colour attribute, their product, × a scale."""
+    """What X3D can say of a lights-group input's ``materials.Feed``: a constant colour (a
+    control's or the socket's), an Image Texture, the colour attribute, their product, × a
+    scale."""
 
     __slots__ = ("socket", "constant", "control", "texture", "colours", "attribute", "scale",
                  "unknown")
@@ -668,50 +670,32 @@ class _Feed:
         return self.socket is not None and self.socket == other.socket
 
 
-def _feed(socket) -> _Feed:
-    """The _Feed of a lights-group input."""
-    out = _Feed(socket.links[0].from_socket if socket.is_linked else None)
-    if not socket.is_linked:
-        out.constant = tuple(float(c) for c in socket.default_value[:3])
+def _feed(feed) -> _Feed:
+    """The _Feed of the ``materials.Feed`` *feed*."""
+    out = _Feed(feed.socket)
+    if feed.other is None:   # a value: the socket's own, or an RGB node's (a control)
+        value = feed.value if isinstance(feed.value, tuple) else (float(feed.value),) * 3
+        out.constant = tuple(float(c) for c in value[:3])
+        if feed.socket is not None:
+            out.control = out.constant
         return out
-    _walk(socket.links[0].from_socket, out, 0)
+    chain = feed.chain
+    out.control = chain.colour
+    if chain.colour is not None:
+        out.constant = chain.colour
+    out.texture = chain.texture
+    if chain.attribute is not None:
+        out.colours = True
+        out.attribute = chain.attribute.layer_name
+    out.scale = chain.scale
+    out.unknown = chain.unknown
     return out
 
 
-def _walk(source, out, depth) -> None:
-    node = source.node
-    kind = node.bl_idname
-    if depth > 8:
-        out.unknown = True
-    elif kind == "ShaderNodeRGB":
-        value = tuple(float(c) for c in compat.value_output(node).default_value[:3])
-        out.control = value if out.control is None else tuple(
-            a * b for a, b in zip(out.control, value))
-        out.constant = out.control
-    elif kind == "ShaderNodeTexImage" and node.image is not None:
-        out.texture = node
-    elif kind == "ShaderNodeVertexColor":
-        out.colours = True
-        out.attribute = node.layer_name
-    elif kind == "ShaderNodeVectorMath" and node.operation == "MULTIPLY":
-        for identifier in ("Vector", "Vector_001"):
-            socket = compat.input_socket(node, identifier)
-            if socket.is_linked:
-                _walk(socket.links[0].from_socket, out, depth + 1)
-    elif kind == "ShaderNodeVectorMath" and node.operation == "SCALE":
-        socket = compat.input_socket(node, "Vector")
-        out.scale = float(compat.input_socket(node, "Scale").default_value)
-        if socket.is_linked:
-            _walk(socket.links[0].from_socket, out, depth + 1)
-    else:
-        out.unknown = True
-
-
-def _texture_alpha(tree, node) -> bool:
-    """Whether the opacity map of *tree* is the alpha of the Image Texture *node* (the one
-    written) times the Opacity control: what X3D says with the texture's alpha and
-    transparency (``x3d_import._Builder.texture_alpha``)."""
-    product = tree.nodes.get(recipe.OPACITY_MAP)
+def _texture_alpha(product, node) -> bool:
+    """Whether the opacity map *product* (``materials.OPACITY_MAP``) is the alpha of the Image
+    Texture *node* (the one written) times the Opacity control: what X3D says with the
+    texture's alpha and transparency (``x3d_import._Builder.texture_alpha``)."""
     if node is None or product is None or product.operation != "MULTIPLY":
         return False
     sources = set()
