@@ -11,6 +11,10 @@ An imported material has no "original" to restore (Apply Phong Material on a use
 materials keeps its source, see ``lighting/materials.py``).
 
 Only data blocks that did not exist before the import are ever touched (:func:`snapshot`).
+
+Also what importers and exporters share of Blender's own side: :func:`ensure_fbx_addon`
+(Blender's FBX add-on, whose importer and exporter both serve) and :func:`image_components`
+(an image file's channels, read from its header).
 """
 
 from __future__ import annotations
