@@ -23,25 +23,19 @@ from ...core import collada
 from .. import compat
 from ..lighting import materials as recipe
 from ..lighting import properties
-from . import collada_import as imp
+from . import keys
 
 
-def _color(socket):
-    return tuple(float(c) for c in socket.default_value[:3])
-
-
-def _feed(lights, name, material, warnings):
-    """(colour, image texture node or None) feeding the lights-group input *name*."""
-    socket = lights.inputs[name]
-    if not socket.is_linked:
-        return _color(socket), None
-    node = socket.links[0].from_node
-    if node.bl_idname == "ShaderNodeTexImage" and node.image is not None:
-        return (1.0, 1.0, 1.0), node
-    if node.bl_idname == "ShaderNodeRGB":
-        return tuple(float(c) for c in compat.value_output(node).default_value[:3]), None
-    warnings.append(f"material {material.name}: {name} is fed by a {node.bl_idname} node, "
-                    "which COLLADA cannot say; written black")
+def _feed(feed, name, material, warnings):
+    """(colour, image texture node or None) of the lights-group input *name* fed by *feed*
+    (``materials.feeds``): its value, or an image texture alone (colour white)."""
+    if feed.other is None:
+        value = feed.value
+        return (value if isinstance(value, tuple) else (float(value),) * 3), None
+    if feed.other == feed.texture:
+        return (1.0, 1.0, 1.0), feed.texture
+    warnings.append(f"material {material.name}: {name} is fed by a {feed.other.bl_idname} "
+                    "node, which COLLADA cannot say; written black")
     return (0.0, 0.0, 0.0), None
 
 
@@ -55,9 +49,9 @@ def material_of(material, warnings) -> collada.Material:
                         "lambert with its base colour")
         return out
     tree = material.node_tree
-    lights = tree.nodes[recipe.LIGHTS_NODE]
-    blinn = float(compat.value_output(tree.nodes["phong_blinn"]).default_value)
-    technique = material.get(imp.TECHNIQUE_KEY)
+    feeds = recipe.feeds(material)
+    blinn = float(feeds["Blinn"].value)
+    technique = material.get(keys.COLLADA_TECHNIQUE)
     if technique not in collada.TECHNIQUES:
         technique = "blinn" if blinn >= 0.5 else "phong"
     elif technique in ("phong", "blinn"):
@@ -66,8 +60,8 @@ def material_of(material, warnings) -> collada.Material:
         warnings.append(f"material {material.name}: Blinn {blinn:g} between Phong and Blinn "
                         f"written as {technique}")
     out.technique = technique
-    for socket_name, (element, _control) in imp.INPUTS.items():
-        color, texture = _feed(lights, socket_name, material, warnings)
+    for socket_name, (element, _control) in keys.COLLADA_INPUTS.items():
+        color, texture = _feed(feeds[socket_name], socket_name, material, warnings)
         out.colors[element] = (*color, 1.0)
         if texture is not None:
             path = bpy.path.abspath(texture.image.filepath) or texture.image.name
@@ -76,22 +70,22 @@ def material_of(material, warnings) -> collada.Material:
             texcoord = uv.uv_map if uv is not None and uv.bl_idname == "ShaderNodeUVMap" \
                 else "UVMap"
             out.textures[element] = collada.Texture(path, path, texcoord, texture.image.name)
-    out.shininess = float(compat.value_output(tree.nodes["phong_exponent"]).default_value)
-    opacity = recipe.opacity(material)
-    mode = material.get(imp.OPAQUE_KEY)
-    mapped = _transparent_texture(material, tree)
+    out.shininess = float(feeds["Exponent"].value)
+    opacity = feeds["Opacity"].value
+    mode = material.get(keys.COLLADA_OPAQUE)
+    mapped = _transparent_texture(tree, feeds["Opacity"])
     if mode in collada.OPAQUE_MODES and mapped is not None:   # the file's opacity map
         out.opaque, out.textures["transparent"] = mode, mapped
-        if imp.TRANSPARENCY_KEY in material.keys():
-            out.transparency = float(material[imp.TRANSPARENCY_KEY])
+        if keys.COLLADA_TRANSPARENCY in material.keys():
+            out.transparency = float(material[keys.COLLADA_TRANSPARENCY])
         return out
-    if mode in collada.OPAQUE_MODES and imp.TRANSPARENT_KEY in material.keys():
+    if mode in collada.OPAQUE_MODES and keys.COLLADA_TRANSPARENT in material.keys():
         # the file's own transparency, unless Opacity was changed since the import (an
         # invisible material imported opaque keeps its file's values)
         out.opaque = mode
-        out.transparent = tuple(float(c) for c in material[imp.TRANSPARENT_KEY])
-        if imp.TRANSPARENCY_KEY in material.keys():
-            out.transparency = float(material[imp.TRANSPARENCY_KEY])
+        out.transparent = tuple(float(c) for c in material[keys.COLLADA_TRANSPARENT])
+        if keys.COLLADA_TRANSPARENCY in material.keys():
+            out.transparency = float(material[keys.COLLADA_TRANSPARENCY])
         read = min(max(out.opacity(), 0.0), 1.0)
         if abs(read - opacity) <= 1e-6 or (read <= 0.0 and opacity == 1.0):
             return out
@@ -101,12 +95,13 @@ def material_of(material, warnings) -> collada.Material:
     return out
 
 
-def _transparent_texture(material, tree):
+def _transparent_texture(tree, feed):
     """The collada.Texture of an imported ``<transparent><texture>`` that still feeds the
-    material's opacity map (``collada_import.transparent_map``), or None."""
-    node = tree.nodes.get(imp.TEXTURE_NODE + "transparent")
+    material's opacity map (*feed*: its Opacity in ``materials.feeds``;
+    ``collada_import.transparent_map``), or None."""
+    node = tree.nodes.get(keys.COLLADA_TEXTURE_NODE + "transparent")
     mix = tree.nodes.get(recipe.OPACITY_MIX)
-    if node is None or node.image is None or tree.nodes.get(recipe.OPACITY_MAP) is None or \
+    if node is None or node.image is None or feed.other is None or \
             mix is None or not compat.input_socket(mix, "Fac").is_linked or \
             compat.input_socket(mix, "Fac").links[0].from_node.name != recipe.OPACITY_MAP:
         return None

@@ -38,22 +38,19 @@ from .. import compat
 from ..lighting import materials as recipe
 from ..lighting import properties
 from ..lighting import sync as sync_mod
-from . import native
+from . import keys, native
 
 #: Custom properties of an imported material, so that export writes the file's technique
 #: and transparency back.
-TECHNIQUE_KEY = "phong_collada_technique"
-OPAQUE_KEY = "phong_collada_opaque"
-TRANSPARENT_KEY = "phong_collada_transparent"
-TRANSPARENCY_KEY = "phong_collada_transparency"
+TECHNIQUE_KEY = keys.COLLADA_TECHNIQUE
+OPAQUE_KEY = keys.COLLADA_OPAQUE
+TRANSPARENT_KEY = keys.COLLADA_TRANSPARENT
+TRANSPARENCY_KEY = keys.COLLADA_TRANSPARENCY
 SYMBOLS_KEY = "phong_collada_symbols"   # a mesh's material symbols, while importing
-TEXTURE_NODE = "phong_dae_map:"   # + lights-group input
+TEXTURE_NODE = keys.COLLADA_TEXTURE_NODE   # + lights-group input
 UVMAP_NODE = "phong_dae_uv:"      # + lights-group input
 #: lights-group input -> (COLLADA element, control node)
-INPUTS = {"Irradiant Color": ("emission", "phong_irradiant_color"),
-          recipe.AMBIENT_INPUT: ("ambient", recipe.AMBIENT_CONTROL),
-          "Object Color": ("diffuse", "phong_object_color"),
-          "Specular Color": ("specular", "phong_specular_color")}
+INPUTS = keys.COLLADA_INPUTS
 #: The most objects one import makes: the file's nodes with their ``instance_node`` copies
 #: (and an object per instance of a node that holds several).  A file whose instances would
 #: make more (a few kilobytes can ask for 2^40: each library node instantiating the next one

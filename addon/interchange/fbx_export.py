@@ -41,7 +41,7 @@ from ...core import fbx as fbx_read
 from ...core import fbx_write, outputs
 from ..lighting import materials as recipe
 from ..lighting import properties, rig
-from .fbx_import import ensure_fbx_addon
+from .native import ensure_fbx_addon
 
 #: The importer's reading of a material's user properties: key -> lights-group input.
 MATERIAL_USER = {"Blinn": "Blinn", "SpecularStrength": "Specular Strength"}

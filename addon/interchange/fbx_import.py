@@ -47,6 +47,7 @@ from ..lighting import materials as recipe
 from ..lighting import properties
 from ..lighting import sync as sync_mod
 from . import native, obj_import
+from .native import ensure_fbx_addon
 
 FbxError = fbx.FbxError
 #: lights-group input -> control node of the recipe (or ours, for the ambient colour)
@@ -73,27 +74,6 @@ def _binary_7100(path) -> bool:
 
 def _blender_reads(data: fbx.Scene) -> bool:
     return not data.ascii and data.version >= 7100
-
-
-def ensure_fbx_addon() -> bool:
-    """Whether Blender's FBX add-on (io_scene_fbx: its importer and exporter) is enabled,
-    enabling it where it is not."""
-    if hasattr(bpy.ops.import_scene, "fbx"):
-        try:
-            bpy.ops.import_scene.fbx.get_rna_type()
-            return True
-        except (KeyError, AttributeError):
-            pass
-    try:
-        import addon_utils
-        addon_utils.enable("io_scene_fbx", default_set=False)
-    except Exception:  # noqa: BLE001 - any failure means: build from ufbx
-        return False
-    try:
-        bpy.ops.import_scene.fbx.get_rna_type()
-        return True
-    except (KeyError, AttributeError):
-        return False
 
 
 # -- the ufbx build (ASCII, FBX 6.1, or where Blender's importer fails) ----------------------

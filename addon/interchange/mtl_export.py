@@ -28,9 +28,8 @@ import os
 import bpy
 
 from ...core import mtl, outputs
-from .. import compat
 from ..lighting import materials as recipe
-from .obj_import import ILLUM_KEY
+from .keys import MTL_ILLUM
 
 HEADER = "Phong materials written by Phong Nodes (docs/model.md: MTL illum 2 with Ka = Kd)"
 
@@ -57,28 +56,6 @@ def mtl_names(phong_materials, taken=()) -> dict:
     return out
 
 
-def _input(material, name):
-    node = material.node_tree.nodes.get(recipe.LIGHTS_NODE)
-    return node.inputs[name] if node is not None else None
-
-
-def _plain(value):
-    return tuple(value) if hasattr(value, "__len__") else float(value)
-
-
-def _source(material, input_name, control):
-    """(value, node feeding the input when it is not the control) of a recipe input."""
-    node = material.node_tree.nodes.get(control)
-    value = _plain(compat.value_output(node).default_value) if node is not None else None
-    socket = _input(material, input_name)
-    if socket is None:
-        return value, None
-    if not socket.is_linked:
-        return _plain(socket.default_value), None
-    upstream = socket.links[0].from_node
-    return value, (None if upstream.name == control else upstream)
-
-
 def _rgb(value):
     return tuple(float(v) for v in value[:3])
 
@@ -91,27 +68,24 @@ def _image_path(image, mtl_folder) -> str:
         return path
 
 
-def _map_or_value(material, input_name, control, mtl_folder, warnings):
-    """(colour, image path or None, map options) of a colour input: its control's value, or
-    an image texture's file (colour 1: MTL multiplies a map by its colour) with the
-    ``-o`` / ``-s`` of its placement (:func:`_placement`)."""
-    color, feeder = _source(material, input_name, control)
-    if feeder is None:
-        return color, None, {}
-    if feeder.bl_idname == "ShaderNodeTexImage" and feeder.image and not feeder.image.packed_file:
-        return ((1.0, 1.0, 1.0), _image_path(feeder.image, mtl_folder),
-                _placement(material, feeder, warnings))
-    multiplied = _colour_times_map(feeder)
-    if multiplied is not None and not multiplied[1].image.packed_file:
-        return (multiplied[0], _image_path(multiplied[1].image, mtl_folder),
-                _placement(material, multiplied[1], warnings))
-    if feeder.bl_idname == "ShaderNodeRGB":
-        return tuple(compat.value_output(feeder).default_value), None, {}
-    what = (f"packed image {feeder.image.name!r} (unpack it to write a map)"
-            if getattr(feeder, "image", None) is not None else f"node {feeder.name!r}")
+def _map_or_value(material, input_name, feed, mtl_folder, warnings):
+    """(colour, image path or None, map options) of the colour input *input_name* fed by
+    *feed* (``materials.feeds``): its value, or an image texture's file (alone: colour 1,
+    since MTL multiplies a map by its colour; the importers' colour × map: that colour) with
+    the ``-o`` / ``-s`` of its placement (:func:`_placement`)."""
+    if feed.other is None:
+        return feed.value, None, {}
+    texture = feed.texture
+    if texture is not None and not texture.image.packed_file:
+        color = (1.0, 1.0, 1.0) if feed.other == texture else feed.value
+        return (color, _image_path(texture.image, mtl_folder),
+                _placement(material, texture, warnings))
+    image = getattr(feed.other, "image", None)
+    what = (f"packed image {image.name!r} (unpack it to write a map)"
+            if image is not None else f"node {feed.other.name!r}")
     warnings.append(f"{material.name}: {input_name} comes from {what}; the control's value "
                     "is written")
-    return color, None, {}
+    return feed.value, None, {}
 
 
 def _placement(material, texture, warnings) -> dict:
@@ -139,28 +113,14 @@ def _placement(material, texture, warnings) -> dict:
     return options
 
 
-def _colour_times_map(node):
-    """(colour, Image Texture node) when *node* is the OBJ importer's colour x map (a Vector
-    Math Multiply of an RGB node and an Image Texture), else None."""
-    if node.bl_idname != "ShaderNodeVectorMath" or node.operation != "MULTIPLY":
-        return None
-    a, b = compat.input_socket(node, "Vector"), compat.input_socket(node, "Vector_001")
-    if not (a.is_linked and b.is_linked):
-        return None
-    rgb, texture = a.links[0].from_node, b.links[0].from_node
-    if rgb.bl_idname != "ShaderNodeRGB" or texture.bl_idname != "ShaderNodeTexImage" \
-            or texture.image is None:
-        return None
-    return tuple(compat.value_output(rgb).default_value), texture
-
-
 def to_mtl(material, mtl_folder, name=None):
     """(mtl.Material, warnings) for the Phong material *material* (named *name* in the MTL,
     :func:`mtl_name` by default)."""
     out = mtl.Material(name or mtl_name(material), "", 0)
     warnings = []
-    read_as = material.get(ILLUM_KEY)      # the model an imported material was read as
-    only = _colour_only(material, mtl_folder) if read_as in (None, 0) else None
+    read_as = material.get(MTL_ILLUM)      # the model an imported material was read as
+    feeds = recipe.feeds(material)
+    only = _colour_only(material, feeds, mtl_folder) if read_as in (None, 0) else None
     if only is not None:      # MTL illum 0: Kd is the colour, lights play no part
         out.colors["Kd"], image, options = only
         if image is not None:
@@ -168,35 +128,30 @@ def to_mtl(material, mtl_folder, name=None):
         out.illum = 0
         _opacity(material, out)
         return out, warnings
-    color, image, options = _map_or_value(material, "Object Color", "phong_object_color",
+    color, image, options = _map_or_value(material, "Object Color", feeds["Object Color"],
                                           mtl_folder, warnings)
     out.colors["Kd"] = _rgb(color)
     if image is not None:
         out.maps["map_Kd"] = mtl.TextureMap(image, "", options, 0)
-    ambient = _input(material, recipe.AMBIENT_INPUT)
-    object_color = _input(material, "Object Color")
-    if ambient is not None and not ambient.is_linked:
-        out.colors["Ka"] = _rgb(ambient.default_value)
-    elif ambient is None or (object_color.is_linked and
-                             ambient.links[0].from_socket == object_color.links[0].from_socket):
+    ambient = feeds.get(recipe.AMBIENT_INPUT)
+    if ambient is None or (ambient.other is not None and
+                           ambient.socket == feeds["Object Color"].socket):
         out.colors["Ka"] = out.colors["Kd"]          # the seeds' model: Ka = Kd
         if image is not None:
             out.maps["map_Ka"] = mtl.TextureMap(image, "", dict(options), 0)
     else:
-        ka, ka_image, ka_options = _map_or_value(material, recipe.AMBIENT_INPUT,
-                                                 "phong_object_color", mtl_folder, warnings)
+        ka, ka_image, ka_options = _map_or_value(material, recipe.AMBIENT_INPUT, ambient,
+                                                 mtl_folder, warnings)
         out.colors["Ka"] = _rgb(ka)
         if ka_image is not None:
             out.maps["map_Ka"] = mtl.TextureMap(ka_image, "", ka_options, 0)
-    specular, feeder_s = _source(material, "Specular Color", "phong_specular_color")
-    exponent, feeder_e = _source(material, "Exponent", "phong_exponent")
-    blinn, feeder_b = _source(material, "Blinn", "phong_blinn")
-    irradiant, feeder_i = _source(material, "Irradiant Color", "phong_irradiant_color")
-    for name, feeder in (("Specular Color", feeder_s), ("Exponent", feeder_e),
-                         ("Blinn", feeder_b), ("Irradiant Color", feeder_i)):
+    for name in ("Specular Color", "Exponent", "Blinn", "Irradiant Color"):
+        feeder = feeds[name].other
         if feeder is not None:
             warnings.append(f"{material.name}: {name} comes from node {feeder.name!r}; "
                             "the control's value is written")
+    specular, exponent = feeds["Specular Color"].value, feeds["Exponent"].value
+    blinn, irradiant = feeds["Blinn"].value, feeds["Irradiant Color"].value
     out.colors["Ks"] = _rgb(specular)
     out.colors["Ke"] = _rgb(irradiant)
     out.scalars["Ns"] = float(exponent)
@@ -217,29 +172,21 @@ def _opacity(material, out) -> None:
         out.scalars["d"] = value
 
 
-def _colour_only(material, mtl_folder):
+def _colour_only(material, feeds, mtl_folder):
     """(colour, image path or None) of the Irradiant Color when it is the material's only
-    colour (Object, Ambient Object and Specular Color black and fed by their controls or
-    by nothing): MTL's illum 0, which the importer reads into Irradiant Color alone; else
+    colour (Object, Ambient Object and Specular Color black and fed by a value: a control
+    or nothing): MTL's illum 0, which the importer reads into Irradiant Color alone; else
     None."""
-    for input_name, control in (("Object Color", "phong_object_color"),
-                                (recipe.AMBIENT_INPUT, recipe.AMBIENT_CONTROL),
-                                ("Specular Color", "phong_specular_color")):
-        socket = _input(material, input_name)
-        if socket is None:
+    for input_name in ("Object Color", recipe.AMBIENT_INPUT, "Specular Color"):
+        feed = feeds.get(input_name)
+        if feed is None or feed.other is not None:
             return None
-        if socket.is_linked:
-            upstream = socket.links[0].from_node
-            if upstream.bl_idname != "ShaderNodeRGB":
-                return None
-            value = compat.value_output(upstream).default_value
-        else:
-            value = socket.default_value
-        if any(float(v) != 0.0 for v in tuple(value)[:3]):
+        value = feed.value if isinstance(feed.value, tuple) else (feed.value,)
+        if any(v != 0.0 for v in value):
             return None
     notes = []
-    color, image, options = _map_or_value(material, "Irradiant Color", "phong_irradiant_color",
-                                          mtl_folder, notes)
+    color, image, options = _map_or_value(material, "Irradiant Color",
+                                          feeds["Irradiant Color"], mtl_folder, notes)
     if notes or (image is None and not any(float(v) for v in tuple(color)[:3])):
         return None
     return _rgb(color), image, options

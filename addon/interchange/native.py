@@ -11,6 +11,10 @@ An imported material has no "original" to restore (Apply Phong Material on a use
 materials keeps its source, see ``lighting/materials.py``).
 
 Only data blocks that did not exist before the import are ever touched (:func:`snapshot`).
+
+Also what importers and exporters share of Blender's own side: :func:`ensure_fbx_addon`
+(Blender's FBX add-on, whose importer and exporter both serve) and :func:`image_components`
+(an image file's channels, read from its header).
 """
 
 from __future__ import annotations
@@ -192,3 +196,59 @@ def opacity_map(material, opacity, location=(-400.0, 600.0)) -> None:
     math(tree, recipe.OPACITY_MAP, "MULTIPLY", opacity, 1.0, location, clamp=True)
     tree.nodes[recipe.OPACITY_MAP].label = "Opacity map"
     recipe.apply_opacity(material)
+
+
+# -- Blender's own FBX add-on and image files (read by importers and exporters alike) -------
+
+def ensure_fbx_addon() -> bool:
+    """Whether Blender's FBX add-on (io_scene_fbx: its importer and exporter) is enabled,
+    enabling it where it is not."""
+    if hasattr(bpy.ops.import_scene, "fbx"):
+        try:
+            bpy.ops.import_scene.fbx.get_rna_type()
+            return True
+        except (KeyError, AttributeError):
+            pass
+    try:
+        import addon_utils
+        addon_utils.enable("io_scene_fbx", default_set=False)
+    except Exception:  # noqa: BLE001 - any failure means: build from ufbx
+        return False
+    try:
+        bpy.ops.import_scene.fbx.get_rna_type()
+        return True
+    except (KeyError, AttributeError):
+        return False
+
+
+def image_components(path: str) -> int | None:
+    """How many channels the image file *path* holds (1 grey, 2 grey + alpha, 3 RGB, 4 RGBA),
+    read from its header (PNG, JPEG, GIF, BMP), or None for another format.  VRML97 / X3D
+    decide by it whether a texture replaces the diffuse colour or multiplies it, and
+    Blender's own image reports differ between releases (4.2 gives a grey + alpha PNG 32
+    bits, 5.3 16)."""
+    try:
+        with open(path, "rb") as handle:
+            head = handle.read(1 << 16)
+    except OSError:
+        return None
+    if head[:8] == b"\x89PNG\r\n\x1a\n" and len(head) > 25:
+        return {0: 1, 2: 3, 3: 3, 4: 2, 6: 4}.get(head[25])
+    if head[:3] == b"GIF":
+        return 3
+    if head[:2] == b"BM" and len(head) > 30:
+        return 4 if int.from_bytes(head[28:30], "little") == 32 else 3
+    if head[:2] == b"\xff\xd8":   # JPEG: the components of the first SOFn segment
+        at = 2
+        while at + 9 < len(head):
+            if head[at] != 0xFF:
+                return None
+            marker = head[at + 1]
+            if marker in (0xD8, 0x01) or 0xD0 <= marker <= 0xD7:
+                at += 2
+                continue
+            length = int.from_bytes(head[at + 2:at + 4], "big")
+            if 0xC0 <= marker <= 0xCF and marker not in (0xC4, 0xC8, 0xCC):
+                return head[at + 9] if at + 9 < len(head) else None
+            at += 2 + length
+    return None

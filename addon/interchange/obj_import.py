@@ -38,7 +38,7 @@ from ...core import mtl
 from .. import compat
 from ..lighting import materials as recipe
 from ..lighting import sync as sync_mod
-from . import native
+from . import keys, native
 
 #: lights-group input -> (MTL colour, MTL map, control node of the recipe or our own)
 COLOR_INPUTS = {
@@ -56,7 +56,7 @@ BLACK = (0.0, 0.0, 0.0)
 NON_COLOR = "Non-Color"
 #: Custom property of an imported Phong material: the MTL illumination model it was read as
 #: (0, 1 or 2), so that export writes it back (``mtl_export.to_mtl``).
-ILLUM_KEY = "phong_mtl_illum"
+ILLUM_KEY = keys.MTL_ILLUM
 
 
 def _mtl_name(material, by_name):

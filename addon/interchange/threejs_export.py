@@ -29,7 +29,6 @@ import math
 import numpy as np
 
 from ...core import threejs
-from .. import compat
 from ..scene import describe
 from ..lighting import materials
 
@@ -42,37 +41,26 @@ def _column_major(matrix) -> list:
     return [float(matrix[row][col]) for col in range(4) for row in range(4)]
 
 
-def _input_value(node, name, warnings, material):
-    """The value feeding input *name* of the lights node: a control's, else the socket's."""
-    socket = node.inputs[name]
-    if socket.is_linked:
-        source = socket.links[0].from_node
-        if source.bl_idname in ("ShaderNodeRGB", "ShaderNodeValue"):
-            value = compat.value_output(source).default_value
-        else:
-            control = {"Object Color": "phong_object_color"}.get(name)
-            fallback = material.node_tree.nodes.get(control) if control else None
-            warnings.append(f"{material.name}: {name} comes from a {source.bl_idname} node "
-                            "(a texture); the page uses "
-                            + ("its control's colour" if fallback else "the socket's value"))
-            value = (compat.value_output(fallback).default_value if fallback is not None
-                     else socket.default_value)
-    else:
-        value = socket.default_value
-    if hasattr(value, "__len__"):
-        return [float(c) for c in tuple(value)[:3]]
-    return float(value)
+def _value(feeds, name, warnings, material):
+    """The value of input *name* of the lights group (``materials.feeds``): the value the
+    material states; a texture or other nodes feeding it are named in a warning."""
+    feed = feeds[name]
+    if feed.other is not None:
+        warnings.append(f"{material.name}: {name} comes from a {feed.other.bl_idname} node "
+                        "(a texture); the page uses its control's value")
+    value = feed.value
+    return list(value) if isinstance(value, tuple) else float(value)
 
 
 def material_dict(material, warnings: list) -> dict:
     """The three.js material of a Phong material."""
-    node = material.node_tree.nodes[materials.LIGHTS_NODE]
-    values = {key: _input_value(node, name, warnings, material) for key, name in FIELDS.items()}
-    ambient = _input_value(node, materials.AMBIENT_INPUT, warnings, material)
+    feeds = materials.feeds(material)
+    values = {key: _value(feeds, name, warnings, material) for key, name in FIELDS.items()}
+    ambient = _value(feeds, materials.AMBIENT_INPUT, warnings, material)
     if max(abs(a - b) for a, b in zip(ambient, values["color"])) > 1e-6:
         warnings.append(f"{material.name}: its own Ambient Object Color is not exported "
                         "(three.js's ambient light sees the material's color)")
-    if _input_value(node, "Blinn", warnings, material):
+    if _value(feeds, "Blinn", warnings, material):
         warnings.append(f"{material.name}: Blinn is not exported (three.js's highlight is "
                         "always Blinn-Phong)")
     strength = min(max(values["specular_strength"], 0.0), 1.0)

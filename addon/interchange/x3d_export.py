@@ -48,7 +48,7 @@ from ..lighting import headlight as headlight_mod
 from ..lighting import lights as lights_mod
 from ..lighting import materials as recipe
 from ..lighting import properties, rig
-from . import x3d_import as imp
+from . import keys, native
 
 #: Blender's Z up to the file's Y up (the inverse of x3d.Y_UP_TO_Z_UP: a rotation).
 Z_UP_TO_Y_UP = x3d.Y_UP_TO_Z_UP.T.copy()
@@ -256,7 +256,7 @@ class _Writer:
                        corners=remap[corners[corner_keep]], normals=normals, solid=solid,
                        crease_angle=crease)
         if texture:
-            layer = mesh.uv_layers.get(imp.UV_MAP) or mesh.uv_layers.active
+            layer = mesh.uv_layers.get(keys.X3D_UV_MAP) or mesh.uv_layers.active
             if layer is not None:
                 uv = np.zeros(loops * 2, dtype=np.float32)
                 layer.data.foreach_get("uv", uv)
@@ -336,15 +336,15 @@ class _Writer:
 
     def phong(self, material):
         tree = material.node_tree
-        lights = tree.nodes[recipe.LIGHTS_NODE]
         name = material.name
-        kd_feed = _feed(lights.inputs["Object Color"])
-        ka_feed = _feed(lights.inputs[recipe.AMBIENT_INPUT])
-        ks_feed = _feed(lights.inputs["Specular Color"])
-        ke_feed = _feed(lights.inputs["Irradiant Color"])
-        exponent = float(compat.value_output(tree.nodes["phong_exponent"]).default_value)
-        opacity = recipe.opacity(material)
-        unlit = bool(material.get(imp.UNLIT_KEY))
+        feeds = recipe.feeds(material)
+        kd_feed = _feed(feeds["Object Color"])
+        ka_feed = _feed(feeds[recipe.AMBIENT_INPUT])
+        ks_feed = _feed(feeds["Specular Color"])
+        ke_feed = _feed(feeds["Irradiant Color"])
+        exponent = float(feeds["Exponent"].value)
+        opacity = float(feeds["Opacity"].value)
+        unlit = bool(material.get(keys.X3D_UNLIT))
         black = all(f.constant == (0.0, 0.0, 0.0) and f.texture is None and not f.colours
                     for f in (kd_feed, ka_feed, ks_feed))
         if unlit and black:   # a shape without Material: its texture / colours / white
@@ -377,7 +377,7 @@ class _Writer:
                               "its colour control written")
         # the Object Color control keeps the file's diffuseColor where a texture or the
         # colours replace it (X3D writes it all the same)
-        control = tuple(compat.value_output(tree.nodes["phong_object_color"]).default_value)
+        control = feeds["Object Color"].value
         diffuse = _colour(kd_feed.control if kd_feed.control is not None else
                           control if (kd_feed.texture is not None or kd_feed.colours) else
                           kd_feed.constant)
@@ -391,7 +391,7 @@ class _Writer:
                               "the diffuse colour; the colours written")
         transform = self.texture_transform(material) if texture is not None else None
         shininess = exponent / 128.0
-        kept = material.get(imp.SHININESS_KEY)
+        kept = material.get(keys.X3D_SHININESS)
         if isinstance(kept, float) and np.float32(128.0 * kept) == np.float32(exponent):
             shininess = kept
         elif shininess > 1.0:
@@ -408,11 +408,12 @@ class _Writer:
                            emissive=_colour(ke_feed.control if ke_feed.control is not None
                                             else ke_feed.constant),
                            shininess=max(shininess, 0.0), transparency=f32(1.0 - opacity))
-        if tree.nodes.get(recipe.OPACITY_MAP) is not None and not (
-                texture is not None and _texture_alpha(tree, kd_feed.texture)):
+        if feeds["Opacity"].other is not None and not (
+                texture is not None and _texture_alpha(feeds["Opacity"].other,
+                                                       kd_feed.texture)):
             self.warnings.add(f"material {name}: its opacity map left out (X3D 3's "
                               "transparency is one number)")
-        blinn = float(compat.value_output(tree.nodes["phong_blinn"]).default_value)
+        blinn = float(feeds["Blinn"].value)
         if self.model != "x3d" and blinn < 1.0 and any(out.specular):
             self.warnings.add(f"material {name}: Phong's (r·v)^e highlight written as X3D's "
                               "Blinn highlight (n·h)^e")
@@ -433,7 +434,7 @@ class _Writer:
                       kd_feed.constant, dtype=np.float64)
         ka = np.array(ka_feed.control if ka_feed.control is not None else ka_feed.constant,
                       dtype=np.float64)
-        kept = material.get(imp.AMBIENT_KEY)
+        kept = material.get(keys.X3D_AMBIENT)
         if isinstance(kept, float) and all(
                 np.float32(kept * float(str(np.float32(d)))) == np.float32(a)
                 for d, a in zip(kd, ka)):
@@ -472,7 +473,7 @@ class _Writer:
         texture = x3d.Texture(name=image.name, urls=[url], paths=[path], path=path,
                               repeat_s=node.extension == "REPEAT",
                               repeat_t=node.extension == "REPEAT")
-        texture.components = imp.image_components(path)
+        texture.components = native.image_components(path)
         if multiplied and not _grey(texture):
             self.warnings.add(f"material {material.name}: an RGB texture times a colour: X3D's "
                               "RGB textures replace the diffuse colour; the texture written")
@@ -480,8 +481,8 @@ class _Writer:
 
     @staticmethod
     def texture_transform(material):
-        node = material.node_tree.nodes.get(imp.MAPPING_NODE)
-        values = material.get(imp.TRANSFORM_KEY)
+        node = material.node_tree.nodes.get(keys.X3D_MAPPING_NODE)
+        values = material.get(keys.X3D_TRANSFORM)
         if node is None or values is None or len(values) != 7:
             return None
         values = [float(v) for v in values]
@@ -493,7 +494,7 @@ class _Writer:
         """{"root": lights at the root, "groups": [(Group, its mesh objects)]}."""
         root, scoped = [], []
         for obj in sorted(objects, key=lambda o: o.name):
-            if obj.data.type not in imp.LIGHT_TYPES.values():
+            if obj.data.type not in keys.X3D_LIGHT_TYPES.values():
                 self.warnings.add(f"lights of a type X3D has not left out: {obj.name} "
                                   f"({obj.data.type})")
                 continue
@@ -503,7 +504,7 @@ class _Writer:
                                                  if lights_mod.reaches(rule, m)]
             if reached is not None and len(reached) == len(meshes) and meshes:
                 reached = None   # it reaches everything written: global
-            if obj.get(imp.LIGHTS_NOTHING_KEY):   # an imported scope without shapes
+            if obj.get(keys.X3D_LIGHTS_NOTHING):   # an imported scope without shapes
                 reached = []
                 if self.encoding == "vrml97" and light.kind != "directional":
                     light.on = False   # VRML97 cannot scope it: off shows the same
@@ -537,15 +538,15 @@ class _Writer:
 
     def light(self, obj) -> x3d.Light:
         data = obj.data
-        kind = {v: k for k, v in imp.LIGHT_TYPES.items()}[data.type]
+        kind = {v: k for k, v in keys.X3D_LIGHT_TYPES.items()}[data.type]
 
         def value(attr):
             key, default = properties.LIGHT_KEYS[attr]
             return float(data.get(key, default))
 
-        nothing = bool(obj.get(imp.LIGHTS_NOTHING_KEY))   # hidden: its scope is empty
+        nothing = bool(obj.get(keys.X3D_LIGHTS_NOTHING))   # hidden: its scope is empty
         on = (not obj.hide_render or nothing) and lights_mod.visible(obj, self.layer)
-        name = obj.name.removesuffix(imp.OFF) if not on else obj.name
+        name = obj.name.removesuffix(keys.X3D_OFF) if not on else obj.name
         matrix = Z_UP_TO_Y_UP @ np.array(obj.matrix_world, dtype=np.float64)
         direction = -matrix[:3, 2]
         length = float(np.linalg.norm(direction))
@@ -568,7 +569,7 @@ class _Writer:
                     out.attenuation = terms.get(k, (0.0, 0.0, 1.0))
         if kind == "spot":
             size = float(data.spot_size)
-            kept = data.get(imp.CUT_OFF_KEY)
+            kept = data.get(keys.X3D_CUT_OFF)
             cut = kept if isinstance(kept, float) and np.float32(2.0 * kept) == np.float32(size) \
                 else f32(size / 2.0)
             out.cut_off_angle = cut
@@ -648,8 +649,9 @@ class _Writer:
 
 
 class _Feed:
-    """What feeds an input of the lights group: a constant colour (a control's or the
-    socket's), an Image Texture, the colour attribute, their product, × a scale."""
+    """What X3D can say of a lights-group input's ``materials.Feed``: a constant colour (a
+    control's or the socket's), an Image Texture, the colour attribute, their product, × a
+    scale."""
 
     __slots__ = ("socket", "constant", "control", "texture", "colours", "attribute", "scale",
                  "unknown")
@@ -668,50 +670,32 @@ class _Feed:
         return self.socket is not None and self.socket == other.socket
 
 
-def _feed(socket) -> _Feed:
-    """The _Feed of a lights-group input."""
-    out = _Feed(socket.links[0].from_socket if socket.is_linked else None)
-    if not socket.is_linked:
-        out.constant = tuple(float(c) for c in socket.default_value[:3])
+def _feed(feed) -> _Feed:
+    """The _Feed of the ``materials.Feed`` *feed*."""
+    out = _Feed(feed.socket)
+    if feed.other is None:   # a value: the socket's own, or an RGB node's (a control)
+        value = feed.value if isinstance(feed.value, tuple) else (float(feed.value),) * 3
+        out.constant = tuple(float(c) for c in value[:3])
+        if feed.socket is not None:
+            out.control = out.constant
         return out
-    _walk(socket.links[0].from_socket, out, 0)
+    chain = feed.chain
+    out.control = chain.colour
+    if chain.colour is not None:
+        out.constant = chain.colour
+    out.texture = chain.texture
+    if chain.attribute is not None:
+        out.colours = True
+        out.attribute = chain.attribute.layer_name
+    out.scale = chain.scale
+    out.unknown = chain.unknown
     return out
 
 
-def _walk(source, out, depth) -> None:
-    node = source.node
-    kind = node.bl_idname
-    if depth > 8:
-        out.unknown = True
-    elif kind == "ShaderNodeRGB":
-        value = tuple(float(c) for c in compat.value_output(node).default_value[:3])
-        out.control = value if out.control is None else tuple(
-            a * b for a, b in zip(out.control, value))
-        out.constant = out.control
-    elif kind == "ShaderNodeTexImage" and node.image is not None:
-        out.texture = node
-    elif kind == "ShaderNodeVertexColor":
-        out.colours = True
-        out.attribute = node.layer_name
-    elif kind == "ShaderNodeVectorMath" and node.operation == "MULTIPLY":
-        for identifier in ("Vector", "Vector_001"):
-            socket = compat.input_socket(node, identifier)
-            if socket.is_linked:
-                _walk(socket.links[0].from_socket, out, depth + 1)
-    elif kind == "ShaderNodeVectorMath" and node.operation == "SCALE":
-        socket = compat.input_socket(node, "Vector")
-        out.scale = float(compat.input_socket(node, "Scale").default_value)
-        if socket.is_linked:
-            _walk(socket.links[0].from_socket, out, depth + 1)
-    else:
-        out.unknown = True
-
-
-def _texture_alpha(tree, node) -> bool:
-    """Whether the opacity map of *tree* is the alpha of the Image Texture *node* (the one
-    written) times the Opacity control: what X3D says with the texture's alpha and
-    transparency (``x3d_import._Builder.texture_alpha``)."""
-    product = tree.nodes.get(recipe.OPACITY_MAP)
+def _texture_alpha(product, node) -> bool:
+    """Whether the opacity map *product* (``materials.OPACITY_MAP``) is the alpha of the Image
+    Texture *node* (the one written) times the Opacity control: what X3D says with the
+    texture's alpha and transparency (``x3d_import._Builder.texture_alpha``)."""
     if node is None or product is None or product.operation != "MULTIPLY":
         return False
     sources = set()

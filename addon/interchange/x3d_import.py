@@ -64,30 +64,31 @@ from ..lighting import headlight as headlight_mod
 from ..lighting import materials as recipe
 from ..lighting import properties, rig
 from ..lighting import sync as sync_mod
-from . import native
+from . import keys, native
+from .native import image_components
 
 #: Custom properties an import leaves for the export (import → export → import keeps the
 #: file's values exactly where the float32 controls round them).
-AMBIENT_KEY = "phong_x3d_ambient_intensity"       # material: the file's ambientIntensity
-SHININESS_KEY = "phong_x3d_shininess"             # material: the file's shininess
-TRANSFORM_KEY = "phong_x3d_texture_transform"     # material: center, rotation, scale, translation
-UNLIT_KEY = "phong_x3d_unlit"                     # material: a shape without Material
-CUT_OFF_KEY = "phong_x3d_cut_off_angle"           # spot light: the file's cutOffAngle
+AMBIENT_KEY = keys.X3D_AMBIENT                   # material: the file's ambientIntensity
+SHININESS_KEY = keys.X3D_SHININESS                # material: the file's shininess
+TRANSFORM_KEY = keys.X3D_TRANSFORM                # material: center, rotation, scale, translation
+UNLIT_KEY = keys.X3D_UNLIT                        # material: a shape without Material
+CUT_OFF_KEY = keys.X3D_CUT_OFF                    # spot light: the file's cutOffAngle
 HEADLIGHT_OFF_KEY = "phong_x3d_no_headlight"      # scene: the file said headlight FALSE
-LIGHTS_NOTHING_KEY = "phong_x3d_lights_nothing"   # light object: a scope without shapes
+LIGHTS_NOTHING_KEY = keys.X3D_LIGHTS_NOTHING      # light object: a scope without shapes
 DEFAULT_VIEWPOINT_KEY = "phong_x3d_default_viewpoint"  # camera object: the file has no Viewpoint
 #: Nodes of the texture and colour chains (the export reads them back).
 TEXTURE_NODE = "phong_x3d_texture"
 UV_NODE = "phong_x3d_uv"
-MAPPING_NODE = "phong_x3d_mapping"
+MAPPING_NODE = keys.X3D_MAPPING_NODE
 COLORS_NODE = "phong_x3d_colors"
 CHAIN = "phong_x3d:"                              # + what: the Vector Math nodes
 COLOR_ATTRIBUTE = "Col"
-UV_MAP = "UVMap"
-OFF = " (off)"
+UV_MAP = keys.X3D_UV_MAP
+OFF = keys.X3D_OFF
 #: The Empty under which objects with a sheared matrix hang (their parent inverse holds it).
 SHEAR_FRAME = "X3D shear frame"
-LIGHT_TYPES = {"directional": "SUN", "point": "POINT", "spot": "SPOT"}
+LIGHT_TYPES = keys.X3D_LIGHT_TYPES
 LIGHT_NAMES = {"directional": "DirectionalLight", "point": "PointLight", "spot": "SpotLight"}
 #: Blender's range of a spot's size (the full cone) and of a perspective camera's angle.
 SPOT_SIZE = (math.radians(1.0), math.pi)
@@ -124,39 +125,6 @@ def import_x3d(context, filepath):
 
 
 # -- pure helpers (no bpy) --------------------------------------------------------------------
-
-def image_components(path: str) -> int | None:
-    """How many channels the image file *path* holds (1 grey, 2 grey + alpha, 3 RGB, 4 RGBA),
-    read from its header (PNG, JPEG, GIF, BMP), or None for another format.  VRML97 / X3D
-    decide by it whether a texture replaces the diffuse colour or multiplies it, and
-    Blender's own image reports differ between releases (4.2 gives a grey + alpha PNG 32
-    bits, 5.3 16)."""
-    try:
-        with open(path, "rb") as handle:
-            head = handle.read(1 << 16)
-    except OSError:
-        return None
-    if head[:8] == b"\x89PNG\r\n\x1a\n" and len(head) > 25:
-        return {0: 1, 2: 3, 3: 3, 4: 2, 6: 4}.get(head[25])
-    if head[:3] == b"GIF":
-        return 3
-    if head[:2] == b"BM" and len(head) > 30:
-        return 4 if int.from_bytes(head[28:30], "little") == 32 else 3
-    if head[:2] == b"\xff\xd8":   # JPEG: the components of the first SOFn segment
-        at = 2
-        while at + 9 < len(head):
-            if head[at] != 0xFF:
-                return None
-            marker = head[at + 1]
-            if marker in (0xD8, 0x01) or 0xD0 <= marker <= 0xD7:
-                at += 2
-                continue
-            length = int.from_bytes(head[at + 2:at + 4], "big")
-            if 0xC0 <= marker <= 0xCF and marker not in (0xC4, 0xC8, 0xCC):
-                return head[at + 9] if at + 9 < len(head) else None
-            at += 2 + length
-    return None
-
 
 def degenerate_faces(sizes: np.ndarray, corners: np.ndarray) -> np.ndarray:
     """Boolean per face: the face uses one vertex twice (Blender refuses such faces)."""

@@ -1,0 +1,52 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""The round-trip keys: what an import leaves on Blender data (custom properties, node names)
+for the export of the same format to read back, so that import → export keeps the file's own
+values where the Phong controls cannot tell them (docs/contract.md, "Round-trip keys").  The
+importers write them and the exporters read them here: no exporter imports an importer."""
+
+from __future__ import annotations
+
+from ..lighting import materials as recipe
+
+# -- MTL (obj_import → mtl_export) ------------------------------------------------------------
+#: material: the MTL illumination model it was read as (0, 1 or 2).
+MTL_ILLUM = "phong_mtl_illum"
+
+# -- COLLADA (collada_import → collada_export) -------------------------------------------------
+#: material: the file's profile_COMMON technique (constant, lambert, phong, blinn).
+COLLADA_TECHNIQUE = "phong_collada_technique"
+#: material: the file's <transparent opaque="..."> mode.
+COLLADA_OPAQUE = "phong_collada_opaque"
+#: material: the file's <transparent> colour (RGBA).
+COLLADA_TRANSPARENT = "phong_collada_transparent"
+#: material: the file's <transparency> value.
+COLLADA_TRANSPARENCY = "phong_collada_transparency"
+#: Image Texture node of an imported <texture>: + the lights-group input (or "transparent").
+COLLADA_TEXTURE_NODE = "phong_dae_map:"
+#: lights-group input -> (COLLADA element, control node).
+COLLADA_INPUTS = {"Irradiant Color": ("emission", "phong_irradiant_color"),
+                  recipe.AMBIENT_INPUT: ("ambient", recipe.AMBIENT_CONTROL),
+                  "Object Color": ("diffuse", "phong_object_color"),
+                  "Specular Color": ("specular", "phong_specular_color")}
+
+# -- X3D / VRML97 (x3d_import → x3d_export) ----------------------------------------------------
+#: material: the file's ambientIntensity.
+X3D_AMBIENT = "phong_x3d_ambient_intensity"
+#: material: the file's shininess.
+X3D_SHININESS = "phong_x3d_shininess"
+#: material: the file's TextureTransform (center, rotation, scale, translation).
+X3D_TRANSFORM = "phong_x3d_texture_transform"
+#: material: made for a shape without Material.
+X3D_UNLIT = "phong_x3d_unlit"
+#: spot light: the file's cutOffAngle.
+X3D_CUT_OFF = "phong_x3d_cut_off_angle"
+#: light object: a scoped light whose scope holds no shape.
+X3D_LIGHTS_NOTHING = "phong_x3d_lights_nothing"
+#: the Mapping node of a material's texture (its TextureTransform).
+X3D_MAPPING_NODE = "phong_x3d_mapping"
+#: the UV map of imported texture coordinates.
+X3D_UV_MAP = "UVMap"
+#: the suffix of a light that is off (``on FALSE``: the light hidden from render).
+X3D_OFF = " (off)"
+#: X3D light kind -> Blender light type.
+X3D_LIGHT_TYPES = {"directional": "SUN", "point": "POINT", "spot": "SPOT"}

@@ -1,0 +1,139 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""``materials.feeds()``, the one reader of a Phong material that every exporter uses: what
+feeds each input of the lights group (a value, a texture, the importers' chains), which
+socket feeds it, and the seeds' Ka = Kd (Ambient Object Color fed by Object Color's socket).
+The expected values are the colours the test sets and their products by hand."""
+
+from __future__ import annotations
+
+import pytest
+
+
+def _phong_material(bpy):
+    """A Phong material made by Apply Phong Material on a plane."""
+    mesh = bpy.data.meshes.new("Plane")
+    mesh.from_pydata([(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0)], [], [(0, 1, 2, 3)])
+    mesh.materials.append(bpy.data.materials.new("Paint"))
+    obj = bpy.data.objects.new("Plane", mesh)
+    bpy.context.scene.collection.objects.link(obj)
+    obj.select_set(True)
+    bpy.context.view_layer.objects.active = obj
+    assert bpy.ops.phong.apply_material() == {"FINISHED"}
+    return obj.material_slots[0].material
+
+
+def _rgb(tree, colour):
+    node = tree.nodes.new("ShaderNodeRGB")
+    node.outputs[0].default_value = (*colour, 1.0)
+    return node
+
+
+def _image_node(bpy, tree, name):
+    node = tree.nodes.new("ShaderNodeTexImage")
+    node.image = bpy.data.images.new(name, 4, 4)
+    return node
+
+
+def _vector_math(tree, operation):
+    node = tree.nodes.new("ShaderNodeVectorMath")
+    node.operation = operation
+    return node
+
+
+def _input(node, identifier):
+    return next(s for s in node.inputs if s.identifier == identifier)
+
+
+def test_plain_controls_and_the_seeds_ambient(bpy_clean):
+    bpy = bpy_clean
+    from phong_nodes.addon.lighting import materials
+    material = _phong_material(bpy)
+    nodes = material.node_tree.nodes
+    nodes["phong_object_color"].outputs[0].default_value = (0.2, 0.4, 0.6, 1.0)
+    nodes["phong_exponent"].outputs[0].default_value = 17.0
+    feeds = materials.feeds(material)
+    assert feeds["Object Color"].value == pytest.approx((0.2, 0.4, 0.6))
+    assert feeds["Object Color"].other is None and feeds["Object Color"].chain is None
+    assert feeds["Exponent"].value == pytest.approx(17.0)
+    # the recipe links Ambient Object Color from the socket that feeds Object Color
+    ambient = feeds[materials.AMBIENT_INPUT]
+    assert ambient.value == pytest.approx((0.2, 0.4, 0.6))
+    assert ambient.socket == feeds["Object Color"].socket
+    assert ambient.socket.node.name == "phong_object_color"
+    assert feeds["Opacity"].value == 1.0 and feeds["Opacity"].other is None
+
+
+def test_a_texture_on_object_color_and_ambient(bpy_clean):
+    """Ambient fed by Object Color's texture is Object Color's feed; fed by a texture of its
+    own (no Ambient control in the material) it is its own, not Object Color's."""
+    bpy = bpy_clean
+    from phong_nodes.addon.lighting import materials
+    material = _phong_material(bpy)
+    tree = material.node_tree
+    lights = tree.nodes[materials.LIGHTS_NODE]
+    tree.nodes["phong_object_color"].outputs[0].default_value = (0.3, 0.5, 0.7, 1.0)
+    diffuse = _image_node(bpy, tree, "diffuse")
+    tree.links.new(diffuse.outputs["Color"], lights.inputs["Object Color"])
+    tree.links.new(diffuse.outputs["Color"], lights.inputs[materials.AMBIENT_INPUT])
+    feeds = materials.feeds(material)
+    colour, ambient = feeds["Object Color"], feeds[materials.AMBIENT_INPUT]
+    assert colour.texture.image.name == "diffuse" and colour.other == colour.texture
+    assert colour.value == pytest.approx((0.3, 0.5, 0.7)), "the control's colour is stated"
+    assert ambient.other is colour.other and ambient.texture is colour.texture
+    assert ambient.value == pytest.approx((0.3, 0.5, 0.7))
+    assert materials.AMBIENT_CONTROL not in tree.nodes
+    own = _image_node(bpy, tree, "ambient")
+    tree.links.new(own.outputs["Color"], lights.inputs[materials.AMBIENT_INPUT])
+    ambient = materials.feeds(material)[materials.AMBIENT_INPUT]
+    assert ambient.texture.image.name == "ambient"
+    assert ambient.socket != feeds["Object Color"].socket
+
+
+def test_the_importers_chains(bpy_clean):
+    """An X3D import's chains: colour × (texture × colour attribute) on Object Color, a Scale
+    of it on Ambient; a product of two colours; an unknown node."""
+    bpy = bpy_clean
+    from phong_nodes.addon.lighting import materials
+    material = _phong_material(bpy)
+    tree = material.node_tree
+    lights = tree.nodes[materials.LIGHTS_NODE]
+    texture = _image_node(bpy, tree, "map")
+    attribute = tree.nodes.new("ShaderNodeVertexColor")
+    attribute.layer_name = "Col"
+    inner = _vector_math(tree, "MULTIPLY")
+    tree.links.new(texture.outputs["Color"], _input(inner, "Vector"))
+    tree.links.new(attribute.outputs["Color"], _input(inner, "Vector_001"))
+    outer = _vector_math(tree, "MULTIPLY")
+    tree.links.new(_rgb(tree, (0.5, 0.25, 1.0)).outputs[0], _input(outer, "Vector"))
+    tree.links.new(inner.outputs["Vector"], _input(outer, "Vector_001"))
+    tree.links.new(outer.outputs["Vector"], lights.inputs["Object Color"])
+    scale = _vector_math(tree, "SCALE")
+    _input(scale, "Scale").default_value = 0.3
+    tree.links.new(outer.outputs["Vector"], _input(scale, "Vector"))
+    tree.links.new(scale.outputs["Vector"], lights.inputs[materials.AMBIENT_INPUT])
+    product = _vector_math(tree, "MULTIPLY")
+    tree.links.new(_rgb(tree, (0.5, 0.5, 0.25)).outputs[0], _input(product, "Vector"))
+    tree.links.new(_rgb(tree, (0.4, 1.0, 0.8)).outputs[0], _input(product, "Vector_001"))
+    tree.links.new(product.outputs["Vector"], lights.inputs["Specular Color"])
+    mix = tree.nodes.new("ShaderNodeMix")
+    mix.data_type = "RGBA"
+    tree.links.new(next(s for s in mix.outputs if s.type == "RGBA"),
+                   lights.inputs["Irradiant Color"])
+    feeds = materials.feeds(material)
+
+    chain = feeds["Object Color"].chain
+    assert chain.colour == pytest.approx((0.5, 0.25, 1.0))
+    assert chain.texture.image.name == "map"
+    assert chain.attribute.layer_name == "Col"
+    assert chain.scale is None and not chain.unknown
+    assert feeds["Object Color"].texture is None, "not the importers' colour × map"
+    chain = feeds[materials.AMBIENT_INPUT].chain
+    assert chain.scale == pytest.approx(0.3)
+    assert chain.colour == pytest.approx((0.5, 0.25, 1.0))
+    assert chain.texture.image.name == "map" and chain.attribute.layer_name == "Col"
+    assert feeds[materials.AMBIENT_INPUT].socket != feeds["Object Color"].socket
+    chain = feeds["Specular Color"].chain
+    assert chain.colour == pytest.approx((0.2, 0.5, 0.2))
+    assert chain.texture is None and chain.attribute is None and not chain.unknown
+    assert feeds["Irradiant Color"].chain.unknown
+    assert feeds["Exponent"].chain is None
