@@ -87,7 +87,8 @@ def light_values(light) -> dict:
 def write_parameters(light) -> bool:
     """Write the loop's packed settings of *light* (a Light) for every model, and give a
     point or spot light the influence distance of a Phong light (Eevee leaves out a light
-    beyond it: ``compat.LOOP_LIGHT_DISTANCE``); only what differs is written (arrays in place:
+    beyond it, and drops every material's shadows of a light whose distance is much more:
+    ``compat.LOOP_LIGHT_DISTANCE``, set exactly, lowered too); only what differs is written (arrays in place:
     no ID property freed, which is safe inside a depsgraph handler).  Returns whether
     anything changed."""
     if not compat.HAS_LIGHT_LOOP or light.library is not None:
@@ -114,7 +115,7 @@ def write_parameters(light) -> bool:
         if not light.use_custom_distance:
             light.use_custom_distance = True
             changed = True
-        if light.cutoff_distance < compat.LOOP_LIGHT_DISTANCE:
+        if light.cutoff_distance != compat.LOOP_LIGHT_DISTANCE:  # not beyond: shadows go
             light.cutoff_distance = compat.LOOP_LIGHT_DISTANCE
             changed = True
     return changed
