@@ -573,6 +573,60 @@ def x3d_light_terms(light_vector=_ZERO3, intensity=1.0, ambient=0.0, light_color
 
 
 # ---------------------------------------------------------------------------
+# shadows: a light's visibility against the scene's triangles (issue 43)
+# ---------------------------------------------------------------------------
+
+#: A blocker nearer to the shaded point than this, times 1 + max |P|, is the surface itself
+#: (the triangle the point lies on, or one it touches): not a shadow.
+SHADOW_START = 1.0e-4
+#: Rays × triangles tested at once (memory: about 100 bytes each).
+_CHUNK = 1 << 20
+
+
+def visibility(points, light, triangles):
+    """Per point of *points* (N, 3): 1.0 where nothing of *triangles* (T, 3, 3: the corners
+    of the scene's shadow-casting triangles, world space) lies on the segment from the point
+    to a point or spot *light*'s ``position`` (or, a directional light, on the ray from the
+    point against its ``direction``), else 0.0; a light whose ``shadows`` is false: 1.0
+    everywhere.  Hits nearer than ``SHADOW_START`` · (1 + max |P|) to the point, and at the
+    light itself, do not count.  Möller–Trumbore's ray/triangle test, both faces, vectorised
+    over chunks of (point, triangle) pairs."""
+    P = np.asarray(points, np.float64).reshape(-1, 3)
+    seen = np.ones(len(P))
+    tris = np.asarray(triangles, np.float64).reshape(-1, 3, 3)
+    if not light.get("shadows") or not len(P) or not len(tris):
+        return seen
+    if light["type"] == "directional":
+        D = np.broadcast_to(-normalize(_vec(light["direction"])), P.shape)
+        reach = np.full(len(P), np.inf)
+    else:
+        D = _vec(light["position"]) - P
+        reach = _length(D)
+        D = D / np.maximum(reach, 1e-30)[:, None]
+    start = SHADOW_START * (1.0 + np.abs(P).max(axis=-1))
+    v0 = tris[:, 0]
+    e1, e2 = tris[:, 1] - v0, tris[:, 2] - v0
+    blocked = np.zeros(len(P), bool)
+    step = max(1, _CHUNK // max(len(tris), 1))
+    for a in range(0, len(P), step):
+        o, d = P[a:a + step, None, :], D[a:a + step, None, :]
+        pvec = np.cross(d, e2[None])
+        det = np.einsum("ntk,tk->nt", pvec, e1)
+        ok = np.abs(det) > 1e-20
+        inv = np.where(ok, 1.0 / np.where(ok, det, 1.0), 0.0)
+        tvec = o - v0[None]
+        u = np.einsum("ntk,ntk->nt", tvec, pvec) * inv
+        qvec = np.cross(tvec, e1[None])
+        v = np.einsum("ntk,ntk->nt", d, qvec) * inv
+        t = np.einsum("tk,ntk->nt", e2, qvec) * inv
+        hit = (ok & (u >= 0.0) & (v >= 0.0) & (u + v <= 1.0)
+               & (t > start[a:a + step, None]) & (t < reach[a:a + step, None] - 1e-9))
+        blocked[a:a + step] = hit.any(axis=1)
+    seen[blocked] = 0.0
+    return seen
+
+
+# ---------------------------------------------------------------------------
 # generic table: group name -> f(inputs, geometry)
 # ---------------------------------------------------------------------------
 

@@ -124,3 +124,173 @@ def test_an_earlier_version_s_distance_comes_down(bpy_clean):
     light.cutoff_distance = 1.0e4
     loop.write_parameters(light)
     assert light.cutoff_distance == 3000.0
+
+
+# -- the reference's visibility (pure) ---------------------------------------------------------
+
+def _ref():
+    from phong_nodes.node_groups import reference  # noqa: PLC0415
+
+    return reference
+
+
+#: One triangle at z = 1 over the unit square's lower-left half.
+TRIANGLE = np.array([[[0.0, 0.0, 1.0], [1.0, 0.0, 1.0], [0.0, 1.0, 1.0]]])
+
+
+def test_visibility_of_a_point_light_by_hand():
+    """Points on z = 0 under a triangle at z = 1: a light above the triangle is hidden from
+    the points under it (the segment crosses z = 1 inside the triangle), seen from the others
+    and from every point when it hangs below the triangle (the segment stops before)."""
+    points = np.array([[0.2, 0.2, 0.0], [0.8, 0.8, 0.0], [2.0, 0.1, 0.0], [0.1, 0.3, 0.0]])
+    above = {"type": "point", "position": [0.25, 0.25, 3.0], "shadows": True}
+    # by hand: the segment from (x, y, 0) to (0.25, 0.25, 3) meets z = 1 at
+    # (x + (0.25 - x)/3, y + (0.25 - y)/3): (0.217, 0.217) in, (0.617, 0.617) out (u+v > 1),
+    # (1.417, 0.15) out, (0.15, 0.283) in
+    assert _ref().visibility(points, above, TRIANGLE).tolist() == [0.0, 1.0, 1.0, 0.0]
+    below = dict(above, position=[0.25, 0.25, 0.5])
+    assert _ref().visibility(points, below, TRIANGLE).tolist() == [1.0] * 4
+    assert _ref().visibility(points, dict(above, shadows=False), TRIANGLE).tolist() == [1.0] * 4
+
+
+def test_visibility_of_a_sun_and_of_the_surface_itself():
+    """A sun shining straight down: hidden under the triangle, whatever its distance; a point
+    on the triangle itself is not its own shadow."""
+    sun = {"type": "directional", "direction": [0.0, 0.0, -1.0], "shadows": True}
+    points = np.array([[0.3, 0.3, -50.0], [0.3, 0.3, 0.0], [0.9, 0.9, 0.0], [0.3, 0.3, 1.0]])
+    assert _ref().visibility(points, sun, TRIANGLE).tolist() == [0.0, 0.0, 1.0, 1.0]
+    slanted = dict(sun, direction=[-1.0, 0.0, -1.0])  # rays travel toward -x: light from +x
+    # from (x, 0.3, 0) the ray toward the sun (+x, +z) meets z = 1 at (x + 1, 0.3): inside
+    # (x + 1 + 0.3 <= 1) for x = -0.8, outside for x = 0
+    hits = _ref().visibility(np.array([[-0.8, 0.3, 0.0], [0.0, 0.3, 0.0]]), slanted, TRIANGLE)
+    assert hits.tolist() == [0.0, 1.0]
+
+
+def test_shadow_edge_marks_both_sides():
+    from phong_nodes.core import compare  # noqa: PLC0415
+
+    lit = np.array([[1.0, 1.0, 0.0, 0.0], [1.0, 1.0, 1.0, np.nan]])
+    # (0, 2) is 0 beside a 1 on its left and below; (0, 3)'s neighbours are 0 and no surface
+    assert compare.shadow_edge(lit).tolist() == [[False, True, True, False],
+                                                 [False, False, True, False]]
+
+
+# -- Cycles: Phong plus shadow rays ---------------------------------------------------------
+
+def _grid(bpy, scene, name, half, cells):
+    """A floor [-half, half]² at z = 0 of cells × cells quads (normal +Z)."""
+    xs = np.linspace(-half, half, cells + 1)
+    verts = [(x, y, 0.0) for y in xs for x in xs]
+    faces = [(j * (cells + 1) + i, j * (cells + 1) + i + 1, (j + 1) * (cells + 1) + i + 1,
+              (j + 1) * (cells + 1) + i) for j in range(cells) for i in range(cells)]
+    mesh = bpy.data.meshes.new(name)
+    mesh.from_pydata(verts, [], faces)
+    obj = bpy.data.objects.new(name, mesh)
+    scene.collection.objects.link(obj)
+    return obj
+
+
+def _cube(bpy, scene, name, center, half):
+    c = np.array(center)
+    verts = [tuple(c + half * np.array(v)) for v in
+             ((-1, -1, -1), (1, -1, -1), (1, 1, -1), (-1, 1, -1),
+              (-1, -1, 1), (1, -1, 1), (1, 1, 1), (-1, 1, 1))]
+    faces = [(0, 3, 2, 1), (4, 5, 6, 7), (0, 1, 5, 4), (1, 2, 6, 5), (2, 3, 7, 6), (3, 0, 4, 7)]
+    mesh = bpy.data.meshes.new(name)
+    mesh.from_pydata(verts, [], faces)
+    obj = bpy.data.objects.new(name, mesh)
+    scene.collection.objects.link(obj)
+    return obj
+
+
+def _shadow_scene(bpy, size=64, cells=40):
+    """A floor of cells × cells quads, a sphere and a cube over it, a point light, a spot and
+    a sun, all casting shadows; Apply Phong Material on the three (no term pass: shadow
+    rays)."""
+    scene = be.new_scene("Shadows", size, size, "cycles")
+    bpy.context.window.scene = scene
+    scene.world.phong.ambient_intensity = 0.05
+    be.add_ortho_camera(scene, (0.0, 0.0), 8.0, 8.0)
+    floor = _grid(bpy, scene, "Floor", 4.0, cells)
+    ball = be.add_uv_sphere(scene, "Ball", (-1.0, 0.8, 1.0), 0.8,
+                            _principled(bpy, "Ball blue", (0.3, 0.5, 0.8)), segments=32,
+                            rings=16)
+    box = _cube(bpy, scene, "Box", (1.2, -1.0, 0.7), 0.6)
+    point = _light(bpy, scene, "Point", "POINT", (2.0, 1.5, 4.0))
+    spot = _light(bpy, scene, "Spot", "SPOT", (-2.5, -2.0, 4.5), (0.45, -0.5, 0.0))
+    spot.data.spot_size = math.radians(100.0)
+    sun = _light(bpy, scene, "Sun", "SUN", (0.0, 0.0, 5.0), (0.5, 0.4, 0.0))
+    point.data.phong.intensity = 9.0
+    spot.data.phong.intensity = 12.0
+    sun.data.phong.intensity = 0.35
+    for obj in (point, spot, sun):
+        assert obj.data.use_shadow, "Blender's lights cast shadows by default"
+    for obj in scene.objects:
+        obj.select_set(obj in (floor, ball, box))
+    bpy.context.view_layer.objects.active = ball
+    assert bpy.ops.phong.apply_material() == {"FINISHED"}
+    return scene, (floor, ball, box), (point, spot, sun)
+
+
+def _compare_cycles(bpy, scene, folder):
+    """(data, Cycles' picture, the reference's images, compared mask) as ``phong compare``
+    computes them, Cycles only."""
+    from phong_nodes.addon.comparison import engine  # noqa: PLC0415
+    from phong_nodes.addon.lighting import sync  # noqa: PLC0415
+    from phong_nodes.addon.scene import describe  # noqa: PLC0415
+    from phong_nodes.core import compare  # noqa: PLC0415
+
+    layer, objects = engine.check(scene)
+    folder.mkdir(exist_ok=True)
+    with sync.paused():
+        data = describe.describe(scene, layer, objects)
+        images, passes, terms = engine.render_all(scene, layer, objects, ["cycles"], str(folder))
+    metrics, refimg, mask = compare.evaluate(data, images, passes, ["cycles"], terms)
+    return data, images, passes, metrics, refimg, mask
+
+
+@pytest.mark.cycles
+def test_cycles_shows_each_light_s_shadow(bpy_clean, blender_tmp):
+    """Cycles against the reference "Phong plus shadow rays" (each light's diffuse and specular
+    times its visibility against the scene's triangles): within 1e-4 on every pixel away from
+    the shadows' edges, on a floor of 40 × 40 quads (no acne); the shadows are there (the
+    reference without them differs on many pixels); toggling one light's Cast Shadow changes
+    the picture without a relink, and the reference follows."""
+    if not be.compat().HAS_RAYCAST:
+        pytest.skip(f"no Raycast node in bpy {be.bpy_release()}: no shadows (5.2+)")
+    bpy = bpy_clean
+    from phong_nodes.addon.lighting import shadows  # noqa: PLC0415
+    from phong_nodes.core import compare  # noqa: PLC0415
+
+    scene, (floor, ball, _box), (point, _spot, _sun) = _shadow_scene(bpy)
+    group = ball.active_material.node_tree.nodes["phong_lights"].node_tree
+    assert shadows.has_shadows(group)
+    data, images, passes, metrics, refimg, mask = _compare_cycles(
+        bpy, scene, blender_tmp / "shadows_on")
+    assert len(data["triangles"]) == 40 * 40 * 2 + 32 * 14 * 2 + 32 * 2 + 12
+    unshadowed = compare.reference_image(
+        dict(data, lights=[dict(light, shadows=False) for light in data["lights"]]), passes)
+    err = metrics["pairs"]["cycles-reference"]
+    gap = np.abs(unshadowed["Color"] - refimg["Color"]).max(axis=-1)
+    report(f"[shadows cycles] {err['pixels']} px compared, max |Cycles - ref| "
+           f"{err['max_abs']:.2e}; {metrics['pixels']['shadow_edge']} shadow-edge px left out; "
+           f"{int((gap[mask] > 0.01).sum())} compared px in some light's shadow")
+    assert int((gap[mask] > 0.01).sum()) > 0.1 * mask.sum(), "the reference has shadows"
+    assert metrics["pixels"]["shadow_edge"] < 0.2 * mask.size
+    assert err["max_abs"] <= 1e-4
+    assert err["pixels"] > 0.8 * mask.size
+    # Cast Shadow off on the point light, live: the drivers, no relink
+    nodes_before = len(group.nodes)
+    point.data.use_shadow = False
+    bpy.context.view_layer.update()
+    assert ball.active_material.node_tree.nodes["phong_lights"].node_tree is group
+    assert len(group.nodes) == nodes_before
+    data2, images2, _passes2, metrics2, _refimg2, _mask2 = _compare_cycles(
+        bpy, scene, blender_tmp / "shadows_point_off")
+    assert [light["shadows"] for light in data2["lights"]] == [False, True, True]
+    changed = np.abs(images2["cycles"] - images["cycles"]).max(axis=-1)
+    err2 = metrics2["pairs"]["cycles-reference"]
+    report(f"[shadows cycles, point's Cast Shadow off] {int((changed > 0.01).sum())} px "
+           f"changed; max |Cycles - ref| {err2['max_abs']:.2e}")
+    assert (changed > 0.01).sum() > 50
+    assert err2["max_abs"] <= 1e-4

@@ -33,7 +33,7 @@ import bpy
 from ...core import browser, compare, outputs, report, threejs, x_ite
 from .. import compat
 from ..lighting import loop as light_loop
-from ..lighting import materials, rig
+from ..lighting import materials, rig, shadows
 from ..lighting import sync as sync_mod
 from ..interchange import threejs_export
 from ..scene import describe, render
@@ -136,14 +136,14 @@ def _add_probes(tree) -> None:
         aov.aov_name = compare.probe_name(probe)
         aov.location = (-600.0, 900.0 + 120.0 * index)
         tree.links.new(sources[probe], aov.inputs["Color"])
-    if light_loop.has_loop(tree):
+    if light_loop.has_loop(tree) or shadows.has_shadows(tree):
         _add_term_aovs(tree)
 
 
 def _add_term_aovs(tree) -> None:
     """The term passes as AOV outputs inside *tree*: a lights group with the loop part
-    (Blender 5.3+), whose materials hold no AOV outputs (``materials.wire``), for Cycles'
-    render only."""
+    (Blender 5.3+) or shadow rays (5.1+), whose materials hold no AOV outputs
+    (``materials.wire``), for Cycles' render only."""
     group_out = next(n for n in tree.nodes if n.bl_idname == "NodeGroupOutput")
     for index, (aov_name, output) in enumerate(materials.AOVS.items()):
         aov = tree.nodes.new("ShaderNodeOutputAOV")

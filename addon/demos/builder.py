@@ -181,8 +181,7 @@ def _light(scene, light_data):
     kind = SCENE_FILE_LIGHTS[light_data["type"]]
     light = bpy.data.lights.new(light_data["name"], kind)
     light.color = light_data["color"]
-    if hasattr(light, "use_shadow"):
-        light.use_shadow = False
+    light.use_shadow = bool(light_data.get("shadows", False))  # the seeds' lights cast none
     obj = bpy.data.objects.new(light_data["name"], light)
     if "position" in light_data:
         obj.location = light_data["position"]
