@@ -294,3 +294,45 @@ def test_cycles_shows_each_light_s_shadow(bpy_clean, blender_tmp):
            f"changed; max |Cycles - ref| {err2['max_abs']:.2e}")
     assert (changed > 0.01).sum() > 50
     assert err2["max_abs"] <= 1e-4
+
+
+@pytest.mark.eevee
+@pytest.mark.cycles
+def test_eevee_5_3_shows_the_shadows_through_the_loop(bpy_clean, blender_tmp):
+    """Blender 5.3: the light loop's Shadow Raycast (Softness 0) multiplies each light's
+    diffuse and specular light: Eevee within 1/255 of the reference "Phong plus shadow rays"
+    on at least 99.5% of the pixels away from the shadows' edges, whatever the lights' radius;
+    it shows the shadows (the reference without them is off on many of those pixels)."""
+    if not be.compat().HAS_LIGHT_LOOP:
+        pytest.skip(f"Eevee's shadows on Phong materials need the light loop (5.3+), bpy "
+                    f"{be.bpy_release()}")
+    bpy = bpy_clean
+    from phong_nodes.addon.comparison import engine  # noqa: PLC0415
+    from phong_nodes.core import compare  # noqa: PLC0415
+
+    scene, _objects, lights = _shadow_scene(bpy)
+    for obj in lights:
+        obj.data.shadow_soft_size = 0.5  # hard shadows all the same
+    metrics = engine.run(scene, str(blender_tmp / "eevee_shadows"), engines=("eevee", "cycles"))
+    eevee = metrics["pairs"]["eevee-reference"]
+    report(f"[shadows eevee 5.3] {eevee['pixels']} px: "
+           f"{100.0 * (1.0 - eevee['share_over_1_255']):.3f}% within 1/255 (max "
+           f"{eevee['max_abs']:.2e}); Cycles max {metrics['pairs']['cycles-reference']['max_abs']:.2e}"
+           f"; {metrics['pixels']['shadow_edge']} edge px out")
+    assert metrics["ok"], metrics["verdict"]
+    assert 1.0 - eevee["share_over_1_255"] >= compare.EEVEE_SHARE
+    # the same scene without shadows in the reference: Eevee is far from it in the shadows
+    exr = blender_tmp / "eevee_shadows" / "eevee_alone.exr"
+    from phong_nodes.addon.scene import render  # noqa: PLC0415
+
+    render.exact(scene, "eevee")
+    be.render_exr(scene, str(exr))
+    picture = np.minimum(be.read_multilayer_exr(str(exr))["Combined"][..., :3], 1.0)
+    for obj in lights:
+        obj.data.use_shadow = False
+    bpy.context.view_layer.update()
+    be.render_exr(scene, str(exr))
+    unshadowed = np.minimum(be.read_multilayer_exr(str(exr))["Combined"][..., :3], 1.0)
+    darker = int((np.abs(picture - unshadowed).max(axis=-1) > 0.05).sum())
+    report(f"[shadows eevee 5.3] Cast Shadow off on every light: {darker} px change")
+    assert darker > 400

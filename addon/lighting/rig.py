@@ -317,7 +317,8 @@ def build(tree, lights, world, model=MODELS[0], loop=False, lookups=None,
     _shaders(tree, color, group_out, out_x, shadows and (lambda: colour(shadings, False, "plain ")))
     if loop:
         light_loop.build(tree, MODELS[0], group_in, group_out,
-                         group_in.outputs["Irradiant Color"], ambient.outputs["Color"], surface)
+                         group_in.outputs["Irradiant Color"], ambient.outputs["Color"], surface,
+                         shadows)
     _stamp(tree, lights, MODELS[0])
 
 
@@ -420,7 +421,8 @@ def _build_threejs(tree, lights, world, budget, loop=False, shadows=False) -> No
           shadows and (lambda: _add_chain(tree, ambient, [irradiant] + [
               s.outputs["Color"] for s in shadings], "plain ")))
     if loop:
-        light_loop.build(tree, "threejs", group_in, group_out, irradiant, ambient.outputs["Color"])
+        light_loop.build(tree, "threejs", group_in, group_out, irradiant, ambient.outputs["Color"],
+                         shadows=shadows)
     _stamp(tree, lights, "threejs")
 
 
