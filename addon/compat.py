@@ -40,6 +40,14 @@ _RAY_VISIBILITY = ("visible_camera", "visible_diffuse", "visible_glossy", "visib
                    "visible_volume_scatter", "visible_shadow")
 
 
+def set_casts_shadow(obj, casts: bool) -> None:
+    """Let *obj* cast shadows or not: Ray Visibility ▸ Shadow (Eevee, Blender's own shaders)
+    and, where the Raycast node reads it (5.3+), Ray Visibility ▸ Ray Cast."""
+    obj.visible_shadow = casts
+    if RAYCAST_VISIBILITY is not None and hasattr(obj, RAYCAST_VISIBILITY):
+        setattr(obj, RAYCAST_VISIBILITY, casts)
+
+
 def blocks_raycast(obj) -> bool:
     """Whether Cycles' Raycast node can meet *obj* (a renderable object): on 5.3 unless its
     Ray Visibility ▸ Ray Cast is off; before, unless every ray visibility is off."""

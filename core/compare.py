@@ -542,7 +542,18 @@ def evaluate(scene: dict, images: dict, aovs: dict, engines, terms=None) -> tupl
                  else None}
         images["eevee"] = shown(images["eevee"])
     present = set(engines) | {"reference"}
-    pairs = {f"{a}-{b}": compare(images[a], images[b], mask) for a, b in PAIRS
+    # where Eevee shows no shadows (before 5.3, the X3D model...: scene["eevee_shadows"]
+    # false) its picture is compared with the reference without them
+    plain = None
+    if not scene.get("eevee_shadows", True) and any(l.get("shadows") for l in scene["lights"]):
+        plain = reference_image(dict(scene, lights=[dict(light, shadows=False)
+                                                    for light in scene["lights"]]), aovs)
+
+    def picture(name, other):
+        return plain["Color"] if (name, other) == ("reference", "eevee") and plain else \
+            images[name]
+
+    pairs = {f"{a}-{b}": compare(images[a], picture(b, a), mask) for a, b in PAIRS
              if a in present and b in present and a in images and b in images}
     term_metrics = {t: compare(terms[t], refimg[t], mask) for t in TERMS
                     if terms and t in terms}
@@ -566,4 +577,6 @@ def evaluate(scene: dict, images: dict, aovs: dict, engines, terms=None) -> tupl
     }
     if above is not None:
         metrics["eevee_above_1"] = above
+    if plain is not None:
+        metrics["eevee_shadows"] = False
     return metrics, refimg, mask

@@ -51,6 +51,8 @@ Schema (units: Blender world space, Z up; angles in degrees; colours are either
                                   # "vertex" (Gouraud shading) or "image"; not compared
     label = "..."                 # caption in the report (default: the name)
     lights = ["key"]              # lights that shine on this object (default: all)
+    shadows = true                # casts shadows (false: Ray Visibility ▸ Shadow and, 5.3+,
+                                  # Ray Cast off; Blender 5.2's Cycles cannot leave it out)
     terms = ["irradiant", "ambient", "diffuse", "specular"]   # terms shown (default: all)
     [objects.material]
     color = "#CCCCCC"; specular_color = "#FFFFFF"; exponent = 30.0; blinn = 0.0
@@ -263,7 +265,7 @@ THREEJS_LIGHT_KEYS = {
              "decay", "half_angle", "penumbra"),
 }
 OBJECT_KEYS = ("name", "shape", "location", "rotation", "size", "segments", "bake", "label",
-               "lights", "terms", "material")
+               "lights", "terms", "material", "shadows")
 BAKES = ("vertex", "image")
 MATERIAL_KEYS = ("color", "specular_color", "exponent", "blinn", "irradiant", "texture",
                  "shading")
@@ -411,6 +413,7 @@ def _objects(c: _Checker, raws: list, light_names: list, model: str = "seeds") -
         obj["segments"] = int(obj["segments"])
         obj["bake"] = c.string(raw, "bake", where, default="", choices=("",) + BAKES)
         obj["label"] = c.string(raw, "label", where, default=obj["name"])
+        obj["shadows"] = c.boolean(raw, "shadows", where, default=True)
         obj["lights"] = c.names(raw, "lights", where, light_names, light_names)
         obj["terms"] = c.names(raw, "terms", where, TERMS, TERMS)
         obj["material"] = _material(c, c.table(raw, "material", where, required=False),

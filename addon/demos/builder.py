@@ -104,6 +104,8 @@ def _object(scene, obj_data, scene_name):
     obj = bpy.data.objects.new(name, mesh)
     obj.location = obj_data["location"]
     obj.rotation_euler = [math.radians(a) for a in obj_data["rotation"]]
+    if not obj_data.get("shadows", True):
+        compat.set_casts_shadow(obj, False)
     scene.collection.objects.link(obj)
     mesh.materials.append(_source_material(f"{scene_name}.{name}", obj_data["material"]))
     return obj

@@ -368,8 +368,7 @@ def _start(tree, lights, shadows=False):
     if tree.animation_data is not None:
         tree.animation_data_clear()
     tree.nodes.clear()
-    if shadow_rays.supported():
-        tree[shadow_rays.KEY] = int(bool(shadows))
+    tree[shadow_rays.KEY] = int(bool(shadows) and shadow_rays.supported())
     tree[WORLD_KEYS] = []
     tree[LOOP_WORLD_KEYS] = []
     tree[light_loop.LOOP_KEY] = ""

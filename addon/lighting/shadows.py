@@ -50,6 +50,24 @@ def supported() -> bool:
     return compat.HAS_RAYCAST
 
 
+def notes(model: str, rays: bool, loop: bool) -> list:
+    """What the light panel says of shadows in a scene of *model* whose lights groups cast
+    shadow rays (*rays*: ``rig.wants_shadows``) with or without Eevee's light loop (*loop*:
+    ``rig.wants_loop``)."""
+    if not supported():
+        return ["Phong shadows need Blender 5.2+ (Cycles) or 5.3+ (Eevee)"]
+    if not rays:
+        return ["No Phong shadows while a Phong term pass is on a view layer"]
+    lines = ["Phong shadows: hard, from the light's centre (Radius ignored)"]
+    if not loop:
+        why = "the X3D model" if model == "x3d" else "Blender before 5.3"
+        lines.append(f"Phong shadows in Cycles only ({why}): Eevee shows none")
+    lines.append("Cycles: casters by Ray Visibility ▸ Ray Cast, not Shadow"
+                 if compat.RAYCAST_VISIBILITY else
+                 "Cycles: every object casts unless all its ray visibility is off")
+    return lines
+
+
 def has_shadows(tree) -> bool:
     """Whether the lights group *tree* was built with shadow rays."""
     return tree is not None and compat.HAS_RAYCAST and bool(tree.get(KEY))

@@ -23,6 +23,7 @@ from ...core import outputs
 from ..lighting import lights as lights_mod
 from .. import compat
 from ..lighting import materials, properties, rig, shadows
+from . import render
 
 #: Custom property on a scene built from a scene file (``demos/builder.py``): the file's dict
 #: (JSON); the comparison takes its title, source and description from it.
@@ -103,6 +104,7 @@ def describe(scene, view_layer, objects) -> dict:
     }
     if any(light["shadows"] for light in described):
         out["triangles"] = triangles(view_layer, depsgraph)
+        out["eevee_shadows"] = render.eevee_shadows(scene)  # else Eevee is compared without
     return out
 
 
