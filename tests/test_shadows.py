@@ -336,3 +336,15 @@ def test_eevee_5_3_shows_the_shadows_through_the_loop(bpy_clean, blender_tmp):
     darker = int((np.abs(picture - unshadowed).max(axis=-1) > 0.05).sum())
     report(f"[shadows eevee 5.3] Cast Shadow off on every light: {darker} px change")
     assert darker > 400
+
+
+def test_x3d_shadows_field_is_read():
+    """X3D's lights cast no shadow unless their ``shadows`` field says TRUE (X3D 3.2+)."""
+    from phong_nodes.core import x3d  # noqa: PLC0415
+
+    text = ("#X3D V3.3 utf8\nPROFILE Interchange\n"
+            "PointLight { location 0 2 0 shadows TRUE }\nSpotLight { }\n"
+            "DirectionalLight { shadows FALSE }\n")
+    doc = x3d.loads(text.encode())
+    lights = [inst.light for inst in doc.lights]
+    assert [x3d.light_values(doc, light)["shadows"] for light in lights] == [True, False, False]
