@@ -10,6 +10,7 @@
 from __future__ import annotations
 
 import math
+import os
 
 import numpy as np
 import pytest
@@ -348,3 +349,25 @@ def test_x3d_shadows_field_is_read():
     doc = x3d.loads(text.encode())
     lights = [inst.light for inst in doc.lights]
     assert [x3d.light_values(doc, light)["shadows"] for light in lights] == [True, False, False]
+
+
+def test_scene_files_say_which_lights_and_objects_cast_shadows(tmp_path):
+    """The seeds' scenes cast no shadow (their figures have none); the shadows scene has
+    lights that cast and one that does not, and an object that casts none; a value that is not
+    true or false is refused with its key."""
+    from phong_nodes.core import scenes  # noqa: PLC0415
+
+    for name in scenes.available():
+        data = scenes.load(os.path.join(scenes.SCENES_DIR, f"{name}.toml"))
+        casting = [light["name"] for light in data["lights"] if light["shadows"]]
+        if name == "shadows":
+            assert casting == ["point", "spot", "sun"]
+            assert [o["name"] for o in data["objects"] if not o["shadows"]] == ["pebble"]
+        else:
+            assert casting == [], name
+    bad = tmp_path / "bad.toml"
+    bad.write_text('title = "x"\n[camera]\nlocation = [0, 0, 5]\n'
+                   '[[lights]]\ntype = "point"\nposition = [0, 0, 2]\nshadows = 1\n'
+                   '[[objects]]\nname = "a"\n')
+    with pytest.raises(scenes.SceneError, match=r"lights\[0\]\.shadows.*true or false"):
+        scenes.load(str(bad))
