@@ -371,3 +371,26 @@ def test_scene_files_say_which_lights_and_objects_cast_shadows(tmp_path):
                    '[[objects]]\nname = "a"\n')
     with pytest.raises(scenes.SceneError, match=r"lights\[0\]\.shadows.*true or false"):
         scenes.load(str(bad))
+
+
+@pytest.mark.cycles
+@pytest.mark.eevee
+@pytest.mark.parametrize("model", ["threejs", "x3d"])
+def test_the_other_models_cast_shadows_too(bpy_clean, blender_tmp, model):
+    """The three.js and X3D models: Cycles within 1e-4 of the reference with shadows; Eevee
+    with them where the light loop runs the model (three.js on 5.3), else compared without
+    them (X3D: the lights group stays in Eevee, which shows none)."""
+    if not be.compat().HAS_RAYCAST:
+        pytest.skip(f"no Raycast node in bpy {be.bpy_release()}")
+    bpy = bpy_clean
+    from phong_nodes.addon.comparison import engine  # noqa: PLC0415
+
+    scene, _objects, _lights = _shadow_scene(bpy, size=48)
+    scene.phong.model = model
+    assert bpy.ops.phong.relink_lights() == {"FINISHED"}
+    metrics = engine.run(scene, str(blender_tmp / f"shadows_{model}"))
+    report(f"[shadows {model}] {metrics['verdict']}, {metrics['pixels']['shadow_edge']} edge px, "
+           f"Eevee with shadows: {metrics.get('eevee_shadows', True)}")
+    assert metrics["ok"], metrics["verdict"]
+    loop = be.compat().HAS_LIGHT_LOOP and model == "threejs"
+    assert metrics.get("eevee_shadows", True) == loop
