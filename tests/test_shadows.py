@@ -394,3 +394,42 @@ def test_the_other_models_cast_shadows_too(bpy_clean, blender_tmp, model):
     assert metrics["ok"], metrics["verdict"]
     loop = be.compat().HAS_LIGHT_LOOP and model == "threejs"
     assert metrics.get("eevee_shadows", True) == loop
+
+
+def _blocked_by_solve(p, d, reach, start, tri):
+    """Independent of Möller–Trumbore: solve p + t·d = a + u·(b - a) + v·(c - a)."""
+    a, b, c = tri
+    m = np.column_stack([d, a - b, a - c])
+    if abs(np.linalg.det(m)) < 1e-12:
+        return False
+    t, u, v = np.linalg.solve(m, a - p)
+    return u >= 0 and v >= 0 and u + v <= 1 and start < t < reach
+
+
+@pytest.mark.parametrize("kind", ["point", "directional"])
+def test_visibility_matches_a_plain_solve_on_random_triangles(kind):
+    """The cluster pre-test leaves out nothing: on 400 random points and 300 random triangles
+    the visibility equals a 3 × 3 solve per (point, triangle)."""
+    rng = np.random.default_rng(43)
+    points = rng.uniform(-2.0, 2.0, (400, 3))
+    centres = rng.uniform(-2.0, 2.0, (300, 1, 3))
+    tris = centres + rng.normal(0.0, 0.3, (300, 3, 3))
+    light = ({"type": "point", "position": [0.3, -0.2, 4.0], "shadows": True}
+             if kind == "point" else
+             {"type": "directional", "direction": [0.2, 0.4, -1.0], "shadows": True})
+    got = _ref().visibility(points, light, tris)
+    expected = []
+    for p in points:
+        if kind == "point":
+            to = np.array(light["position"]) - p
+            reach = np.linalg.norm(to)
+            d = to / reach
+        else:
+            d = -np.array(light["direction"]) / np.linalg.norm(light["direction"])
+            reach = np.inf
+        start = 1e-4 * (1.0 + np.abs(p).max())
+        expected.append(0.0 if any(_blocked_by_solve(p, d, reach, start, t) for t in tris)
+                        else 1.0)
+    expected = np.array(expected)
+    assert 0.1 < expected.mean() < 0.95, "some points in shadow, some lit"
+    assert (got == expected).all(), np.nonzero(got != expected)
