@@ -270,12 +270,14 @@ def reference_image(scene: dict, aovs: dict) -> dict:
     amb_img = np.zeros((h, w), bool)
     amb_img[hit] = ambiguous
     edge = np.zeros((h, w), bool)
+    result["in_shadow"] = np.zeros((h, w), bool)  # in some light's shadow (the peers show none)
     for values in seen:
         if np.ndim(values) == 0:
             continue
         lit = np.full((h, w), np.nan)
         lit[hit] = values
         edge |= shadow_edge(lit)
+        result["in_shadow"] |= lit == 0.0
     result["shadow_edge"] = edge & hit
     result["ambiguous"] = amb_img | result["shadow_edge"]
     return result

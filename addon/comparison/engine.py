@@ -260,12 +260,17 @@ def run(scene, out_dir: str, engines=compare.ENGINES, progress=None, view_layer=
             metrics["notes"] = list(notes)
         timings["reference_s"] = time.perf_counter() - t0
         peer_mask = None
+        # the peers' pages have no shadows: the pixels in a light's shadow are theirs to skip
+        peer_region = mask & ~refimg["in_shadow"]
+        if peers:
+            metrics["peer_shadow_pixels"] = int((mask & refimg["in_shadow"]).sum())
         if "threejs" in peers:
             progress(0.85, "three.js in Chromium")
             t0 = time.perf_counter()
             rgba, seconds, warnings = _threejs_peer(scene, layer, objects, data, width, height,
                                                     tmp)
-            pairs, peer_verdict, peer_mask = compare.evaluate_peer(data, rgba, images, mask)
+            pairs, peer_verdict, peer_mask = compare.evaluate_peer(data, rgba, images,
+                                                                   peer_region)
             images["threejs"] = compare.srgb_decode(rgba[..., :3] / 255.0)
             metrics["pairs"].update(pairs)
             metrics["threejs"] = {"browser_s": seconds, "warnings": warnings,
@@ -281,8 +286,8 @@ def run(scene, out_dir: str, engines=compare.ENGINES, progress=None, view_layer=
             t0 = time.perf_counter()
             rgba, seconds, warnings = x_ite_peer.render(scene, layer, objects, data, width,
                                                         height, tmp)
-            pairs, x_verdict, x_mask = compare.evaluate_x3d_peer(data, rgba, images, mask,
-                                                                 refimg["object"])
+            pairs, x_verdict, x_mask = compare.evaluate_x3d_peer(data, rgba, images,
+                                                                 peer_region, refimg["object"])
             images["x_ite"] = rgba[..., :3] / 255.0   # the canvas holds I (ColorSpace SRGB)
             metrics["pairs"].update(pairs)
             metrics["x_ite"] = {"browser_s": seconds, "warnings": warnings,
