@@ -457,3 +457,20 @@ def test_no_acne_far_from_the_origin(bpy_clean, blender_tmp):
     assert data["lights"][0]["position"][0] > 900.0
     assert err["pixels"] > 0.7 * mask.size
     assert err["max_abs"] <= 1e-4
+
+
+def test_the_light_panel_says_where_shadows_show(bpy_clean):
+    """Once, in the light's Phong panel: no shadows before 5.2; Cycles only on 5.2 and in the
+    X3D model; none while a term pass is on; on 5.3 what Cycles' Raycast node reads."""
+    compat = be.compat()
+    from phong_nodes.addon.lighting import shadows  # noqa: PLC0415
+
+    seeds = " ".join(shadows.notes("seeds", True, compat.HAS_LIGHT_LOOP))
+    if not compat.HAS_RAYCAST:
+        assert "need Blender 5.2+" in seeds
+        return
+    assert ("Cycles only" in seeds) == (not compat.HAS_LIGHT_LOOP)
+    assert "Cycles only (the X3D model)" in " ".join(shadows.notes("x3d", True, False))
+    assert "term pass" in " ".join(shadows.notes("seeds", False, False))
+    if compat.HAS_LIGHT_LOOP:
+        assert "Ray Cast, not Shadow" in seeds
