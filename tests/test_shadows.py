@@ -474,3 +474,42 @@ def test_the_light_panel_says_where_shadows_show(bpy_clean):
     assert "term pass" in " ".join(shadows.notes("seeds", False, False))
     if compat.HAS_LIGHT_LOOP:
         assert "Ray Cast, not Shadow" in seeds
+
+
+@pytest.mark.cycles
+def test_an_instanced_caster_is_in_the_reference(bpy_clean, blender_tmp):
+    """A cube seen only as a collection instance (an Empty instancing its collection, twice)
+    casts its shadows in Cycles and in the reference alike (the reference reads the
+    depsgraph's instances)."""
+    if not be.compat().HAS_RAYCAST:
+        pytest.skip(f"no Raycast node in bpy {be.bpy_release()}")
+    bpy = bpy_clean
+    scene = be.new_scene("Instances", 48, 48, "cycles")
+    bpy.context.window.scene = scene
+    be.add_ortho_camera(scene, (0.0, 0.0), 8.0, 8.0)
+    floor = _grid(bpy, scene, "Floor", 4.0, 8)
+    parts = bpy.data.collections.new("Parts")  # not linked to the scene: seen as instances
+    box = _cube(bpy, scene, "Part", (0.0, 0.0, 0.0), 0.5)
+    scene.collection.objects.unlink(box)
+    parts.objects.link(box)
+    for name, where in (("Inst A", (-1.5, 1.0, 1.2)), ("Inst B", (1.5, -1.0, 0.8))):
+        empty = bpy.data.objects.new(name, None)
+        empty.instance_type = "COLLECTION"
+        empty.instance_collection = parts
+        empty.location = where
+        scene.collection.objects.link(empty)
+    point = _light(bpy, scene, "Point", "POINT", (0.5, 0.5, 5.0))
+    point.data.phong.intensity = 20.0
+    for obj in scene.objects:
+        obj.select_set(obj is floor)
+    bpy.context.view_layer.objects.active = floor
+    assert bpy.ops.phong.apply_material() == {"FINISHED"}
+    data, _images, _passes, metrics, refimg, mask = _compare_cycles(
+        bpy, scene, blender_tmp / "shadows_instances")
+    err = metrics["pairs"]["cycles-reference"]
+    in_shadow = int((refimg["in_shadow"] & mask).sum())
+    report(f"[shadows instances] {len(data['triangles'])} triangles, {in_shadow} px in shadow, "
+           f"max |Cycles - ref| {err['max_abs']:.2e}")
+    assert len(data["triangles"]) == 8 * 8 * 2 + 2 * 12
+    assert in_shadow > 40
+    assert err["max_abs"] <= 1e-4

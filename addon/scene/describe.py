@@ -110,35 +110,49 @@ def describe(scene, view_layer, objects) -> dict:
 
 def triangles(view_layer, depsgraph) -> np.ndarray:
     """The world-space triangles (T, 3, 3) of every object of *view_layer* that Cycles' shadow
-    rays can meet (``compat.blocks_raycast``), as evaluated (modifiers, animation)."""
+    rays can meet (``compat.blocks_raycast``), as evaluated (modifiers, animation), instances
+    (collection instances, particles, geometry nodes) included."""
+    kinds = ("MESH", "CURVE", "SURFACE", "META", "FONT", "CURVES")
+    local = {}  # an object's triangles in its own space, once however often it is instanced
     parts = []
-    for obj in view_layer.objects:
-        if obj.type not in ("MESH", "CURVE", "SURFACE", "META", "FONT", "CURVES") \
-                or obj.hide_render or not lights_mod.visible(obj, view_layer) \
-                or not compat.blocks_raycast(obj):
+    for inst in depsgraph.object_instances:
+        obj = inst.object
+        original = obj.original
+        if obj.type not in kinds or not compat.blocks_raycast(original):
             continue
-        evaluated = obj.evaluated_get(depsgraph)
-        try:
-            mesh = evaluated.to_mesh()
-        except RuntimeError:
+        if not inst.is_instance and (original.hide_render
+                                     or not lights_mod.visible(original, view_layer)):
             continue
-        if mesh is None:
-            continue
-        try:
-            mesh.calc_loop_triangles()
-            count = len(mesh.loop_triangles)
-            if count:
-                corners = np.empty(count * 3, np.int64)
-                mesh.loop_triangles.foreach_get("vertices", corners)
-                co = np.empty(len(mesh.vertices) * 3, np.float64)
-                mesh.vertices.foreach_get("co", co)
-                co = co.reshape(-1, 3)
-                matrix = np.array(evaluated.matrix_world, np.float64)
-                world = co @ matrix[:3, :3].T + matrix[:3, 3]
-                parts.append(world[corners].reshape(-1, 3, 3))
-        finally:
-            evaluated.to_mesh_clear()
+        key = obj.name_full if not inst.is_instance else (obj.name_full, "instance")
+        if key not in local:
+            local[key] = _local_triangles(obj)
+        corners = local[key]
+        if len(corners):
+            matrix = np.array(inst.matrix_world, np.float64)
+            parts.append(corners @ matrix[:3, :3].T + matrix[:3, 3])
     return np.concatenate(parts) if parts else np.zeros((0, 3, 3))
+
+
+def _local_triangles(obj) -> np.ndarray:
+    """The triangles (T, 3, 3) of the evaluated object *obj* in its own space."""
+    try:
+        mesh = obj.to_mesh()
+    except RuntimeError:
+        return np.zeros((0, 3, 3))
+    if mesh is None:
+        return np.zeros((0, 3, 3))
+    try:
+        mesh.calc_loop_triangles()
+        count = len(mesh.loop_triangles)
+        if not count:
+            return np.zeros((0, 3, 3))
+        corners = np.empty(count * 3, np.int64)
+        mesh.loop_triangles.foreach_get("vertices", corners)
+        co = np.empty(len(mesh.vertices) * 3, np.float64)
+        mesh.vertices.foreach_get("co", co)
+        return co.reshape(-1, 3)[corners].reshape(-1, 3, 3)
+    finally:
+        obj.to_mesh_clear()
 
 
 def _ambient(world) -> dict:
