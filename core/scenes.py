@@ -254,8 +254,8 @@ LIGHT_KEYS = {
               "quadratic", "linear", "constant", "falloff_exponent"),
     "directional": ("name", "type", "color", "intensity", "shadows", "diffuse", "specular",
                     "direction"),
-    "spot": ("name", "type", "color", "intensity", "shadows", "diffuse", "specular", "position", "direction",
-             "quadratic", "linear", "constant", "half_angle", "edge_exponent"),
+    "spot": ("name", "type", "color", "intensity", "shadows", "diffuse", "specular", "position",
+             "direction", "quadratic", "linear", "constant", "half_angle", "edge_exponent"),
 }
 #: The lights' keys in the three.js model.
 THREEJS_LIGHT_KEYS = {

@@ -318,7 +318,8 @@ def test_eevee_5_3_shows_the_shadows_through_the_loop(bpy_clean, blender_tmp):
     eevee = metrics["pairs"]["eevee-reference"]
     report(f"[shadows eevee 5.3] {eevee['pixels']} px: "
            f"{100.0 * (1.0 - eevee['share_over_1_255']):.3f}% within 1/255 (max "
-           f"{eevee['max_abs']:.2e}); Cycles max {metrics['pairs']['cycles-reference']['max_abs']:.2e}"
+           f"{eevee['max_abs']:.2e}); Cycles max "
+           f"{metrics['pairs']['cycles-reference']['max_abs']:.2e}"
            f"; {metrics['pixels']['shadow_edge']} edge px out")
     assert metrics["ok"], metrics["verdict"]
     assert 1.0 - eevee["share_over_1_255"] >= compare.EEVEE_SHARE

@@ -88,9 +88,9 @@ def write_parameters(light) -> bool:
     """Write the loop's packed settings of *light* (a Light) for every model, and give a
     point or spot light the influence distance of a Phong light (Eevee leaves out a light
     beyond it, and drops every material's shadows of a light whose distance is much more:
-    ``compat.LOOP_LIGHT_DISTANCE``, set exactly, lowered too); only what differs is written (arrays in place:
-    no ID property freed, which is safe inside a depsgraph handler).  Returns whether
-    anything changed."""
+    ``compat.LOOP_LIGHT_DISTANCE``, set exactly, lowered too); only what differs is written
+    (arrays in place: no ID property freed, which is safe inside a depsgraph handler).
+    Returns whether anything changed."""
     if not compat.HAS_LIGHT_LOOP or light.library is not None:
         return False
     values = light_values(light)

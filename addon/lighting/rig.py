@@ -52,6 +52,12 @@ compiles nothing of the per-light part, so every light's transform comes from th
 (``compat.view_layer_lookups``).  Not while a view layer of the scene has the Phong term
 passes: their AOVs evaluate the per-light part in Eevee too, so the group is then the one of
 5.2 (``wants_loop``).
+
+On Blender 5.1+ (``compat.HAS_RAYCAST``), where no view layer has a Phong term pass
+(``wants_shadows``), each light's terms are multiplied by its visibility, a Raycast node's
+shadow ray (``shadows.py``): Color, Diffuse, Specular and the output "Cycles Shader" (last:
+the material's CYCLES Material Output) are shadowed; the Shader is the same sums without
+them (what Eevee shows where it shows the group: its Raycast node is screen space only).
 """
 
 from __future__ import annotations
