@@ -514,3 +514,20 @@ def test_an_instanced_caster_is_in_the_reference(bpy_clean, blender_tmp):
     assert len(data["triangles"]) == 8 * 8 * 2 + 2 * 12
     assert in_shadow > 40
     assert err["max_abs"] <= 1e-4
+
+
+def test_x3d_shadows_field_is_written_back(tmp_path):
+    """A light read with shadows TRUE is written with it (X3D encodings; FALSE, the default,
+    is not written) and read back the same; VRML97 has no such field."""
+    from phong_nodes.core import x3d  # noqa: PLC0415
+
+    doc = x3d.loads(b"#X3D V3.3 utf8\nPROFILE Interchange\n"
+                    b"PointLight { location 0 2 0 shadows TRUE }\nSpotLight { }\n")
+    for name in ("back.x3d", "back.x3dv"):
+        x3d.save(doc, str(tmp_path / name))
+        text = (tmp_path / name).read_text()
+        assert text.count("shadows") == 1, name
+        again = x3d.load(str(tmp_path / name))
+        assert [inst.light.shadows for inst in again.lights] == [True, False], name
+    x3d.save(doc, str(tmp_path / "back.wrl"))
+    assert "shadows" not in (tmp_path / "back.wrl").read_text()
