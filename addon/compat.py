@@ -28,6 +28,32 @@ VIEW_LAYER_LOOKUPS = 4 if VERSION >= (5, 2, 0) else 0
 #: per light (``lighting/loop.py``).  Eevee only: Cycles renders that part as 0, and before 5.3
 #: the nodes do not exist (a file of 5.3 shows them as undefined nodes).
 HAS_LIGHT_LOOP = VERSION >= (5, 3, 0) and hasattr(bpy.types, "ShaderNodeLightAccumulation")
+#: Cycles' Raycast shader node (Blender 5.1+; 4.2-5.0 have none): a lights group casts each
+#: light's shadow ray with it (``lighting/shadows.py``).  Eevee's is screen space only: it
+#: never evaluates one (the group's Shader, which Eevee shows, has no shadow).
+HAS_RAYCAST = VERSION >= (5, 1, 0) and hasattr(bpy.types, "ShaderNodeRaycast")
+#: What Blender's Raycast node skips (5.3: an object whose Ray Visibility ▸ Ray Cast is off,
+#: ``visible_raycast``; 5.2: only one with every ray visibility off).  Neither release's node
+#: reads Ray Visibility ▸ Shadow (``visible_shadow``) nor Light Linking's blockers.
+RAYCAST_VISIBILITY = "visible_raycast" if VERSION >= (5, 3, 0) else None
+_RAY_VISIBILITY = ("visible_camera", "visible_diffuse", "visible_glossy", "visible_transmission",
+                   "visible_volume_scatter", "visible_shadow")
+
+
+def set_casts_shadow(obj, casts: bool) -> None:
+    """Let *obj* cast shadows or not: Ray Visibility ▸ Shadow (Eevee, Blender's own shaders)
+    and, where the Raycast node reads it (5.3+), Ray Visibility ▸ Ray Cast."""
+    obj.visible_shadow = casts
+    if RAYCAST_VISIBILITY is not None and hasattr(obj, RAYCAST_VISIBILITY):
+        setattr(obj, RAYCAST_VISIBILITY, casts)
+
+
+def blocks_raycast(obj) -> bool:
+    """Whether Cycles' Raycast node can meet *obj* (a renderable object): on 5.3 unless its
+    Ray Visibility ▸ Ray Cast is off; before, unless every ray visibility is off."""
+    if RAYCAST_VISIBILITY is not None:
+        return bool(getattr(obj, RAYCAST_VISIBILITY, True))
+    return any(getattr(obj, name, True) for name in _RAY_VISIBILITY)
 #: View Layer lookups of a lights group whose Eevee side is the light loop: Eevee compiles no
 #: part of that group (the lookups' cost above is Eevee's), Cycles resolves each lookup once
 #: per render, so every light's transform comes from the World (a light drag then re-evaluates
@@ -35,8 +61,13 @@ HAS_LIGHT_LOOP = VERSION >= (5, 3, 0) and hasattr(bpy.types, "ShaderNodeLightAcc
 LOOP_VIEW_LAYER_LOOKUPS = 1 << 20
 #: Eevee leaves out a point or spot light beyond its influence distance (by default from its
 #: watts, about √watts metres; a Phong light's reach does not depend on its watts): on 5.3
-#: the lights that drive Phong materials get this custom distance (``lighting/loop.py``).
-LOOP_LIGHT_DISTANCE = 1.0e4
+#: the lights that drive Phong materials get this custom distance (``lighting/loop.py``), so
+#: a Phong surface up to 3 km from a point or spot light is lit by it in Eevee.  Not more:
+#: with a custom distance of 5,000 m or more Eevee drops the light's shadows for every
+#: material of the scene (Principled ones too); up to 3,000 m they stay (measured, 5.3.0; the
+#: releases before 5.3 set no distance).  Lights set to 10⁴ m by earlier versions of the
+#: extension come down to this.
+LOOP_LIGHT_DISTANCE = 3.0e3
 
 
 def file_from_newer_release() -> bool:

@@ -218,6 +218,7 @@ def reference_image(scene: dict, aovs: dict) -> dict:
     sums = {"Irradiant": np.broadcast_to(irradiant, P.shape).copy(), "Ambient": ambient,
             "Diffuse": np.zeros_like(P), "Specular": np.zeros_like(P)}
     ambiguous = np.zeros(len(P), bool)
+    seen = _visibilities(scene, P)
     n = ref.resolve_normal(normal, N)
     strength = probe("strength", 1)[hit][..., 0].astype(np.float64) if threejs else None
     v = ref.resolve_view(view, I) if x3d else None
@@ -226,7 +227,7 @@ def reference_image(scene: dict, aovs: dict) -> dict:
         if x3d:  # docs/x3d.md: per-light ambient, Blinn highlights without the N·L condition
             ell, intensity, ambient_i, edge = x3d_light_at(light, P)
             ambiguous |= edge & on
-            out = ref.x3d_light_terms(ell, np.where(on, intensity, 0.0),
+            out = ref.x3d_light_terms(ell, np.where(on, intensity, 0.0) * seen[k],
                                       np.where(on, ambient_i, 0.0), light["color"], exponent,
                                       n, v)
             sums["Diffuse"] += out["Diffuse Light"] * color
@@ -236,7 +237,8 @@ def reference_image(scene: dict, aovs: dict) -> dict:
         ell, intensity, edge = light_at(light, P, scene.get("model", "seeds"))
         if threejs:
             ambiguous |= edge & on
-            out = ref.threejs_phong(ell, np.where(on, intensity, 0.0), light["color"], color,
+            out = ref.threejs_phong(ell, np.where(on, intensity, 0.0) * seen[k], light["color"],
+                                    color,
                                     spec_color, exponent, strength, normal, view, N, I)
         else:
             dif = np.where(on, light["diffuse"], 0.0)
@@ -244,7 +246,8 @@ def reference_image(scene: dict, aovs: dict) -> dict:
             ambiguous |= edge & (dif + spe > 0)
             ambiguous |= (np.abs(ref.dot(ell, n)) < AMBIGUOUS) & (spe > 0)
             out = ref.phong_shading(
-                light_vector=ell, light_intensity=intensity, light_color=light["color"],
+                light_vector=ell, light_intensity=intensity * seen[k],
+                light_color=light["color"],
                 object_color=color, irradiant_color=(0.0, 0.0, 0.0), ambient_intensity=0.0,
                 diffuse_strength=dif, specular_strength=spe, specular_color=spec_color,
                 exponent=exponent, blinn=blinn, normal=normal, view_vector=view,
@@ -266,8 +269,51 @@ def reference_image(scene: dict, aovs: dict) -> dict:
     result["object"] = np.where(hit, number, 0)
     amb_img = np.zeros((h, w), bool)
     amb_img[hit] = ambiguous
-    result["ambiguous"] = amb_img
+    edge = np.zeros((h, w), bool)
+    result["in_shadow"] = np.zeros((h, w), bool)  # in some light's shadow (the peers show none)
+    for values in seen:
+        if np.ndim(values) == 0:
+            continue
+        lit = np.full((h, w), np.nan)
+        lit[hit] = values
+        edge |= shadow_edge(lit)
+        result["in_shadow"] |= lit == 0.0
+    result["shadow_edge"] = edge & hit
+    result["ambiguous"] = amb_img | result["shadow_edge"]
     return result
+
+
+def _visibilities(scene: dict, P: np.ndarray) -> list:
+    """Per light of *scene*: its visibility at the points *P* (``reference.visibility``
+    against the scene's shadow-casting triangles, ``scene["triangles"]``), or 1.0 where it
+    casts no shadow or the scene has no triangles."""
+    tris = scene.get("triangles")
+    out = []
+    for light in scene["lights"]:
+        if tris is None or not light.get("shadows") or not len(P):
+            out.append(1.0)
+        else:
+            out.append(ref.visibility(P, light, tris))
+    return out
+
+
+def shadow_edge(lit: np.ndarray) -> np.ndarray:
+    """The pixels of a light's visibility image *lit* (H, W; NaN where no Phong surface)
+    whose visibility differs from a 4-neighbour's: the shadow's boundary, where a pixel's
+    centre may fall on either side of the edge in the renderer and the reference alike
+    (left out of the metrics, counted as ``pixels["shadow_edge"]``)."""
+    edge = np.zeros(lit.shape, bool)
+    for axis in (0, 1):
+        a = np.take(lit, range(0, lit.shape[axis] - 1), axis=axis)
+        b = np.take(lit, range(1, lit.shape[axis]), axis=axis)
+        differ = (a != b) & ~np.isnan(a) & ~np.isnan(b)
+        lo = [slice(None)] * 2
+        hi = [slice(None)] * 2
+        lo[axis] = slice(0, lit.shape[axis] - 1)
+        hi[axis] = slice(1, lit.shape[axis])
+        edge[tuple(lo)] |= differ
+        edge[tuple(hi)] |= differ
+    return edge
 
 
 # -- metrics ---------------------------------------------------------------------------
@@ -498,7 +544,18 @@ def evaluate(scene: dict, images: dict, aovs: dict, engines, terms=None) -> tupl
                  else None}
         images["eevee"] = shown(images["eevee"])
     present = set(engines) | {"reference"}
-    pairs = {f"{a}-{b}": compare(images[a], images[b], mask) for a, b in PAIRS
+    # where Eevee shows no shadows (before 5.3, the X3D model...: scene["eevee_shadows"]
+    # false) its picture is compared with the reference without them
+    plain = None
+    if not scene.get("eevee_shadows", True) and any(l.get("shadows") for l in scene["lights"]):
+        plain = reference_image(dict(scene, lights=[dict(light, shadows=False)
+                                                    for light in scene["lights"]]), aovs)
+
+    def picture(name, other):
+        return plain["Color"] if (name, other) == ("reference", "eevee") and plain else \
+            images[name]
+
+    pairs = {f"{a}-{b}": compare(images[a], picture(b, a), mask) for a, b in PAIRS
              if a in present and b in present and a in images and b in images}
     term_metrics = {t: compare(terms[t], refimg[t], mask) for t in TERMS
                     if terms and t in terms}
@@ -509,7 +566,8 @@ def evaluate(scene: dict, images: dict, aovs: dict, engines, terms=None) -> tupl
         "title": scene["title"],
         "engines": list(engines),
         "pixels": {"total": int(mask.size), "object": int((refimg["object"] > 0).sum()),
-                   "compared": int(mask.sum()), "ambiguous": int(refimg["ambiguous"].sum())},
+                   "compared": int(mask.sum()), "ambiguous": int(refimg["ambiguous"].sum()),
+                   "shadow_edge": int(refimg["shadow_edge"].sum())},
         "pairs": pairs,
         "terms": term_metrics,
         "tolerances": {"cycles_max_abs": CYCLES_TOLERANCE, "eevee_step": EEVEE_STEP,
@@ -517,8 +575,10 @@ def evaluate(scene: dict, images: dict, aovs: dict, engines, terms=None) -> tupl
         "verdict": verdicts,
         "coverage": seen,
         "ok": seen["ok"] and all(v["ok"] for v in verdicts.values()),
-        "parameters": {k: v for k, v in scene.items() if k != "path"},
+        "parameters": {k: v for k, v in scene.items() if k not in ("path", "triangles")},
     }
     if above is not None:
         metrics["eevee_above_1"] = above
+    if plain is not None:
+        metrics["eevee_shadows"] = False
     return metrics, refimg, mask

@@ -63,7 +63,7 @@ SURFACE_DEFAULTS = {
 #: FBX SDK class defaults of FbxLight (its template as the SDK writes it: InnerAngle 0,
 #: OuterAngle 45; fbxlight.h's comment says 45 for InnerAngle too, the SDK writes 0).
 LIGHT_DEFAULTS = {"Color": (1.0, 1.0, 1.0), "Intensity": 100.0, "LightType": 0,
-                  "DecayType": 0, "InnerAngle": 0.0, "OuterAngle": 45.0}
+                  "DecayType": 0, "InnerAngle": 0.0, "OuterAngle": 45.0, "CastShadows": 1.0}
 #: Older names of a property (FBX 6.1 and before), looked up after the current one.
 ALIASES = {"InnerAngle": ("InnerAngle", "HotSpot"), "OuterAngle": ("OuterAngle", "Cone angle")}
 #: FbxLight::EType and how a Blender light stands in for it.
@@ -159,6 +159,7 @@ class Light:
     inner_angle: float        # degrees, full cone (spot)
     sources: dict = field(default_factory=dict)
     user: dict = field(default_factory=dict)     # USER properties: key -> float
+    cast_shadows: bool = True  # CastShadows (the SDK's default: true): Blender's Cast Shadow
 
 
 @dataclass
@@ -413,7 +414,7 @@ def read_light(light) -> Light:
         color=tuple(get("Color", 3)), intensity=get("Intensity", 1) / 100.0,
         decay=decay if decay in (0, 1, 2, 3) else 2,
         outer_angle=get("OuterAngle", 1), inner_angle=get("InnerAngle", 1), sources=sources,
-        user=user_props(own))
+        user=user_props(own), cast_shadows=bool(get("CastShadows", 1)))
 
 
 
@@ -524,7 +525,8 @@ def _geometry(scene, out: Scene) -> None:
             item.materials = tuple(m.name for m in items(node.materials))
         elif light is not None:
             item.kind, item.data = "LIGHT", light.name or node.name
-            item.light = {"type": read_light(light).type}
+            read = read_light(light)
+            item.light = {"type": read.type, "cast_shadows": read.cast_shadows}
         elif camera is not None:
             item.kind, item.data = "CAMERA", camera.name or node.name
             item.camera = {

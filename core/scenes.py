@@ -30,6 +30,7 @@ Schema (units: Blender world space, Z up; angles in degrees; colours are either
     name = "key"                  # unique; default "light<i>"
     type = "point"                # "point", "directional" or "spot"
     color = "#FFFFFF"; intensity = 1.0; diffuse = 1.0; specular = 1.0
+    shadows = false               # casts shadows (Blender's Cast Shadow; the seeds' none)
     position = [x, y, z]          # point, spot (required)
     direction = [x, y, z]         # directional, spot: the way the rays travel (required)
     quadratic = 1.0; linear = 0.0; constant = 0.0     # point, spot: i0/(αr²+βr+γ)
@@ -50,6 +51,8 @@ Schema (units: Blender world space, Z up; angles in degrees; colours are either
                                   # "vertex" (Gouraud shading) or "image"; not compared
     label = "..."                 # caption in the report (default: the name)
     lights = ["key"]              # lights that shine on this object (default: all)
+    shadows = true                # casts shadows (false: Ray Visibility ▸ Shadow and, 5.3+,
+                                  # Ray Cast off; Blender 5.2's Cycles cannot leave it out)
     terms = ["irradiant", "ambient", "diffuse", "specular"]   # terms shown (default: all)
     [objects.material]
     color = "#CCCCCC"; specular_color = "#FFFFFF"; exponent = 30.0; blinn = 0.0
@@ -142,6 +145,14 @@ class _Checker:
             self.fail(_join(where, key), "one of " + ", ".join(repr(c) for c in choices), value)
         if pattern is not None and not pattern.match(value):
             self.fail(_join(where, key), f"a name matching {pattern.pattern}", value)
+        return value
+
+    def boolean(self, table, key, where, default=False) -> bool:
+        if key not in table:
+            return default
+        value = table[key]
+        if not isinstance(value, bool):
+            self.fail(_join(where, key), "true or false", value)
         return value
 
     def number(self, table, key, where, default=None, minimum=None, maximum=None,
@@ -239,21 +250,22 @@ TOP_KEYS = ("title", "model", "source", "description", "aspect", "camera", "ambi
 CAMERA_KEYS = ("type", "location", "look_at", "lens", "ortho_scale")
 AMBIENT_KEYS = ("intensity", "color")
 LIGHT_KEYS = {
-    "point": ("name", "type", "color", "intensity", "diffuse", "specular", "position",
+    "point": ("name", "type", "color", "intensity", "shadows", "diffuse", "specular", "position",
               "quadratic", "linear", "constant", "falloff_exponent"),
-    "directional": ("name", "type", "color", "intensity", "diffuse", "specular", "direction"),
-    "spot": ("name", "type", "color", "intensity", "diffuse", "specular", "position", "direction",
-             "quadratic", "linear", "constant", "half_angle", "edge_exponent"),
+    "directional": ("name", "type", "color", "intensity", "shadows", "diffuse", "specular",
+                    "direction"),
+    "spot": ("name", "type", "color", "intensity", "shadows", "diffuse", "specular", "position",
+             "direction", "quadratic", "linear", "constant", "half_angle", "edge_exponent"),
 }
 #: The lights' keys in the three.js model.
 THREEJS_LIGHT_KEYS = {
-    "point": ("name", "type", "color", "intensity", "position", "distance", "decay"),
-    "directional": ("name", "type", "color", "intensity", "direction"),
-    "spot": ("name", "type", "color", "intensity", "position", "direction", "distance",
+    "point": ("name", "type", "color", "intensity", "shadows", "position", "distance", "decay"),
+    "directional": ("name", "type", "color", "intensity", "shadows", "direction"),
+    "spot": ("name", "type", "color", "intensity", "shadows", "position", "direction", "distance",
              "decay", "half_angle", "penumbra"),
 }
 OBJECT_KEYS = ("name", "shape", "location", "rotation", "size", "segments", "bake", "label",
-               "lights", "terms", "material")
+               "lights", "terms", "material", "shadows")
 BAKES = ("vertex", "image")
 MATERIAL_KEYS = ("color", "specular_color", "exponent", "blinn", "irradiant", "texture",
                  "shading")
@@ -328,6 +340,7 @@ def _light_head(c: _Checker, raw: dict, where: str, index: int, keys: dict) -> d
         "type": kind,
         "color": c.color(raw, "color", where, "#FFFFFF"),
         "intensity": c.number(raw, "intensity", where, default=1.0, minimum=0.0),
+        "shadows": c.boolean(raw, "shadows", where, default=False),
     }
 
 
@@ -400,6 +413,7 @@ def _objects(c: _Checker, raws: list, light_names: list, model: str = "seeds") -
         obj["segments"] = int(obj["segments"])
         obj["bake"] = c.string(raw, "bake", where, default="", choices=("",) + BAKES)
         obj["label"] = c.string(raw, "label", where, default=obj["name"])
+        obj["shadows"] = c.boolean(raw, "shadows", where, default=True)
         obj["lights"] = c.names(raw, "lights", where, light_names, light_names)
         obj["terms"] = c.names(raw, "terms", where, TERMS, TERMS)
         obj["material"] = _material(c, c.table(raw, "material", where, required=False),

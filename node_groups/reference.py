@@ -573,6 +573,134 @@ def x3d_light_terms(light_vector=_ZERO3, intensity=1.0, ambient=0.0, light_color
 
 
 # ---------------------------------------------------------------------------
+# shadows: a light's visibility against the scene's triangles (issue 43)
+# ---------------------------------------------------------------------------
+
+#: A blocker nearer to the shaded point than this, times 1 + max |P|, is the surface itself
+#: (the triangle the point lies on, or one it touches): not a shadow.
+SHADOW_START = 1.0e-4
+#: Pairs tested at once (memory: about 200 bytes each).
+_CHUNK = 1 << 19
+#: Triangles per cluster of the pre-test (a box around them, tested first), and clusters
+#: per super-cluster (a box around theirs, tested before).
+_CLUSTER = 16
+_SUPER = 32
+
+
+def _pairs_hit(o, d, start, reach, v0, e1, e2):
+    """Möller–Trumbore for paired rays and triangles (all arrays (M, 3) / (M,)): whether the
+    ray o + t·d meets the triangle (v0, v0 + e1, v0 + e2), either face, at start < t < reach."""
+    pvec = np.cross(d, e2)
+    det = np.einsum("mk,mk->m", pvec, e1)
+    ok = np.abs(det) > 1e-20
+    inv = np.where(ok, 1.0 / np.where(ok, det, 1.0), 0.0)
+    tvec = o - v0
+    u = np.einsum("mk,mk->m", tvec, pvec) * inv
+    qvec = np.cross(tvec, e1)
+    v = np.einsum("mk,mk->m", d, qvec) * inv
+    t = np.einsum("mk,mk->m", e2, qvec) * inv
+    return ok & (u >= 0.0) & (v >= 0.0) & (u + v <= 1.0) & (t > start) & (t < reach - 1e-9)
+
+
+def _clusters(tris):
+    """The triangles grouped _CLUSTER at a time by a median split of their centres along the
+    longest axis, recursively: (members (C, _CLUSTER) indices, -1 for none; box lows (C, 3),
+    highs (C, 3))."""
+    centres = tris.mean(axis=1)
+    groups, done = [np.arange(len(tris))], []
+    while groups:
+        group = groups.pop()
+        if len(group) <= _CLUSTER:
+            done.append(group)
+            continue
+        c = centres[group]
+        axis = int(np.argmax(c.max(axis=0) - c.min(axis=0)))
+        order = group[np.argsort(c[:, axis], kind="stable")]
+        half = len(order) // 2
+        groups += [order[:half], order[half:]]
+    return _boxes(done, tris.min(axis=1), tris.max(axis=1), _CLUSTER)
+
+
+def _boxes(groups, lows, highs, size):
+    """(members (G, size), -1 for none; box lows (G, 3); highs (G, 3)) of *groups* (index
+    arrays into *lows* / *highs*, the items' own boxes)."""
+    members = np.full((len(groups), size), -1, np.int64)
+    for row, group in enumerate(groups):
+        members[row, :len(group)] = group
+    first = members[:, :1]
+    safe = np.where(members >= 0, members, first)  # a missing item repeats the group's first
+    return members, lows[safe].min(axis=1), highs[safe].max(axis=1)
+
+
+def _expand(ray, members):
+    """(ray, item) pairs: each of *ray* with each item of its row of *members* (-1: none)."""
+    rays = np.repeat(ray, members.shape[1])
+    items = members.reshape(-1)
+    keep = items >= 0
+    return rays[keep], items[keep]
+
+
+def _box_hit(o, inv, reach, lo, hi):
+    """Slab test of paired rays (origins *o*, 1/direction *inv*) and boxes: whether the ray
+    meets the box at 0 <= t <= *reach* (a NaN from 0 · inf counts as no limit)."""
+    with np.errstate(invalid="ignore"):
+        t1, t2 = (lo - o) * inv, (hi - o) * inv
+        near = np.nanmax(np.minimum(t1, t2), axis=-1)
+        far = np.nanmin(np.maximum(t1, t2), axis=-1)
+    return ~(near > np.minimum(far, reach)) & ~(far < 0.0)
+
+
+def visibility(points, light, triangles):
+    """Per point of *points* (N, 3): 1.0 where nothing of *triangles* (T, 3, 3: the corners
+    of the scene's shadow-casting triangles, world space) lies on the segment from the point
+    to a point or spot *light*'s ``position`` (or, a directional light, on the ray from the
+    point against its ``direction``), else 0.0; a light whose ``shadows`` is false: 1.0
+    everywhere.  Hits nearer than ``SHADOW_START`` · (1 + max |P|) to the point, and at the
+    light itself, do not count.  Möller–Trumbore's ray/triangle test, both faces, on the
+    (ray, triangle) pairs whose ray meets the box of the triangle's cluster (``_clusters``: a
+    box test first, so a scene of many triangles is not N × T exact tests), vectorised in
+    chunks."""
+    P = np.asarray(points, np.float64).reshape(-1, 3)
+    seen = np.ones(len(P))
+    tris = np.asarray(triangles, np.float64).reshape(-1, 3, 3)
+    if not light.get("shadows") or not len(P) or not len(tris):
+        return seen
+    if light["type"] == "directional":
+        D = np.broadcast_to(-normalize(_vec(light["direction"])), P.shape)
+        reach = np.full(len(P), np.inf)
+    else:
+        D = _vec(light["position"]) - P
+        reach = _length(D)
+        D = D / np.maximum(reach, 1e-30)[:, None]
+    start = SHADOW_START * (1.0 + np.abs(P).max(axis=-1))
+    members, lo, hi = _clusters(tris)
+    supers = [np.arange(i, min(i + _SUPER, len(lo))) for i in range(0, len(lo), _SUPER)]
+    super_members, super_lo, super_hi = _boxes(supers, lo, hi, _SUPER)
+    v0 = tris[:, 0]
+    e1, e2 = tris[:, 1] - v0, tris[:, 2] - v0
+    with np.errstate(divide="ignore", invalid="ignore"):
+        inv_d = 1.0 / D
+    blocked = np.zeros(len(P), bool)
+    step = max(1, _CHUNK // (3 * len(super_lo)))
+    for a in range(0, len(P), step):
+        b = min(a + step, len(P))
+        near = _box_hit(P[a:b, None, :], inv_d[a:b, None, :], reach[a:b, None],
+                        super_lo[None], super_hi[None])
+        ray, group = np.nonzero(near)
+        ray, cluster = _expand(ray + a, super_members[group])
+        for c in range(0, len(ray), _CHUNK):
+            rr, cc = ray[c:c + _CHUNK], cluster[c:c + _CHUNK]
+            keep = _box_hit(P[rr], inv_d[rr], reach[rr], lo[cc], hi[cc]) & ~blocked[rr]
+            rays, tri = _expand(rr[keep], members[cc[keep]])
+            for e in range(0, len(rays), _CHUNK):
+                r3, t3 = rays[e:e + _CHUNK], tri[e:e + _CHUNK]
+                hit = _pairs_hit(P[r3], D[r3], start[r3], reach[r3], v0[t3], e1[t3], e2[t3])
+                blocked[r3[hit]] = True
+    seen[blocked] = 0.0
+    return seen
+
+
+# ---------------------------------------------------------------------------
 # generic table: group name -> f(inputs, geometry)
 # ---------------------------------------------------------------------------
 

@@ -32,6 +32,7 @@ def _ref():
 
 def _light(bpy, scene, name, kind, location, rotation=(0.0, 0.0, 0.0)):
     data = bpy.data.lights.new(name, kind)
+    data.use_shadow = False  # these scenes test the model without shadows (issue 43)
     obj = bpy.data.objects.new(name, data)
     scene.collection.objects.link(obj)
     obj.location = location

@@ -64,6 +64,8 @@ def test_every_scene_builds_as_an_artist_scene(bpy_clean):
             assert light.data.phong.intensity == pytest.approx(light_data["intensity"])
             assert light.data.phong.quadratic == pytest.approx(light_data.get("quadratic", 1))
             assert tuple(light.data.color) == pytest.approx(light_data["color"])
+            # Cast Shadow as the file says (the seeds' scenes: off, their figures have none)
+            assert light.data.use_shadow == light_data["shadows"], (name, light.name)
             reach = _reach(light)
             wanted = {o["name"] for o in data["objects"] if light_data["name"] in o["lights"]}
             if wanted == set(meshes):

@@ -289,8 +289,21 @@ def test_what_keeps_the_lights_group_in_eevee(loop_bpy):
     scene, plane, sphere, _lights = _scene(bpy, "Loop switches", 2)
     material = sphere.active_material
     nodes = material.node_tree.nodes
+    from phong_nodes.addon.lighting import shadows  # noqa: PLC0415
+
     materials.set_opacity(material, 0.5)
-    assert materials.OUTPUT_EEVEE not in nodes and materials.OPACITY_MIX in nodes
+    assert materials.OPACITY_MIX in nodes
+    if shadows.has_shadows(nodes[materials.LIGHTS_NODE].node_tree):
+        # the group's shadow rays stay out of Eevee: its EEVEE output blends the group's
+        # Shader (no Raycast node, not the loop), the CYCLES one its Cycles Shader
+        mix = nodes[materials.OPACITY_MIX_EEVEE]
+        assert nodes[materials.OUTPUT_EEVEE].inputs["Surface"].links[0].from_node == mix
+        second = be.compat().input_socket
+        assert second(mix, "Shader_001").links[0].from_socket.name == "Shader"
+        assert second(nodes[materials.OPACITY_MIX], "Shader_001").links[0].from_socket.name \
+            == shadows.CYCLES_SHADER
+    else:
+        assert materials.OUTPUT_EEVEE not in nodes
     materials.set_opacity(material, 1.0)
     assert materials.OUTPUT_EEVEE in nodes and materials.OPACITY_MIX not in nodes
     assert bpy.ops.phong.add_term_passes() == {"FINISHED"}
@@ -323,8 +336,13 @@ def test_a_file_of_5_3_without_the_loop(loop_bpy, blender_tmp, monkeypatch):
         group = tree.nodes[materials.LIGHTS_NODE].node_tree
         assert not group.get(loop.LOOP_KEY)
         assert not any(n.name.startswith(loop.NODE_PREFIX) for n in group.nodes)
-        assert materials.OUTPUT_EEVEE not in tree.nodes
-        assert all(f"phong_aov:{name}" in tree.nodes for name in materials.AOVS)
+        if compat.HAS_RAYCAST:  # 5.2: shadow rays, so Eevee shows the group's Shader apart
+            output = tree.nodes[materials.OUTPUT_EEVEE]
+            assert output.inputs["Surface"].links[0].from_socket.name == "Shader"
+            assert not any(f"phong_aov:{name}" in tree.nodes for name in materials.AOVS)
+        else:
+            assert materials.OUTPUT_EEVEE not in tree.nodes
+            assert all(f"phong_aov:{name}" in tree.nodes for name in materials.AOVS)
         assert len(group.get(rig.WORLD_KEYS, ())) <= compat.VIEW_LAYER_LOOKUPS
 
 

@@ -33,7 +33,7 @@ import bpy
 from ...core import browser, compare, outputs, report, threejs, x_ite
 from .. import compat
 from ..lighting import loop as light_loop
-from ..lighting import materials, rig
+from ..lighting import materials, rig, shadows
 from ..lighting import sync as sync_mod
 from ..interchange import threejs_export
 from ..scene import describe, render
@@ -136,14 +136,14 @@ def _add_probes(tree) -> None:
         aov.aov_name = compare.probe_name(probe)
         aov.location = (-600.0, 900.0 + 120.0 * index)
         tree.links.new(sources[probe], aov.inputs["Color"])
-    if light_loop.has_loop(tree):
+    if light_loop.has_loop(tree) or shadows.has_shadows(tree):
         _add_term_aovs(tree)
 
 
 def _add_term_aovs(tree) -> None:
     """The term passes as AOV outputs inside *tree*: a lights group with the loop part
-    (Blender 5.3+), whose materials hold no AOV outputs (``materials.wire``), for Cycles'
-    render only."""
+    (Blender 5.3+) or shadow rays (5.1+), whose materials hold no AOV outputs
+    (``materials.wire``), for Cycles' render only."""
     group_out = next(n for n in tree.nodes if n.bl_idname == "NodeGroupOutput")
     for index, (aov_name, output) in enumerate(materials.AOVS.items()):
         aov = tree.nodes.new("ShaderNodeOutputAOV")
@@ -276,12 +276,17 @@ def run(scene, out_dir: str, engines=compare.ENGINES, progress=None, view_layer=
             metrics["notes"] = list(notes)
         timings["reference_s"] = time.perf_counter() - t0
         peer_mask = None
+        # the peers' pages have no shadows: the pixels in a light's shadow are theirs to skip
+        peer_region = mask & ~refimg["in_shadow"]
+        if peers:
+            metrics["peer_shadow_pixels"] = int((mask & refimg["in_shadow"]).sum())
         if "threejs" in peers:
             progress(0.85, "three.js in Chromium")
             t0 = time.perf_counter()
             rgba, seconds, warnings = _threejs_peer(scene, layer, objects, data, width, height,
                                                     tmp)
-            pairs, peer_verdict, peer_mask = compare.evaluate_peer(data, rgba, images, mask)
+            pairs, peer_verdict, peer_mask = compare.evaluate_peer(data, rgba, images,
+                                                                   peer_region)
             images["threejs"] = compare.srgb_decode(rgba[..., :3] / 255.0)
             metrics["pairs"].update(pairs)
             metrics["threejs"] = {"browser_s": seconds, "warnings": warnings,
@@ -297,8 +302,8 @@ def run(scene, out_dir: str, engines=compare.ENGINES, progress=None, view_layer=
             t0 = time.perf_counter()
             rgba, seconds, warnings = x_ite_peer.render(scene, layer, objects, data, width,
                                                         height, tmp)
-            pairs, x_verdict, x_mask = compare.evaluate_x3d_peer(data, rgba, images, mask,
-                                                                 refimg["object"])
+            pairs, x_verdict, x_mask = compare.evaluate_x3d_peer(data, rgba, images,
+                                                                 peer_region, refimg["object"])
             images["x_ite"] = rgba[..., :3] / 255.0   # the canvas holds I (ColorSpace SRGB)
             metrics["pairs"].update(pairs)
             metrics["x_ite"] = {"browser_s": seconds, "warnings": warnings,

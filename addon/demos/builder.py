@@ -104,6 +104,8 @@ def _object(scene, obj_data, scene_name):
     obj = bpy.data.objects.new(name, mesh)
     obj.location = obj_data["location"]
     obj.rotation_euler = [math.radians(a) for a in obj_data["rotation"]]
+    if not obj_data.get("shadows", True):
+        compat.set_casts_shadow(obj, False)
     scene.collection.objects.link(obj)
     mesh.materials.append(_source_material(f"{scene_name}.{name}", obj_data["material"]))
     return obj
@@ -181,8 +183,7 @@ def _light(scene, light_data):
     kind = SCENE_FILE_LIGHTS[light_data["type"]]
     light = bpy.data.lights.new(light_data["name"], kind)
     light.color = light_data["color"]
-    if hasattr(light, "use_shadow"):
-        light.use_shadow = False
+    light.use_shadow = bool(light_data.get("shadows", False))  # the seeds' lights cast none
     obj = bpy.data.objects.new(light_data["name"], light)
     if "position" in light_data:
         obj.location = light_data["position"]

@@ -133,6 +133,7 @@ def _build(context, data: fbx.Scene, path, warnings) -> list:
             thing = meshes[node.mesh]
         elif node.kind == "LIGHT":
             thing = bpy.data.lights.new(node.data or node.name, node.light["type"])
+            thing.use_shadow = bool(node.light.get("cast_shadows", True))  # FBX CastShadows
         elif node.kind == "CAMERA":
             cam = node.camera
             thing = bpy.data.cameras.new(node.data or node.name)

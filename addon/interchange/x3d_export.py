@@ -81,13 +81,18 @@ def encoding_of(path: str) -> str:
                      ".x3dvz, .wrz or .gz)")
 
 
-def export(context, filepath, use_selection=False) -> list:
+def export(context, filepath, use_selection=False, shadows=True) -> list:
     """Write *context*'s scene to *filepath* (the encoding by its extension); returns the
     warnings.  ValueError for a file name of no X3D encoding, OSError when it cannot be
-    written (nothing half-written: ``core.outputs.write_file``)."""
+    written (nothing half-written: ``core.outputs.write_file``).  *shadows*: a light whose
+    Cast Shadow is on gets ``shadows TRUE`` (X3D files only; where this Blender casts Phong
+    shadows); False leaves every light at X3D's default, none."""
     warnings: list = []
     encoding_of(filepath)
     doc = document(context, filepath, use_selection, warnings)
+    if not shadows:
+        for light in doc.lights:
+            light.light.shadows = False
     x3d.save(doc, filepath)
     return warnings
 
@@ -552,6 +557,7 @@ class _Writer:
         length = float(np.linalg.norm(direction))
         direction = direction / length if length > 0 else np.array([0.0, 0.0, -1.0])
         out = x3d.Light(kind=kind, name=name, on=on, intensity=value("intensity"),
+                        shadows=bool(data.use_shadow) and compat.HAS_RAYCAST,
                         ambient_intensity=value("ambient"), color=_colour(data.color),
                         location=tuple(f32(v) for v in matrix[:3, 3]),
                         direction=tuple(f32(v) for v in direction))

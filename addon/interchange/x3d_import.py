@@ -499,6 +499,7 @@ class _Builder:
         name = source.name or LIGHT_NAMES[source.kind]
         shown = name if source.on or name.endswith(OFF) else name + OFF
         light = bpy.data.lights.new(name, LIGHT_TYPES[source.kind])
+        light.use_shadow = values["shadows"]  # X3D's shadows field: Cast Shadow (default off)
         color = tuple(float(c) for c in values["color"])
         if min(color) < 0.0:
             self.warn(f"negative light colours read as 0: {name}")

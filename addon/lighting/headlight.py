@@ -70,6 +70,7 @@ def add(scene, camera=None, collection=None, name=NAME):
     if camera is None:
         raise ValueError(f"scene {scene.name!r} has no camera for the headlight to follow")
     light = bpy.data.lights.new(name, "SUN")
+    light.use_shadow = False  # a browser's headlight casts no shadow (X3D's default)
     light.color = COLOR
     properties.write_light(light, VALUES)
     obj = bpy.data.objects.new(name, light)

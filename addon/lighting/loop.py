@@ -87,9 +87,10 @@ def light_values(light) -> dict:
 def write_parameters(light) -> bool:
     """Write the loop's packed settings of *light* (a Light) for every model, and give a
     point or spot light the influence distance of a Phong light (Eevee leaves out a light
-    beyond it: ``compat.LOOP_LIGHT_DISTANCE``); only what differs is written (arrays in place:
-    no ID property freed, which is safe inside a depsgraph handler).  Returns whether
-    anything changed."""
+    beyond it, and drops every material's shadows of a light whose distance is much more:
+    ``compat.LOOP_LIGHT_DISTANCE``, set exactly, lowered too); only what differs is written
+    (arrays in place: no ID property freed, which is safe inside a depsgraph handler).
+    Returns whether anything changed."""
     if not compat.HAS_LIGHT_LOOP or light.library is not None:
         return False
     values = light_values(light)
@@ -114,7 +115,7 @@ def write_parameters(light) -> bool:
         if not light.use_custom_distance:
             light.use_custom_distance = True
             changed = True
-        if light.cutoff_distance < compat.LOOP_LIGHT_DISTANCE:
+        if light.cutoff_distance != compat.LOOP_LIGHT_DISTANCE:  # not beyond: shadows go
             light.cutoff_distance = compat.LOOP_LIGHT_DISTANCE
             changed = True
     return changed
@@ -154,11 +155,15 @@ def _node(tree, kind, name, location):
     return node
 
 
-def build(tree, model, group_in, group_out, irradiant, ambient, surface=None) -> None:
+def build(tree, model, group_in, group_out, irradiant, ambient, surface=None,
+          shadows=False) -> None:
     """Add the loop part of *model* to the lights group *tree* (being built: *group_in*,
     *group_out* its Group Input and Output): its Eevee Shader output = Emission(*irradiant*
     + *ambient*) + Light Accumulation of the model's loop group.  *surface*: a Phong Surface
-    node of the group (the unit normal and view vector), else its nodes are written."""
+    node of the group (the unit normal and view vector), else its nodes are written.
+    *shadows*: each light's Light inputs of Light Accumulation times its Shadow Raycast
+    (Softness 0: the light's shadow map at the shaded point; 1 where the light casts no
+    shadow), Eevee's side of the shadow rays (``shadows.py``)."""
     spec = LOOP_MODELS[model]
     x, y = -900.0, 1400.0
     if surface is None:  # written flat: the group keeps the group nodes of its model
@@ -191,10 +196,23 @@ def build(tree, model, group_in, group_out, irradiant, ambient, surface=None) ->
                 sources[target] = compat.output_socket(separate, output)
     light = _write(tree, definition(spec.group), sources, group_in, (x + 500.0, y))
     accumulation = _node(tree, "ShaderNodeLightAccumulation", "accumulation", (x + 900.0, y))
-    for slot, (light_input, color_input) in ACCUMULATE.items():
+    shadow = None
+    if shadows:
+        shadow = _node(tree, "ShaderNodeShadowRaycast", "shadow", (x + 700.0, y + 200.0))
+        compat.input_socket(shadow, "Softness").default_value = 0.0
+    for row, (slot, (light_input, color_input)) in enumerate(ACCUMULATE.items()):
         if slot in spec.slots:
             light_output, color_output = spec.slots[slot]
-            tree.links.new(light[light_output], compat.input_socket(accumulation, light_input))
+            source = light[light_output]
+            if shadow is not None:
+                lit = _node(tree, "ShaderNodeVectorMath", f"shadow:{slot}",
+                            (x + 750.0, y - 150.0 * row))
+                lit.operation = "MULTIPLY"
+                tree.links.new(source, compat.input_socket(lit, "Vector"))
+                tree.links.new(compat.output_socket(shadow, "Color"),
+                               compat.input_socket(lit, "Vector_001"))
+                source = compat.output_socket(lit, "Vector")
+            tree.links.new(source, compat.input_socket(accumulation, light_input))
             tree.links.new(light[color_output], compat.input_socket(accumulation, color_input))
         else:  # linked from outside the loop too (see the module's docstring)
             tree.links.new(group_in.outputs["Irradiant Color"],

@@ -18,7 +18,12 @@ A Phong material holds, and nothing else:
 * on Blender 5.3+, when the lights group has the loop part (``loop.py``: no term pass on the
   scene's view layers), a second Material Output of target EEVEE showing the group's Eevee
   Shader (Eevee's light loop) instead of the AOV outputs, which would make Eevee evaluate
-  the per-light part; the first one is then what Cycles shows.
+  the per-light part; the first one is then what Cycles shows;
+* on Blender 5.1+, when the lights group casts shadow rays (``shadows.py``: no term pass on
+  the scene's view layers), likewise: the first Material Output (target CYCLES) shows the
+  group's Cycles Shader (with shadows) and the EEVEE one its Eevee Shader (the loop) or, where
+  the group has no loop part or the material blends, its Shader (no Raycast node: no
+  shadows), and the material has no term AOV output.
 
 Materials are converted, not objects: one Phong material per distinct source material
 (and light set), so objects that shared a material share its Phong version.  The source
@@ -40,6 +45,7 @@ from bpy.app.handlers import persistent
 from .. import compat
 from . import drivers, rig
 from . import loop as light_loop
+from . import shadows
 
 #: Custom property that marks a Phong material; its value is the layout version (1: the
 #: layout of version 0.1, every light's nodes and drivers in the material).
@@ -376,15 +382,17 @@ def _eevee_shader(tree, lights):
     emission = tree.nodes.get(SHADING_EMISSION)
     if emission is not None and emission.bl_idname == "ShaderNodeEmission":
         return None
+    shadowed = shadows.has_shadows(lights.node_tree)
     if _blends(tree):
         if light_loop.has_loop(lights.node_tree) and lights.node_tree.get(rig.LOOP_WORLD_KEYS):
             scene = rig.owner(lights.node_tree)  # Eevee compiles its group: at most
             if scene is not None:                # compat.VIEW_LAYER_LOOKUPS (sync.py)
                 STALE.add(scene.as_pointer())
-        return None
-    if not light_loop.has_loop(lights.node_tree):
-        return None
-    return lights.outputs.get(light_loop.EEVEE_SHADER)
+        return lights.outputs.get("Shader") if shadowed else None
+    if light_loop.has_loop(lights.node_tree):
+        return lights.outputs.get(light_loop.EEVEE_SHADER)
+    # a group with shadow rays: Eevee must not evaluate its Raycast nodes (shadows.py)
+    return lights.outputs.get("Shader") if shadowed else None
 
 
 def _eevee_output(tree, lights):
@@ -396,7 +404,8 @@ def _eevee_output(tree, lights):
             tree.nodes.remove(node)
         return None
     node = named_node(tree, OUTPUT_EEVEE, "ShaderNodeOutputMaterial", (400.0, 300.0))
-    node.label = "Eevee (light loop, Blender 5.3+)"
+    node.label = ("Eevee (light loop, Blender 5.3+)" if light_loop.has_loop(lights.node_tree)
+                  else "Eevee (no shadows: Cycles casts them)")
     if node.target != "EEVEE":
         node.target = "EEVEE"
     if not node.is_active_output:
@@ -415,8 +424,29 @@ def eevee_in_step(material) -> bool:
     shows = _eevee_shader(tree, lights) is not None
     output = tree.nodes.get(OUTPUT)
     target = output.target if output is not None else None
-    return ((tree.nodes.get(OUTPUT_EEVEE) is not None) == shows and aovs != shows
-            and target in (None, "CYCLES" if shows else "ALL"))
+    if not ((tree.nodes.get(OUTPUT_EEVEE) is not None) == shows and aovs != shows
+            and target in (None, "CYCLES" if shows else "ALL")):
+        return False
+    # each output shows what it should (a group that gained or lost its shadow rays or its
+    # loop part keeps its outputs' names: Shader, Eevee Shader, Cycles Shader)
+    if shows and _source(tree.nodes[OUTPUT_EEVEE], OPACITY_MIX_EEVEE) != \
+            _eevee_shader(tree, lights):
+        return False
+    return output is None or _source(output, OPACITY_MIX) in (None, _shader(tree, lights))
+
+
+def _source(output, mix_name):
+    """The socket a Material Output shows: what feeds its Surface, or through the opacity
+    Mix Shader *mix_name*, what feeds the mix's second shader; None when unlinked or another
+    node (Per Vertex / Per Face's emission is ``_shader``'s own)."""
+    links = output.inputs["Surface"].links
+    if not links:
+        return None
+    socket = links[0].from_socket
+    if socket.node.name == mix_name and socket.node.bl_idname == "ShaderNodeMixShader":
+        links = compat.input_socket(socket.node, "Shader_001").links
+        socket = links[0].from_socket if links else None
+    return socket
 
 
 def _shader(tree, lights):
@@ -425,6 +455,8 @@ def _shader(tree, lights):
     emission = tree.nodes.get(SHADING_EMISSION)
     if emission is not None and emission.bl_idname == "ShaderNodeEmission":
         return compat.output_socket(emission, "Emission")
+    if shadows.has_shadows(lights.node_tree) and _eevee_shader(tree, lights) is not None:
+        return lights.outputs[shadows.CYCLES_SHADER]  # the output is Cycles' only
     return lights.outputs["Shader"]
 
 

@@ -52,6 +52,12 @@ compiles nothing of the per-light part, so every light's transform comes from th
 (``compat.view_layer_lookups``).  Not while a view layer of the scene has the Phong term
 passes: their AOVs evaluate the per-light part in Eevee too, so the group is then the one of
 5.2 (``wants_loop``).
+
+On Blender 5.1+ (``compat.HAS_RAYCAST``), where no view layer has a Phong term pass
+(``wants_shadows``), each light's terms are multiplied by its visibility, a Raycast node's
+shadow ray (``shadows.py``): Color, Diffuse, Specular and the output "Cycles Shader" (last:
+the material's CYCLES Material Output) are shadowed; the Shader is the same sums without
+them (what Eevee shows where it shows the group: its Raycast node is screen space only).
 """
 
 from __future__ import annotations
@@ -64,6 +70,7 @@ import bpy
 from .. import compat, loader
 from . import drivers, properties
 from . import loop as light_loop
+from . import shadows as shadow_rays
 from .lights import SUPPORTED
 
 #: Custom properties of a lights group: the scene it belongs to (an ID pointer) and its
@@ -112,6 +119,8 @@ OUTPUTS = (("Color", "NodeSocketColor"),) + tuple((t, "NodeSocketColor") for t i
     ("Shader", "NodeSocketShader"),)
 if compat.HAS_LIGHT_LOOP:  # last: the sockets before it keep their identifiers and links
     OUTPUTS += ((light_loop.EEVEE_SHADER, "NodeSocketShader"),)
+if compat.HAS_RAYCAST:  # the Shader with shadow rays, for Cycles (``shadows.py``)
+    OUTPUTS += ((shadow_rays.CYCLES_SHADER, "NodeSocketShader"),)
 #: The AOVs of the term passes (``materials.AOVS``, ``phong.add_term_passes``).
 PASS_NAMES = ("Phong Color",) + tuple(f"Phong {t}" for t in TERMS)
 
@@ -126,6 +135,13 @@ def wants_loop(scene) -> bool:
     runs, and no Phong term pass on its view layers (the AOVs would make Eevee evaluate the
     per-light part anyway, at the cost of 5.2: issue 38)."""
     return light_loop.supports(model_of(scene)) and not wants_term_passes(scene)
+
+
+def wants_shadows(scene) -> bool:
+    """Whether *scene*'s lights groups cast shadow rays (``shadows.py``): Blender 5.1+ (the
+    Raycast node) and no Phong term pass on its view layers (their AOV outputs would make
+    Eevee evaluate the group's terms, and with them the Raycast nodes)."""
+    return shadow_rays.supported() and not wants_term_passes(scene)
 
 
 def world_key(obj, kind: str) -> str:
@@ -205,19 +221,20 @@ def ensure(scene, lights, key: str, blends: bool = False):
         tree = bpy.data.node_groups.new(group_name(scene, lights, key), "ShaderNodeTree")
         tree[SCENE_KEY] = scene
         tree[SET_KEY] = key
-        build(tree, lights, scene.world, model_of(scene), loop, lookups)
+        build(tree, lights, scene.world, model_of(scene), loop, lookups, wants_shadows(scene))
         return tree
-    tree = rebuild(tree, lights, scene.world, model_of(scene), loop, lookups)
+    tree = rebuild(tree, lights, scene.world, model_of(scene), loop, lookups,
+                   wants_shadows(scene))
     name = group_name(scene, lights, key)
     if not (tree.name == name or tree.name.startswith(name + ".")):  # the scene was renamed
         tree.name = name
     return tree
 
 
-def rebuild(tree, lights, world, model=MODELS[0], loop=False, lookups=None):
+def rebuild(tree, lights, world, model=MODELS[0], loop=False, lookups=None, shadows=False):
     """*tree* rewritten for *lights*; returns the group that now stands for it
     (``rewrite``)."""
-    return rewrite(tree, lambda t: build(t, lights, world, model, loop, lookups))
+    return rewrite(tree, lambda t: build(t, lights, world, model, loop, lookups, shadows))
 
 
 def rewrite(tree, write):
@@ -245,27 +262,32 @@ def rewrite(tree, write):
     return fresh
 
 
-def build(tree, lights, world, model=MODELS[0], loop=False, lookups=None) -> None:
+def build(tree, lights, world, model=MODELS[0], loop=False, lookups=None,
+          shadows=False) -> None:
     """(Re)write *tree* for *lights* (supported light objects) and *world* in *model*;
     *loop*: with the loop part (Blender 5.3+: ``loop.py``), ignored where Eevee's light loop
     does not run *model*; *lookups*: the View Layer lookups it may hold (default
-    ``compat.view_layer_lookups(loop)``)."""
+    ``compat.view_layer_lookups(loop)``); *shadows*: with a shadow ray per light
+    (``shadows.py``; ignored before 5.1): Color, Diffuse, Specular and the Cycles Shader
+    are shadowed, the Shader (what Eevee shows where it shows the group) is not."""
     loop = loop and light_loop.supports(model)
+    shadows = shadows and shadow_rays.supported()
     _interface(tree)
     if lookups is None:
         lookups = compat.view_layer_lookups(loop)
     budget = [world, lookups, compat.VIEW_LAYER_LOOKUPS]
     if model == "threejs":
-        _build_threejs(tree, lights, world, budget, loop)
+        _build_threejs(tree, lights, world, budget, loop, shadows)
         return
     if model == "x3d":
-        _build_x3d(tree, lights, world, budget)
+        _build_x3d(tree, lights, world, budget, shadows)
         return
-    group_in, group_out, out_x = _start(tree, lights)
+    group_in, group_out, out_x = _start(tree, lights, shadows)
     surface = _group_node(tree, "Phong Surface", "surface", (-600.0, 520.0))
     for name in ("Normal", "View Vector"):
         tree.links.new(group_in.outputs[name], surface.inputs[name])
-    shadings = []
+    shadings, lit = [], []
+    shared = shadow_rays.surface(tree, (-1800.0, 900.0)) if shadows else None
     for index, obj in enumerate(lights):
         y = -520.0 * index
         light_node = _light_node(tree, obj, (-600.0, y), MODELS[0], budget)
@@ -282,26 +304,62 @@ def build(tree, lights, world, model=MODELS[0], loop=False, lookups=None) -> Non
             drivers.prop(shading.inputs[socket], None, "LIGHT", obj.data,
                          f'["{properties.LIGHT_KEYS[attr][0]}"]')
         shadings.append(shading)
+        lit.append(_lit(tree, obj, light_node, shading, shared, (-1500.0, y)))
     ambient = _group_node(tree, "Phong Ambient", "ambient", (-300.0, 520.0))
     tree.links.new(group_in.outputs["Ambient Object Color"], ambient.inputs["Object Color"])
     _drive_ambient(ambient, world)
-    totals = _term_sums(tree, shadings, group_out, {
-        "Diffuse": ("Diffuse Light", group_in.outputs["Object Color"]),
-        "Specular": ("Specular Light", group_in.outputs["Specular Color"])})
-    color = _vector_node(tree, "ADD", "color:base", (0.0, 300.0),
-                         group_in.outputs["Irradiant Color"], ambient.outputs["Color"])
-    for index, total in enumerate(t for t in totals if t is not None):
-        color = _vector_node(tree, "ADD", f"color:{index}", (180.0 * (index + 1), 300.0),
-                             color, total)
-    color = _vector_node(tree, "MINIMUM", "color", (180.0 * 3, 300.0), color, (1.0, 1.0, 1.0))
+    sources = {"Diffuse": ("Diffuse Light", group_in.outputs["Object Color"]),
+               "Specular": ("Specular Light", group_in.outputs["Specular Color"])}
+    base = (group_in.outputs["Irradiant Color"], ambient.outputs["Color"])
+
+    def colour(terms, link, prefix=""):
+        totals = _term_sums(tree, terms, group_out if link else None, sources, prefix)
+        return _color_sum(tree, base, totals, prefix)
+
+    color = colour(lit, True)
     tree.links.new(color, group_out.inputs["Color"])
     tree.links.new(group_in.outputs["Irradiant Color"], group_out.inputs["Irradiant"])
     tree.links.new(ambient.outputs["Color"], group_out.inputs["Ambient"])
-    _emission(tree, color, group_out, out_x)
+    _shaders(tree, color, group_out, out_x, shadows and (lambda: colour(shadings, False, "plain ")))
     if loop:
         light_loop.build(tree, MODELS[0], group_in, group_out,
-                         group_in.outputs["Irradiant Color"], ambient.outputs["Color"], surface)
+                         group_in.outputs["Irradiant Color"], ambient.outputs["Color"], surface,
+                         shadows)
     _stamp(tree, lights, MODELS[0])
+
+
+def _lit(tree, obj, light_node, terms, shared, location):
+    """*terms* (a light's terms node) as the sums read it: times the light's visibility where
+    the group casts shadow rays (*shared*: ``shadows.surface``), else itself."""
+    if shared is None:
+        return terms
+    visible = shadow_rays.visibility(tree, obj, light_node, shared, location)
+    return shadow_rays.Lit(tree, terms, visible, ("Ambient Light",))
+
+
+def _color_sum(tree, base, totals, prefix=""):
+    """min(*base*[0] + *base*[1] + the *totals* (None: no light), 1): the seeds' and X3D's
+    Color."""
+    color = _vector_node(tree, "ADD", f"{prefix}color:base", (0.0, 300.0), *base)
+    for index, total in enumerate(t for t in totals if t is not None):
+        color = _vector_node(tree, "ADD", f"{prefix}color:{index}",
+                             (180.0 * (index + 1), 300.0), color, total)
+    return _vector_node(tree, "MINIMUM", f"{prefix}color", (180.0 * 3, 300.0), color,
+                        (1.0, 1.0, 1.0))
+
+
+def _shaders(tree, color, group_out, out_x, plain=None) -> None:
+    """The Shader outputs: an emission of *color*; where the group casts shadow rays
+    (*plain*: a callable that writes the colour without them) the Cycles Shader is that
+    emission and the Shader (what Eevee shows) the emission of the plain colour."""
+    cycles = group_out.inputs.get(shadow_rays.CYCLES_SHADER)
+    if not plain:
+        emission = _emission(tree, color, group_out, out_x)
+        if cycles is not None:  # the same shader
+            tree.links.new(emission.outputs["Emission"], cycles)
+        return
+    _emission(tree, plain(), group_out, out_x)
+    _emission(tree, color, group_out, out_x, shadow_rays.CYCLES_SHADER)
 
 
 def _stamp(tree, lights, model) -> None:
@@ -311,11 +369,12 @@ def _stamp(tree, lights, model) -> None:
     tree[light_loop.LOOP_KEY] = tree.get(light_loop.LOOP_KEY) or ""
 
 
-def _start(tree, lights):
+def _start(tree, lights, shadows=False):
     """Clear *tree*; returns (group input, group output, x of the sums' end)."""
     if tree.animation_data is not None:
         tree.animation_data_clear()
     tree.nodes.clear()
+    tree[shadow_rays.KEY] = int(bool(shadows) and shadow_rays.supported())
     tree[WORLD_KEYS] = []
     tree[LOOP_WORLD_KEYS] = []
     tree[light_loop.LOOP_KEY] = ""
@@ -341,11 +400,12 @@ THREEJS_SHADING = {"Object Color": "Diffuse Color", "Specular Color": "Specular 
                    "Normal": "Normal", "View Vector": "View Vector"}
 
 
-def _build_threejs(tree, lights, world, budget, loop=False) -> None:
+def _build_threejs(tree, lights, world, budget, loop=False, shadows=False) -> None:
     """The three.js model (docs/threejs.md): per light a light group and a three.js Phong,
     the ambient a three.js Ambient, the emissive the Irradiant Color input."""
-    group_in, group_out, out_x = _start(tree, lights)
-    shadings = []
+    group_in, group_out, out_x = _start(tree, lights, shadows)
+    shadings, lit = [], []
+    shared = shadow_rays.surface(tree, (-1800.0, 900.0)) if shadows else None
     for index, obj in enumerate(lights):
         y = -520.0 * index
         light_node = _light_node(tree, obj, (-600.0, y), "threejs", budget)
@@ -356,27 +416,32 @@ def _build_threejs(tree, lights, world, budget, loop=False) -> None:
         tree.links.new(light_node.outputs["Intensity"], shading.inputs["Intensity"])
         drivers.color(shading.inputs["Light Color"], "LIGHT", obj.data, "color")
         shadings.append(shading)
+        lit.append(_lit(tree, obj, light_node, shading, shared, (-1500.0, y)))
     ambient = _group_node(tree, "three.js Ambient", "ambient", (-300.0, 520.0))
     tree.links.new(group_in.outputs["Ambient Object Color"], ambient.inputs["Diffuse Color"])
     _drive_ambient(ambient, world)
     irradiant = group_in.outputs["Irradiant Color"]
-    _sums(tree, ambient, [irradiant] + [s.outputs["Color"] for s in shadings], shadings,
-          irradiant, group_out, out_x)
+    _sums(tree, ambient, [irradiant] + [s.outputs["Color"] for s in lit], lit,
+          irradiant, group_out, out_x,
+          shadows and (lambda: _add_chain(tree, ambient, [irradiant] + [
+              s.outputs["Color"] for s in shadings], "plain ")))
     if loop:
-        light_loop.build(tree, "threejs", group_in, group_out, irradiant, ambient.outputs["Color"])
+        light_loop.build(tree, "threejs", group_in, group_out, irradiant, ambient.outputs["Color"],
+                         shadows=shadows)
     _stamp(tree, lights, "threejs")
 
 
-def _build_x3d(tree, lights, world, budget) -> None:
+def _build_x3d(tree, lights, world, budget, shadows=False) -> None:
     """The X3D / VRML97 model (docs/x3d.md): per light an X3D light group and an X3D Light
     Terms; Diffuse = Σ diffuse light ⊗ Object Color, Specular = Σ specular light ⊗ Specular
     Color, Ambient = (the World's ambient light + Σ the lights' ambient light) ⊗ Ambient
     Object Color, Color = min(Irradiant + Ambient + Diffuse + Specular, 1)."""
-    group_in, group_out, out_x = _start(tree, lights)
+    group_in, group_out, out_x = _start(tree, lights, shadows)
     surface = _group_node(tree, "Phong Surface", "surface", (-600.0, 520.0))
     for name in ("Normal", "View Vector"):
         tree.links.new(group_in.outputs[name], surface.inputs[name])
-    terms = []
+    terms, lit = [], []
+    shared = shadow_rays.surface(tree, (-1800.0, 900.0)) if shadows else None
     for index, obj in enumerate(lights):
         y = -520.0 * index
         light_node = _light_node(tree, obj, (-600.0, y), "x3d", budget)
@@ -389,12 +454,13 @@ def _build_x3d(tree, lights, world, budget) -> None:
             tree.links.new(light_node.outputs[source], shading.inputs[target])
         drivers.color(shading.inputs["Light Color"], "LIGHT", obj.data, "color")
         terms.append(shading)
+        lit.append(_lit(tree, obj, light_node, shading, shared, (-1500.0, y)))
     world_ambient = _group_node(tree, "Phong Ambient", "ambient", (-300.0, 520.0))
     tree.links.new(group_in.outputs["Ambient Object Color"], world_ambient.inputs["Object Color"])
     _drive_ambient(world_ambient, world)
-    totals = _term_sums(tree, terms, group_out, {
-        "Diffuse": ("Diffuse Light", group_in.outputs["Object Color"]),
-        "Specular": ("Specular Light", group_in.outputs["Specular Color"])})
+    sources = {"Diffuse": ("Diffuse Light", group_in.outputs["Object Color"]),
+               "Specular": ("Specular Light", group_in.outputs["Specular Color"])}
+    totals = _term_sums(tree, lit, group_out, sources)
     ambient = world_ambient.outputs["Color"]
     lights_ambient = None
     for index, shading in enumerate(terms):
@@ -407,26 +473,25 @@ def _build_x3d(tree, lights, world, budget) -> None:
                                       group_in.outputs["Ambient Object Color"])
         ambient = _vector_node(tree, "ADD", "ambient:sum", (180.0 * (len(terms) + 1), 520.0),
                                ambient, lights_ambient)
-    color = _vector_node(tree, "ADD", "color:base", (0.0, 300.0),
-                         group_in.outputs["Irradiant Color"], ambient)
-    for index, total in enumerate(t for t in totals if t is not None):
-        color = _vector_node(tree, "ADD", f"color:{index}", (180.0 * (index + 1), 300.0),
-                             color, total)
-    color = _vector_node(tree, "MINIMUM", "color", (180.0 * 3, 300.0), color, (1.0, 1.0, 1.0))
+    base = (group_in.outputs["Irradiant Color"], ambient)
+    color = _color_sum(tree, base, totals)
     tree.links.new(color, group_out.inputs["Color"])
     tree.links.new(group_in.outputs["Irradiant Color"], group_out.inputs["Irradiant"])
     tree.links.new(ambient, group_out.inputs["Ambient"])
-    _emission(tree, color, group_out, out_x)
+    _shaders(tree, color, group_out, out_x, shadows and (lambda: _color_sum(
+        tree, base, _term_sums(tree, terms, None, sources, "plain "), "plain ")))
     _stamp(tree, lights, "x3d")
 
 
-def _emission(tree, color, group_out, out_x) -> None:
+def _emission(tree, color, group_out, out_x, output="Shader"):
+    """An Emission of *color* into *output*; returns it."""
     emission = tree.nodes.new("ShaderNodeEmission")
-    emission.name = "emission"
-    emission.location = (out_x, 300.0)
+    emission.name = "emission" if output == "Shader" else "emission:cycles"
+    emission.location = (out_x, 300.0 if output == "Shader" else 100.0)
     emission.inputs["Strength"].default_value = 1.0
     tree.links.new(color, emission.inputs["Color"])
-    tree.links.new(emission.outputs["Emission"], group_out.inputs["Shader"])
+    tree.links.new(emission.outputs["Emission"], group_out.inputs[output])
+    return emission
 
 
 def _interface(tree) -> None:
@@ -596,22 +661,26 @@ def _vector_node(tree, operation, name, location, a, b):
     return node.outputs["Vector"]
 
 
-def _term_sums(tree, shadings, group_out, sources=None) -> list:
+def _term_sums(tree, shadings, group_out, sources=None, prefix="") -> list:
     """The Diffuse and Specular outputs: the sums of the shadings' terms (black without a
     light); *sources* maps a term to (the shadings' output, a colour socket the sum is
-    multiplied by), default (the term, none).  Returns the two sums (None without a light)."""
+    multiplied by), default (the term, none).  Returns the two sums (None without a light);
+    *group_out* None: the outputs are not linked (the sums without shadows); *prefix*: of
+    the nodes' names."""
     totals = []
     for row, term in enumerate(("Diffuse", "Specular")):
         output, color = (sources or {}).get(term, (term, None))
         total = None
         for index, shading in enumerate(shadings):
             total = shading.outputs[output] if total is None else _vector_node(
-                tree, "ADD", f"{term.lower()}:{index}", (180.0 * index, -200.0 - 160.0 * row),
-                total, shading.outputs[output])
+                tree, "ADD", f"{prefix}{term.lower()}:{index}",
+                (180.0 * index, -200.0 - 160.0 * row), total, shading.outputs[output])
         if total is not None and color is not None:
-            total = _vector_node(tree, "MULTIPLY", f"{term.lower()}:color",
+            total = _vector_node(tree, "MULTIPLY", f"{prefix}{term.lower()}:color",
                                  (180.0 * len(shadings), -200.0 - 160.0 * row), total, color)
-        if total is None:  # no light
+        if group_out is None:
+            pass
+        elif total is None:  # no light
             group_out.inputs[term].default_value = (0.0, 0.0, 0.0, 1.0)
         else:
             tree.links.new(total, group_out.inputs[term])
@@ -619,19 +688,27 @@ def _term_sums(tree, shadings, group_out, sources=None) -> list:
     return totals
 
 
-def _sums(tree, ambient, parts, shadings, irradiant, group_out, out_x) -> None:
-    """The three.js model's outputs. Color: the Phong Color Add chain of the ambient's colour
-    and *parts*; Diffuse and Specular: the sums of the shadings' terms (black without one);
-    Irradiant: *irradiant*; Ambient: the ambient node's; Shader: an emission of Color."""
-    links = tree.links
+def _add_chain(tree, ambient, parts, prefix=""):
+    """The Phong Color Add chain of the ambient's colour and *parts*."""
     color = ambient.outputs["Color"]
     for index, part in enumerate(parts):
-        add = _group_node(tree, "Phong Color Add", f"add:{index}", (180.0 * index, 300.0))
-        links.new(color, add.inputs["A"])
-        links.new(part, add.inputs["B"])
+        add = _group_node(tree, "Phong Color Add", f"{prefix}add:{index}",
+                          (180.0 * index, 300.0))
+        tree.links.new(color, add.inputs["A"])
+        tree.links.new(part, add.inputs["B"])
         color = add.outputs["Color"]
+    return color
+
+
+def _sums(tree, ambient, parts, shadings, irradiant, group_out, out_x, plain=None) -> None:
+    """The three.js model's outputs. Color: the Phong Color Add chain of the ambient's colour
+    and *parts*; Diffuse and Specular: the sums of the shadings' terms (black without one);
+    Irradiant: *irradiant*; Ambient: the ambient node's; Shader: an emission of Color (with
+    shadow rays: *plain* writes the colour without them, ``_shaders``)."""
+    links = tree.links
+    color = _add_chain(tree, ambient, parts)
     links.new(color, group_out.inputs["Color"])
     links.new(irradiant, group_out.inputs["Irradiant"])
     links.new(ambient.outputs["Color"], group_out.inputs["Ambient"])
     _term_sums(tree, shadings, group_out)
-    _emission(tree, color, group_out, out_x)
+    _shaders(tree, color, group_out, out_x, plain)

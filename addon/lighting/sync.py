@@ -21,7 +21,7 @@ from bpy.app.handlers import persistent
 from .. import compat
 from . import lights as lights_mod
 from . import loop as light_loop
-from . import materials, rig, world_copies
+from . import materials, rig, shadows, world_copies
 
 
 class Sync:
@@ -311,7 +311,8 @@ def on_depsgraph_update(scene, depsgraph=None):
     # 5.3+: a Phong term pass appeared on a view layer (added by hand): the materials need
     # their AOV outputs, so the groups lose the loop part.  Not the other way round: without
     # the passes the materials still render right (Apply or Relink brings the loop back).
-    passes = rig.wants_term_passes(scene) and any(light_loop.has_loop(t) for t in groups)
+    passes = rig.wants_term_passes(scene) and any(
+        light_loop.has_loop(t) or shadows.has_shadows(t) for t in groups)
     view_layer = depsgraph.view_layer if depsgraph is not None else None
     key = scene.as_pointer()
     structure = depsgraph is None or any(depsgraph.id_type_updated(kind)
@@ -359,8 +360,10 @@ def upgrade_on_load(*_args):
         if scene.library is not None:
             continue
         loop = light_loop.stamp(rig.model_of(scene)) if rig.wants_loop(scene) else ""
+        rays = rig.wants_shadows(scene)
         if not any(int(t.get(rig.VERSION_KEY, 0)) < rig.RIG_VERSION
-                   or (t.get(light_loop.LOOP_KEY) or "") != loop for t in rig.groups_of(scene)):
+                   or (t.get(light_loop.LOOP_KEY) or "") != loop
+                   or shadows.has_shadows(t) != rays for t in rig.groups_of(scene)):
             continue
         _BUSY.append(True)
         try:

@@ -6,7 +6,10 @@ group that has fallen out of step with the scene shows as a mismatch.  Per light
 world matrix (position, -Z axis) of the evaluated object (parents, constraints, drivers and
 animation at the current frame), the light's colour and Phong settings, the spot's cone;
 per object with a Phong material: the lights that reach it under Light Linking; the
-World's Phong ambient light.
+World's Phong ambient light.  Where the scene's lights groups cast shadow rays
+(``lighting/shadows.py``) and a light casts shadows: "triangles", the evaluated triangles of
+every object the shadow rays can meet, in world space, read once (numpy, (T, 3, 3)), for the
+reference's visibility (``node_groups/reference.py``).
 """
 
 from __future__ import annotations
@@ -14,9 +17,13 @@ from __future__ import annotations
 import json
 import math
 
+import numpy as np
+
 from ...core import outputs
 from ..lighting import lights as lights_mod
-from ..lighting import materials, properties, rig
+from .. import compat
+from ..lighting import materials, properties, rig, shadows
+from . import render
 
 #: Custom property on a scene built from a scene file (``demos/builder.py``): the file's dict
 #: (JSON); the comparison takes its title, source and description from it.
@@ -69,7 +76,11 @@ def describe(scene, view_layer, objects) -> dict:
     rules = [lights_mod.receivers(obj) for obj in lights]
     data = scene_file(scene) or {}
     width, height = scene.render.resolution_x, scene.render.resolution_y
-    return {
+    rays = any(shadows.has_shadows(tree) for tree in rig.groups_of(scene))
+    described = [_light(obj.evaluated_get(depsgraph)) for obj in lights]
+    for light, obj in zip(described, lights):
+        light["shadows"] = bool(rays and obj.data.use_shadow)
+    out = {
         "name": folder_name(scene),
         "title": data.get("title") or f"Scene {scene.name!r}",
         "source": data.get("source", ""),
@@ -77,7 +88,7 @@ def describe(scene, view_layer, objects) -> dict:
         "aspect": width / height,
         "model": rig.model_of(scene),
         "ambient": _ambient(scene.world),
-        "lights": [_light(obj.evaluated_get(depsgraph)) for obj in lights],
+        "lights": described,
         "objects": [{
             "name": obj.name,
             "lights": [k for k, rule in enumerate(rules) if lights_mod.reaches(rule, obj)],
@@ -92,6 +103,57 @@ def describe(scene, view_layer, objects) -> dict:
         } for obj in objects],
         "light_names": [obj.name for obj in lights],
     }
+    if any(light["shadows"] for light in described):
+        out["triangles"] = triangles(view_layer, depsgraph)
+        out["eevee_shadows"] = render.eevee_shadows(scene)  # else Eevee is compared without
+    return out
+
+
+def triangles(view_layer, depsgraph) -> np.ndarray:
+    """The world-space triangles (T, 3, 3) of every object of *view_layer* that Cycles' shadow
+    rays can meet (``compat.blocks_raycast``), as evaluated (modifiers, animation), instances
+    (collection instances, particles, geometry nodes) included."""
+    kinds = ("MESH", "CURVE", "SURFACE", "META", "FONT", "CURVES")
+    local = {}  # an object's triangles in its own space, once however often it is instanced
+    parts = []
+    for inst in depsgraph.object_instances:
+        obj = inst.object
+        original = obj.original
+        if obj.type not in kinds or not compat.blocks_raycast(original):
+            continue
+        if not inst.is_instance and (original.hide_render
+                                     or not lights_mod.visible(original, view_layer)):
+            continue
+        key = obj.name_full if not inst.is_instance else (obj.name_full, "instance")
+        if key not in local:
+            local[key] = _local_triangles(obj)
+        corners = local[key]
+        if len(corners):
+            matrix = np.array(inst.matrix_world, np.float64)
+            parts.append(corners @ matrix[:3, :3].T + matrix[:3, 3])
+    return np.concatenate(parts) if parts else np.zeros((0, 3, 3))
+
+
+def _local_triangles(obj) -> np.ndarray:
+    """The triangles (T, 3, 3) of the evaluated object *obj* in its own space."""
+    try:
+        mesh = obj.to_mesh()
+    except RuntimeError:
+        return np.zeros((0, 3, 3))
+    if mesh is None:
+        return np.zeros((0, 3, 3))
+    try:
+        mesh.calc_loop_triangles()
+        count = len(mesh.loop_triangles)
+        if not count:
+            return np.zeros((0, 3, 3))
+        corners = np.empty(count * 3, np.int64)
+        mesh.loop_triangles.foreach_get("vertices", corners)
+        co = np.empty(len(mesh.vertices) * 3, np.float64)
+        mesh.vertices.foreach_get("co", co)
+        return co.reshape(-1, 3)[corners].reshape(-1, 3, 3)
+    finally:
+        obj.to_mesh_clear()
 
 
 def _ambient(world) -> dict:

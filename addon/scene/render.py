@@ -14,6 +14,8 @@ import os
 import bpy
 
 from .. import compat
+from ..lighting import loop as light_loop
+from ..lighting import rig, shadows
 
 
 class Overrides:
@@ -94,8 +96,18 @@ def exact(scene, engine: str, set_=setattr) -> None:
         set_(scene.eevee, "taa_render_samples", 1)
         _set_all(scene.render, {"filter_size": 0.0, "use_high_quality_normals": True}, set_)
         _set_all(scene.eevee, {attr: False for attr in _EEVEE_OFF}, set_)
+        if eevee_shadows(scene):  # the light loop's Shadow Raycast reads the shadow maps
+            _set_all(scene.eevee, {"use_shadows": True, "shadow_resolution_scale": 1.0,
+                                   "shadow_ray_count": 1, "shadow_step_count": 16}, set_)
     else:
         raise ValueError(f"unknown engine {engine!r}: expected 'cycles' or 'eevee'")
+
+
+def eevee_shadows(scene) -> bool:
+    """Whether Eevee shows shadows on *scene*'s Phong materials: a lights group of it has the
+    loop part with its Shadow Raycast (Blender 5.3+, ``lighting/loop.py``)."""
+    return any(light_loop.has_loop(tree) and shadows.has_shadows(tree)
+               for tree in rig.groups_of(scene))
 
 
 def render_exr(scene, path: str, set_=setattr) -> None:

@@ -21,7 +21,7 @@ from ..scene import describe
 from ...core import mtl
 from ...core import threejs
 from ..interchange import mtl_export, obj_import, threejs_export
-from ..lighting import loop, materials, rig
+from ..lighting import loop, materials, rig, shadows
 from ..lighting import sync as sync_mod
 
 
@@ -236,7 +236,8 @@ compositor"""
     def execute(self, context):
         layer = context.view_layer
         added = materials.add_view_layer_aovs(layer, materials.AOVS)
-        if added and any(loop.has_loop(t) for t in rig.groups_of(context.scene)):
+        if added and any(loop.has_loop(t) or shadows.has_shadows(t)
+                         for t in rig.groups_of(context.scene)):
             sync_mod.relink_scene(context.scene, layer)  # 5.3+: the materials write them again
         self.report({"INFO"}, f"Phong passes on view layer {layer.name!r}: "
                               + (", ".join(added) if added else "all there already"))

@@ -3,7 +3,7 @@
 
 import bpy
 
-from ..lighting import properties
+from ..lighting import properties, rig, shadows
 from ..lighting.lights import SUPPORTED
 from ..lighting.materials import OPACITY, is_phong_material
 from .operators import (PHONG_OT_add_term_passes, PHONG_OT_apply_material,
@@ -42,6 +42,9 @@ class DATA_PT_phong_light(bpy.types.Panel):
             layout.label(text="Cut-off angle: half the spot size", icon="INFO")
         layout.label(text="Colour, position, direction and spot size come from the light",
                      icon="INFO")
+        layout.prop(light, "use_shadow", text="Cast Shadow")  # Blender's own switch
+        for line in shadows.notes(model, rig.wants_shadows(scene), rig.wants_loop(scene)):
+            layout.label(text=line, icon="INFO")
         layout.operator(PHONG_OT_relink_lights.bl_idname, icon="FILE_REFRESH")
 
 

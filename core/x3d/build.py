@@ -322,6 +322,7 @@ class _Reader(_Files, _Fields, _Protos, _Geometry):
         kind = _LIGHTS[t]
         light = Light(kind=kind, name=n.name or "")
         light.on = self.flag(n, "on", True)
+        light.shadows = self.flag(n, "shadows", False)
         light.intensity = self.num(n, "intensity", 1.0)
         light.ambient_intensity = self.num(n, "ambientIntensity", 0.0)
         light.color = self.vec(n, "color", (1.0, 1.0, 1.0))

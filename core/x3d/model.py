@@ -236,6 +236,7 @@ class Light:
     beam_width: float = SPOT_DEFAULTS["x3d"][0]
     cut_off_angle: float = SPOT_DEFAULTS["x3d"][1]
     is_global: bool = True
+    shadows: bool = False           # X3D 3.2+: the light casts shadows (VRML97 has none)
 
 
 @dataclass(eq=False)

@@ -75,14 +75,15 @@ def light_values(doc: Document, light: Light) -> dict:
     1/max(a0 + a1'·d' + a2'·d'², 1) with d' = d·meter: a1' = a1/m, a2' = a2/m²; radius × m;
     beamWidth and cutOffAngle in radians (the half-angles of the cone: full intensity inside
     beamWidth, none beyond cutOffAngle, a linear ramp between as X3D says); ambient intensity
-    and ``global`` as read."""
+    and ``global`` as read; ``shadows`` (default false: X3D's lights cast none unless a file
+    says so)."""
     m = doc.meter
     a0, a1, a2 = light.attenuation
     return {"kind": light.kind, "on": light.on, "intensity": light.intensity,
             "ambient_intensity": light.ambient_intensity, "color": tuple(light.color),
             "attenuation": (a0, a1 / m, a2 / (m * m)), "radius": light.radius * m,
             "beam_width": light.beam_width, "cut_off_angle": light.cut_off_angle,
-            "global": light.is_global}
+            "global": light.is_global, "shadows": bool(light.shadows)}
 
 
 def counter_clockwise(mesh: Mesh) -> Mesh:

@@ -460,6 +460,8 @@ class _Emit:
             w.add("cutOffAngle", "float", light.cut_off_angle)
         if self.x3d:
             w.add("global", "bool", bool(light.is_global))
+            if light.shadows:  # X3D 3.2+; FALSE, the default, is not written
+                w.add("shadows", "bool", True)
         return w
 
     def viewpoint(self, vp: Viewpoint):

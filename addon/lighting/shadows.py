@@ -1,0 +1,182 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Shadows: each light's visibility at the shaded point, per engine and release (issue 43).
+
+The model with shadows is "Phong plus shadow rays": each light's diffuse and specular terms
+times its visibility V, 1 unless the segment from the shaded point P to a point or spot
+light's position (a sun: the ray from P toward the sun, opposite to its direction) meets a
+shadow-casting object, the receiver itself included, then 0.  The ambient and irradiant
+light are not shadowed, nor an X3D light's own ambient.  Hard shadows from the light's centre:
+a light's Radius / Angle does not soften them.  A light whose Blender **Cast Shadow**
+(``light.use_shadow``) is off casts none; the switch is read by a driver (``v * -1.0``,
+Blender's own simple expression: no Python), so toggling it renders as a moved light does.
+
+Cycles (Blender 5.1+, ``compat.HAS_RAYCAST``): per light a Raycast node in the lights group
+(``visibility``), from P moved along the true normal, to the light's side of the surface, by
+``OFFSET`` · (1 + max |P|) (from P itself the node skips only the shading triangle: acne
+along the diagonals of a finely split floor; 1e-3 lets light leak), toward the light with
+Length 1 in units of the direction (the direction is the segment itself; lights are never
+hit), or a sun's direction with Length ``SUN_LENGTH``.  The node honours an object's Ray
+Visibility ▸ Ray Cast on 5.3 (``visible_raycast``; 5.2: only an object with every ray
+visibility off is skipped), not Ray Visibility ▸ Shadow (``visible_shadow``) nor Light
+Linking's shadow blockers; a transparent (Opacity below 1) caster blocks the light.
+
+Eevee never evaluates a Raycast node (its node is screen space only): a lights group with
+shadows shows them through its output "Cycles Shader" (the material's Material Output of
+target CYCLES), and Eevee the group's Shader without shadows, or on 5.3 the light loop
+(``loop.py``).  A group gets shadows where no Phong term pass is on a view layer of its scene
+(the AOV outputs would make Eevee evaluate the group's terms: ``rig.wants_shadows``).
+"""
+
+from __future__ import annotations
+
+from .. import compat
+from . import drivers
+
+#: Custom property of a lights group built with shadow rays (1) or without (0).
+KEY = "phong_lights_shadows"
+#: The output of a lights group that Cycles shows (the Shader with shadows).
+CYCLES_SHADER = "Cycles Shader"
+#: The ray's origin moves this far along the true normal, times 1 + max |P| (measured: no
+#: acne on a 40 × 40 floor at every scene scale tried; 1e-3 leaks light).
+OFFSET = 1.0e-5
+#: A sun's ray length (in units of its unit direction): "to infinity" within float range.
+SUN_LENGTH = 1.0e8
+#: Names of the nodes written here (under their light's name).
+PREFIX = "shadow:"
+
+
+def supported() -> bool:
+    """Whether this Blender casts the shadow rays (Cycles' Raycast node: 5.1+)."""
+    return compat.HAS_RAYCAST
+
+
+def notes(model: str, rays: bool, loop: bool) -> list:
+    """What the light panel says of shadows in a scene of *model* whose lights groups cast
+    shadow rays (*rays*: ``rig.wants_shadows``) with or without Eevee's light loop (*loop*:
+    ``rig.wants_loop``)."""
+    if not supported():
+        return ["Phong shadows need Blender 5.2+ (Cycles) or 5.3+ (Eevee)"]
+    if not rays:
+        return ["No Phong shadows while a Phong term pass is on a view layer"]
+    lines = ["Phong shadows: hard, from the light's centre (Radius ignored)"]
+    if not loop:
+        why = "the X3D model" if model == "x3d" else "Blender before 5.3"
+        lines.append(f"Phong shadows in Cycles only ({why}): Eevee shows none")
+    lines.append("Cycles: casters by Ray Visibility ▸ Ray Cast, not Shadow"
+                 if compat.RAYCAST_VISIBILITY else
+                 "Cycles: every object casts unless all its ray visibility is off")
+    return lines
+
+
+def has_shadows(tree) -> bool:
+    """Whether the lights group *tree* was built with shadow rays."""
+    return tree is not None and compat.HAS_RAYCAST and bool(tree.get(KEY))
+
+
+def _node(tree, kind, name, location, operation=None):
+    node = tree.nodes.new(kind)
+    node.name = node.label = PREFIX + name
+    node.location = location
+    if operation is not None:
+        node.operation = operation
+    return node
+
+
+def _vector(tree, operation, name, location, a, b=None, scale=None):
+    node = _node(tree, "ShaderNodeVectorMath", name, location, operation)
+    tree.links.new(a, compat.input_socket(node, "Vector"))
+    if b is not None:
+        tree.links.new(b, compat.input_socket(node, "Vector_001"))
+    if scale is not None:
+        tree.links.new(scale, compat.input_socket(node, "Scale"))
+    return compat.output_socket(node, "Value" if operation == "DOT_PRODUCT" else "Vector")
+
+
+def _math(tree, operation, name, location, a, b=None, c=None):
+    node = _node(tree, "ShaderNodeMath", name, location, operation)
+    for key, source in (("Value", a), ("Value_001", b), ("Value_002", c)):
+        if source is None:
+            continue
+        if isinstance(source, float):
+            compat.input_socket(node, key).default_value = source
+        else:
+            tree.links.new(source, compat.input_socket(node, key))
+    return node
+
+
+def surface(tree, location) -> dict:
+    """The shaded point's nodes every light's ray shares: {"P": Position, "Ng": True Normal,
+    "offset": OFFSET · (1 + max |P|)}."""
+    x, y = location
+    geometry = _node(tree, "ShaderNodeNewGeometry", "geometry", (x, y))
+    position = compat.output_socket(geometry, "Position")
+    absolute = _vector(tree, "ABSOLUTE", "abs", (x + 180.0, y), position)
+    split = _node(tree, "ShaderNodeSeparateXYZ", "xyz", (x + 360.0, y))
+    tree.links.new(absolute, compat.input_socket(split, "Vector"))
+    top = _math(tree, "MAXIMUM", "max xy", (x + 540.0, y), compat.output_socket(split, "X"),
+                compat.output_socket(split, "Y"))
+    top = _math(tree, "MAXIMUM", "max", (x + 720.0, y), compat.output_socket(top, "Value"),
+                compat.output_socket(split, "Z"))
+    offset = _math(tree, "MULTIPLY_ADD", "offset", (x + 900.0, y),
+                   compat.output_socket(top, "Value"), OFFSET, OFFSET)
+    return {"P": position, "Ng": compat.output_socket(geometry, "True Normal"),
+            "offset": compat.output_socket(offset, "Value")}
+
+
+def visibility(tree, obj, light_node, shared, location):
+    """The visibility V (a float socket: 1 lit, 0 in shadow) of the light *obj* at the shaded
+    point, from its light group node *light_node* (Light Vector, and Distance for a point or
+    spot light) and *shared* (``surface``); Cast Shadow off: 1 everywhere."""
+    x, y = location
+    name = obj.name
+    ell = light_node.outputs["Light Vector"]
+    side = _math(tree, "SIGN", f"{name}:side", (x, y),
+                 _vector(tree, "DOT_PRODUCT", f"{name}:ng.l", (x - 180.0, y), shared["Ng"], ell))
+    amount = _math(tree, "MULTIPLY", f"{name}:amount", (x + 180.0, y),
+                   compat.output_socket(side, "Value"), shared["offset"])
+    offset = _vector(tree, "SCALE", f"{name}:offset", (x + 360.0, y), shared["Ng"],
+                     scale=compat.output_socket(amount, "Value"))
+    origin = _vector(tree, "ADD", f"{name}:origin", (x + 540.0, y), shared["P"], offset)
+    ray = _node(tree, "ShaderNodeRaycast", f"{name}:ray", (x + 900.0, y))
+    tree.links.new(origin, compat.input_socket(ray, "Position"))
+    if obj.data.type in ("POINT", "SPOT"):  # the segment from the origin to the light
+        reach = _vector(tree, "SCALE", f"{name}:reach", (x + 540.0, y - 160.0), ell,
+                        scale=light_node.outputs["Distance"])
+        direction = _vector(tree, "SUBTRACT", f"{name}:segment", (x + 720.0, y - 160.0),
+                            reach, offset)
+        compat.input_socket(ray, "Length").default_value = 1.0
+    else:  # a sun: toward it, as far as floats go
+        direction = ell
+        compat.input_socket(ray, "Length").default_value = SUN_LENGTH
+    tree.links.new(direction, compat.input_socket(ray, "Direction"))
+    seen = _math(tree, "MULTIPLY_ADD", f"{name}:visible", (x + 1100.0, y),
+                 compat.output_socket(ray, "Is Hit"), -1.0, 1.0)
+    drivers.prop(compat.input_socket(seen, "Value_001"), None, "LIGHT", obj.data, "use_shadow",
+                 scale=-1.0)
+    return compat.output_socket(seen, "Value")
+
+
+class Lit:
+    """A light's terms node seen through its visibility: ``outputs[name]`` is the node's
+    output times V (one Vector Math node each, made when first asked), except the outputs
+    in *unshadowed* (an X3D light's ambient light), which are the node's own."""
+
+    def __init__(self, tree, terms, visible, unshadowed=()):
+        self.node = terms
+        self.outputs = _Scaled(tree, terms, visible, frozenset(unshadowed))
+
+
+class _Scaled:
+    def __init__(self, tree, terms, visible, unshadowed):
+        self.tree, self.terms, self.visible, self.unshadowed = tree, terms, visible, unshadowed
+        self.made = {}
+
+    def __getitem__(self, name):
+        if name in self.unshadowed:
+            return self.terms.outputs[name]
+        if name not in self.made:
+            x, y = self.terms.location
+            self.made[name] = _vector(self.tree, "SCALE", f"{self.terms.name}:{name}",
+                                      (x + 220.0, y - 120.0 * len(self.made)),
+                                      self.terms.outputs[name], scale=self.visible)
+        return self.made[name]

@@ -1,0 +1,533 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Shadows (issue 43).
+
+* Nothing else loses its shadows: on Blender 5.3 the lights that drive Phong materials get a
+  custom influence distance for Eevee's light loop (``compat.LOOP_LIGHT_DISTANCE``); from
+  5,000 m on Eevee drops those lights' shadows for every material.  A Principled scene keeps
+  its Eevee shadows after Apply Phong Material ran on another object of it.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+
+import numpy as np
+import pytest
+
+import blender_env as be
+from blender_env import report
+
+SIZE = 48
+
+
+def _light(bpy, scene, name, kind, location, rotation=(0.0, 0.0, 0.0)):
+    data = bpy.data.lights.new(name, kind)
+    obj = bpy.data.objects.new(name, data)
+    scene.collection.objects.link(obj)
+    obj.location = location
+    obj.rotation_euler = rotation
+    return obj
+
+
+def _principled(bpy, name, color):
+    material = bpy.data.materials.new(name)
+    be.compat().new_material_tree(material)
+    material.node_tree.nodes["Principled BSDF"].inputs["Base Color"].default_value = (
+        *color, 1.0)
+    return material
+
+
+def _render(bpy, scene, path):
+    be.render_exr(scene, path)
+    return be.read_multilayer_exr(path)["Combined"][..., :3].astype(np.float64)
+
+
+def _principled_scene(bpy):
+    """A floor and a cube of Principled materials under a point light and a spot (Eevee,
+    shadows on), seen from above; a third object, out of the camera's view, to Apply."""
+    scene = be.new_scene("Keep shadows", SIZE, SIZE, "eevee")
+    bpy.context.window.scene = scene
+    scene.eevee.use_shadows = True
+    be.add_ortho_camera(scene, (0.0, 0.0), 6.0, 6.0)
+    floor = be.add_quad(scene, "Floor", -4, -4, 4, 4)
+    floor.data.materials.append(_principled(bpy, "Floor grey", (0.7, 0.7, 0.7)))
+    cube = be.add_uv_sphere(scene, "Ball", (0.0, 0.0, 1.0), 0.8,
+                            _principled(bpy, "Ball red", (0.8, 0.2, 0.2)), segments=24, rings=12)
+    other = be.add_uv_sphere(scene, "Elsewhere", (30.0, 0.0, 1.0), 0.5,
+                             _principled(bpy, "Elsewhere blue", (0.2, 0.2, 0.8)),
+                             segments=8, rings=4)
+    point = _light(bpy, scene, "Point", "POINT", (1.5, 1.0, 4.0))
+    spot = _light(bpy, scene, "Spot", "SPOT", (-1.5, -1.0, 4.0), (0.3, -0.3, 0.0))
+    spot.data.spot_size = math.radians(90.0)
+    for obj in (point, spot):
+        obj.data.energy = 400.0
+        obj.data.shadow_soft_size = 0.0
+    return scene, (floor, cube, other), (point, spot)
+
+
+def _shadowed(lit, unshadowed):
+    """Pixels darker by more than 0.05 (RGB sum) than without shadows: in the shadow of a
+    light (each of the two lights gives a floor pixel about half its light)."""
+    return lit.sum(axis=-1) < unshadowed.sum(axis=-1) - 0.05
+
+
+@pytest.mark.eevee
+def test_apply_keeps_the_scene_s_eevee_shadows(bpy_clean, blender_tmp):
+    """The shadowed pixels of a Principled floor under a ball, lit by a point light and a
+    spot, are the same before and after Apply Phong Material ran on an object out of view;
+    the lights' custom distance is at most 3,000 m on 5.3 and untouched before."""
+    bpy = bpy_clean
+    compat = be.compat()
+    scene, (_floor, _ball, other), lights = _principled_scene(bpy)
+    before = _render(bpy, scene, str(blender_tmp / "keep_before.exr"))
+    for obj in lights:
+        obj.data.use_shadow = False
+    unshadowed = _render(bpy, scene, str(blender_tmp / "keep_unshadowed.exr"))
+    for obj in lights:
+        obj.data.use_shadow = True
+    distances = [(o.data.use_custom_distance, o.data.cutoff_distance) for o in lights]
+    for obj in scene.objects:
+        obj.select_set(obj is other)
+    bpy.context.view_layer.objects.active = other
+    assert bpy.ops.phong.apply_material() == {"FINISHED"}
+    assert other.active_material.get("phong_nodes_material")
+    after = _render(bpy, scene, str(blender_tmp / "keep_after.exr"))
+    shadowed_before = _shadowed(before, unshadowed)
+    shadowed_after = _shadowed(after, unshadowed)
+    diff = np.abs(after - before).max(axis=-1)
+    report(f"[keep shadows] {int(shadowed_before.sum())} shadowed px before Apply, "
+           f"{int(shadowed_after.sum())} after; max change {diff.max():.2e}, "
+           f"{int((diff > 1.0 / 255.0).sum())} px beyond 1/255")
+    assert shadowed_before.sum() > 0.03 * shadowed_before.size, "the ball casts shadows"
+    assert shadowed_after.sum() == shadowed_before.sum()
+    assert (shadowed_after == shadowed_before).all()
+    if compat.HAS_LIGHT_LOOP:
+        for obj in lights:
+            assert obj.data.use_custom_distance
+            assert obj.data.cutoff_distance <= 3000.0
+    else:
+        assert [(o.data.use_custom_distance, o.data.cutoff_distance) for o in lights] == distances
+
+
+def test_an_earlier_version_s_distance_comes_down(bpy_clean):
+    """A light given 10⁴ m by an earlier version (shadows gone in Eevee) is set to the
+    distance that keeps them when the extension writes its settings again."""
+    bpy = bpy_clean
+    compat = be.compat()
+    if not compat.HAS_LIGHT_LOOP:
+        pytest.skip("no custom distance before Blender 5.3 (no light loop)")
+    from phong_nodes.addon.lighting import loop, properties  # noqa: PLC0415
+
+    light = bpy.data.lights.new("Old", "POINT")
+    properties.ensure_light_props(light)
+    light.use_custom_distance = True
+    light.cutoff_distance = 1.0e4
+    loop.write_parameters(light)
+    assert light.cutoff_distance == 3000.0
+
+
+# -- the reference's visibility (pure) ---------------------------------------------------------
+
+def _ref():
+    from phong_nodes.node_groups import reference  # noqa: PLC0415
+
+    return reference
+
+
+#: One triangle at z = 1 over the unit square's lower-left half.
+TRIANGLE = np.array([[[0.0, 0.0, 1.0], [1.0, 0.0, 1.0], [0.0, 1.0, 1.0]]])
+
+
+def test_visibility_of_a_point_light_by_hand():
+    """Points on z = 0 under a triangle at z = 1: a light above the triangle is hidden from
+    the points under it (the segment crosses z = 1 inside the triangle), seen from the others
+    and from every point when it hangs below the triangle (the segment stops before)."""
+    points = np.array([[0.2, 0.2, 0.0], [0.8, 0.8, 0.0], [2.0, 0.1, 0.0], [0.1, 0.3, 0.0]])
+    above = {"type": "point", "position": [0.25, 0.25, 3.0], "shadows": True}
+    # by hand: the segment from (x, y, 0) to (0.25, 0.25, 3) meets z = 1 at
+    # (x + (0.25 - x)/3, y + (0.25 - y)/3): (0.217, 0.217) in, (0.617, 0.617) out (u+v > 1),
+    # (1.417, 0.15) out, (0.15, 0.283) in
+    assert _ref().visibility(points, above, TRIANGLE).tolist() == [0.0, 1.0, 1.0, 0.0]
+    below = dict(above, position=[0.25, 0.25, 0.5])
+    assert _ref().visibility(points, below, TRIANGLE).tolist() == [1.0] * 4
+    assert _ref().visibility(points, dict(above, shadows=False), TRIANGLE).tolist() == [1.0] * 4
+
+
+def test_visibility_of_a_sun_and_of_the_surface_itself():
+    """A sun shining straight down: hidden under the triangle, whatever its distance; a point
+    on the triangle itself is not its own shadow."""
+    sun = {"type": "directional", "direction": [0.0, 0.0, -1.0], "shadows": True}
+    points = np.array([[0.3, 0.3, -50.0], [0.3, 0.3, 0.0], [0.9, 0.9, 0.0], [0.3, 0.3, 1.0]])
+    assert _ref().visibility(points, sun, TRIANGLE).tolist() == [0.0, 0.0, 1.0, 1.0]
+    slanted = dict(sun, direction=[-1.0, 0.0, -1.0])  # rays travel toward -x: light from +x
+    # from (x, 0.3, 0) the ray toward the sun (+x, +z) meets z = 1 at (x + 1, 0.3): inside
+    # (x + 1 + 0.3 <= 1) for x = -0.8, outside for x = 0
+    hits = _ref().visibility(np.array([[-0.8, 0.3, 0.0], [0.0, 0.3, 0.0]]), slanted, TRIANGLE)
+    assert hits.tolist() == [0.0, 1.0]
+
+
+def test_shadow_edge_marks_both_sides():
+    from phong_nodes.core import compare  # noqa: PLC0415
+
+    lit = np.array([[1.0, 1.0, 0.0, 0.0], [1.0, 1.0, 1.0, np.nan]])
+    # (0, 2) is 0 beside a 1 on its left and below; (0, 3)'s neighbours are 0 and no surface
+    assert compare.shadow_edge(lit).tolist() == [[False, True, True, False],
+                                                 [False, False, True, False]]
+
+
+# -- Cycles: Phong plus shadow rays ---------------------------------------------------------
+
+def _grid(bpy, scene, name, half, cells):
+    """A floor [-half, half]² at z = 0 of cells × cells quads (normal +Z)."""
+    xs = np.linspace(-half, half, cells + 1)
+    verts = [(x, y, 0.0) for y in xs for x in xs]
+    faces = [(j * (cells + 1) + i, j * (cells + 1) + i + 1, (j + 1) * (cells + 1) + i + 1,
+              (j + 1) * (cells + 1) + i) for j in range(cells) for i in range(cells)]
+    mesh = bpy.data.meshes.new(name)
+    mesh.from_pydata(verts, [], faces)
+    obj = bpy.data.objects.new(name, mesh)
+    scene.collection.objects.link(obj)
+    return obj
+
+
+def _cube(bpy, scene, name, center, half):
+    c = np.array(center)
+    verts = [tuple(c + half * np.array(v)) for v in
+             ((-1, -1, -1), (1, -1, -1), (1, 1, -1), (-1, 1, -1),
+              (-1, -1, 1), (1, -1, 1), (1, 1, 1), (-1, 1, 1))]
+    faces = [(0, 3, 2, 1), (4, 5, 6, 7), (0, 1, 5, 4), (1, 2, 6, 5), (2, 3, 7, 6), (3, 0, 4, 7)]
+    mesh = bpy.data.meshes.new(name)
+    mesh.from_pydata(verts, [], faces)
+    obj = bpy.data.objects.new(name, mesh)
+    scene.collection.objects.link(obj)
+    return obj
+
+
+def _shadow_scene(bpy, size=64, cells=40):
+    """A floor of cells × cells quads, a sphere and a cube over it, a point light, a spot and
+    a sun, all casting shadows; Apply Phong Material on the three (no term pass: shadow
+    rays)."""
+    scene = be.new_scene("Shadows", size, size, "cycles")
+    bpy.context.window.scene = scene
+    scene.world.phong.ambient_intensity = 0.05
+    be.add_ortho_camera(scene, (0.0, 0.0), 8.0, 8.0)
+    floor = _grid(bpy, scene, "Floor", 4.0, cells)
+    ball = be.add_uv_sphere(scene, "Ball", (-1.0, 0.8, 1.0), 0.8,
+                            _principled(bpy, "Ball blue", (0.3, 0.5, 0.8)), segments=32,
+                            rings=16)
+    box = _cube(bpy, scene, "Box", (1.2, -1.0, 0.7), 0.6)
+    point = _light(bpy, scene, "Point", "POINT", (2.0, 1.5, 4.0))
+    spot = _light(bpy, scene, "Spot", "SPOT", (-2.5, -2.0, 4.5), (0.45, -0.5, 0.0))
+    spot.data.spot_size = math.radians(100.0)
+    sun = _light(bpy, scene, "Sun", "SUN", (0.0, 0.0, 5.0), (0.5, 0.4, 0.0))
+    point.data.phong.intensity = 9.0
+    spot.data.phong.intensity = 12.0
+    sun.data.phong.intensity = 0.35
+    for obj in (point, spot, sun):
+        assert obj.data.use_shadow, "Blender's lights cast shadows by default"
+    for obj in scene.objects:
+        obj.select_set(obj in (floor, ball, box))
+    bpy.context.view_layer.objects.active = ball
+    assert bpy.ops.phong.apply_material() == {"FINISHED"}
+    return scene, (floor, ball, box), (point, spot, sun)
+
+
+def _compare_cycles(bpy, scene, folder):
+    """(data, Cycles' picture, the reference's images, compared mask) as ``phong compare``
+    computes them, Cycles only."""
+    from phong_nodes.addon.comparison import engine  # noqa: PLC0415
+    from phong_nodes.addon.lighting import sync  # noqa: PLC0415
+    from phong_nodes.addon.scene import describe  # noqa: PLC0415
+    from phong_nodes.core import compare  # noqa: PLC0415
+
+    layer, objects = engine.check(scene)
+    folder.mkdir(exist_ok=True)
+    with sync.paused():
+        data = describe.describe(scene, layer, objects)
+        images, passes, terms = engine.render_all(scene, layer, objects, ["cycles"], str(folder))
+    metrics, refimg, mask = compare.evaluate(data, images, passes, ["cycles"], terms)
+    return data, images, passes, metrics, refimg, mask
+
+
+@pytest.mark.cycles
+def test_cycles_shows_each_light_s_shadow(bpy_clean, blender_tmp):
+    """Cycles against the reference "Phong plus shadow rays" (each light's diffuse and specular
+    times its visibility against the scene's triangles): within 1e-4 on every pixel away from
+    the shadows' edges, on a floor of 40 × 40 quads (no acne); the shadows are there (the
+    reference without them differs on many pixels); toggling one light's Cast Shadow changes
+    the picture without a relink, and the reference follows."""
+    if not be.compat().HAS_RAYCAST:
+        pytest.skip(f"no Raycast node in bpy {be.bpy_release()}: no shadows (5.2+)")
+    bpy = bpy_clean
+    from phong_nodes.addon.lighting import shadows  # noqa: PLC0415
+    from phong_nodes.core import compare  # noqa: PLC0415
+
+    scene, (floor, ball, _box), (point, _spot, _sun) = _shadow_scene(bpy)
+    group = ball.active_material.node_tree.nodes["phong_lights"].node_tree
+    assert shadows.has_shadows(group)
+    data, images, passes, metrics, refimg, mask = _compare_cycles(
+        bpy, scene, blender_tmp / "shadows_on")
+    assert len(data["triangles"]) == 40 * 40 * 2 + 32 * 14 * 2 + 32 * 2 + 12
+    unshadowed = compare.reference_image(
+        dict(data, lights=[dict(light, shadows=False) for light in data["lights"]]), passes)
+    err = metrics["pairs"]["cycles-reference"]
+    gap = np.abs(unshadowed["Color"] - refimg["Color"]).max(axis=-1)
+    report(f"[shadows cycles] {err['pixels']} px compared, max |Cycles - ref| "
+           f"{err['max_abs']:.2e}; {metrics['pixels']['shadow_edge']} shadow-edge px left out; "
+           f"{int((gap[mask] > 0.01).sum())} compared px in some light's shadow")
+    assert int((gap[mask] > 0.01).sum()) > 0.1 * mask.sum(), "the reference has shadows"
+    assert metrics["pixels"]["shadow_edge"] < 0.2 * mask.size
+    assert err["max_abs"] <= 1e-4
+    assert err["pixels"] > 0.8 * mask.size
+    # Cast Shadow off on the point light, live: the drivers, no relink
+    nodes_before = len(group.nodes)
+    point.data.use_shadow = False
+    bpy.context.view_layer.update()
+    assert ball.active_material.node_tree.nodes["phong_lights"].node_tree is group
+    assert len(group.nodes) == nodes_before
+    data2, images2, _passes2, metrics2, _refimg2, _mask2 = _compare_cycles(
+        bpy, scene, blender_tmp / "shadows_point_off")
+    assert [light["shadows"] for light in data2["lights"]] == [False, True, True]
+    changed = np.abs(images2["cycles"] - images["cycles"]).max(axis=-1)
+    err2 = metrics2["pairs"]["cycles-reference"]
+    report(f"[shadows cycles, point's Cast Shadow off] {int((changed > 0.01).sum())} px "
+           f"changed; max |Cycles - ref| {err2['max_abs']:.2e}")
+    assert (changed > 0.01).sum() > 50
+    assert err2["max_abs"] <= 1e-4
+
+
+@pytest.mark.eevee
+@pytest.mark.cycles
+def test_eevee_5_3_shows_the_shadows_through_the_loop(bpy_clean, blender_tmp):
+    """Blender 5.3: the light loop's Shadow Raycast (Softness 0) multiplies each light's
+    diffuse and specular light: Eevee within 1/255 of the reference "Phong plus shadow rays"
+    on at least 99.5% of the pixels away from the shadows' edges, whatever the lights' radius;
+    it shows the shadows (the reference without them is off on many of those pixels)."""
+    if not be.compat().HAS_LIGHT_LOOP:
+        pytest.skip(f"Eevee's shadows on Phong materials need the light loop (5.3+), bpy "
+                    f"{be.bpy_release()}")
+    bpy = bpy_clean
+    from phong_nodes.addon.comparison import engine  # noqa: PLC0415
+    from phong_nodes.core import compare  # noqa: PLC0415
+
+    scene, _objects, lights = _shadow_scene(bpy)
+    for obj in lights:
+        obj.data.shadow_soft_size = 0.5  # hard shadows all the same
+    metrics = engine.run(scene, str(blender_tmp / "eevee_shadows"), engines=("eevee", "cycles"))
+    eevee = metrics["pairs"]["eevee-reference"]
+    report(f"[shadows eevee 5.3] {eevee['pixels']} px: "
+           f"{100.0 * (1.0 - eevee['share_over_1_255']):.3f}% within 1/255 (max "
+           f"{eevee['max_abs']:.2e}); Cycles max "
+           f"{metrics['pairs']['cycles-reference']['max_abs']:.2e}"
+           f"; {metrics['pixels']['shadow_edge']} edge px out")
+    assert metrics["ok"], metrics["verdict"]
+    assert 1.0 - eevee["share_over_1_255"] >= compare.EEVEE_SHARE
+    # the same scene without shadows in the reference: Eevee is far from it in the shadows
+    exr = blender_tmp / "eevee_shadows" / "eevee_alone.exr"
+    from phong_nodes.addon.scene import render  # noqa: PLC0415
+
+    render.exact(scene, "eevee")
+    be.render_exr(scene, str(exr))
+    picture = np.minimum(be.read_multilayer_exr(str(exr))["Combined"][..., :3], 1.0)
+    for obj in lights:
+        obj.data.use_shadow = False
+    bpy.context.view_layer.update()
+    be.render_exr(scene, str(exr))
+    unshadowed = np.minimum(be.read_multilayer_exr(str(exr))["Combined"][..., :3], 1.0)
+    darker = int((np.abs(picture - unshadowed).max(axis=-1) > 0.05).sum())
+    report(f"[shadows eevee 5.3] Cast Shadow off on every light: {darker} px change")
+    assert darker > 400
+
+
+def test_x3d_shadows_field_is_read():
+    """X3D's lights cast no shadow unless their ``shadows`` field says TRUE (X3D 3.2+)."""
+    from phong_nodes.core import x3d  # noqa: PLC0415
+
+    text = ("#X3D V3.3 utf8\nPROFILE Interchange\n"
+            "PointLight { location 0 2 0 shadows TRUE }\nSpotLight { }\n"
+            "DirectionalLight { shadows FALSE }\n")
+    doc = x3d.loads(text.encode())
+    lights = [inst.light for inst in doc.lights]
+    assert [x3d.light_values(doc, light)["shadows"] for light in lights] == [True, False, False]
+
+
+def test_scene_files_say_which_lights_and_objects_cast_shadows(tmp_path):
+    """The seeds' scenes cast no shadow (their figures have none); the shadows scene has
+    lights that cast and one that does not, and an object that casts none; a value that is not
+    true or false is refused with its key."""
+    from phong_nodes.core import scenes  # noqa: PLC0415
+
+    for name in scenes.available():
+        data = scenes.load(os.path.join(scenes.SCENES_DIR, f"{name}.toml"))
+        casting = [light["name"] for light in data["lights"] if light["shadows"]]
+        if name == "shadows":
+            assert casting == ["point", "spot", "sun"]
+            assert [o["name"] for o in data["objects"] if not o["shadows"]] == ["pebble"]
+        else:
+            assert casting == [], name
+    bad = tmp_path / "bad.toml"
+    bad.write_text('title = "x"\n[camera]\nlocation = [0, 0, 5]\n'
+                   '[[lights]]\ntype = "point"\nposition = [0, 0, 2]\nshadows = 1\n'
+                   '[[objects]]\nname = "a"\n')
+    with pytest.raises(scenes.SceneError, match=r"lights\[0\]\.shadows.*true or false"):
+        scenes.load(str(bad))
+
+
+@pytest.mark.cycles
+@pytest.mark.eevee
+@pytest.mark.parametrize("model", ["threejs", "x3d"])
+def test_the_other_models_cast_shadows_too(bpy_clean, blender_tmp, model):
+    """The three.js and X3D models: Cycles within 1e-4 of the reference with shadows; Eevee
+    with them where the light loop runs the model (three.js on 5.3), else compared without
+    them (X3D: the lights group stays in Eevee, which shows none)."""
+    if not be.compat().HAS_RAYCAST:
+        pytest.skip(f"no Raycast node in bpy {be.bpy_release()}")
+    bpy = bpy_clean
+    from phong_nodes.addon.comparison import engine  # noqa: PLC0415
+
+    scene, _objects, _lights = _shadow_scene(bpy, size=48)
+    scene.phong.model = model
+    assert bpy.ops.phong.relink_lights() == {"FINISHED"}
+    metrics = engine.run(scene, str(blender_tmp / f"shadows_{model}"))
+    report(f"[shadows {model}] {metrics['verdict']}, {metrics['pixels']['shadow_edge']} edge px, "
+           f"Eevee with shadows: {metrics.get('eevee_shadows', True)}")
+    assert metrics["ok"], metrics["verdict"]
+    loop = be.compat().HAS_LIGHT_LOOP and model == "threejs"
+    assert metrics.get("eevee_shadows", True) == loop
+
+
+def _blocked_by_solve(p, d, reach, start, tri):
+    """Independent of Möller–Trumbore: solve p + t·d = a + u·(b - a) + v·(c - a)."""
+    a, b, c = tri
+    m = np.column_stack([d, a - b, a - c])
+    if abs(np.linalg.det(m)) < 1e-12:
+        return False
+    t, u, v = np.linalg.solve(m, a - p)
+    return u >= 0 and v >= 0 and u + v <= 1 and start < t < reach
+
+
+@pytest.mark.parametrize("kind", ["point", "directional"])
+def test_visibility_matches_a_plain_solve_on_random_triangles(kind):
+    """The cluster pre-test leaves out nothing: on 400 random points and 300 random triangles
+    the visibility equals a 3 × 3 solve per (point, triangle)."""
+    rng = np.random.default_rng(43)
+    points = rng.uniform(-2.0, 2.0, (400, 3))
+    centres = rng.uniform(-2.0, 2.0, (300, 1, 3))
+    tris = centres + rng.normal(0.0, 0.3, (300, 3, 3))
+    light = ({"type": "point", "position": [0.3, -0.2, 4.0], "shadows": True}
+             if kind == "point" else
+             {"type": "directional", "direction": [0.2, 0.4, -1.0], "shadows": True})
+    got = _ref().visibility(points, light, tris)
+    expected = []
+    for p in points:
+        if kind == "point":
+            to = np.array(light["position"]) - p
+            reach = np.linalg.norm(to)
+            d = to / reach
+        else:
+            d = -np.array(light["direction"]) / np.linalg.norm(light["direction"])
+            reach = np.inf
+        start = 1e-4 * (1.0 + np.abs(p).max())
+        expected.append(0.0 if any(_blocked_by_solve(p, d, reach, start, t) for t in tris)
+                        else 1.0)
+    expected = np.array(expected)
+    assert 0.1 < expected.mean() < 0.95, "some points in shadow, some lit"
+    assert (got == expected).all(), np.nonzero(got != expected)
+
+
+@pytest.mark.cycles
+def test_no_acne_far_from_the_origin(bpy_clean, blender_tmp):
+    """The same scene 1,000 units from the origin (the ray's offset grows with max |P|):
+    Cycles still within 1e-4 of the reference away from the shadows' edges, no acne on the
+    floor's 3,200 triangles."""
+    if not be.compat().HAS_RAYCAST:
+        pytest.skip(f"no Raycast node in bpy {be.bpy_release()}")
+    bpy = bpy_clean
+    scene, _objects, _lights = _shadow_scene(bpy, size=48)
+    for obj in scene.objects:
+        if obj.parent is None:
+            obj.location.x += 1000.0
+            obj.location.y -= 600.0
+    bpy.context.view_layer.update()
+    data, _images, _passes, metrics, _refimg, mask = _compare_cycles(
+        bpy, scene, blender_tmp / "shadows_far")
+    err = metrics["pairs"]["cycles-reference"]
+    report(f"[shadows far] {err['pixels']} px, max |Cycles - ref| {err['max_abs']:.2e}, "
+           f"{metrics['pixels']['shadow_edge']} edge px")
+    assert data["lights"][0]["position"][0] > 900.0
+    assert err["pixels"] > 0.7 * mask.size
+    assert err["max_abs"] <= 1e-4
+
+
+def test_the_light_panel_says_where_shadows_show(bpy_clean):
+    """Once, in the light's Phong panel: no shadows before 5.2; Cycles only on 5.2 and in the
+    X3D model; none while a term pass is on; on 5.3 what Cycles' Raycast node reads."""
+    compat = be.compat()
+    from phong_nodes.addon.lighting import shadows  # noqa: PLC0415
+
+    seeds = " ".join(shadows.notes("seeds", True, compat.HAS_LIGHT_LOOP))
+    if not compat.HAS_RAYCAST:
+        assert "need Blender 5.2+" in seeds
+        return
+    assert ("Cycles only" in seeds) == (not compat.HAS_LIGHT_LOOP)
+    assert "Cycles only (the X3D model)" in " ".join(shadows.notes("x3d", True, False))
+    assert "term pass" in " ".join(shadows.notes("seeds", False, False))
+    if compat.HAS_LIGHT_LOOP:
+        assert "Ray Cast, not Shadow" in seeds
+
+
+@pytest.mark.cycles
+def test_an_instanced_caster_is_in_the_reference(bpy_clean, blender_tmp):
+    """A cube seen only as a collection instance (an Empty instancing its collection, twice)
+    casts its shadows in Cycles and in the reference alike (the reference reads the
+    depsgraph's instances)."""
+    if not be.compat().HAS_RAYCAST:
+        pytest.skip(f"no Raycast node in bpy {be.bpy_release()}")
+    bpy = bpy_clean
+    scene = be.new_scene("Instances", 48, 48, "cycles")
+    bpy.context.window.scene = scene
+    be.add_ortho_camera(scene, (0.0, 0.0), 8.0, 8.0)
+    floor = _grid(bpy, scene, "Floor", 4.0, 8)
+    parts = bpy.data.collections.new("Parts")  # not linked to the scene: seen as instances
+    box = _cube(bpy, scene, "Part", (0.0, 0.0, 0.0), 0.5)
+    scene.collection.objects.unlink(box)
+    parts.objects.link(box)
+    for name, where in (("Inst A", (-1.5, 1.0, 1.2)), ("Inst B", (1.5, -1.0, 0.8))):
+        empty = bpy.data.objects.new(name, None)
+        empty.instance_type = "COLLECTION"
+        empty.instance_collection = parts
+        empty.location = where
+        scene.collection.objects.link(empty)
+    point = _light(bpy, scene, "Point", "POINT", (0.5, 0.5, 5.0))
+    point.data.phong.intensity = 20.0
+    for obj in scene.objects:
+        obj.select_set(obj is floor)
+    bpy.context.view_layer.objects.active = floor
+    assert bpy.ops.phong.apply_material() == {"FINISHED"}
+    data, _images, _passes, metrics, refimg, mask = _compare_cycles(
+        bpy, scene, blender_tmp / "shadows_instances")
+    err = metrics["pairs"]["cycles-reference"]
+    in_shadow = int((refimg["in_shadow"] & mask).sum())
+    report(f"[shadows instances] {len(data['triangles'])} triangles, {in_shadow} px in shadow, "
+           f"max |Cycles - ref| {err['max_abs']:.2e}")
+    assert len(data["triangles"]) == 8 * 8 * 2 + 2 * 12
+    assert in_shadow > 40
+    assert err["max_abs"] <= 1e-4
+
+
+def test_x3d_shadows_field_is_written_back(tmp_path):
+    """A light read with shadows TRUE is written with it (X3D encodings; FALSE, the default,
+    is not written) and read back the same; VRML97 has no such field."""
+    from phong_nodes.core import x3d  # noqa: PLC0415
+
+    doc = x3d.loads(b"#X3D V3.3 utf8\nPROFILE Interchange\n"
+                    b"PointLight { location 0 2 0 shadows TRUE }\nSpotLight { }\n")
+    for name in ("back.x3d", "back.x3dv"):
+        x3d.save(doc, str(tmp_path / name))
+        text = (tmp_path / name).read_text()
+        assert text.count("shadows") == 1, name
+        again = x3d.load(str(tmp_path / name))
+        assert [inst.light.shadows for inst in again.lights] == [True, False], name
+    x3d.save(doc, str(tmp_path / "back.wrl"))
+    assert "shadows" not in (tmp_path / "back.wrl").read_text()
