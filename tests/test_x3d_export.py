@@ -326,6 +326,31 @@ def test_an_orthographic_camera_and_export_errors(bpy_clean, tmp_path):
     assert sorted(os.listdir(tmp_path)) == ["top.x3d"]
 
 
+@pytest.mark.parametrize("name", ["near.x3d", "near.x3dv", "near.wrl"])
+def test_a_near_camera_writes_the_avatar_size_browsers_clip_by(bpy_clean, tmp_path, name):
+    """X3D browsers clip what is nearer to the viewer than NavigationInfo's avatarSize[0] / 2
+    (0.125 by default; X_ITE 15's getNearValue): a camera whose clip start is nearer (a small
+    part framed by phong compare, or Blender's default 0.1) gets avatarSize = 2 x clip start;
+    one at 0.125 or beyond writes none (the browsers' default)."""
+    import re  # noqa: PLC0415
+
+    bpy = bpy_clean
+    scene = bpy.context.scene
+    camera = bpy.data.objects.new("Close", bpy.data.cameras.new("Close"))
+    scene.collection.objects.link(camera)
+    scene.camera = camera
+    written = {}
+    for clip in (0.01, 0.5):
+        camera.data.clip_start = clip
+        path = tmp_path / f"{clip}_{name}"
+        assert bpy.ops.phong.export_x3d(filepath=str(path)) == {"FINISHED"}
+        text = path.read_text()
+        found = re.search(r"avatarSize\W+([0-9.eE+-]+)", text)
+        written[clip] = float(found.group(1)) if found else None
+    assert written[0.01] == pytest.approx(0.02, rel=1e-6)
+    assert written[0.5] is None
+
+
 def test_gzipped_export_is_gzip(bpy_clean, tmp_path):
     bpy = bpy_clean
     assert bpy.ops.phong.import_x3d(filepath=os.path.join(DATA, "hand_scope.wrl")) == \

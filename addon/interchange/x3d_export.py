@@ -170,6 +170,9 @@ class _Writer:
         if vp is not None:
             root.append(vp)
             doc.viewpoint = vp
+            near = float(self.scene.camera.data.clip_start)
+            if 0.0 < near < 0.125:  # X3D browsers clip nearer than avatarSize[0] / 2
+                doc.avatar_size = (f32(2.0 * near), 1.6, 0.75)
         root.extend(placed["root"])
         grouped = set()
         for group, members in placed["groups"]:

@@ -38,6 +38,9 @@ class Document:
     root: Transform = field(default_factory=lambda: Transform(kind="Scene"))
     headlight: bool = True
     navigation_types: list = field(default_factory=lambda: ["EXAMINE", "ANY"])
+    #: NavigationInfo's avatarSize where it is not the default (0.25 1.6 0.75): browsers clip
+    #: what is nearer than avatarSize[0] / 2 to the viewer (the writer's, from the camera)
+    avatar_size: tuple | None = None
     viewpoint: Viewpoint | None = None
     viewpoint_matrix: np.ndarray = field(default_factory=_eye)
     title: str = ""

@@ -243,6 +243,8 @@ class _Emit:
         nav = _W("NavigationInfo").add("headlight", "bool", bool(doc.headlight))
         if doc.navigation_types:
             nav.add("type", "strings", list(doc.navigation_types))
+        if doc.avatar_size:
+            nav.add("avatarSize", "floats", tuple(doc.avatar_size))
         front.append(nav)
         if doc.background is not None:
             front.append(_W("Background").add("skyColor", "floats", tuple(doc.background[:3])))
