@@ -272,6 +272,9 @@ def write_per_light_shading(lights_group) -> None:
         color = add.outputs["Color"]
     links.new(color, group_out.inputs["Color"])
     links.new(color, nodes["emission"].inputs["Color"])
+    cycles = group_out.inputs.get("Cycles Shader")  # 5.2+: the shadowed shader; 0.3 had none
+    if cycles is not None:
+        links.new(nodes["emission"].outputs["Emission"], cycles)
     for term in ("Diffuse", "Specular"):
         total = None
         for shading in shadings:

@@ -100,6 +100,7 @@ def build_scene(name, *, res, grid, n_lights, material, segments=32, shared_mesh
     for k in range(n_lights):
         angle = 2 * math.pi * (k + 0.125) / n_lights
         data = bpy.data.lights.new(f"{name} light {k}", "POINT")
+        data.use_shadow = False  # the figures compare the model without shadows (add_light)
         data.energy = 4000.0 * extent * extent / 16 / n_lights  # Principled: similar exposure
         data.shadow_soft_size = 0.25
         properties.write_light(data, {"intensity": 2.0 * (extent + 4) ** 2 / n_lights})
@@ -433,6 +434,9 @@ def add_light(scene, name, kind, location):
     from phong_nodes.addon.lighting import properties  # noqa: PLC0415
 
     data = bpy.data.lights.new(name, kind)
+    # The figures of issues 5-38 compare the model without shadows, on both sides (Principled
+    # too); Blender's lights cast them by default, and Phong materials do since issue 43.
+    data.use_shadow = False
     properties.write_light(data, {"intensity": 400.0} if kind != "SUN" else {})
     obj = bpy.data.objects.new(name, data)
     obj.location = location
