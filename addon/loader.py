@@ -230,16 +230,16 @@ def keeping_links(tree, fresh=None):
     across a rebuilt interface (a new group numbers its sockets from 0; a cleared one goes on
     counting): a file of 5.2 whose lights group gained 5.3's Eevee Shader output had every
     material control on the wrong input (issue 42).  Used by every rewrite of a lights or
-    shading group (``lighting.rig.rewrite``) and by the merge of a library group's copies.  The users are looked up only where an
-    identifier can move: a group in use changed in place, or a remap to *fresh* where a socket
-    of the same name has another identifier."""
+    shading group (``lighting.rig.rewrite``) and by the merge of a library group's copies.
+    The users are looked up only where an identifier can move: a group in use changed in
+    place, or a remap to *fresh* where a socket of the same name has another identifier."""
+    before = _socket_ids(tree)
     if fresh is not None:
-        before, after = _socket_ids(tree), _socket_ids(fresh)
+        after = _socket_ids(fresh)
         moved = any(after.get(key, ident) != ident for key, ident in before.items())
     else:
         moved = tree.users > 0
     saved = _group_node_links(tree) if moved else []
-    before = _socket_ids(tree)
     yield
     if fresh is None and _socket_ids(tree) == before:
         return
