@@ -531,3 +531,81 @@ def test_x3d_shadows_field_is_written_back(tmp_path):
         assert [inst.light.shadows for inst in again.lights] == [True, False], name
     x3d.save(doc, str(tmp_path / "back.wrl"))
     assert "shadows" not in (tmp_path / "back.wrl").read_text()
+
+
+# -- FBX: a light's CastShadows written and read back -----------------------------------------
+
+FBX_DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "data", "fbx")
+
+
+@pytest.mark.parametrize("cast", [False, True])
+def test_fbx_rewrite_sets_a_light_s_cast_shadows(tmp_path, cast):
+    """Maya's binary FBX 7.7 (its light CastShadows 1) with the light rewritten: the reader
+    finds the CastShadows written, on the object itself; the P record is ("CastShadows",
+    "bool", "", "", int32), the property Blender's own exporter writes (p_bool, int32)."""
+    be.need_module("ufbx")
+    from phong_nodes.core import fbx, fbx_write  # noqa: PLC0415
+
+    data = open(os.path.join(FBX_DATA, "maya_camera_light_axes_y_up_7700_binary.fbx"),
+                "rb").read()
+    light = fbx_write.Light(type="SUN", color=(1.0, 1.0, 1.0), intensity=100.0, decay=0,
+                            cast_shadows=cast)
+    out, missing = fbx_write.rewrite(data, lights={"": light})
+    assert missing == []
+    # the P record as bytes: 4 strings (S + uint32 length + text), then I + int32
+    want = b"".join(b"S" + len(s).to_bytes(4, "little") + s
+                    for s in (b"CastShadows", b"bool", b"", b"")) + b"I" + \
+        int(cast).to_bytes(4, "little")
+    assert out.count(want) == 1
+    target = tmp_path / "rewritten.fbx"
+    target.write_bytes(out)
+    (read,) = fbx.read(str(target)).lights
+    assert read.cast_shadows is cast
+    assert read.sources["CastShadows"] == "object"
+
+
+def _fbx_light_props(path):
+    """{light: (type, label, flags, values) of its CastShadows P record, or None} as Blender's
+    own ``io_scene_fbx.parse_fbx`` reads the file."""
+    from io_scene_fbx import parse_fbx  # noqa: PLC0415
+
+    root, _version = parse_fbx.parse(path)
+    out = {}
+    for section in root.elems:
+        if section.id != b"Objects":
+            continue
+        for obj in section.elems:
+            if obj.id != b"NodeAttribute" or obj.props[2] != b"Light":
+                continue
+            block = next(e for e in obj.elems if e.id == b"Properties70")
+            found = [tuple(p.props[1:]) for p in block.elems if p.props[0] == b"CastShadows"]
+            out[obj.props[1].split(b"\x00\x01")[0].decode()] = found[0] if found else None
+    return out
+
+
+def test_fbx_export_round_trip_keeps_cast_shadow(bpy_clean, tmp_path):
+    """File ▸ Export ▸ FBX (Phong): each light's CastShadows is its Cast Shadow, written as
+    Blender's own exporter writes it (the same P record where Blender writes one); File ▸
+    Import ▸ FBX (Phong) of the file gives every light its Cast Shadow back."""
+    bpy = bpy_clean
+    scene = bpy.context.scene
+    cast = {"Lamp": False, "Bulb": True, "Beam": False, "Sunny": True}
+    kinds = {"Lamp": "POINT", "Bulb": "POINT", "Beam": "SPOT", "Sunny": "SUN"}
+    for index, (name, on) in enumerate(cast.items()):
+        obj = _light(bpy, scene, name, kinds[name], (index, 0.0, 3.0))
+        obj.data.use_shadow = on
+    path = str(tmp_path / "phong.fbx")
+    assert bpy.ops.phong.export_fbx(filepath=path) == {"FINISHED"}
+    ours = _fbx_light_props(path)
+    assert {name: (p[0], p[1], p[2], p[3]) for name, p in ours.items()} == {
+        name: (b"bool", b"", b"", int(on)) for name, on in cast.items()}
+    plain = str(tmp_path / "blender.fbx")
+    assert bpy.ops.export_scene.fbx(filepath=plain) == {"FINISHED"}
+    theirs = _fbx_light_props(plain)
+    written = [name for name, p in theirs.items() if p is not None]
+    assert written, "Blender's exporter writes CastShadows on some light"
+    for name in written:
+        assert ours[name] == theirs[name], name
+    be.reset_empty_file()
+    assert bpy.ops.phong.import_fbx(filepath=path) == {"FINISHED"}
+    assert {name: bpy.data.lights[name].use_shadow for name in cast} == cast
