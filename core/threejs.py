@@ -29,8 +29,15 @@ The scene dict (format ``phong-nodes-threejs``, version 1; every colour is linea
       "meshes": [{"name": str, "material": int,   # index into materials
                   "lights": [int, ...],           # indices into lights: the only lights it sees
                   "positions": [x, y, z, ...],    # world space, 3 corners per triangle
-                  "normals": [x, y, z, ...]}]     # one per corner, same layout
+                  "normals": [x, y, z, ...],      # one per corner, same layout
+                  "cast_shadow": bool, "receive_shadow": bool}],   # optional, false
+      "shadows": bool,                 # optional, false: renderer.shadowMap.enabled
     }
+
+A light of a page with ``shadows`` may have ``"cast_shadow": true`` and ``"shadow":
+{"map_size": int, "near": float, "far": float, "extent": float (directional: the half width
+of its orthographic shadow camera), "normal_bias": float}`` (:func:`with_shadows` fills
+them in from the meshes' bounds).
 
 How the page renders it (three.js 0.181.0, physically based light units, no legacy lights):
 
@@ -39,7 +46,11 @@ How the page renders it (three.js 0.181.0, physically based light units, no lega
   cleared to black with alpha 0 (``alpha: true``, no antialiasing, pixel ratio 1).
 * The camera is a PerspectiveCamera or an OrthographicCamera (so ``isOrthographic`` is right)
   whose matrices are set from the dict as given (``updateProjectionMatrix`` is never called).
-* DirectionalLight / PointLight / SpotLight with their targets; no shadows.
+* DirectionalLight / PointLight / SpotLight with their targets.  Shadows only where the dict
+  has ``shadows`` (the exported page, never the comparison's peer): three.js's shadow maps
+  (``PCFShadowMap``, ``castShadow`` / ``receiveShadow`` per light and mesh), an approximation
+  of "Phong plus shadow rays" (the map's resolution and its bias shift and blur the edges); a
+  caster of another light set is drawn into each set's shadow maps only (no colour, no depth).
 * three.js has no light linking, so the meshes are grouped by their ``lights`` list: each
   distinct set becomes one THREE.Scene (its meshes, its lights, the ambient light), and the
   scenes are rendered one after the other into the same canvas (``autoClear`` off, one clear
@@ -63,6 +74,7 @@ from __future__ import annotations
 import filecmp
 import html
 import json
+import math
 import os
 import re
 
@@ -109,6 +121,63 @@ def scene_json(scene: dict) -> str:
     ``<!--`` ``\\u003c!--`` (both mean the same to a JSON parser)."""
     text = json.dumps(scene, allow_nan=False, separators=(",", ":"), default=_json_default)
     return text.replace("</", "<\\/").replace("<!--", "\\u003c!--")
+
+
+#: Shadow map sizes (texels a side): a directional or spot light's map, a point light's cube face.
+SHADOW_MAP = 2048
+SHADOW_MAP_POINT = 1024
+
+
+def with_shadows(scene: dict, lights_cast: list, meshes_cast: list) -> dict:
+    """*scene* (a page's dict) with shadows: ``shadows`` true where some light of
+    *lights_cast* (a bool per light) casts; each such light's ``cast_shadow`` and ``shadow``
+    settings, its shadow camera around the bounding sphere of the meshes (a directional light
+    moved to 2 radii from the centre along its direction, which is what shades); each mesh
+    ``cast_shadow`` (*meshes_cast*) and ``receive_shadow`` true.  Normal bias: 1.5 texels at
+    the light's distance from the centre."""
+    out = dict(scene)
+    points = [p for mesh in scene.get("meshes", ()) for p in
+              zip(*(iter(mesh["positions"]),) * 3)]
+    if not any(lights_cast) or not points:
+        return out
+    low = [min(p[i] for p in points) for i in range(3)]
+    high = [max(p[i] for p in points) for i in range(3)]
+    centre = [(a + b) / 2.0 for a, b in zip(low, high)]
+    radius = max(math.dist(low, high) / 2.0, 1e-6)
+    out["shadows"] = True
+    out["meshes"] = [dict(mesh, cast_shadow=bool(cast), receive_shadow=True)
+                     for mesh, cast in zip(scene["meshes"], meshes_cast)]
+    lights = []
+    for light, cast in zip(scene.get("lights", ()), lights_cast):
+        light = dict(light)
+        if cast:
+            light["cast_shadow"] = True
+            light["shadow"] = _shadow_camera(light, centre, radius)
+        lights.append(light)
+    out["lights"] = lights
+    return out
+
+
+def _shadow_camera(light: dict, centre: list, radius: float) -> dict:
+    """The ``shadow`` settings of *light* (moved, for a directional one) around the sphere
+    (*centre*, *radius*)."""
+    margin = 1.05 * radius
+    if light["type"] == "directional":
+        way = [t - p for t, p in zip(light["target"], light["position"])]
+        length = math.hypot(*way) or 1.0
+        far = 2.0 * radius
+        light["position"] = [c - far * w / length for c, w in zip(centre, way)]
+        light["target"] = list(centre)
+        texel = 2.0 * margin / SHADOW_MAP
+        return {"map_size": SHADOW_MAP, "near": max(far - margin, 0.0), "far": far + margin,
+                "extent": margin, "normal_bias": 1.5 * texel}
+    away = math.dist(light["position"], centre)
+    far = away + margin
+    size = SHADOW_MAP_POINT if light["type"] == "point" else SHADOW_MAP
+    half = math.pi / 4.0 if light["type"] == "point" else min(light["angle"], 1.5)
+    texel = 2.0 * max(away, radius) * math.tan(half) / size
+    return {"map_size": size, "near": max(away - margin, 1e-3 * far), "far": far,
+            "normal_bias": 1.5 * texel}
 
 
 def _copy_if_changed(source: str, target: str) -> None:
@@ -281,6 +350,7 @@ _RENDER_JS = r"""
   "use strict";
   var report = window.phongReport, describe = window.phongDescribe;
 
+  var shadowsOn = false;  // the scene's "shadows" (set by build)
   function fail(message) { throw new Error(message); }
   function number(spec, key, what, fallback) {
     var value = spec[key];
@@ -339,7 +409,21 @@ _RENDER_JS = r"""
       fail(what + ": unknown type " + JSON.stringify(spec.type));
     }
     light.name = String(spec.name);
-    light.castShadow = false;
+    light.castShadow = Boolean(shadowsOn && spec.cast_shadow);
+    if (light.castShadow) {
+      var shadow = spec.shadow || {}, sw = what + " shadow";
+      var size = number(shadow, "map_size", sw, 2048);
+      light.shadow.mapSize.set(size, size);
+      light.shadow.camera.near = number(shadow, "near", sw, 0.5);
+      light.shadow.camera.far = number(shadow, "far", sw, 500);
+      if (spec.type === "directional") {
+        var extent = number(shadow, "extent", sw, 5);
+        light.shadow.camera.left = -extent; light.shadow.camera.right = extent;
+        light.shadow.camera.bottom = -extent; light.shadow.camera.top = extent;
+      }
+      light.shadow.normalBias = number(shadow, "normal_bias", sw, 0);
+      light.shadow.camera.updateProjectionMatrix();
+    }
     light.position.fromArray(vector(spec, "position", what, 3));
     if (light.target) {
       light.target.position.fromArray(vector(spec, "target", what, 3));
@@ -405,6 +489,8 @@ _RENDER_JS = r"""
     mesh.name = String(spec.name);
     mesh.matrixAutoUpdate = false;  // identity: positions are in world space
     mesh.frustumCulled = false;
+    mesh.castShadow = Boolean(shadowsOn && spec.cast_shadow);
+    mesh.receiveShadow = Boolean(shadowsOn && spec.receive_shadow);
     return mesh;
   }
 
@@ -416,6 +502,7 @@ _RENDER_JS = r"""
     if (!Number.isInteger(width) || !Number.isInteger(height) || width < 1 || height < 1) {
       fail("width and height must be positive integers");
     }
+    shadowsOn = scene.shadows === true;
     var camera = makeCamera(scene.camera || {});
     var lights = scene.lights || [], ambient = scene.ambient || {color: [0, 0, 0], intensity: 0};
     var ambientColor = color(ambient, "color", "ambient", [1, 1, 1]);
@@ -444,9 +531,29 @@ _RENDER_JS = r"""
       }
       byKey[key].add(mesh);
     });
+    // A caster of another light set is drawn into this set's shadow maps only.
+    if (shadowsOn && sets.length > 1) {
+      var hidden = new THREE.MeshBasicMaterial({colorWrite: false, depthWrite: false,
+                                                side: THREE.DoubleSide});
+      sets.forEach(function (group) {
+        sets.forEach(function (other) {
+          if (other === group) { return; }
+          other.children.forEach(function (object) {
+            if (object.isMesh && object.castShadow && !object.userData.proxy) {
+              var proxy = new THREE.Mesh(object.geometry, hidden);
+              proxy.matrixAutoUpdate = false;
+              proxy.frustumCulled = false;
+              proxy.castShadow = true;
+              proxy.userData.proxy = true;
+              group.add(proxy);
+            }
+          });
+        });
+      });
+    }
     // Unused lights are checked too, so a bad light fails whether or not a mesh sees it.
     lights.forEach(makeLight);
-    return {width: width, height: height, camera: camera, scenes: sets};
+    return {width: width, height: height, camera: camera, scenes: sets, shadows: shadowsOn};
   }
 
   function render(built) {
@@ -455,6 +562,8 @@ _RENDER_JS = r"""
     renderer.setSize(built.width, built.height);
     renderer.setClearColor(0x000000, 0);
     renderer.autoClear = false;
+    renderer.shadowMap.enabled = built.shadows;
+    renderer.shadowMap.type = THREE.PCFShadowMap;
     document.getElementById("phong-view").appendChild(renderer.domElement);
     renderer.clear(true, true, true);
     built.scenes.forEach(function (scene) { renderer.render(scene, built.camera); });

@@ -609,3 +609,47 @@ def test_fbx_export_round_trip_keeps_cast_shadow(bpy_clean, tmp_path):
     be.reset_empty_file()
     assert bpy.ops.phong.import_fbx(filepath=path) == {"FINISHED"}
     assert {name: bpy.data.lights[name].use_shadow for name in cast} == cast
+
+
+# -- three.js page: shadow maps where Blender casts Phong shadows -----------------------------
+
+def test_threejs_page_export_casts_where_blender_does(bpy_clean, tmp_path):
+    """File ▸ Export ▸ three.js Page of the shadows scene: where Blender casts Phong shadows
+    (5.2+), ``renderer.shadowMap`` on, each light's castShadow its Cast Shadow (the point
+    light's turned off here), every mesh receives and casts except an object whose shadow
+    rays skip it; before 5.2 no shadows in the page, as in Blender.  In Chromium (where
+    installed) the page renders without errors and the sun's shadow darkens floor pixels
+    that the page without shadows shows lit."""
+    bpy = bpy_clean
+    from phong_nodes.core import browser, threejs  # noqa: PLC0415
+
+    scene, (floor, ball, box), (point, _spot, _sun) = _shadow_scene(bpy, size=48)
+    point.data.use_shadow = False
+    if be.compat().RAYCAST_VISIBILITY:
+        be.compat().set_casts_shadow(box, False)
+    bpy.context.view_layer.update()
+    page = tmp_path / "scene.html"
+    assert bpy.ops.phong.export_threejs(filepath=str(page)) == {"FINISHED"}
+    data = threejs.read_scene(str(page))
+    if not be.compat().HAS_RAYCAST:
+        assert "shadows" not in data
+        assert not any(light.get("cast_shadow") for light in data["lights"])
+        return
+    assert data["shadows"] is True
+    assert {light["name"]: light.get("cast_shadow", False) for light in data["lights"]} == {
+        "Point": False, "Spot": True, "Sun": True}
+    casts = {mesh["name"].split(" [")[0]: mesh["cast_shadow"] for mesh in data["meshes"]}
+    assert casts == {"Floor": True, "Ball": True,
+                     "Box": not be.compat().RAYCAST_VISIBILITY}
+    assert all(mesh["receive_shadow"] for mesh in data["meshes"])
+    if threejs.unavailable() is not None:
+        return
+    lit = browser.render_page(str(page), timeout=120)
+    flat = tmp_path / "flat.html"
+    threejs.write_page(str(flat), dict(data, shadows=False))
+    plain = browser.render_page(str(flat), timeout=120)
+    assert lit.errors == [] and plain.errors == []
+    darker = (plain.rgba[..., :3].astype(int) - lit.rgba[..., :3].astype(int)).max(axis=-1)
+    report(f"[shadows three.js page] {int((darker > 8).sum())} px darker with shadow maps")
+    assert (darker > 8).sum() > 40
+    assert (darker < -2).sum() == 0, "shadow maps only darken"

@@ -282,6 +282,70 @@ def test_ambient_emissive_and_specular_strength(render):
     assert_background(result, 64, 128)
 
 
+def _shadow_page(occluder_lights, cast=True):
+    """A Lambert floor x in [-1.9, -0.1] at z = 0 and a quad x in [0, 0.5], y in [-0.5, 0.5]
+    at z = 1 (seen by *occluder_lights*), under a sun from +x+z at 45 degrees and an ambient
+    light: the quad's shadow on z = 0 (p + t·(1, 0, 1) meets z = 1 at t = 1) is x in
+    [-1, -0.5], y in [-0.5, 0.5]."""
+    raised = quad(0.0, 0.5, -0.5, 0.5)
+    raised["positions"] = [v if i % 3 != 2 else 1.0 for i, v in enumerate(raised["positions"])]
+    light = dict(sun("slanted", (1, 1, 1), 2.0), position=[1, 0, 1])
+    page = scene("shadows", ORTHO, [light], [lambert("floor", C)],
+                 [mesh("floor", 0, [0], quad(-1.9, -0.1, -0.9, 0.9)),
+                  mesh("occluder", 0, occluder_lights, raised)],
+                 ambient=((1.0, 1.0, 1.0), 0.5))
+    return threejs.with_shadows(page, [True], [False, cast])
+
+
+def test_shadow_maps_where_the_page_asks_for_them(render):
+    """``with_shadows``: the floor is ambient only, 0.5·C/π, inside the occluder's shadow
+    (worked out by hand above), and ambient plus the sun, (0.5 + 2·cos 45°)·C/π, away from
+    it; the same with the occluder in another light set (drawn into the floor's shadow map
+    only); no shadow from an occluder that does not cast, nor without ``shadows``."""
+    shade = [0.5 * c / math.pi for c in C]
+    lit = [(0.5 + 2.0 * math.cos(math.pi / 4.0)) * c / math.pi for c in C]
+    # rows of y = 0.25, 0, -0.25 and y = 0.75 (lit); columns of x = -0.9 .. -0.6 (shadow)
+    inside = [(row, col_of(x)) for row in (48, 64, 80) for x in (-0.9, -0.75, -0.6)]
+    outside = [(row, col_of(x)) for row in (64,) for x in (-1.6, -1.3, -0.3)] + \
+              [(16, col_of(-0.75)), (112, col_of(-0.75))]
+    for name, lights in (("shadows", [0]), ("shadows-sets", [])):
+        page = _shadow_page(lights)
+        assert page["shadows"] is True and page["lights"][0]["cast_shadow"] is True
+        result = render(name, page)
+        assert result.errors == [] and result.title == "phong: done"
+        for row, col in inside:
+            assert_pixel(result, row, col, shade, f"{name}: in the shadow")
+        for row, col in outside:
+            assert_pixel(result, row, col, lit, f"{name}: lit")
+    for name, page in (("shadows-none", _shadow_page([0], cast=False)),
+                       ("shadows-off", dict(_shadow_page([0]), shadows=False))):
+        result = render(name, page)
+        for row, col in inside + outside:
+            assert_pixel(result, row, col, lit, f"{name}: lit")
+
+
+def test_with_shadows_frames_the_scene():
+    """A directional light moves to 2 radii from the bounds' centre along its direction, its
+    orthographic shadow camera covers the bounding sphere; a point light's near and far
+    planes hold the sphere; nothing changes without a casting light."""
+    page = scene("frame", ORTHO,
+                 [sun("sun", (1, 1, 1), 1.0),
+                  {"name": "bulb", "type": "point", "color": [1, 1, 1], "intensity": 1.0,
+                   "position": [0, 0, 10], "distance": 0, "decay": 2}],
+                 [lambert("m", C)], [mesh("box", 0, [0, 1], quad(-3, 3, -4, 4))])
+    assert threejs.with_shadows(page, [False, False], [True]) == page
+    out = threejs.with_shadows(page, [True, True], [True])
+    radius = 5.0   # the quad's half diagonal: sqrt(3² + 4²)
+    sun_light, bulb = out["lights"]
+    assert sun_light["position"] == pytest.approx([0, 0, 2 * radius])
+    assert sun_light["target"] == [0, 0, 0]
+    assert sun_light["shadow"]["extent"] >= radius
+    assert sun_light["shadow"]["near"] <= radius <= 3 * radius <= sun_light["shadow"]["far"]
+    assert bulb["shadow"]["near"] <= 10 - radius and bulb["shadow"]["far"] >= 10 + radius
+    assert bulb["position"] == [0, 0, 10]
+    assert out["meshes"][0]["cast_shadow"] and out["meshes"][0]["receive_shadow"]
+
+
 def test_script_tag_in_names(render, tmp_path):
     """A '</script>' in the title or a name neither closes the scene's tag nor shows as HTML."""
     page = directional_page()

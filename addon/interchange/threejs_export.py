@@ -15,7 +15,12 @@ lights (docs/threejs.md, "The exported page"):
   renders each set's objects with its lights);
 * each Phong material's controls: Object Color (color), Specular Color (specular),
   Exponent (shininess), Irradiant Color (emissive), Specular Strength (0:
-  MeshLambertMaterial).
+  MeshLambertMaterial);
+* shadows (the exported page; the comparison's peer page has none): where Blender casts Phong
+  shadows (``describe``'s lights' "shadows": Cast Shadow on, a Blender with shadow rays), the
+  light's ``castShadow``; each mesh ``receiveShadow``, and ``castShadow`` where the shadow
+  rays meet its object (``compat.blocks_raycast``); ``renderer.shadowMap.enabled``.
+  three.js's shadow maps approximate the shadow rays (``core/threejs.with_shadows``).
 
 All colours are linear.  What three.js cannot show is reported as warnings: a texture on
 Object Color (its control's colour is exported), an own Ambient Object Color, Blinn (the
@@ -29,6 +34,7 @@ import math
 import numpy as np
 
 from ...core import threejs
+from .. import compat
 from ..scene import describe
 from ..lighting import materials
 
@@ -132,10 +138,11 @@ def camera_dict(scene, depsgraph, width: int, height: int, world=None) -> dict:
 
 
 def scene_dict(scene, view_layer, width: int, height: int, objects=None,
-               described=None) -> tuple:
+               described=None, shadows: bool = False) -> tuple:
     """(the page's scene dict (``core/threejs.py``), warnings) of *scene* at width × height.
     *objects*: the Phong objects to export (default: those of the view layer); *described*:
-    ``describe.describe`` of them when the caller has it already."""
+    ``describe.describe`` of them when the caller has it already; *shadows*: the lights that
+    cast Phong shadows cast three.js's (shadow maps)."""
     if scene.camera is None:
         raise ValueError(f"scene {scene.name!r} has no camera")
     if objects is None:
@@ -149,7 +156,7 @@ def scene_dict(scene, view_layer, width: int, height: int, objects=None,
     if data["model"] != "threejs":
         warnings.append(f"scene {scene.name!r} uses the seeds' model: the page shows three.js's "
                         "(set the scene's Lighting Model to three.js to see the same in Blender)")
-    mats, index, meshes = [], {}, []
+    mats, index, meshes, casts = [], {}, [], []
     for obj, entry in zip(objects, data["objects"]):
         points, normals, slots = _mesh_arrays(obj, depsgraph)
         for slot_index in np.unique(slots):
@@ -167,7 +174,8 @@ def scene_dict(scene, view_layer, width: int, height: int, objects=None,
                 "lights": entry["lights"],
                 "positions": np.round(points[picked].ravel(), 6).tolist(),
                 "normals": np.round(normals[picked].ravel(), 6).tolist()})
-    return {
+            casts.append(compat.blocks_raycast(obj))
+    page = {
         "format": "phong-nodes-threejs", "version": 1,
         "title": data["title"], "width": int(width), "height": int(height),
         "camera": camera_dict(scene, depsgraph, width, height),
@@ -175,7 +183,13 @@ def scene_dict(scene, view_layer, width: int, height: int, objects=None,
         "lights": [_light_dict(light) for light in data["lights"]],
         "materials": mats,
         "meshes": meshes,
-    }, sorted(set(warnings))
+    }
+    if shadows:
+        page = threejs.with_shadows(page, [light["shadows"] for light in data["lights"]], casts)
+        if page.get("shadows"):
+            warnings.append("shadows: three.js's shadow maps, near Blender's shadow rays but "
+                            "not exact (the map's resolution and bias move the edges)")
+    return page, sorted(set(warnings))
 
 
 def export(filepath: str, scene, view_layer, width=None, height=None) -> list:
@@ -185,6 +199,6 @@ def export(filepath: str, scene, view_layer, width=None, height=None) -> list:
         percent = scene.render.resolution_percentage / 100.0
         width = max(1, round(scene.render.resolution_x * percent))
         height = max(1, round(scene.render.resolution_y * percent))
-    data, warnings = scene_dict(scene, view_layer, width, height)
+    data, warnings = scene_dict(scene, view_layer, width, height, shadows=True)
     threejs.write_page(filepath, data)
     return warnings
