@@ -473,8 +473,10 @@ def test_the_light_panel_says_where_shadows_show(bpy_clean):
     assert ("Cycles only" in seeds) == (not compat.HAS_LIGHT_LOOP)
     assert "Cycles only (the X3D model)" in " ".join(shadows.notes("x3d", True, False))
     assert "term pass" in " ".join(shadows.notes("seeds", False, False))
-    if compat.HAS_LIGHT_LOOP:
-        assert "Ray Cast, not Shadow" in seeds
+    if compat.RAYCAST_VISIBILITY:
+        assert "Ray Visibility ▸ Shadow (and Ray Cast)" in seeds
+    else:
+        assert "Ray Visibility ▸ Shadow not read" in seeds
 
 
 @pytest.mark.cycles
@@ -653,3 +655,107 @@ def test_threejs_page_export_casts_where_blender_does(bpy_clean, tmp_path):
     report(f"[shadows three.js page] {int((darker > 8).sum())} px darker with shadow maps")
     assert (darker > 8).sum() > 40
     assert (darker < -2).sum() == 0, "shadow maps only darken"
+
+
+# -- Ray Visibility ▸ Shadow in Cycles (5.3) ----------------------------------------------------
+
+@pytest.mark.cycles
+@pytest.mark.eevee
+def test_shadow_visibility_toggled_on_a_caster_shows_in_cycles(bpy_clean, blender_tmp):
+    """Blender 5.3: Object ▸ Visibility ▸ Ray Visibility ▸ Shadow turned off on the box (the
+    active object, as in the Object properties) turns its Ray Cast off with it: the box's
+    triangles leave the reference, Cycles within 1e-4 of it away from the shadows' edges and
+    Eevee (which reads Shadow itself) within 1/255 on 99.5% of the pixels; the box's shadow is
+    gone (pixels change).  Shadow on again gives Ray Cast back; a Ray Cast turned off by hand
+    while Shadow is on stays off; Restore Original Materials gives back a Ray Cast the mirror
+    turned off."""
+    compat = be.compat()
+    if not compat.RAYCAST_VISIBILITY:
+        pytest.skip(f"bpy {be.bpy_release()}: Cycles' Raycast node reads no per-object "
+                    "visibility but all ray visibility (5.3+)")
+    bpy = bpy_clean
+    from phong_nodes.addon.comparison import engine  # noqa: PLC0415
+    from phong_nodes.core import compare  # noqa: PLC0415
+
+    scene, (floor, ball, box), _lights = _shadow_scene(bpy)
+    layer = bpy.context.view_layer
+    _data, before, _p, _m, _r, _mask = _compare_cycles(bpy, scene, blender_tmp / "vis_before")
+    for obj in scene.objects:
+        obj.select_set(False)
+    box.select_set(True)
+    layer.objects.active = box
+    box.visible_shadow = False
+    layer.update()   # the depsgraph handler
+    assert box.visible_raycast is False
+    data, images, _passes, metrics, _refimg, mask = _compare_cycles(
+        bpy, scene, blender_tmp / "vis_off")
+    assert len(data["triangles"]) == 40 * 40 * 2 + 32 * 14 * 2 + 32 * 2   # no box
+    err = metrics["pairs"]["cycles-reference"]
+    changed = np.abs(images["cycles"] - before["cycles"]).max(axis=-1)
+    both = engine.run(scene, str(blender_tmp / "vis_off_eevee"), engines=("eevee", "cycles"))
+    eevee = both["pairs"]["eevee-reference"]
+    report(f"[shadow visibility off, 5.3] Cycles max |Cycles - ref| {err['max_abs']:.2e} on "
+           f"{err['pixels']} px; {int((changed > 0.01).sum())} px changed from the box's "
+           f"shadow; Eevee {100.0 * (1.0 - eevee['share_over_1_255']):.3f}% within 1/255")
+    assert err["max_abs"] <= 1e-4
+    assert err["pixels"] > 0.8 * mask.size
+    assert (changed > 0.01).sum() > 50, "the box's shadow is gone"
+    assert both["ok"], both["verdict"]
+    assert 1.0 - eevee["share_over_1_255"] >= compare.EEVEE_SHARE
+    # Shadow on again: Ray Cast back
+    box.visible_shadow = True
+    layer.update()
+    assert box.visible_raycast is True
+    # a Ray Cast turned off by hand while Shadow is on: left off
+    box.visible_raycast = False
+    layer.update()
+    assert (box.visible_shadow, box.visible_raycast) == (True, False)
+    box.visible_raycast = True
+    # an object not selected, its Shadow set by a script: Relink brings Ray Cast in step
+    ball.visible_shadow = False
+    layer.update()
+    assert ball.visible_raycast is True, "the handler looks at the active and selected only"
+    assert bpy.ops.phong.relink_lights() == {"FINISHED"}
+    assert ball.visible_raycast is False
+    # Restore Original Materials of the ball alone: the floor still receives Phong shadows,
+    # the ball still casts none; of every Phong object: Ray Cast as it was
+    for obj in scene.objects:
+        obj.select_set(obj is ball)
+    layer.objects.active = ball
+    assert bpy.ops.phong.restore_materials() == {"FINISHED"}
+    layer.update()
+    assert (ball.visible_shadow, ball.visible_raycast) == (False, False)
+    for obj in scene.objects:
+        obj.select_set(obj in (floor, box))
+    layer.objects.active = floor
+    assert bpy.ops.phong.restore_materials() == {"FINISHED"}
+    assert (ball.visible_shadow, ball.visible_raycast) == (False, True)
+    assert "phong_raycast_own" not in ball.keys()
+
+
+@pytest.mark.cycles
+def test_shadow_blockers_are_said_not_read_by_cycles(bpy_clean, blender_tmp):
+    """A light with a Light Linking blocker collection (only the ball blocks the spot):
+    the light panel's note says Cycles' Phong shadows ignore it (and, on 5.3, that Eevee
+    honours it); no note for a light without blockers; Cycles, whose Raycast node reads no
+    blockers, is still within 1e-4 of the reference (every caster blocks every light)."""
+    if not be.compat().HAS_RAYCAST:
+        pytest.skip(f"no Raycast node in bpy {be.bpy_release()}")
+    bpy = bpy_clean
+    from phong_nodes.addon.lighting import shadows  # noqa: PLC0415
+
+    scene, (_floor, ball, _box), (point, spot, _sun) = _shadow_scene(bpy, size=48)
+    blockers = bpy.data.collections.new("Spot blockers")
+    blockers.objects.link(ball)
+    spot.light_linking.blocker_collection = blockers
+    note = shadows.blocker_note(spot)
+    assert note is not None and "ignore its shadow blockers" in note
+    assert ("Eevee does" in note) == be.compat().HAS_LIGHT_LOOP
+    assert shadows.blocker_note(point) is None
+    bpy.context.view_layer.update()
+    _data, _images, _passes, metrics, _refimg, _mask = _compare_cycles(
+        bpy, scene, blender_tmp / "blockers")
+    err = metrics["pairs"]["cycles-reference"]
+    report(f"[shadow blockers] Cycles max |Cycles - ref| {err['max_abs']:.2e} with a blocker "
+           "collection on the spot (not read)")
+    assert err["max_abs"] <= 1e-4

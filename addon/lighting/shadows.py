@@ -20,6 +20,16 @@ Visibility ▸ Ray Cast on 5.3 (``visible_raycast``; 5.2: only an object with ev
 visibility off is skipped), not Ray Visibility ▸ Shadow (``visible_shadow``) nor Light
 Linking's shadow blockers; a transparent (Opacity below 1) caster blocks the light.
 
+Ray Visibility ▸ Shadow in Cycles (5.3, :func:`follow_shadow`): in a scene whose lights
+groups cast shadow rays, turning an object's Shadow off turns its Ray Cast off too (noted on
+the object, ``OWN_RAYCAST`` = 1), turning Shadow on again brings Ray Cast back; a Ray Cast
+turned off by hand while Shadow is on is left as it is (the object then casts no Phong shadow
+in Cycles but does in Eevee).  The depsgraph handler :func:`follow_shadow_visibility` does it
+for the active object, and the selected ones with it (where the Object properties edit it); Apply and Relink
+for every object of the scene.  Once the scene casts no shadow rays (Restore Original
+Materials of its last Phong objects, Relink with a term pass) every Ray Cast turned off here
+comes back (:func:`give_back_raycast`).
+
 Eevee never evaluates a Raycast node (its node is screen space only): a lights group with
 shadows shows them through its output "Cycles Shader" (the material's Material Output of
 target CYCLES), and Eevee the group's Shader without shadows, or on 5.3 the light loop
@@ -28,6 +38,8 @@ target CYCLES), and Eevee the group's Shader without shadows, or on 5.3 the ligh
 """
 
 from __future__ import annotations
+
+from bpy.app.handlers import persistent
 
 from .. import compat
 from . import drivers
@@ -43,6 +55,11 @@ OFFSET = 1.0e-5
 SUN_LENGTH = 1.0e8
 #: Names of the nodes written here (under their light's name).
 PREFIX = "shadow:"
+
+
+#: Object custom property: 1 while the object's Ray Cast is off because its Shadow is
+#: (:func:`follow_shadow`), 0 once given back.
+OWN_RAYCAST = "phong_raycast_own"
 
 
 def supported() -> bool:
@@ -62,10 +79,103 @@ def notes(model: str, rays: bool, loop: bool) -> list:
     if not loop:
         why = "the X3D model" if model == "x3d" else "Blender before 5.3"
         lines.append(f"Phong shadows in Cycles only ({why}): Eevee shows none")
-    lines.append("Cycles: casters by Ray Visibility ▸ Ray Cast, not Shadow"
-                 if compat.RAYCAST_VISIBILITY else
-                 "Cycles: every object casts unless all its ray visibility is off")
+    lines.append("Cycles: an object casts while its Ray Visibility ▸ Shadow (and Ray Cast) "
+                 "is on" if compat.RAYCAST_VISIBILITY else
+                 "Cycles 5.2: every object casts unless all its ray visibility is off "
+                 "(Ray Visibility ▸ Shadow not read)")
     return lines
+
+
+def blocker_note(obj) -> str | None:
+    """What the light panel says of the light object *obj*'s Light Linking shadow blockers
+    in a scene with shadow rays: Cycles' Raycast node does not read them."""
+    linking = getattr(obj, "light_linking", None)
+    if linking is None or getattr(linking, "blocker_collection", None) is None:
+        return None
+    eevee = ", Eevee does" if compat.HAS_LIGHT_LOOP else ""
+    return f"Cycles' Phong shadows ignore its shadow blockers (Light Linking){eevee}"
+
+
+def _raycast_pending(obj) -> bool:
+    """Whether *obj*'s Ray Cast is not yet where its Shadow puts it (:func:`follow_shadow`)."""
+    ray = getattr(obj, compat.RAYCAST_VISIBILITY)
+    if obj.visible_shadow:
+        return not ray and obj.get(OWN_RAYCAST) == 1
+    return ray
+
+
+def follow_shadow(obj) -> bool:
+    """Ray Cast after Shadow on the object *obj* (5.3; Cycles' Raycast node reads only Ray
+    Cast): Shadow off turns Ray Cast off (``OWN_RAYCAST`` = 1), Shadow on gives back a Ray
+    Cast turned off here (``OWN_RAYCAST`` = 0; no ID property is removed: safe in a
+    depsgraph handler).  Returns whether it changed anything."""
+    attr = compat.RAYCAST_VISIBILITY
+    if attr is None or obj.library is not None or not hasattr(obj, attr) \
+            or not _raycast_pending(obj):
+        return False
+    if obj.visible_shadow:
+        setattr(obj, attr, True)
+        obj[OWN_RAYCAST] = 0
+    else:
+        if obj.get(OWN_RAYCAST) != 1:
+            obj[OWN_RAYCAST] = 1
+        setattr(obj, attr, False)
+    return True
+
+
+def follow_scene(scene) -> int:
+    """:func:`follow_shadow` on every object of *scene* (Apply, Relink); returns how many
+    changed."""
+    if compat.RAYCAST_VISIBILITY is None:
+        return 0
+    return sum(follow_shadow(obj) for obj in scene.objects)
+
+
+def give_back_raycast(scene, remove: bool = True) -> int:
+    """Where *scene* casts no shadow rays any more (no Phong material left, a term pass):
+    every object's Ray Cast as it was before :func:`follow_shadow` turned it off; *remove*:
+    and the note (``OWN_RAYCAST``) removed (not inside a depsgraph handler).  Returns how
+    many objects got Ray Cast back."""
+    attr = compat.RAYCAST_VISIBILITY
+    back = 0
+    for obj in scene.objects:
+        own = obj.get(OWN_RAYCAST)
+        if own is None or obj.library is not None:
+            continue
+        if own == 1 and attr is not None and hasattr(obj, attr):
+            setattr(obj, attr, True)
+            back += 1
+        if remove:
+            del obj[OWN_RAYCAST]
+        elif own != 0:
+            obj[OWN_RAYCAST] = 0
+    return back
+
+
+@persistent
+def follow_shadow_visibility(scene, depsgraph=None) -> None:
+    """After an object edit: the active object's Ray Cast after its Shadow
+    (:func:`follow_shadow`), in a scene whose lights groups cast shadow rays, and then the
+    selected objects' (Alt+click).  A light drag costs one look at the active object (no walk
+    of ``depsgraph.updates`` nor of the selection)."""
+    if depsgraph is None or scene is None or compat.RAYCAST_VISIBILITY is None \
+            or not depsgraph.id_type_updated("OBJECT"):
+        return
+    objects = depsgraph.view_layer.objects
+    active = objects.active
+    if active is None or active.library is not None or not _raycast_pending(active) \
+            or not _casts_rays(scene):
+        return
+    follow_shadow(active)
+    for obj in objects.selected:  # Alt+click edits every selected object with the active
+        follow_shadow(obj)
+
+
+def _casts_rays(scene) -> bool:
+    """Whether a lights group of *scene* casts shadow rays."""
+    from . import rig  # noqa: PLC0415 (rig imports this module)
+
+    return any(has_shadows(tree) for tree in rig.groups_of(scene))
 
 
 def has_shadows(tree) -> bool:

@@ -211,6 +211,10 @@ class Sync:
                 bpy.data.node_groups.remove(tree)
         if prune:
             rig.prune_world_keys()
+        if any(shadows.has_shadows(t) for t in rig.groups_of(self.scene)):
+            shadows.follow_scene(self.scene)  # Cycles 5.3: Ray Cast after Shadow
+        else:
+            shadows.give_back_raycast(self.scene, remove=prune)
         for follow in AFTER_FINISH:  # e.g. Per Vertex / Per Face (shading/) follow the lights
             follow(self.scene)
 
@@ -400,6 +404,7 @@ def _renew() -> None:
 #: drivers) that those updates still name (Blender 4.2 crashed in follow_opacity after it).
 _HANDLERS = (("depsgraph_update_post", materials.follow_opacity),
              ("depsgraph_update_post", light_loop.follow_lights),
+             ("depsgraph_update_post", shadows.follow_shadow_visibility),
              ("depsgraph_update_post", on_depsgraph_update), ("load_post", forget),
              ("load_post", upgrade_on_load), ("undo_post", forget), ("redo_post", forget),
              *world_copies.HANDLERS)

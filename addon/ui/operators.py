@@ -217,6 +217,10 @@ in the file until unused)"""
             return {"CANCELLED"}
         names = {m.name: m for m in bpy.data.materials}  # one look-up table for all slots
         slots = sum(materials.restore(obj, names) for obj in meshes)
+        scene = context.scene
+        if not any(materials.is_phong_material(slot.material) for obj in scene.objects
+                   for slot in getattr(obj, "material_slots", ())):
+            shadows.give_back_raycast(scene)  # no Phong shadows left: Ray Cast as it was
         if not slots:
             self.report({"WARNING"}, "Restore Original Materials: no selected object has a "
                                      "Phong material made from another material")

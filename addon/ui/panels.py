@@ -43,8 +43,12 @@ class DATA_PT_phong_light(bpy.types.Panel):
         layout.label(text="Colour, position, direction and spot size come from the light",
                      icon="INFO")
         layout.prop(light, "use_shadow", text="Cast Shadow")  # Blender's own switch
-        for line in shadows.notes(model, rig.wants_shadows(scene), rig.wants_loop(scene)):
+        rays = rig.wants_shadows(scene)
+        for line in shadows.notes(model, rays, rig.wants_loop(scene)):
             layout.label(text=line, icon="INFO")
+        blockers = shadows.blocker_note(context.object) if rays else None
+        if blockers:
+            layout.label(text=blockers, icon="ERROR")
         layout.operator(PHONG_OT_relink_lights.bl_idname, icon="FILE_REFRESH")
 
 
