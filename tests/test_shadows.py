@@ -759,3 +759,51 @@ def test_shadow_blockers_are_said_not_read_by_cycles(bpy_clean, blender_tmp):
     report(f"[shadow blockers] Cycles max |Cycles - ref| {err['max_abs']:.2e} with a blocker "
            "collection on the spot (not read)")
     assert err["max_abs"] <= 1e-4
+
+
+class _Labels:
+    """Records the labels a panel's draw() shows."""
+
+    use_property_split = False
+
+    def __init__(self):
+        self.lines = []
+
+    def label(self, text="", **_options):
+        self.lines.append(text)
+
+    def __getattr__(self, _name):
+        return lambda *args, **kwargs: self
+
+
+def _labels(panel, **context) -> str:
+    layout = _Labels()
+    panel.draw(type("Panel", (), {"layout": layout})(), type("Context", (), context)())
+    return " | ".join(layout.lines)
+
+
+def test_panels_say_where_a_material_or_a_light_gets_no_shadow(bpy_clean):
+    """The light panel warns of a light's shadow blockers (Cycles ignores them) where the
+    scene casts shadow rays; the material panel says that Per Vertex / Per Face gets no Phong
+    shadows and, on 5.3 (the light loop), that a material of Opacity below 1 gets them in
+    Cycles only; an opaque per-pixel material has no such line."""
+    bpy = bpy_clean
+    compat = be.compat()
+    from phong_nodes.addon.ui import panels  # noqa: PLC0415
+
+    scene, (floor, ball, _box), (_point, spot, _sun) = _shadow_scene(bpy, size=16)
+    spot.light_linking.blocker_collection = bpy.data.collections.new("Blockers")
+    light_text = _labels(panels.DATA_PT_phong_light, light=spot.data, scene=scene, object=spot)
+    material_text = _labels(panels.MATERIAL_PT_phong, material=floor.active_material,
+                            scene=scene)
+    if not compat.HAS_RAYCAST:
+        assert "blockers" not in light_text and "shadows" not in material_text
+        return
+    assert "ignore its shadow blockers" in light_text
+    assert "shadow" not in material_text.lower()
+    ball.active_material.phong.opacity = 0.5
+    text = _labels(panels.MATERIAL_PT_phong, material=ball.active_material, scene=scene)
+    assert ("Opacity below 1: Phong shadows in Cycles only" in text) == compat.HAS_LIGHT_LOOP
+    floor.active_material.phong.shading = "VERTEX"
+    text = _labels(panels.MATERIAL_PT_phong, material=floor.active_material, scene=scene)
+    assert "Per Vertex / Per Face: no Phong shadows" in text

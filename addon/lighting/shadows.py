@@ -86,6 +86,21 @@ def notes(model: str, rays: bool, loop: bool) -> list:
     return lines
 
 
+def material_notes(shading: str, blends: bool, rays: bool, loop: bool) -> list:
+    """What the material panel says of a Phong material's shadows: in *shading* (PIXEL, or
+    Per Vertex / Per Face), blending (*blends*: Opacity below 1, an opacity map), in a scene
+    with shadow rays (*rays*) and the light loop (*loop*).  Eevee shows the loop's shadows
+    only where it shows the loop (``materials._eevee_shader``); the light panel says the
+    rest."""
+    if not supported() or not rays:
+        return []
+    if shading != "PIXEL":
+        return ["Per Vertex / Per Face: no Phong shadows (Cycles nor Eevee)"]
+    if blends and loop:
+        return ["Opacity below 1: Phong shadows in Cycles only (Eevee shows none)"]
+    return []
+
+
 def blocker_note(obj) -> str | None:
     """What the light panel says of the light object *obj*'s Light Linking shadow blockers
     in a scene with shadow rays: Cycles' Raycast node does not read them."""

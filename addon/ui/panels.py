@@ -5,7 +5,7 @@ import bpy
 
 from ..lighting import properties, rig, shadows
 from ..lighting.lights import SUPPORTED
-from ..lighting.materials import OPACITY, is_phong_material
+from ..lighting.materials import OPACITY, blends, is_phong_material
 from .operators import (PHONG_OT_add_term_passes, PHONG_OT_apply_material,
                         PHONG_OT_relink_lights, PHONG_OT_restore_materials)
 
@@ -46,7 +46,8 @@ class DATA_PT_phong_light(bpy.types.Panel):
         rays = rig.wants_shadows(scene)
         for line in shadows.notes(model, rays, rig.wants_loop(scene)):
             layout.label(text=line, icon="INFO")
-        blockers = shadows.blocker_note(context.object) if rays else None
+        obj = getattr(context, "object", None)
+        blockers = shadows.blocker_note(obj) if rays and obj is not None else None
         if blockers:
             layout.label(text=blockers, icon="ERROR")
         layout.operator(PHONG_OT_relink_lights.bl_idname, icon="FILE_REFRESH")
@@ -99,6 +100,11 @@ class MATERIAL_PT_phong(bpy.types.Panel):
         if context.material.phong.shading != "PIXEL":
             layout.label(text="Evaluated in the shader, on the mesh data of the modifier "
                               "\"Phong Shading\"", icon="INFO")
+        scene = context.scene
+        for line in shadows.material_notes(context.material.phong.shading,
+                                           blends(context.material), rig.wants_shadows(scene),
+                                           rig.wants_loop(scene)):
+            layout.label(text=line, icon="INFO")
 
 
 def _draw_material_menu(self, context):
