@@ -352,6 +352,8 @@ def apply_light(light, source: fbx.Light, warnings: list, path) -> None:
     if light.type != source.type:
         light.type = source.type
     light.color = source.color
+    # FBX CastShadows: Blender's importer before 5.3 reads "CastShadow" (always its default)
+    light.use_shadow = bool(source.cast_shadows)
     settings = {"intensity": source.intensity}
     if source.type != "SUN":
         settings.update(fbx.falloff(source.decay))
