@@ -807,3 +807,27 @@ def test_panels_say_where_a_material_or_a_light_gets_no_shadow(bpy_clean):
     floor.active_material.phong.shading = "VERTEX"
     text = _labels(panels.MATERIAL_PT_phong, material=floor.active_material, scene=scene)
     assert "Per Vertex / Per Face: no Phong shadows" in text
+
+
+def test_a_loaded_file_s_shadow_visibility_reaches_cycles(bpy_clean, blender_tmp):
+    """Blender 5.3: a file saved with a caster's Shadow off and its Ray Cast still on (set by
+    a script, no Relink) loads with Ray Cast off (load_post), so Cycles casts what Eevee
+    does; another object's Ray Cast turned off by hand with Shadow on stays off."""
+    compat = be.compat()
+    if not compat.RAYCAST_VISIBILITY:
+        pytest.skip(f"bpy {be.bpy_release()}: Cycles reads no Ray Cast visibility (5.3+)")
+    bpy = bpy_clean
+    scene, (floor, ball, box), _lights = _shadow_scene(bpy, size=16)
+    for obj in scene.objects:
+        obj.select_set(False)
+    bpy.context.view_layer.objects.active = floor
+    box.visible_shadow = False
+    ball.visible_raycast = False
+    bpy.context.view_layer.update()
+    assert (box.visible_shadow, box.visible_raycast) == (False, True)
+    path = str(blender_tmp / "shadow_visibility.blend")
+    bpy.ops.wm.save_as_mainfile(filepath=path)
+    bpy.ops.wm.open_mainfile(filepath=path)
+    box, ball = bpy.data.objects["Box"], bpy.data.objects["Ball"]
+    assert (box.visible_shadow, box.visible_raycast) == (False, False)
+    assert (ball.visible_shadow, ball.visible_raycast) == (True, False)

@@ -24,10 +24,11 @@ Ray Visibility ▸ Shadow in Cycles (5.3, :func:`follow_shadow`): in a scene who
 groups cast shadow rays, turning an object's Shadow off turns its Ray Cast off too (noted on
 the object, ``OWN_RAYCAST`` = 1), turning Shadow on again brings Ray Cast back; a Ray Cast
 turned off by hand while Shadow is on is left as it is (the object then casts no Phong shadow
-in Cycles but does in Eevee).  The depsgraph handler :func:`follow_shadow_visibility` does it
-for the active object, and the selected ones with it (where the Object properties edit it); Apply and Relink
-for every object of the scene.  Once the scene casts no shadow rays (Restore Original
-Materials of its last Phong objects, Relink with a term pass) every Ray Cast turned off here
+in Cycles but does in Eevee).  The depsgraph handler :func:`follow_shadow_visibility` does
+it for the active object, and the selected ones with it (where the Object properties edit
+it); Apply, Relink and loading a file (:func:`follow_on_load`) for every object of the
+scene.  Once the scene casts no shadow rays (Restore Original Materials of its last Phong
+objects, Relink with a term pass) every Ray Cast turned off here
 comes back (:func:`give_back_raycast`).
 
 Eevee never evaluates a Raycast node (its node is screen space only): a lights group with
@@ -39,6 +40,7 @@ target CYCLES), and Eevee the group's Shader without shadows, or on 5.3 the ligh
 
 from __future__ import annotations
 
+import bpy
 from bpy.app.handlers import persistent
 
 from .. import compat
@@ -184,6 +186,17 @@ def follow_shadow_visibility(scene, depsgraph=None) -> None:
     follow_shadow(active)
     for obj in objects.selected:  # Alt+click edits every selected object with the active
         follow_shadow(obj)
+
+
+@persistent
+def follow_on_load(*_args) -> None:
+    """After loading a file: :func:`follow_scene` in each of its scenes whose lights groups
+    cast shadow rays (a Shadow turned off in a Blender without this mirror, or by a script)."""
+    if compat.RAYCAST_VISIBILITY is None:
+        return
+    for scene in bpy.data.scenes:
+        if scene.library is None and _casts_rays(scene):
+            follow_scene(scene)
 
 
 def _casts_rays(scene) -> bool:

@@ -406,7 +406,8 @@ _HANDLERS = (("depsgraph_update_post", materials.follow_opacity),
              ("depsgraph_update_post", light_loop.follow_lights),
              ("depsgraph_update_post", shadows.follow_shadow_visibility),
              ("depsgraph_update_post", on_depsgraph_update), ("load_post", forget),
-             ("load_post", upgrade_on_load), ("undo_post", forget), ("redo_post", forget),
+             ("load_post", upgrade_on_load), ("load_post", shadows.follow_on_load),
+             ("undo_post", forget), ("redo_post", forget),
              *world_copies.HANDLERS)
 
 
