@@ -155,11 +155,13 @@ def give_back_raycast(scene, remove: bool = True) -> int:
     many objects got Ray Cast back."""
     attr = compat.RAYCAST_VISIBILITY
     back = 0
+    if attr is None:  # nothing was turned off before 5.3
+        return back
     for obj in scene.objects:
         own = obj.get(OWN_RAYCAST)
         if own is None or obj.library is not None:
             continue
-        if own == 1 and attr is not None and hasattr(obj, attr):
+        if own == 1 and hasattr(obj, attr):
             setattr(obj, attr, True)
             back += 1
         if remove:
