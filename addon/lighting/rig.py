@@ -67,11 +67,11 @@ import zlib
 
 import bpy
 
+from ...node_groups import models
 from .. import compat, loader
 from . import drivers, properties
 from . import loop as light_loop
 from . import shadows as shadow_rays
-from .lights import SUPPORTED
 
 #: Custom properties of a lights group: the scene it belongs to (an ID pointer) and its
 #: light set.
@@ -82,9 +82,10 @@ RIG_VERSION = 5  # 4: lights' transforms from World custom properties (View Laye
 # 5: one Phong Surface and a Phong Light Terms per light instead of a Phong Shading per light
 VERSION_KEY = "phong_lights_version"
 ALL = "*"
-#: The lighting models (docs/model.md, docs/threejs.md); a scene's is
-#: ``scene[MODEL_KEY]`` (default the seeds'), also stamped on its lights groups.
-MODELS = tuple(item[0] for item in properties.MODEL_ITEMS)
+#: The lighting models (``node_groups/models.py``: docs/model.md, docs/threejs.md,
+#: docs/x3d.md); a scene's is ``scene[MODEL_KEY]`` (default the seeds'), also stamped on its
+#: lights groups.
+MODELS = models.NAMES
 MODEL_KEY = properties.MODEL_KEY
 
 INPUTS = (  # (name, socket type, default)
@@ -173,7 +174,7 @@ def prune_world_keys(worlds=None) -> int:
 def model_of(scene) -> str:
     """The lighting model of *scene*: "seeds" (default), "threejs" or "x3d"."""
     model = scene.get(MODEL_KEY, MODELS[0]) if scene is not None else MODELS[0]
-    return model if model in MODELS else MODELS[0]
+    return model if model in models.MODELS else MODELS[0]
 
 
 def set_key(lights, everything: bool) -> str:
@@ -199,12 +200,8 @@ def groups_of(scene) -> list:
     return [t for t in bpy.data.node_groups if t.library is None and owner(t) == scene]
 
 
-#: The first word of a lights group's name, per model.
-GROUP_PREFIX = {"seeds": "Phong", "threejs": "three.js", "x3d": "X3D"}
-
-
 def group_name(scene, lights, key: str) -> str:
-    name = f"{GROUP_PREFIX[model_of(scene)]} Lights {scene.name}"
+    name = f"{models.MODELS[model_of(scene)].prefix} Lights {scene.name}"
     if key != ALL:
         name += f" [{', '.join(o.name for o in lights) or 'no light'}]"
     return name
@@ -276,12 +273,14 @@ def build(tree, lights, world, model=MODELS[0], loop=False, lookups=None,
     if lookups is None:
         lookups = compat.view_layer_lookups(loop)
     budget = [world, lookups, compat.VIEW_LAYER_LOOKUPS]
-    if model == "threejs":
-        _build_threejs(tree, lights, world, budget, loop, shadows)
-        return
-    if model == "x3d":
-        _build_x3d(tree, lights, world, budget, shadows)
-        return
+    COMPOSE[models.MODELS[model].composition](tree, lights, world, budget, model, loop, shadows)
+
+
+def _build_phong(tree, lights, world, budget, model, loop=False, shadows=False) -> None:
+    """The composition "phong" (the seeds' model, docs/contract.md "Several lights"): per
+    light its light group (a Power Falloff after it where the light's falloff is POWER) and a
+    Phong Light Terms; Diffuse = Σ diffuse light ⊗ Object Color, Specular = Σ specular light
+    ⊗ Specular Color, Color = min(Irradiant + Ambient + Diffuse + Specular, 1)."""
     group_in, group_out, out_x = _start(tree, lights, shadows)
     surface = _group_node(tree, "Phong Surface", "surface", (-600.0, 520.0))
     for name in ("Normal", "View Vector"):
@@ -290,14 +289,15 @@ def build(tree, lights, world, model=MODELS[0], loop=False, lookups=None,
     shared = shadow_rays.surface(tree, (-1800.0, 900.0)) if shadows else None
     for index, obj in enumerate(lights):
         y = -520.0 * index
-        light_node = _light_node(tree, obj, (-600.0, y), MODELS[0], budget)
+        light_node = _light_node(tree, obj, (-600.0, y), model, budget)
         shading = _group_node(tree, "Phong Light Terms", f"shading:{obj.name}", (-300.0, y))
         for name in ("Exponent", "Blinn"):
             tree.links.new(group_in.outputs[name], shading.inputs[name])
         for name in ("Normal", "View Vector"):
             tree.links.new(surface.outputs[name], shading.inputs[name])
         tree.links.new(light_node.outputs["Light Vector"], shading.inputs["Light Vector"])
-        tree.links.new(_power_falloff(tree, obj, light_node) or light_node.outputs["Intensity"],
+        tree.links.new(_power_falloff(tree, obj, light_node, model)
+                       or light_node.outputs["Intensity"],
                        shading.inputs["Light Intensity"])
         drivers.color(shading.inputs["Light Color"], "LIGHT", obj.data, "color")
         for attr, socket in (("diffuse", "Diffuse Strength"), ("specular", "Specular Strength")):
@@ -322,10 +322,10 @@ def build(tree, lights, world, model=MODELS[0], loop=False, lookups=None,
     tree.links.new(ambient.outputs["Color"], group_out.inputs["Ambient"])
     _shaders(tree, color, group_out, out_x, shadows and (lambda: colour(shadings, False, "plain ")))
     if loop:
-        light_loop.build(tree, MODELS[0], group_in, group_out,
+        light_loop.build(tree, model, group_in, group_out,
                          group_in.outputs["Irradiant Color"], ambient.outputs["Color"], surface,
                          shadows)
-    _stamp(tree, lights, MODELS[0])
+    _stamp(tree, lights, model)
 
 
 def _lit(tree, obj, light_node, terms, shared, location):
@@ -386,29 +386,22 @@ def _start(tree, lights, shadows=False):
     return group_in, group_out, out_x
 
 
-#: Per model: light type -> its light group; a spot's half-angle input (the light settings
-#: that drive the other inputs: ``properties.MODEL_SETTINGS``).
-LIGHT_GROUPS = {"seeds": SUPPORTED,
-                "threejs": {"POINT": "three.js Point Light", "SUN": "Phong Directional Light",
-                            "SPOT": "three.js Spot Light"},
-                "x3d": {"POINT": "X3D Point Light", "SUN": "X3D Directional Light",
-                        "SPOT": "X3D Spot Light"}}
-SPOT_ANGLE = {"seeds": "Half Angle", "threejs": "Angle", "x3d": "Cut Off Angle"}
 #: three.js model: the three.js Phong input fed by each input of the lights group.
 THREEJS_SHADING = {"Object Color": "Diffuse Color", "Specular Color": "Specular Color",
                    "Exponent": "Shininess", "Specular Strength": "Specular Strength",
                    "Normal": "Normal", "View Vector": "View Vector"}
 
 
-def _build_threejs(tree, lights, world, budget, loop=False, shadows=False) -> None:
-    """The three.js model (docs/threejs.md): per light a light group and a three.js Phong,
-    the ambient a three.js Ambient, the emissive the Irradiant Color input."""
+def _build_chain(tree, lights, world, budget, model, loop=False, shadows=False) -> None:
+    """The composition "chain" (the three.js model, docs/threejs.md): per light a light group
+    and a three.js Phong, the ambient a three.js Ambient, the emissive the Irradiant Color
+    input, added by a Phong Color Add chain."""
     group_in, group_out, out_x = _start(tree, lights, shadows)
     shadings, lit = [], []
     shared = shadow_rays.surface(tree, (-1800.0, 900.0)) if shadows else None
     for index, obj in enumerate(lights):
         y = -520.0 * index
-        light_node = _light_node(tree, obj, (-600.0, y), "threejs", budget)
+        light_node = _light_node(tree, obj, (-600.0, y), model, budget)
         shading = _group_node(tree, "three.js Phong", f"shading:{obj.name}", (-300.0, y))
         for source, target in THREEJS_SHADING.items():
             tree.links.new(group_in.outputs[source], shading.inputs[target])
@@ -426,14 +419,15 @@ def _build_threejs(tree, lights, world, budget, loop=False, shadows=False) -> No
           shadows and (lambda: _add_chain(tree, ambient, [irradiant] + [
               s.outputs["Color"] for s in shadings], "plain ")))
     if loop:
-        light_loop.build(tree, "threejs", group_in, group_out, irradiant, ambient.outputs["Color"],
+        light_loop.build(tree, model, group_in, group_out, irradiant, ambient.outputs["Color"],
                          shadows=shadows)
-    _stamp(tree, lights, "threejs")
+    _stamp(tree, lights, model)
 
 
-def _build_x3d(tree, lights, world, budget, shadows=False) -> None:
-    """The X3D / VRML97 model (docs/x3d.md): per light an X3D light group and an X3D Light
-    Terms; Diffuse = Σ diffuse light ⊗ Object Color, Specular = Σ specular light ⊗ Specular
+def _build_light_ambient(tree, lights, world, budget, model, loop=False,
+                         shadows=False) -> None:
+    """The composition "phong_light_ambient" (the X3D / VRML97 model, docs/x3d.md; no loop
+    part, *loop* is ignored): per light an X3D light group and an X3D Light Terms; Diffuse = Σ diffuse light ⊗ Object Color, Specular = Σ specular light ⊗ Specular
     Color, Ambient = (the World's ambient light + Σ the lights' ambient light) ⊗ Ambient
     Object Color, Color = min(Irradiant + Ambient + Diffuse + Specular, 1)."""
     group_in, group_out, out_x = _start(tree, lights, shadows)
@@ -444,7 +438,7 @@ def _build_x3d(tree, lights, world, budget, shadows=False) -> None:
     shared = shadow_rays.surface(tree, (-1800.0, 900.0)) if shadows else None
     for index, obj in enumerate(lights):
         y = -520.0 * index
-        light_node = _light_node(tree, obj, (-600.0, y), "x3d", budget)
+        light_node = _light_node(tree, obj, (-600.0, y), model, budget)
         shading = _group_node(tree, "X3D Light Terms", f"shading:{obj.name}", (-300.0, y))
         tree.links.new(group_in.outputs["Exponent"], shading.inputs["Exponent"])
         for name in ("Normal", "View Vector"):
@@ -480,7 +474,13 @@ def _build_x3d(tree, lights, world, budget, shadows=False) -> None:
     tree.links.new(ambient, group_out.inputs["Ambient"])
     _shaders(tree, color, group_out, out_x, shadows and (lambda: _color_sum(
         tree, base, _term_sums(tree, terms, None, sources, "plain "), "plain ")))
-    _stamp(tree, lights, "x3d")
+    _stamp(tree, lights, model)
+
+
+#: composition (``models.COMPOSITIONS``) -> its builder(tree, lights, world, budget, model,
+#: loop, shadows).
+COMPOSE = {"phong": _build_phong, "chain": _build_chain,
+           "phong_light_ambient": _build_light_ambient}
 
 
 def _emission(tree, color, group_out, out_x, output="Shader"):
@@ -554,7 +554,8 @@ def _light_node(tree, obj, location, model, budget=(None, 0, 0)):
     light = obj.data
     properties.ensure_light_props(light)
     light_loop.write_parameters(light)  # what the light loop reads of it (5.3+; else nothing)
-    node = _group_node(tree, LIGHT_GROUPS[model][light.type], f"light:{obj.name}", location)
+    spec = models.MODELS[model]
+    node = _group_node(tree, spec.light_groups[light.type], f"light:{obj.name}", location)
     inputs = node.inputs
     keys = {attr: f'["{key}"]' for attr, (key, _default) in properties.LIGHT_KEYS.items()}
     kinds = [kind for kind, types in (("LOCATION", ("POINT", "SPOT")), ("AXIS", ("SUN", "SPOT")))
@@ -579,7 +580,7 @@ def _light_node(tree, obj, location, model, budget=(None, 0, 0)):
     if light.type in ("SUN", "SPOT") and not from_world:
         drivers.world_minus_z(inputs["Direction"], obj)
     if light.type == "SPOT":
-        drivers.prop(inputs[SPOT_ANGLE[model]], None, "LIGHT", light, "spot_size", scale=0.5)
+        drivers.prop(inputs[spec.spot_angle], None, "LIGHT", light, "spot_size", scale=0.5)
     for attr, target in properties.model_settings(model, light):
         if target is not None:
             drivers.prop(inputs[target], None, "LIGHT", light, keys[attr])
@@ -601,18 +602,19 @@ def _world_input(tree, world, obj, kind, socket, location, listed=WORLD_KEYS) ->
 
 
 def _is_power(light, model) -> bool:
-    """Whether *light* falls off as i0/d^k in its lights group (seeds' Point and Spot)."""
-    return (model == MODELS[0] and light.type in ("POINT", "SPOT")
+    """Whether *light* falls off as i0/d^k in its lights group (Point and Spot of a model
+    that reads the falloff: the seeds')."""
+    return (models.MODELS[model].power_falloff and light.type in ("POINT", "SPOT")
             and properties.falloff_of(light) == "POWER")
 
 
-def _power_falloff(tree, obj, light_node):
+def _power_falloff(tree, obj, light_node, model):
     """For a light whose falloff is POWER: its light group set to no falloff (α = β = 0,
     γ = 1: Intensity i0, times the spot's cone and edge) followed by a Phong Power Falloff
     of its Distance, k driven by ``phong_power_k``; returns that Intensity output.  None for
     the other lights (their light group's quadratic falloff, driven)."""
     light = obj.data
-    if not _is_power(light, MODELS[0]):
+    if not _is_power(light, model):
         return None
     node = _group_node(tree, "Phong Power Falloff", f"falloff:{obj.name}",
                        (light_node.location.x + 150.0, light_node.location.y - 330.0))

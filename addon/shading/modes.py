@@ -36,10 +36,12 @@ import contextlib
 import bpy
 from bpy.app.handlers import persistent
 
+from ...node_groups import models
 from ...node_groups import shading_modes as model
 from ...node_groups.expr import VECTOR, input_
 from .. import compat, loader
 from ..lighting import drivers, materials, properties, rig, world_copies
+from ..lighting.lights import SUPPORTED
 
 #: Custom property of the material: its shading mode (docs/contract.md).
 SHADING_KEY = "phong_shading"
@@ -267,9 +269,9 @@ def _light_set(group):
     names = list(group.get("phong_lights", []))
     lights = [scene.objects.get(n) for n in names]
     lights = [o for o in lights if o is not None and o.type == "LIGHT"
-              and o.data.type in model.LIGHT_GROUPS["seeds"]]
+              and o.data.type in SUPPORTED]
     light_model = group.get(rig.MODEL_KEY, rig.MODELS[0])
-    return lights, scene.world, light_model if light_model in model.MODELS else rig.MODELS[0]
+    return lights, scene.world, models.get(light_model).name
 
 
 def _modifiers(obj, tree) -> list:
@@ -773,14 +775,15 @@ def _light_sockets(b, index, obj, world_keys) -> dict:
     factories = {prefix + "Position": lambda: transform("LOCATION"),
                  prefix + "Direction": lambda: transform("AXIS"),
                  prefix + "Color": lambda: b.vector(prefix + "Color", "LIGHT", light, "color")}
-    for attr in ("intensity", "quadratic", "linear", "constant", "edge_exponent", "diffuse",
-                 "specular", "distance", "decay", "penumbra", "power_k", "radius",
-                 "beam_width"):
-        name = prefix + attr.replace("_", " ").title()
+    # the light groups' inputs that a setting drives (every model's, node_groups/models.py)
+    # and the leaves of the Phong Shading / Power Falloff that the composition "phong" reads
+    driven = {target: attr for spec in models.MODELS.values()
+              for attr, _types, _when, target in spec.settings if target is not None}
+    driven.update({"Diffuse": "diffuse", "Specular": "specular", "Power K": "power_k"})
+    for target, attr in driven.items():
+        name = prefix + target
         factories[name] = lambda n=name, a=attr: b.value(n, "LIGHT", light, keys[a])
-    factories[prefix + "Ambient Intensity"] = (  # the X3D model's light ambient
-        lambda n=prefix + "Ambient Intensity": b.value(n, "LIGHT", light, keys["ambient"]))
-    for name in ("Half Angle", "Angle", "Cut Off Angle"):
-        factories[prefix + name] = (lambda n=prefix + name:
-                                    b.value(n, "LIGHT", light, "spot_size", scale=0.5))
+    for target in {spec.spot_angle for spec in models.MODELS.values()}:
+        factories[prefix + target] = (lambda n=prefix + target:
+                                      b.value(n, "LIGHT", light, "spot_size", scale=0.5))
     return factories
