@@ -220,9 +220,8 @@ classes = (PhongLightSettings, PhongWorldSettings, PhongSceneSettings)
 _register_classes, _unregister_classes = bpy.utils.register_classes_factory(classes)
 
 
-def register(on_model_change=None):
-    """*on_model_change(scene)* runs after a scene's Lighting Model changed."""
-    forwarding.set_model_callback(on_model_change)
+def register():
+    # what a model switch calls (forwarding's model callback) is set by addon/__init__.py
     _register_classes()
     bpy.types.Light.phong = PointerProperty(type=PhongLightSettings)
     bpy.types.World.phong = PointerProperty(type=PhongWorldSettings)
@@ -234,4 +233,3 @@ def unregister():
     del bpy.types.World.phong
     del bpy.types.Light.phong
     _unregister_classes()
-    forwarding.set_model_callback(None)

@@ -243,16 +243,9 @@ def upgrade_on_load(*_args) -> None:
         refresh()
 
 
-def register():
-    bpy.app.handlers.depsgraph_update_post.append(follow_objects)
-    bpy.app.handlers.load_post.append(upgrade_on_load)
-
-
-def unregister():
-    for handlers, function in ((bpy.app.handlers.depsgraph_update_post, follow_objects),
-                               (bpy.app.handlers.load_post, upgrade_on_load)):
-        if function in handlers:
-            handlers.remove(function)
+#: The shading room's handlers, (event of ``bpy.app.handlers``, function) in the order they
+#: run (``addon/__init__.py`` registers them, before the lighting room's relink).
+HANDLERS = (("depsgraph_update_post", follow_objects), ("load_post", upgrade_on_load))
 
 
 def _lights_group(material):
