@@ -42,7 +42,7 @@ specular, 1).  Blinn and Specular Strength are not used there.
 
 The number of drivers depends on the lights (about 12 per light), not on the objects.  A
 light's location and axis are not driven in the group: drivers on the World write them as
-World custom properties that Attribute nodes (View Layer) read (``WORLD_PREFIX``), so moving
+World custom properties that Attribute nodes (View Layer) read (``world_copies.py``), so moving
 a light re-evaluates no material (docs/contract.md, "Lights' transforms on the world").
 
 On Blender 5.3+ a group of a model that Eevee's light loop runs (``loop.supports``) also has
@@ -62,9 +62,6 @@ them (what Eevee shows where it shows the group: its Raycast node is screen spac
 
 from __future__ import annotations
 
-import re
-import zlib
-
 import bpy
 
 from ...node_groups import models
@@ -72,6 +69,7 @@ from .. import compat, loader
 from . import drivers, properties
 from . import loop as light_loop
 from . import shadows as shadow_rays
+from . import world_copies
 
 #: Custom properties of a lights group: the scene it belongs to (an ID pointer) and its
 #: light set.
@@ -100,21 +98,6 @@ INPUTS = (  # (name, socket type, default)
     ("Ambient Object Color", "NodeSocketColor", (0.8, 0.8, 0.8, 1.0)),
     ("Specular Strength", "NodeSocketFloat", 1.0),  # three.js's specularStrength
 )
-#: A light's world location (Point, Spot) and world -Z axis (Sun, Spot) reach its lights
-#: group as World custom properties of 4 floats (``world_key``), written by drivers on the
-#: World and read by Attribute nodes of type View Layer: moving a light then updates the
-#: World, not the node trees of the materials (issue 30).  Each such Attribute node is a
-#: search loop in Eevee's shader, whose compile time grows steeply with their number (and
-#: with the term AOVs on the view layer: ``compat.py``), so a group reads at most
-#: ``compat.VIEW_LAYER_LOOKUPS``; the lights beyond (and a scene without a World) keep
-#: drivers on the group's sockets.  The group lists its keys in ``WORLD_KEYS``.
-WORLD_PREFIX = "phong_light_"
-WORLD_KEYS = "phong_world_keys"
-#: The keys a group with the loop part reads beyond ``compat.VIEW_LAYER_LOOKUPS`` (Eevee
-#: compiles none of them); apart, so that the Per Vertex / Per Face groups, which Eevee
-#: compiles, read only those of ``WORLD_KEYS`` (``shading/modes.py``).
-LOOP_WORLD_KEYS = "phong_world_keys_loop"
-TRANSFORM_SOCKETS = {"LOCATION": "Position", "AXIS": "Direction"}
 TERMS = ("Irradiant", "Ambient", "Diffuse", "Specular")
 OUTPUTS = (("Color", "NodeSocketColor"),) + tuple((t, "NodeSocketColor") for t in TERMS) + (
     ("Shader", "NodeSocketShader"),)
@@ -143,32 +126,6 @@ def wants_shadows(scene) -> bool:
     Raycast node) and no Phong term pass on its view layers (their AOV outputs would make
     Eevee evaluate the group's terms, and with them the Raycast nodes)."""
     return shadow_rays.supported() and not wants_term_passes(scene)
-
-
-def world_key(obj, kind: str) -> str:
-    """The World custom property that carries *obj*'s world location (*kind* "LOCATION") or
-    world -Z axis ("AXIS"): its name in letters, digits and underscores, and a checksum of the
-    exact name (two names that read the same stay apart)."""
-    safe = re.sub(r"[^A-Za-z0-9]", "_", obj.name)[:40]
-    suffix = "p" if kind == "LOCATION" else "d"
-    return f"{WORLD_PREFIX}{safe}_{zlib.crc32(obj.name.encode()):08x}_{suffix}"
-
-
-def prune_world_keys(worlds=None) -> int:
-    """Remove the light-transform properties (and their drivers) of *worlds* (default: all
-    local worlds) that no lights group reads any more; returns how many."""
-    used = set()
-    for tree in bpy.data.node_groups:
-        used.update(tree.get(WORLD_KEYS, ()))
-        used.update(tree.get(LOOP_WORLD_KEYS, ()))
-    removed = 0
-    for world in (bpy.data.worlds if worlds is None else worlds):
-        if world is None or world.library is not None:
-            continue
-        for key in [k for k in world.keys() if k.startswith(WORLD_PREFIX) and k not in used]:
-            drivers.remove_world_vector(world, key)
-            removed += 1
-    return removed
 
 
 def model_of(scene) -> str:
@@ -375,8 +332,7 @@ def _start(tree, lights, shadows=False):
         tree.animation_data_clear()
     tree.nodes.clear()
     tree[shadow_rays.KEY] = int(bool(shadows) and shadow_rays.supported())
-    tree[WORLD_KEYS] = []
-    tree[LOOP_WORLD_KEYS] = []
+    world_copies.clear_listed(tree)
     tree[light_loop.LOOP_KEY] = ""
     group_in = tree.nodes.new("NodeGroupInput")
     group_in.location = (-900.0, 0.0)
@@ -427,8 +383,8 @@ def _build_chain(tree, lights, world, budget, model, loop=False, shadows=False) 
 def _build_light_ambient(tree, lights, world, budget, model, loop=False,
                          shadows=False) -> None:
     """The composition "phong_light_ambient" (the X3D / VRML97 model, docs/x3d.md; no loop
-    part, *loop* is ignored): per light an X3D light group and an X3D Light Terms; Diffuse = Σ diffuse light ⊗ Object Color, Specular = Σ specular light ⊗ Specular
-    Color, Ambient = (the World's ambient light + Σ the lights' ambient light) ⊗ Ambient
+    part, *loop* is ignored): per light an X3D light group and an X3D Light Terms;
+    Diffuse = Σ diffuse light ⊗ Object Color, Specular = Σ specular light ⊗ Specular Color, Ambient = (the World's ambient light + Σ the lights' ambient light) ⊗ Ambient
     Object Color, Color = min(Irradiant + Ambient + Diffuse + Specular, 1)."""
     group_in, group_out, out_x = _start(tree, lights, shadows)
     surface = _group_node(tree, "Phong Surface", "surface", (-600.0, 520.0))
@@ -568,9 +524,10 @@ def _light_node(tree, obj, location, model, budget=(None, 0, 0)):
         if len(budget) >= 3 and eevee:
             budget[2] -= len(kinds)
         for row, kind in enumerate(kinds):
-            _world_input(tree, world, obj, kind, inputs[TRANSFORM_SOCKETS[kind]],
-                         (location[0] - 300.0, location[1] - 160.0 * row),
-                         WORLD_KEYS if eevee else LOOP_WORLD_KEYS)
+            socket = inputs[world_copies.TRANSFORM_SOCKETS[kind]]
+            listed = world_copies.WORLD_KEYS if eevee else world_copies.LOOP_WORLD_KEYS
+            world_copies.read(tree, world, obj, kind, socket,
+                              (location[0] - 300.0, location[1] - 160.0 * row), listed)
     if light.type in ("POINT", "SPOT"):
         if not from_world:
             drivers.world_location(inputs["Position"], obj)
@@ -585,20 +542,6 @@ def _light_node(tree, obj, location, model, budget=(None, 0, 0)):
         if target is not None:
             drivers.prop(inputs[target], None, "LIGHT", light, keys[attr])
     return node
-
-
-def _world_input(tree, world, obj, kind, socket, location, listed=WORLD_KEYS) -> None:
-    """*socket* fed by an Attribute node (View Layer) of *obj*'s World property *kind*; the
-    key is listed in the group's property *listed*."""
-    key = world_key(obj, kind)
-    drivers.world_vector(world, key, obj, kind)
-    attribute = tree.nodes.new("ShaderNodeAttribute")
-    attribute.attribute_type = "VIEW_LAYER"
-    attribute.attribute_name = key
-    attribute.name = attribute.label = f"{TRANSFORM_SOCKETS[kind].lower()}:{obj.name}"
-    attribute.location = location
-    tree.links.new(attribute.outputs["Vector"], socket)
-    tree[listed] = [*tree.get(listed, ()), key]
 
 
 def _is_power(light, model) -> bool:

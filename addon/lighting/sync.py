@@ -210,7 +210,7 @@ class Sync:
             if tree.users == 0:
                 bpy.data.node_groups.remove(tree)
         if prune:
-            rig.prune_world_keys()
+            world_copies.prune()
         for follow in AFTER_FINISH:  # an upward call: shading.modes.refresh (addon/__init__.py)
             follow(self.scene)
 

@@ -488,7 +488,7 @@ def shading_group(material, mode, cache=None):
     if cache is not None and key in cache:
         return cache[key]
     lights, world, light_model = _light_set(lights_group)
-    world_keys = tuple(lights_group.get(rig.WORLD_KEYS, ())) if lights_group is not None else ()
+    world_keys = world_copies.listed(lights_group)
     signature = repr((GROUP_VERSION, mode, light_model, world.name if world else None,
                       [(o.name, o.data.type, properties.falloff_of(o.data)) for o in lights],
                       world_keys))
@@ -638,7 +638,7 @@ def build_shading_group(tree, mode, lights, world, light_model, world_keys, scen
     for name, socket_type, default in CONTROL_INPUTS:
         item = tree.interface.new_socket(name, in_out="INPUT", socket_type=socket_type)
         item.default_value = default
-    tree[rig.WORLD_KEYS] = []
+    world_copies.clear_listed(tree, loop=False)
     tree.description = (f"Phong {'Per Vertex' if mode == VERTEX else 'Per Face'} shading: the "
                         f"lighting model at the {'vertices of each triangle' if mode == VERTEX else 'centre of each face'}")
     b = _Builder(tree)
@@ -751,12 +751,12 @@ def _light_sockets(b, index, obj, world_keys) -> dict:
     prefix = f"light{index}:"
 
     def transform(kind):
-        key = rig.world_key(obj, kind)
-        name = f"{prefix}{rig.TRANSFORM_SOCKETS[kind]}"
+        key = world_copies.world_key(obj, kind)
+        name = f"{prefix}{world_copies.TRANSFORM_SOCKETS[kind]}"
         if key in world_keys:
             socket = b.attribute(key, "VIEW_LAYER")
             socket.node.name = socket.node.label = name
-            b.tree[rig.WORLD_KEYS] = [*b.tree.get(rig.WORLD_KEYS, ()), key]
+            world_copies.list_key(b.tree, key)
             return socket
         node = b.node("ShaderNodeVectorMath", name)
         node.operation = "ADD"
