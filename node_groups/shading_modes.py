@@ -225,8 +225,8 @@ def _summed_color(spec, light_types, geo, controls, power) -> Expr:
 
 def _light_ambient_color(spec, light_types, geo, controls, _power=()) -> Expr:
     """The composition "phong_light_ambient" (the X3D / VRML97 model) as rig.py builds it:
-    per light an X3D light group and an X3D Light Terms (the unit normal and view vector of the point); the sums times the material's
-    colours, the World's ambient light added, min(…, 1)."""
+    per light an X3D light group and an X3D Light Terms (the unit normal and view vector of
+    the point); the sums times the material's colours, the World's ambient light added, min(…, 1)."""
     unit = {"Normal": geo["Normal"], "View Vector": geo["Incoming"]}
     ambient = _group("Phong Ambient", "Color", {
         "Intensity": controls["Ambient Intensity"], "Light Color": controls["Ambient Color"],

@@ -308,7 +308,8 @@ def follow(scene) -> None:
 
 def follow_readers() -> None:
     """Every World whose parked copies something can read now (a material just set Per
-    Vertex / Per Face: ``shading/modes.py``): live again."""
+    Vertex / Per Face, ``shading/modes.py``, whose group, ``shading/groups.py``, reads
+    them): live again."""
     if compat.HAS_LIGHT_LOOP:
         for world in bpy.data.worlds:
             _live_if_read(world)
