@@ -25,13 +25,17 @@ once over non-negative terms) with fewer nodes: Eevee expands every node of a ma
 again for each of its passes (issue 30).  With no light: ambient + irradiant (black when
 both are zero: docs/model.md §No light at all).
 
-In the three.js model (``scene["phong_model"] == "threejs"``, docs/threejs.md) each light
+Each model's light groups, spot angle input, name prefix, the settings it reads of a light
+and its composition are its entry in ``node_groups/models.py``; ``COMPOSE`` holds one builder
+per composition (the seeds' model above is "phong").
+
+In the three.js model (``scene["phong_model"] == "threejs"``, docs/threejs.md; "chain") each light
 is a three.js light group (Phong Directional Light, three.js Point / Spot Light) and a
 three.js Phong (MeshPhongMaterial; Specular Strength 0 is MeshLambertMaterial), the
 ambient is a three.js Ambient and the Irradiant Color is three.js's emissive, added as is.
 Blinn is not used there; the seeds' model does not use Specular Strength.
 
-In the X3D / VRML97 model (``"x3d"``, docs/x3d.md) each light is an X3D light group (X3D
+In the X3D / VRML97 model (``"x3d"``, docs/x3d.md; "phong_light_ambient") each light is an X3D light group (X3D
 Directional / Point / Spot Light: intensity and ambient intensity, attenuation
 1/max(a0 + a1·d + a2·d², 1) within a radius, the linear spot ramp) and an X3D Light Terms
 (its diffuse, Blinn specular without the N·L condition, and ambient light); the sums are
@@ -129,7 +133,7 @@ def wants_shadows(scene) -> bool:
 
 
 def model_of(scene) -> str:
-    """The lighting model of *scene*: "seeds" (default), "threejs" or "x3d"."""
+    """The lighting model of *scene*: a name of ``models.MODELS`` (default the seeds')."""
     model = scene.get(MODEL_KEY, MODELS[0]) if scene is not None else MODELS[0]
     return model if model in models.MODELS else MODELS[0]
 
