@@ -114,10 +114,10 @@ def list_key(tree, key) -> None:
     tree[WORLD_KEYS] = [*tree.get(WORLD_KEYS, ()), key]
 
 
-def read(tree, world, obj, kind, socket, location, listed=WORLD_KEYS) -> None:
+def read(tree, world, obj, kind, socket, location, into=WORLD_KEYS) -> None:
     """*socket* of the lights group *tree* fed by an Attribute node (View Layer) of *obj*'s
     copy *kind* on *world* (written, with its drivers); the key is listed in the group's
-    property *listed*."""
+    property *into* (``WORLD_KEYS`` or ``LOOP_WORLD_KEYS``)."""
     key = world_key(obj, kind)
     write(world, key, obj, kind)
     attribute = tree.nodes.new("ShaderNodeAttribute")
@@ -126,7 +126,7 @@ def read(tree, world, obj, kind, socket, location, listed=WORLD_KEYS) -> None:
     attribute.name = attribute.label = f"{TRANSFORM_SOCKETS[kind].lower()}:{obj.name}"
     attribute.location = location
     tree.links.new(attribute.outputs["Vector"], socket)
-    tree[listed] = [*tree.get(listed, ()), key]
+    tree[into] = [*tree.get(into, ()), key]
 
 
 # -- the copies' drivers ---------------------------------------------------------------------
