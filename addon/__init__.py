@@ -19,25 +19,60 @@ importing only the rooms before it (tests/test_layout.py):
 Register and unregister are symmetric.
 """
 
+import bpy
+
 from . import loader
-from .lighting import properties, sync
+from .lighting import forwarding as lighting_forwarding
+from .lighting import materials, properties, sync
+from .shading import forwarding as shading_forwarding
+from .shading import modes
 from .shading import properties as shading_properties
 from .ui import assets, baking, collada_ui, fbx_ui, menus, operators, panels, x3d_ui
 
-_modules = (operators, menus, properties, shading_properties, panels, baking, loader, sync,
-            assets, collada_ui, fbx_ui, x3d_ui)
+_modules = (operators, menus, properties, shading_properties, panels, baking, assets,
+            collada_ui, fbx_ui, x3d_ui)
+
+#: Every handler of the extension, (event of ``bpy.app.handlers``, function), in the order
+#: Blender runs them: each room's ordered list, the lighting room's last (its relink frees
+#: and edits data blocks that the other handlers' depsgraph updates still name:
+#: ``sync.HANDLERS``).  Checked by tests/test_register.py.
+HANDLERS = (*modes.HANDLERS, *loader.HANDLERS, *sync.HANDLERS)
+
+
+def connect(on: bool = True) -> None:
+    """Set (*on*) or clear the upward calls: a lower module calls a higher one at runtime
+    through a callable set here (it never imports it), each named where it is read:
+
+    * ``lighting.sync.AFTER_FINISH``: ``shading.modes.refresh``, at the end of every Apply /
+      Relink (the Per Vertex / Per Face groups follow the lights);
+    * ``lighting.forwarding`` (the Lighting Model's setter): ``lighting.sync.relink_scene``
+      (the switch rebuilds the scene's lights groups; the settings never import the sync
+      that builds on them);
+    * ``shading.forwarding`` (the Shading's and Opacity's setters, which hold no ``bpy``):
+      ``shading.modes.update`` and ``lighting.materials.set_opacity``.
+    """
+    if modes.refresh in sync.AFTER_FINISH:
+        sync.AFTER_FINISH.remove(modes.refresh)
+    if on:
+        sync.AFTER_FINISH.append(modes.refresh)
+    lighting_forwarding.set_model_callback(sync.relink_scene if on else None)
+    shading_forwarding.set_callback(modes.update if on else None)
+    shading_forwarding.set_opacity_callback(materials.set_opacity if on else None)
 
 
 def register():
     for module in _modules:
-        if module is properties:
-            # the model switch rebuilds the scene's lights groups: the settings are handed
-            # the rebuild, so that they never import the sync that builds on them
-            module.register(on_model_change=sync.relink_scene)
-        else:
-            module.register()
+        module.register()
+    connect(True)
+    for event, function in HANDLERS:
+        getattr(bpy.app.handlers, event).append(function)
 
 
 def unregister():
+    for event, function in reversed(HANDLERS):
+        handlers = getattr(bpy.app.handlers, event)
+        if function in handlers:
+            handlers.remove(function)
+    connect(False)
     for module in reversed(_modules):
         module.unregister()

@@ -357,9 +357,6 @@ def merge_appended_copies(_scene, _depsgraph=None):
     _seen["count"] = len(bpy.data.node_groups)
 
 
-def register():
-    bpy.app.handlers.depsgraph_update_post.append(merge_appended_copies)
-
-
-def unregister():
-    bpy.app.handlers.depsgraph_update_post.remove(merge_appended_copies)
+#: The loader's handlers, (event of ``bpy.app.handlers``, function) in the order they run
+#: (``addon/__init__.py`` registers them).
+HANDLERS = (("depsgraph_update_post", merge_appended_copies),)

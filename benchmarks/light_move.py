@@ -225,7 +225,7 @@ def run_parts(objects: int, n_lights: int, moves: int, passes: int) -> dict:
     ``materials.follow_opacity``), and without both.  Also Principled before Apply
     ("principled_fresh": what ``run_each`` compares with) and the handlers' own time."""
     bpy = worker_setup()
-    from phong_nodes.addon.lighting import drivers, loop, materials, rig, sync  # noqa: PLC0415
+    from phong_nodes.addon.lighting import loop, materials, sync, world_copies  # noqa: PLC0415
 
     load_before = os.getloadavg()
     scene, meshes, lights, view_layer = _artist(bpy, "light_parts", objects, n_lights)
@@ -239,7 +239,7 @@ def run_parts(objects: int, n_lights: int, moves: int, passes: int) -> dict:
     phong = [[slot.material for slot in obj.material_slots] for obj in meshes]
     world = scene.world
     keys = [(key, obj, kind) for obj in lights for kind in ("LOCATION", "AXIS")
-            if (key := rig.world_key(obj, kind)) in world.keys()]
+            if (key := world_copies.world_key(obj, kind)) in world.keys()]
     handlers = bpy.app.handlers.depsgraph_update_post
     ours = [h for h in handlers
             if h in (materials.follow_opacity, loop.follow_lights, sync.on_depsgraph_update)]
@@ -255,7 +255,7 @@ def run_parts(objects: int, n_lights: int, moves: int, passes: int) -> dict:
         if state["world"] != world_on:
             if world_on:
                 for key, obj, kind in keys:
-                    drivers.world_vector(world, key, obj, kind)
+                    world_copies.write(world, key, obj, kind)
             else:
                 for fcurve in list(world.animation_data.drivers):
                     world.animation_data.drivers.remove(fcurve)

@@ -17,6 +17,7 @@ import hashlib
 import math
 from dataclasses import dataclass, field
 
+from . import models
 from .expr import (
     COLOR, FLOAT, SHADER, VECTOR, Expr, acos, at_least, combine, cos, dot, emission, equal,
     evaluate, geometry, greater_than, input_, switch,
@@ -785,8 +786,10 @@ def accumulate(light, color, factor=1.0):
     return np.maximum(light, 0.0) * np.clip(color, 0.0, 1.0) * factor
 
 
-def _loop_model(model, group_name, parameters, slots):
+def _loop_model(model, parameters, slots):
+    """*model*'s loop: its group is the model's ``loop`` in ``models.py``."""
     def register(pack):
+        group_name = models.MODELS[model].loop
         LOOP_MODELS[model] = LoopModel(group_name, tuple(parameters), dict(slots), pack)
         return pack
     return register
@@ -859,7 +862,7 @@ def _phong_loop_light(g):
     g.output("Specular Color", sc, "Cl_spec", color=True)
 
 
-@_loop_model("seeds", "Phong Loop Light", (
+@_loop_model("seeds", (
     LoopParameter("falloff", components=("Quadratic", "Linear", "Constant"),
                   alpha="Falloff Exponent"),
     LoopParameter("diffuse", vector="Diffuse Light Color", alpha="Edge Exponent"),
@@ -938,7 +941,7 @@ def _threejs_loop_light(g):
              color=True)
 
 
-@_loop_model("threejs", "three.js Loop Light", (
+@_loop_model("threejs", (
     LoopParameter("diffuse", vector="Diffuse Light Color", alpha="Decay"),
     LoopParameter("specular", vector="Specular Light Color", alpha="Inverse Distance"),
     LoopParameter("cone_scale", factor="Cone Scale"),

@@ -35,19 +35,13 @@ from __future__ import annotations
 import numpy as np
 
 from .expr import FLOAT, SHADER, VECTOR, Expr, evaluate, input_, minimum, normalize
+from . import models
 from .library import BLACK, GROUPS, WHITE, ZERO, clamp_add, definition
 
 #: The values of ``material["phong_shading"]`` (docs/contract.md), the default first.
 MODES = ("PIXEL", "VERTEX", "FACE")
-MODELS = ("seeds", "threejs", "x3d")
-
-#: Light type -> its light group, per model (as rig.LIGHT_GROUPS).
-LIGHT_GROUPS = {"seeds": {"POINT": "Phong Point Light", "SUN": "Phong Directional Light",
-                          "SPOT": "Phong Spot Light"},
-                "threejs": {"POINT": "three.js Point Light", "SUN": "Phong Directional Light",
-                            "SPOT": "three.js Spot Light"},
-                "x3d": {"POINT": "X3D Point Light", "SUN": "X3D Directional Light",
-                        "SPOT": "X3D Spot Light"}}
+#: The lighting models (``models.py``, the one table of them), the default first.
+MODELS = models.NAMES
 
 #: The material's controls: name -> kind (a colour is a vector in formulas).
 CONTROLS = {"Object Color": VECTOR, "Specular Color": VECTOR, "Exponent": FLOAT,
@@ -157,20 +151,29 @@ def light_group_inputs(index: int, group_name: str) -> dict:
     return {s.name: _input(light_input(index, s.name), s.kind) for s in GROUPS[group_name].inputs}
 
 
-def model_color(light_types, model: str = "seeds", power=()) -> Expr:
+def model_color(light_types, model: str = models.DEFAULT, power=()) -> Expr:
     """The clamped colour of the whole model for lights of *light_types* (``POINT``,
-    ``SUN``, ``SPOT``, in the order of the lights group), one vector expression.  The lights
-    whose indices are in *power* fall off as i0/d^k (the seeds' model, as the rig builds them:
-    the light group without falloff, then a Phong Power Falloff of its Distance, k the leaf
-    ``light<k>:Power K``)."""
-    if model not in MODELS:
-        raise ValueError(f"unknown lighting model {model!r}: expected one of {MODELS}")
+    ``SUN``, ``SPOT``, in the order of the lights group), one vector expression, composed as
+    the model's ``composition`` (``models.COMPOSITIONS``) says.  The lights whose indices
+    are in *power* fall off as i0/d^k (a model that reads the falloff, as the rig builds
+    them: the light group without falloff, then a Phong Power Falloff of its Distance, k the
+    leaf ``light<k>:Power K``)."""
+    if model not in models.MODELS:
+        raise ValueError(f"unknown lighting model {model!r}: expected one of "
+                         f"{tuple(models.MODELS)}")
+    spec = models.MODELS[model]
     geo = world_geometry()
     controls = {name: _input(name, kind) for name, kind in {**CONTROLS, **AMBIENT}.items()}
-    if model == "x3d":
-        return _x3d_color(light_types, geo, controls)
+    return COMPOSE[spec.composition](spec, light_types, geo, controls, power)
+
+
+def _summed_color(spec, light_types, geo, controls, power) -> Expr:
+    """The compositions "phong" and "chain": the ambient, then per light its light group and
+    a Phong Shading (ambient off, the irradiant on the first only), or a three.js Phong (the
+    irradiant, three.js's emissive, added as is), added with Phong Color Add."""
+    chain = spec.composition == "chain"
     normal_view = {"Normal": ZERO, "View Vector": ZERO}
-    if model == "threejs":
+    if chain:
         color = _group("three.js Ambient", "Color", {
             "Intensity": controls["Ambient Intensity"], "Light Color": controls["Ambient Color"],
             "Diffuse Color": controls["Ambient Object Color"]}, geo)
@@ -181,9 +184,9 @@ def model_color(light_types, model: str = "seeds", power=()) -> Expr:
             "Object Color": controls["Ambient Object Color"]}, geo)
         parts = []
     for index, light_type in enumerate(light_types):
-        group_name = LIGHT_GROUPS[model][light_type]
+        group_name = spec.light_groups[light_type]
         light = light_group_inputs(index, group_name)
-        is_power = model == "seeds" and index in power and light_type in ("POINT", "SPOT")
+        is_power = spec.power_falloff and index in power and light_type in ("POINT", "SPOT")
         if is_power:  # no falloff in the light group: α = β = 0, γ = 1
             light.update({"Quadratic": 0.0, "Linear": 0.0, "Constant": 1.0})
         vector = _group(group_name, "Light Vector", light, geo)
@@ -193,7 +196,7 @@ def model_color(light_types, model: str = "seeds", power=()) -> Expr:
                 "Intensity": intensity, "Distance": _group(group_name, "Distance", light, geo),
                 "Exponent": _input(light_input(index, "Power K"), FLOAT)}, geo)
         light_color = _input(light_input(index, "Color"), VECTOR)
-        if model == "threejs":
+        if chain:
             parts.append(_group("three.js Phong", "Color", {
                 "Light Vector": vector, "Intensity": intensity, "Light Color": light_color,
                 "Diffuse Color": controls["Object Color"],
@@ -209,7 +212,7 @@ def model_color(light_types, model: str = "seeds", power=()) -> Expr:
             "Specular Strength": _input(light_input(index, "Specular"), FLOAT),
             "Specular Color": controls["Specular Color"], "Exponent": controls["Exponent"],
             "Blinn": controls["Blinn"], **normal_view}, geo))
-    if model == "seeds" and not light_types:  # no light: the irradiant alone
+    if not chain and not light_types:  # no light: the irradiant alone
         parts.append(_group("Phong Shading", "Color", {
             "Light Intensity": 0.0, "Object Color": controls["Object Color"],
             "Irradiant Color": controls["Irradiant Color"], "Ambient Intensity": 0.0,
@@ -220,17 +223,17 @@ def model_color(light_types, model: str = "seeds", power=()) -> Expr:
     return color
 
 
-def _x3d_color(light_types, geo, controls) -> Expr:
-    """The X3D / VRML97 model as rig.py builds it: per light an X3D light group and an X3D
-    Light Terms (the unit normal and view vector of the point); the sums times the material's
-    colours, the World's ambient light added, min(…, 1)."""
+def _light_ambient_color(spec, light_types, geo, controls, _power=()) -> Expr:
+    """The composition "phong_light_ambient" (the X3D / VRML97 model) as rig.py builds it:
+    per light an X3D light group and an X3D Light Terms (the unit normal and view vector of
+    the point); the sums times the material's colours, the World's ambient light added, min(…, 1)."""
     unit = {"Normal": geo["Normal"], "View Vector": geo["Incoming"]}
     ambient = _group("Phong Ambient", "Color", {
         "Intensity": controls["Ambient Intensity"], "Light Color": controls["Ambient Color"],
         "Object Color": controls["Ambient Object Color"]}, geo)
     sums = {"Diffuse Light": None, "Specular Light": None, "Ambient Light": None}
     for index, light_type in enumerate(light_types):
-        group_name = LIGHT_GROUPS["x3d"][light_type]
+        group_name = spec.light_groups[light_type]
         light = light_group_inputs(index, group_name)
         terms = {"Light Vector": _group(group_name, "Light Vector", light, geo),
                  "Intensity": _group(group_name, "Intensity", light, geo),
@@ -247,6 +250,12 @@ def _x3d_color(light_types, geo, controls) -> Expr:
         if sums[output] is not None:
             color = color + sums[output] * controls[material_color]
     return substitute(minimum(color, 1.0), {}, None, {})
+
+
+#: composition (``models.COMPOSITIONS``) -> function(model, light types, geometry, controls,
+#: power) -> the colour expression.
+COMPOSE = {"phong": _summed_color, "chain": _summed_color,
+           "phong_light_ambient": _light_ambient_color}
 
 
 def leaves(expression: Expr) -> set:
@@ -275,5 +284,5 @@ def count_operations(expression: Expr) -> int:
     return len(keys)
 
 
-__all__ = ["MODES", "MODELS", "LIGHT_GROUPS", "CONTROLS", "AMBIENT", "GEOMETRY", "light_input",
+__all__ = ["MODES", "MODELS", "CONTROLS", "AMBIENT", "GEOMETRY", "light_input",
            "substitute", "world_geometry", "model_color", "leaves", "count_operations"]

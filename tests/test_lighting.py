@@ -443,7 +443,7 @@ def test_a_drag_skips_the_lights_signature_and_a_rename_still_relinks(bpy_clean,
     drivers carry it) cannot change which lights drive the materials, so the relink handler
     skips the lights' fingerprint (from 5.2 on, where the World carries the transforms); a
     light renamed while it moves still relinks (every release)."""
-    from phong_nodes.addon.lighting import rig, sync  # noqa: PLC0415  (needs bpy)
+    from phong_nodes.addon.lighting import rig, sync, world_copies  # noqa: PLC0415  (needs bpy)
 
     bpy = bpy_clean
     scene = be.new_scene("Drag", 8, 8)
@@ -464,7 +464,7 @@ def test_a_drag_skips_the_lights_signature_and_a_rename_still_relinks(bpy_clean,
     through_world = be.compat().VIEW_LAYER_LOOKUPS > 0
     if through_world:  # 5.2+: the lights' transforms reach the materials through the World
         assert calls == []
-        world_key = rig.world_key(key, "LOCATION")
+        world_key = world_copies.world_key(key, "LOCATION")
         assert tuple(scene.world[world_key])[:3] == pytest.approx(
             tuple(key.matrix_world.translation))
     # (before 5.2 the lights group's drivers carry them: there the signature is computed on
@@ -476,7 +476,7 @@ def test_a_drag_skips_the_lights_signature_and_a_rename_still_relinks(bpy_clean,
     assert calls
     assert list(lights_tree(ball.active_material)["phong_lights"]) == ["Fill", "Sun"]
     if through_world:
-        assert rig.world_key(key, "LOCATION") in scene.world.keys()
+        assert world_copies.world_key(key, "LOCATION") in scene.world.keys()
 
 
 def test_ambient_object_color_follows_object_color_or_its_own_link(bpy_clean, blender_tmp):

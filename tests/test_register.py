@@ -43,3 +43,42 @@ def test_enable_disable_fifty_times_leaves_nothing_behind(extension):
 
 def _raise(error):
     raise error
+
+
+def test_every_handler_is_registered_in_its_order_relink_last(extension):
+    """Each room's HANDLERS list, chained by addon/__init__.py, is what Blender holds, in
+    that order; on each event the lighting room's relink runs after every other handler of
+    the extension (a relink frees data blocks that their depsgraph updates still name); the
+    upward calls are set; disabling removes every handler and clears the calls."""
+    import addon_utils
+    bpy = be.import_bpy()
+    from phong_nodes import addon  # noqa: PLC0415
+    from phong_nodes.addon.lighting import forwarding, sync  # noqa: PLC0415
+    from phong_nodes.addon.shading import modes  # noqa: PLC0415
+
+    def ours(event):
+        mine = {id(f) for e, f in addon.HANDLERS if e == event}
+        return [f for f in getattr(bpy.app.handlers, event) if id(f) in mine]
+
+    events = {e for e, _f in addon.HANDLERS}
+    assert {"depsgraph_update_post", "load_post", "save_pre", "render_pre"} <= events
+    for event in events:
+        assert ours(event) == [f for e, f in addon.HANDLERS if e == event], event
+    for relink in sync.RELINKS:
+        event = next(e for e, f in addon.HANDLERS if f is relink)
+        assert ours(event)[-1] is relink, f"{relink.__name__} runs last on {event}"
+    # every persistent function of the add-on is in the list (none registered elsewhere)
+    persistent = {f for module in (sync, modes, addon.loader, sync.world_copies,
+                                   sync.materials, sync.light_loop)
+                  for f in vars(module).values()
+                  if callable(f) and hasattr(f, "_bpy_persistent")}
+    assert persistent == {f for _e, f in addon.HANDLERS}
+    assert modes.refresh in sync.AFTER_FINISH and forwarding._on_model_change() is \
+        sync.relink_scene
+    addon_utils.disable(be.EXT_MODULE, default_set=True, handle_error=_raise)
+    try:
+        assert all(ours(event) == [] for event in events)
+        assert modes.refresh not in sync.AFTER_FINISH and forwarding._on_model_change is None
+    finally:
+        addon_utils.enable(be.EXT_MODULE, default_set=True, handle_error=_raise)
+    assert be.addon_enabled()

@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""One owner for what each lighting model reads of a light (``properties.MODEL_SETTINGS``):
-the panel, the rig's drivers and the reference's description all follow it.  The expected
+"""One owner for what each lighting model reads of a light (``node_groups/models.py``, each
+model's ``settings``): the panel, the rig's drivers and the reference's description all
+follow it.  The expected
 lists are the contract's (docs/contract.md, docs/threejs.md)."""
 
 import pytest

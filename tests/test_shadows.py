@@ -471,7 +471,7 @@ def test_the_light_panel_says_where_shadows_show(bpy_clean):
         assert "need Blender 5.2+" in seeds
         return
     assert ("Cycles only" in seeds) == (not compat.HAS_LIGHT_LOOP)
-    assert "Cycles only (the X3D model)" in " ".join(shadows.notes("x3d", True, False))
+    assert "Cycles only (the X3D / VRML97 model)" in " ".join(shadows.notes("x3d", True, False))
     assert "term pass" in " ".join(shadows.notes("seeds", False, False))
     if compat.RAYCAST_VISIBILITY:
         assert "Ray Visibility ▸ Shadow (and Ray Cast)" in seeds

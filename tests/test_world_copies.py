@@ -42,8 +42,8 @@ def _eevee(bpy, scene):
     bpy.context.view_layer.update()
 
 
-def _keys(rig, world):
-    return [k for k in world.keys() if k.startswith(rig.WORLD_PREFIX)]
+def _keys(copies, world):
+    return [k for k in world.keys() if k.startswith(copies.WORLD_PREFIX)]
 
 
 @pytest.fixture
@@ -60,10 +60,10 @@ def test_an_eevee_drag_leaves_the_world_alone_and_cycles_makes_the_copies_live(l
     world = scene.world
     assert world_copies.is_live(world), "a Cycles scene: its copies follow the lights"
     _eevee(bpy, scene)
-    keys = _keys(rig, world)
+    keys = _keys(world_copies, world)
     assert len(keys) == 5 and world_copies.is_live(world), "parked by a drag, not before"
     point = lights[0]
-    key = rig.world_key(point, "LOCATION")
+    key = world_copies.world_key(point, "LOCATION")
     with _WorldSpy(bpy) as spy:
         for step in range(4):
             point.location.x += 0.3
@@ -74,12 +74,12 @@ def test_an_eevee_drag_leaves_the_world_alone_and_cycles_makes_the_copies_live(l
                 first = tuple(point.matrix_world.translation)
     assert spy.updates == [True, False, False, False], "the first drag parks them"
     assert tuple(world[key])[:3] == pytest.approx(first), "parked: the first drag's value"
-    assert _keys(rig, world) == keys
+    assert _keys(world_copies, world) == keys
 
     scene.render.engine = "CYCLES"
     bpy.context.view_layer.update()
     assert world_copies.is_live(world)
-    assert _keys(rig, world) == keys
+    assert _keys(world_copies, world) == keys
     with _WorldSpy(bpy) as spy:
         point.location.y -= 0.5
         bpy.context.view_layer.update()
@@ -141,7 +141,7 @@ def test_a_term_pass_keeps_the_copies_live(loop_bpy):
     lights[0].location.x += 0.5
     bpy.context.view_layer.update()
     assert world_copies.is_live(scene.world)
-    key = rig.world_key(lights[0], "LOCATION")
+    key = world_copies.world_key(lights[0], "LOCATION")
     assert tuple(scene.world[key])[:3] == pytest.approx(tuple(lights[0].matrix_world.translation))
 
 
@@ -183,7 +183,7 @@ def test_a_per_vertex_material_makes_the_copies_live(loop_bpy):
     assert world_copies.is_live(scene.world)
     _drag(bpy, lights[0])
     assert world_copies.is_live(scene.world)
-    key = rig.world_key(lights[0], "LOCATION")
+    key = world_copies.world_key(lights[0], "LOCATION")
     assert tuple(scene.world[key])[:3] == pytest.approx(tuple(lights[0].matrix_world.translation))
 
 
@@ -197,13 +197,13 @@ def test_before_5_3_a_drag_keeps_the_copies_live(bpy_clean):
     _eevee(bpy, scene)
     assert not world_copies.can_park(scene.world)
     live = world_copies.is_live(scene.world)
-    assert live == bool(_keys(rig, scene.world)) == (be.compat().VIEW_LAYER_LOOKUPS > 0)
+    assert live == bool(_keys(world_copies, scene.world)) == (be.compat().VIEW_LAYER_LOOKUPS > 0)
     with _WorldSpy(bpy) as spy:
         lights[0].location.x += 0.5
         bpy.context.view_layer.update()
     assert world_copies.is_live(scene.world) == live
     if live:
         assert spy.updates == [True]
-        key = rig.world_key(lights[0], "LOCATION")
+        key = world_copies.world_key(lights[0], "LOCATION")
         assert tuple(scene.world[key])[:3] == pytest.approx(
             tuple(lights[0].matrix_world.translation))

@@ -64,6 +64,7 @@ from ..lighting import headlight as headlight_mod
 from ..lighting import materials as recipe
 from ..lighting import properties, rig
 from ..lighting import sync as sync_mod
+from ..lighting import world_copies
 from . import keys, native
 from .native import image_components
 
@@ -313,7 +314,7 @@ class _Builder:
             world, values = self.world_before
             if world.name in bpy.data.worlds:
                 native.restore_keys(world, values)
-                rig.prune_world_keys([world])   # the removed lights groups' light keys
+                world_copies.prune([world])   # the removed lights groups' light keys
         native.restore_keys(self.scene, self.scene_keys)
         self.scene.camera = self.camera_before
         for obj, target in self.retargeted:

@@ -48,7 +48,8 @@ def color_setter(key):
     return set_
 
 
-#: A weak reference to the function called with the scene after its model changed.
+#: An upward call: a weak reference to the function called with the scene after its model
+#: changed, ``lighting.sync.relink_scene`` (set by ``addon/__init__.py``, ``connect``).
 _on_model_change = None
 
 
@@ -85,6 +86,7 @@ def model_setter(key, names):
         if scene.get(key, names[0]) == new:
             return
         scene[key] = new
+        # the upward call: lighting.sync.relink_scene (addon/__init__.py, connect)
         callback = _on_model_change() if _on_model_change is not None else None
         if callback is not None:
             callback(scene)

@@ -7,7 +7,7 @@ the viewer's space (ISO/IEC 19775-1 §23.4.4, VRML97 §6.29).  In Blender it is 
 "Headlight" whose transform a Copy Transforms constraint takes from the scene camera: a Sun
 shines along its local -Z, a camera looks along its local -Z, so the light follows the camera
 wherever it moves or turns (animated, parented or constrained too: the lights group reads the
-evaluated world matrix, ``drivers.world_vector``).
+evaluated world matrix, ``world_copies.write``).
 
 The Sun carries ``HEADLIGHT_KEY`` so that the X3D export writes ``headlight TRUE`` instead of a
 light; :func:`is_headlight` also recognises a Sun constrained to the scene camera without it.

@@ -14,8 +14,11 @@
 
 from __future__ import annotations
 
-SUPPORTED = {"POINT": "Phong Point Light", "SUN": "Phong Directional Light",
-             "SPOT": "Phong Spot Light"}
+from ...node_groups import models
+
+#: The light types that drive Phong materials (each model has a light group for each:
+#: ``node_groups/models.py``).
+SUPPORTED = models.EVERY
 
 
 def light_objects(scene) -> list:

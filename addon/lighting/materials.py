@@ -43,7 +43,7 @@ import bpy
 from bpy.app.handlers import persistent
 
 from .. import compat
-from . import drivers, rig
+from . import drivers, rig, world_copies
 from . import loop as light_loop
 from . import shadows
 
@@ -384,7 +384,8 @@ def _eevee_shader(tree, lights):
         return None
     shadowed = shadows.has_shadows(lights.node_tree)
     if _blends(tree):
-        if light_loop.has_loop(lights.node_tree) and lights.node_tree.get(rig.LOOP_WORLD_KEYS):
+        if (light_loop.has_loop(lights.node_tree)
+                and world_copies.listed(lights.node_tree, loop=True)):
             scene = rig.owner(lights.node_tree)  # Eevee compiles its group: at most
             if scene is not None:                # compat.VIEW_LAYER_LOOKUPS (sync.py)
                 STALE.add(scene.as_pointer())

@@ -13,6 +13,7 @@ setters live in ``forwarding``, a module that holds no ``bpy`` (see there why).
 import bpy
 from bpy.props import FloatProperty, FloatVectorProperty, PointerProperty
 
+from ...node_groups import models
 from ...node_groups.library import FALLOFF_DEFAULTS, X3D_BEAM_WIDTH, X3D_RADIUS
 from . import forwarding
 
@@ -70,51 +71,25 @@ def falloff_of(light) -> str:
     value = value.upper() if isinstance(value, str) else value
     return value if value in FALLOFFS else FALLOFFS[0]
 
-_EVERY = ("POINT", "SUN", "SPOT")
-_NEAR = ("POINT", "SPOT")
-#: What each lighting model reads of a light: (setting, the light types that read it, the
-#: falloff under which it is read (None: any), the input of the model's light group that it
-#: drives (None: read elsewhere: the falloff chooses nodes, power_k drives the Power
-#: Falloff's Exponent, diffuse and specular the Phong Shading's strengths)).  The one list
-#: of it: the light panel shows these in this order, the rig drives the light groups'
-#: inputs from it, the description hands them to the reference.
-MODEL_SETTINGS = {
-    "seeds": (("intensity", _EVERY, None, "Intensity"),
-              ("falloff", _NEAR, None, None),
-              ("quadratic", _NEAR, "QUADRATIC", "Quadratic"),
-              ("linear", _NEAR, "QUADRATIC", "Linear"),
-              ("constant", _NEAR, "QUADRATIC", "Constant"),
-              ("power_k", _NEAR, "POWER", None),
-              ("edge_exponent", ("SPOT",), None, "Edge Exponent"),
-              ("diffuse", _EVERY, None, None),
-              ("specular", _EVERY, None, None)),
-    "threejs": (("intensity", _EVERY, None, "Intensity"),
-                ("distance", _NEAR, None, "Distance"),
-                ("decay", _NEAR, None, "Decay"),
-                ("penumbra", ("SPOT",), None, "Penumbra")),
-    # the X3D attenuation 1/max(a0 + a1·d + a2·d², 1): a0, a1, a2 are the seeds' γ, β, α
-    "x3d": (("intensity", _EVERY, None, "Intensity"),
-            ("ambient", _EVERY, None, "Ambient Intensity"),
-            ("constant", _NEAR, None, "Constant"),
-            ("linear", _NEAR, None, "Linear"),
-            ("quadratic", _NEAR, None, "Quadratic"),
-            ("radius", _NEAR, None, "Radius"),
-            ("beam_width", ("SPOT",), None, "Beam Width")),
-}
+
+# What each lighting model reads of a light is its ``settings`` in ``node_groups/models.py``
+# ((setting, light types, falloff or None, light-group input or None)): the light panel shows
+# these in this order, the rig drives the light groups' inputs from it, the description hands
+# them to the reference.
 
 
 def model_settings(model: str, light) -> list:
     """(setting, light-group input or None) of what *model* reads of *light*, by its type and
     falloff, in the panel's order."""
-    falloff = falloff_of(light) if light.type in _NEAR else None
-    return [(attr, target) for attr, types, when, target in MODEL_SETTINGS[model]
+    falloff = falloff_of(light) if light.type in models.NEAR else None
+    return [(attr, target) for attr, types, when, target in models.MODELS[model].settings
             if light.type in types and when in (None, falloff)]
 
 
 def read_settings(light_type: str) -> set:
     """Every setting some model reads of a light of *light_type* (its falloff aside)."""
-    return {attr for settings in MODEL_SETTINGS.values() for attr, types, _when, _target
-            in settings if light_type in types and attr != "falloff"}
+    return {attr for model in models.MODELS.values() for attr, types, _when, _target
+            in model.settings if light_type in types and attr != "falloff"}
 
 
 AMBIENT_INTENSITY = ("phong_ambient_intensity", 0.1)
@@ -160,18 +135,9 @@ class PhongWorldSettings(bpy.types.PropertyGroup):
         get=forwarding.color_getter(*AMBIENT_COLOR), set=forwarding.color_setter(AMBIENT_COLOR[0]))
 
 
-#: (identifier, label, description) of the lighting models; identifiers are the values of
-#: ``scene["phong_model"]`` and of the scene files' ``model``.
-MODEL_ITEMS = (
-    ("seeds", "Seeds (textbook Phong)",
-     "The lecture notes' Phong model: i0/(αr²+βr+γ) lights, (r·v)^e or (h·n)^e highlights"),
-    ("threejs", "three.js",
-     "What three.js r181's MeshPhongMaterial / MeshLambertMaterial show: Lambert/π, "
-     "normalised Blinn-Phong with Fresnel, distance/decay lights, smoothstep penumbra"),
-    ("x3d", "X3D / VRML97",
-     "The ISO lighting equation of X3D and VRML97: per-light ambient, attenuation "
-     "1/max(a0 + a1·d + a2·d², 1) within a radius, a linear spot ramp, Blinn highlights"),
-)
+#: (identifier, label, description) of the lighting models (``node_groups/models.py``);
+#: identifiers are the values of ``scene["phong_model"]`` and of the scene files' ``model``.
+MODEL_ITEMS = tuple((m.name, m.label, m.description) for m in models.MODELS.values())
 MODEL_KEY = "phong_model"
 
 _MODEL_NAMES = tuple(item[0] for item in MODEL_ITEMS)
@@ -254,9 +220,8 @@ classes = (PhongLightSettings, PhongWorldSettings, PhongSceneSettings)
 _register_classes, _unregister_classes = bpy.utils.register_classes_factory(classes)
 
 
-def register(on_model_change=None):
-    """*on_model_change(scene)* runs after a scene's Lighting Model changed."""
-    forwarding.set_model_callback(on_model_change)
+def register():
+    # what a model switch calls (forwarding's model callback) is set by addon/__init__.py
     _register_classes()
     bpy.types.Light.phong = PointerProperty(type=PhongLightSettings)
     bpy.types.World.phong = PointerProperty(type=PhongWorldSettings)
@@ -268,4 +233,3 @@ def unregister():
     del bpy.types.World.phong
     del bpy.types.Light.phong
     _unregister_classes()
-    forwarding.set_model_callback(None)

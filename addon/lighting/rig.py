@@ -25,13 +25,17 @@ once over non-negative terms) with fewer nodes: Eevee expands every node of a ma
 again for each of its passes (issue 30).  With no light: ambient + irradiant (black when
 both are zero: docs/model.md §No light at all).
 
-In the three.js model (``scene["phong_model"] == "threejs"``, docs/threejs.md) each light
+Each model's light groups, spot angle input, name prefix, the settings it reads of a light
+and its composition are its entry in ``node_groups/models.py``; ``COMPOSE`` holds one builder
+per composition (the seeds' model above is "phong").
+
+In the three.js model (``scene["phong_model"] == "threejs"``, docs/threejs.md; "chain") each light
 is a three.js light group (Phong Directional Light, three.js Point / Spot Light) and a
 three.js Phong (MeshPhongMaterial; Specular Strength 0 is MeshLambertMaterial), the
 ambient is a three.js Ambient and the Irradiant Color is three.js's emissive, added as is.
 Blinn is not used there; the seeds' model does not use Specular Strength.
 
-In the X3D / VRML97 model (``"x3d"``, docs/x3d.md) each light is an X3D light group (X3D
+In the X3D / VRML97 model (``"x3d"``, docs/x3d.md; "phong_light_ambient") each light is an X3D light group (X3D
 Directional / Point / Spot Light: intensity and ambient intensity, attenuation
 1/max(a0 + a1·d + a2·d², 1) within a radius, the linear spot ramp) and an X3D Light Terms
 (its diffuse, Blinn specular without the N·L condition, and ambient light); the sums are
@@ -42,7 +46,7 @@ specular, 1).  Blinn and Specular Strength are not used there.
 
 The number of drivers depends on the lights (about 12 per light), not on the objects.  A
 light's location and axis are not driven in the group: drivers on the World write them as
-World custom properties that Attribute nodes (View Layer) read (``WORLD_PREFIX``), so moving
+World custom properties that Attribute nodes (View Layer) read (``world_copies.py``), so moving
 a light re-evaluates no material (docs/contract.md, "Lights' transforms on the world").
 
 On Blender 5.3+ a group of a model that Eevee's light loop runs (``loop.supports``) also has
@@ -62,16 +66,14 @@ them (what Eevee shows where it shows the group: its Raycast node is screen spac
 
 from __future__ import annotations
 
-import re
-import zlib
-
 import bpy
 
+from ...node_groups import models
 from .. import compat, loader
 from . import drivers, properties
 from . import loop as light_loop
 from . import shadows as shadow_rays
-from .lights import SUPPORTED
+from . import world_copies
 
 #: Custom properties of a lights group: the scene it belongs to (an ID pointer) and its
 #: light set.
@@ -82,9 +84,10 @@ RIG_VERSION = 5  # 4: lights' transforms from World custom properties (View Laye
 # 5: one Phong Surface and a Phong Light Terms per light instead of a Phong Shading per light
 VERSION_KEY = "phong_lights_version"
 ALL = "*"
-#: The lighting models (docs/model.md, docs/threejs.md); a scene's is
-#: ``scene[MODEL_KEY]`` (default the seeds'), also stamped on its lights groups.
-MODELS = tuple(item[0] for item in properties.MODEL_ITEMS)
+#: The lighting models (``node_groups/models.py``: docs/model.md, docs/threejs.md,
+#: docs/x3d.md); a scene's is ``scene[MODEL_KEY]`` (default the seeds'), also stamped on its
+#: lights groups.
+MODELS = models.NAMES
 MODEL_KEY = properties.MODEL_KEY
 
 INPUTS = (  # (name, socket type, default)
@@ -99,21 +102,6 @@ INPUTS = (  # (name, socket type, default)
     ("Ambient Object Color", "NodeSocketColor", (0.8, 0.8, 0.8, 1.0)),
     ("Specular Strength", "NodeSocketFloat", 1.0),  # three.js's specularStrength
 )
-#: A light's world location (Point, Spot) and world -Z axis (Sun, Spot) reach its lights
-#: group as World custom properties of 4 floats (``world_key``), written by drivers on the
-#: World and read by Attribute nodes of type View Layer: moving a light then updates the
-#: World, not the node trees of the materials (issue 30).  Each such Attribute node is a
-#: search loop in Eevee's shader, whose compile time grows steeply with their number (and
-#: with the term AOVs on the view layer: ``compat.py``), so a group reads at most
-#: ``compat.VIEW_LAYER_LOOKUPS``; the lights beyond (and a scene without a World) keep
-#: drivers on the group's sockets.  The group lists its keys in ``WORLD_KEYS``.
-WORLD_PREFIX = "phong_light_"
-WORLD_KEYS = "phong_world_keys"
-#: The keys a group with the loop part reads beyond ``compat.VIEW_LAYER_LOOKUPS`` (Eevee
-#: compiles none of them); apart, so that the Per Vertex / Per Face groups, which Eevee
-#: compiles, read only those of ``WORLD_KEYS`` (``shading/modes.py``).
-LOOP_WORLD_KEYS = "phong_world_keys_loop"
-TRANSFORM_SOCKETS = {"LOCATION": "Position", "AXIS": "Direction"}
 TERMS = ("Irradiant", "Ambient", "Diffuse", "Specular")
 OUTPUTS = (("Color", "NodeSocketColor"),) + tuple((t, "NodeSocketColor") for t in TERMS) + (
     ("Shader", "NodeSocketShader"),)
@@ -144,36 +132,10 @@ def wants_shadows(scene) -> bool:
     return shadow_rays.supported() and not wants_term_passes(scene)
 
 
-def world_key(obj, kind: str) -> str:
-    """The World custom property that carries *obj*'s world location (*kind* "LOCATION") or
-    world -Z axis ("AXIS"): its name in letters, digits and underscores, and a checksum of the
-    exact name (two names that read the same stay apart)."""
-    safe = re.sub(r"[^A-Za-z0-9]", "_", obj.name)[:40]
-    suffix = "p" if kind == "LOCATION" else "d"
-    return f"{WORLD_PREFIX}{safe}_{zlib.crc32(obj.name.encode()):08x}_{suffix}"
-
-
-def prune_world_keys(worlds=None) -> int:
-    """Remove the light-transform properties (and their drivers) of *worlds* (default: all
-    local worlds) that no lights group reads any more; returns how many."""
-    used = set()
-    for tree in bpy.data.node_groups:
-        used.update(tree.get(WORLD_KEYS, ()))
-        used.update(tree.get(LOOP_WORLD_KEYS, ()))
-    removed = 0
-    for world in (bpy.data.worlds if worlds is None else worlds):
-        if world is None or world.library is not None:
-            continue
-        for key in [k for k in world.keys() if k.startswith(WORLD_PREFIX) and k not in used]:
-            drivers.remove_world_vector(world, key)
-            removed += 1
-    return removed
-
-
 def model_of(scene) -> str:
-    """The lighting model of *scene*: "seeds" (default), "threejs" or "x3d"."""
+    """The lighting model of *scene*: a name of ``models.MODELS`` (default the seeds')."""
     model = scene.get(MODEL_KEY, MODELS[0]) if scene is not None else MODELS[0]
-    return model if model in MODELS else MODELS[0]
+    return model if model in models.MODELS else MODELS[0]
 
 
 def set_key(lights, everything: bool) -> str:
@@ -199,12 +161,8 @@ def groups_of(scene) -> list:
     return [t for t in bpy.data.node_groups if t.library is None and owner(t) == scene]
 
 
-#: The first word of a lights group's name, per model.
-GROUP_PREFIX = {"seeds": "Phong", "threejs": "three.js", "x3d": "X3D"}
-
-
 def group_name(scene, lights, key: str) -> str:
-    name = f"{GROUP_PREFIX[model_of(scene)]} Lights {scene.name}"
+    name = f"{models.MODELS[model_of(scene)].prefix} Lights {scene.name}"
     if key != ALL:
         name += f" [{', '.join(o.name for o in lights) or 'no light'}]"
     return name
@@ -276,12 +234,14 @@ def build(tree, lights, world, model=MODELS[0], loop=False, lookups=None,
     if lookups is None:
         lookups = compat.view_layer_lookups(loop)
     budget = [world, lookups, compat.VIEW_LAYER_LOOKUPS]
-    if model == "threejs":
-        _build_threejs(tree, lights, world, budget, loop, shadows)
-        return
-    if model == "x3d":
-        _build_x3d(tree, lights, world, budget, shadows)
-        return
+    COMPOSE[models.MODELS[model].composition](tree, lights, world, budget, model, loop, shadows)
+
+
+def _build_phong(tree, lights, world, budget, model, loop=False, shadows=False) -> None:
+    """The composition "phong" (the seeds' model, docs/contract.md "Several lights"): per
+    light its light group (a Power Falloff after it where the light's falloff is POWER) and a
+    Phong Light Terms; Diffuse = Σ diffuse light ⊗ Object Color, Specular = Σ specular light
+    ⊗ Specular Color, Color = min(Irradiant + Ambient + Diffuse + Specular, 1)."""
     group_in, group_out, out_x = _start(tree, lights, shadows)
     surface = _group_node(tree, "Phong Surface", "surface", (-600.0, 520.0))
     for name in ("Normal", "View Vector"):
@@ -290,14 +250,15 @@ def build(tree, lights, world, model=MODELS[0], loop=False, lookups=None,
     shared = shadow_rays.surface(tree, (-1800.0, 900.0)) if shadows else None
     for index, obj in enumerate(lights):
         y = -520.0 * index
-        light_node = _light_node(tree, obj, (-600.0, y), MODELS[0], budget)
+        light_node = _light_node(tree, obj, (-600.0, y), model, budget)
         shading = _group_node(tree, "Phong Light Terms", f"shading:{obj.name}", (-300.0, y))
         for name in ("Exponent", "Blinn"):
             tree.links.new(group_in.outputs[name], shading.inputs[name])
         for name in ("Normal", "View Vector"):
             tree.links.new(surface.outputs[name], shading.inputs[name])
         tree.links.new(light_node.outputs["Light Vector"], shading.inputs["Light Vector"])
-        tree.links.new(_power_falloff(tree, obj, light_node) or light_node.outputs["Intensity"],
+        tree.links.new(_power_falloff(tree, obj, light_node, model)
+                       or light_node.outputs["Intensity"],
                        shading.inputs["Light Intensity"])
         drivers.color(shading.inputs["Light Color"], "LIGHT", obj.data, "color")
         for attr, socket in (("diffuse", "Diffuse Strength"), ("specular", "Specular Strength")):
@@ -322,10 +283,10 @@ def build(tree, lights, world, model=MODELS[0], loop=False, lookups=None,
     tree.links.new(ambient.outputs["Color"], group_out.inputs["Ambient"])
     _shaders(tree, color, group_out, out_x, shadows and (lambda: colour(shadings, False, "plain ")))
     if loop:
-        light_loop.build(tree, MODELS[0], group_in, group_out,
+        light_loop.build(tree, model, group_in, group_out,
                          group_in.outputs["Irradiant Color"], ambient.outputs["Color"], surface,
                          shadows)
-    _stamp(tree, lights, MODELS[0])
+    _stamp(tree, lights, model)
 
 
 def _lit(tree, obj, light_node, terms, shared, location):
@@ -375,8 +336,7 @@ def _start(tree, lights, shadows=False):
         tree.animation_data_clear()
     tree.nodes.clear()
     tree[shadow_rays.KEY] = int(bool(shadows) and shadow_rays.supported())
-    tree[WORLD_KEYS] = []
-    tree[LOOP_WORLD_KEYS] = []
+    world_copies.clear_listed(tree)
     tree[light_loop.LOOP_KEY] = ""
     group_in = tree.nodes.new("NodeGroupInput")
     group_in.location = (-900.0, 0.0)
@@ -386,29 +346,22 @@ def _start(tree, lights, shadows=False):
     return group_in, group_out, out_x
 
 
-#: Per model: light type -> its light group; a spot's half-angle input (the light settings
-#: that drive the other inputs: ``properties.MODEL_SETTINGS``).
-LIGHT_GROUPS = {"seeds": SUPPORTED,
-                "threejs": {"POINT": "three.js Point Light", "SUN": "Phong Directional Light",
-                            "SPOT": "three.js Spot Light"},
-                "x3d": {"POINT": "X3D Point Light", "SUN": "X3D Directional Light",
-                        "SPOT": "X3D Spot Light"}}
-SPOT_ANGLE = {"seeds": "Half Angle", "threejs": "Angle", "x3d": "Cut Off Angle"}
 #: three.js model: the three.js Phong input fed by each input of the lights group.
 THREEJS_SHADING = {"Object Color": "Diffuse Color", "Specular Color": "Specular Color",
                    "Exponent": "Shininess", "Specular Strength": "Specular Strength",
                    "Normal": "Normal", "View Vector": "View Vector"}
 
 
-def _build_threejs(tree, lights, world, budget, loop=False, shadows=False) -> None:
-    """The three.js model (docs/threejs.md): per light a light group and a three.js Phong,
-    the ambient a three.js Ambient, the emissive the Irradiant Color input."""
+def _build_chain(tree, lights, world, budget, model, loop=False, shadows=False) -> None:
+    """The composition "chain" (the three.js model, docs/threejs.md): per light a light group
+    and a three.js Phong, the ambient a three.js Ambient, the emissive the Irradiant Color
+    input, added by a Phong Color Add chain."""
     group_in, group_out, out_x = _start(tree, lights, shadows)
     shadings, lit = [], []
     shared = shadow_rays.surface(tree, (-1800.0, 900.0)) if shadows else None
     for index, obj in enumerate(lights):
         y = -520.0 * index
-        light_node = _light_node(tree, obj, (-600.0, y), "threejs", budget)
+        light_node = _light_node(tree, obj, (-600.0, y), model, budget)
         shading = _group_node(tree, "three.js Phong", f"shading:{obj.name}", (-300.0, y))
         for source, target in THREEJS_SHADING.items():
             tree.links.new(group_in.outputs[source], shading.inputs[target])
@@ -426,15 +379,16 @@ def _build_threejs(tree, lights, world, budget, loop=False, shadows=False) -> No
           shadows and (lambda: _add_chain(tree, ambient, [irradiant] + [
               s.outputs["Color"] for s in shadings], "plain ")))
     if loop:
-        light_loop.build(tree, "threejs", group_in, group_out, irradiant, ambient.outputs["Color"],
+        light_loop.build(tree, model, group_in, group_out, irradiant, ambient.outputs["Color"],
                          shadows=shadows)
-    _stamp(tree, lights, "threejs")
+    _stamp(tree, lights, model)
 
 
-def _build_x3d(tree, lights, world, budget, shadows=False) -> None:
-    """The X3D / VRML97 model (docs/x3d.md): per light an X3D light group and an X3D Light
-    Terms; Diffuse = Σ diffuse light ⊗ Object Color, Specular = Σ specular light ⊗ Specular
-    Color, Ambient = (the World's ambient light + Σ the lights' ambient light) ⊗ Ambient
+def _build_light_ambient(tree, lights, world, budget, model, loop=False,
+                         shadows=False) -> None:
+    """The composition "phong_light_ambient" (the X3D / VRML97 model, docs/x3d.md; no loop
+    part, *loop* is ignored): per light an X3D light group and an X3D Light Terms;
+    Diffuse = Σ diffuse light ⊗ Object Color, Specular = Σ specular light ⊗ Specular Color, Ambient = (the World's ambient light + Σ the lights' ambient light) ⊗ Ambient
     Object Color, Color = min(Irradiant + Ambient + Diffuse + Specular, 1)."""
     group_in, group_out, out_x = _start(tree, lights, shadows)
     surface = _group_node(tree, "Phong Surface", "surface", (-600.0, 520.0))
@@ -444,7 +398,7 @@ def _build_x3d(tree, lights, world, budget, shadows=False) -> None:
     shared = shadow_rays.surface(tree, (-1800.0, 900.0)) if shadows else None
     for index, obj in enumerate(lights):
         y = -520.0 * index
-        light_node = _light_node(tree, obj, (-600.0, y), "x3d", budget)
+        light_node = _light_node(tree, obj, (-600.0, y), model, budget)
         shading = _group_node(tree, "X3D Light Terms", f"shading:{obj.name}", (-300.0, y))
         tree.links.new(group_in.outputs["Exponent"], shading.inputs["Exponent"])
         for name in ("Normal", "View Vector"):
@@ -480,7 +434,13 @@ def _build_x3d(tree, lights, world, budget, shadows=False) -> None:
     tree.links.new(ambient, group_out.inputs["Ambient"])
     _shaders(tree, color, group_out, out_x, shadows and (lambda: _color_sum(
         tree, base, _term_sums(tree, terms, None, sources, "plain "), "plain ")))
-    _stamp(tree, lights, "x3d")
+    _stamp(tree, lights, model)
+
+
+#: composition (``models.COMPOSITIONS``) -> its builder(tree, lights, world, budget, model,
+#: loop, shadows).
+COMPOSE = {"phong": _build_phong, "chain": _build_chain,
+           "phong_light_ambient": _build_light_ambient}
 
 
 def _emission(tree, color, group_out, out_x, output="Shader"):
@@ -554,7 +514,8 @@ def _light_node(tree, obj, location, model, budget=(None, 0, 0)):
     light = obj.data
     properties.ensure_light_props(light)
     light_loop.write_parameters(light)  # what the light loop reads of it (5.3+; else nothing)
-    node = _group_node(tree, LIGHT_GROUPS[model][light.type], f"light:{obj.name}", location)
+    spec = models.MODELS[model]
+    node = _group_node(tree, spec.light_groups[light.type], f"light:{obj.name}", location)
     inputs = node.inputs
     keys = {attr: f'["{key}"]' for attr, (key, _default) in properties.LIGHT_KEYS.items()}
     kinds = [kind for kind, types in (("LOCATION", ("POINT", "SPOT")), ("AXIS", ("SUN", "SPOT")))
@@ -567,9 +528,10 @@ def _light_node(tree, obj, location, model, budget=(None, 0, 0)):
         if len(budget) >= 3 and eevee:
             budget[2] -= len(kinds)
         for row, kind in enumerate(kinds):
-            _world_input(tree, world, obj, kind, inputs[TRANSFORM_SOCKETS[kind]],
-                         (location[0] - 300.0, location[1] - 160.0 * row),
-                         WORLD_KEYS if eevee else LOOP_WORLD_KEYS)
+            socket = inputs[world_copies.TRANSFORM_SOCKETS[kind]]
+            listed = world_copies.WORLD_KEYS if eevee else world_copies.LOOP_WORLD_KEYS
+            world_copies.read(tree, world, obj, kind, socket,
+                              (location[0] - 300.0, location[1] - 160.0 * row), listed)
     if light.type in ("POINT", "SPOT"):
         if not from_world:
             drivers.world_location(inputs["Position"], obj)
@@ -579,40 +541,27 @@ def _light_node(tree, obj, location, model, budget=(None, 0, 0)):
     if light.type in ("SUN", "SPOT") and not from_world:
         drivers.world_minus_z(inputs["Direction"], obj)
     if light.type == "SPOT":
-        drivers.prop(inputs[SPOT_ANGLE[model]], None, "LIGHT", light, "spot_size", scale=0.5)
+        drivers.prop(inputs[spec.spot_angle], None, "LIGHT", light, "spot_size", scale=0.5)
     for attr, target in properties.model_settings(model, light):
         if target is not None:
             drivers.prop(inputs[target], None, "LIGHT", light, keys[attr])
     return node
 
 
-def _world_input(tree, world, obj, kind, socket, location, listed=WORLD_KEYS) -> None:
-    """*socket* fed by an Attribute node (View Layer) of *obj*'s World property *kind*; the
-    key is listed in the group's property *listed*."""
-    key = world_key(obj, kind)
-    drivers.world_vector(world, key, obj, kind)
-    attribute = tree.nodes.new("ShaderNodeAttribute")
-    attribute.attribute_type = "VIEW_LAYER"
-    attribute.attribute_name = key
-    attribute.name = attribute.label = f"{TRANSFORM_SOCKETS[kind].lower()}:{obj.name}"
-    attribute.location = location
-    tree.links.new(attribute.outputs["Vector"], socket)
-    tree[listed] = [*tree.get(listed, ()), key]
-
-
 def _is_power(light, model) -> bool:
-    """Whether *light* falls off as i0/d^k in its lights group (seeds' Point and Spot)."""
-    return (model == MODELS[0] and light.type in ("POINT", "SPOT")
+    """Whether *light* falls off as i0/d^k in its lights group (Point and Spot of a model
+    that reads the falloff: the seeds')."""
+    return (models.MODELS[model].power_falloff and light.type in ("POINT", "SPOT")
             and properties.falloff_of(light) == "POWER")
 
 
-def _power_falloff(tree, obj, light_node):
+def _power_falloff(tree, obj, light_node, model):
     """For a light whose falloff is POWER: its light group set to no falloff (α = β = 0,
     γ = 1: Intensity i0, times the spot's cone and edge) followed by a Phong Power Falloff
     of its Distance, k driven by ``phong_power_k``; returns that Intensity output.  None for
     the other lights (their light group's quadratic falloff, driven)."""
     light = obj.data
-    if not _is_power(light, MODELS[0]):
+    if not _is_power(light, model):
         return None
     node = _group_node(tree, "Phong Power Falloff", f"falloff:{obj.name}",
                        (light_node.location.x + 150.0, light_node.location.y - 330.0))

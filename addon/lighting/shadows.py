@@ -43,6 +43,7 @@ from __future__ import annotations
 import bpy
 from bpy.app.handlers import persistent
 
+from ...node_groups import models
 from .. import compat
 from . import drivers
 
@@ -79,7 +80,8 @@ def notes(model: str, rays: bool, loop: bool) -> list:
         return ["No Phong shadows while a Phong term pass is on a view layer"]
     lines = ["Phong shadows: hard, from the light's centre (Radius ignored)"]
     if not loop:
-        why = "the X3D model" if model == "x3d" else "Blender before 5.3"
+        entry = models.get(model)
+        why = (f"the {entry.label} model" if entry.loop is None else "Blender before 5.3")
         lines.append(f"Phong shadows in Cycles only ({why}): Eevee shows none")
     lines.append("Cycles: an object casts while its Ray Visibility ▸ Shadow (and Ray Cast) "
                  "is on" if compat.RAYCAST_VISIBILITY else

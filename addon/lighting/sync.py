@@ -210,18 +210,19 @@ class Sync:
             if tree.users == 0:
                 bpy.data.node_groups.remove(tree)
         if prune:
-            rig.prune_world_keys()
+            world_copies.prune()
         if any(shadows.has_shadows(t) for t in rig.groups_of(self.scene)):
             shadows.follow_scene(self.scene)  # Cycles 5.3: Ray Cast after Shadow
         else:
             shadows.give_back_raycast(self.scene, remove=prune)
-        for follow in AFTER_FINISH:  # e.g. Per Vertex / Per Face (shading/) follow the lights
+        for follow in AFTER_FINISH:  # an upward call: shading.modes.refresh (addon/__init__.py)
             follow(self.scene)
 
 
-#: Callables ``follow(scene)`` run at the end of every Apply / Relink (``Sync.finish``): the
-#: rooms above this one that depend on the lights (``shading.modes.refresh``) register here,
-#: so that lighting imports none of them.
+#: An upward call: callables ``follow(scene)`` run at the end of every Apply / Relink
+#: (``Sync.finish``, ``_renew``).  ``addon/__init__.py`` (``connect``) puts the room above
+#: that depends on the lights here, ``shading.modes.refresh`` (the Per Vertex / Per Face
+#: groups follow the lights), so that lighting imports none of it.
 AFTER_FINISH: list = []
 
 
@@ -393,29 +394,25 @@ def _renew() -> None:
         for material in materials.phong_materials():
             materials.renew_group_node(material, links.get(material.as_pointer()))
         for scene in scenes:  # what reads the lights nodes' links (Per Vertex / Per Face)
-            for follow in AFTER_FINISH:  # ran in the relink, before the links were back
+            for follow in AFTER_FINISH:  # shading.modes.refresh: ran in the relink, before
+                # the links were back
                 follow(scene)
     finally:
         _BUSY.pop()
 
 
-#: The relink handler comes after every other handler of depsgraph_update_post that reads
-#: the depsgraph's updates: a relink frees and edits data blocks (groups, the World's
-#: drivers) that those updates still name (Blender 4.2 crashed in follow_opacity after it).
-_HANDLERS = (("depsgraph_update_post", materials.follow_opacity),
-             ("depsgraph_update_post", light_loop.follow_lights),
-             ("depsgraph_update_post", shadows.follow_shadow_visibility),
-             ("depsgraph_update_post", on_depsgraph_update), ("load_post", forget),
-             ("load_post", upgrade_on_load), ("load_post", shadows.follow_on_load),
-             ("undo_post", forget), ("redo_post", forget),
-             *world_copies.HANDLERS)
-
-
-def register():
-    for name, function in _HANDLERS:
-        getattr(bpy.app.handlers, name).append(function)
-
-
-def unregister():
-    for name, function in reversed(_HANDLERS):
-        getattr(bpy.app.handlers, name).remove(function)
+#: The lighting room's handlers, (event of ``bpy.app.handlers``, function) in the order they
+#: run; ``addon/__init__.py`` registers every room's list, this one last.  The relink
+#: handler comes after every other handler of depsgraph_update_post that reads the
+#: depsgraph's updates: a relink frees and edits data blocks (groups, the World's drivers)
+#: that those updates still name (Blender 4.2 crashed in follow_opacity after it); on
+#: load_post the upgrade (a relink) comes last too (tests/test_register.py).
+HANDLERS = (("depsgraph_update_post", materials.follow_opacity),
+            ("depsgraph_update_post", light_loop.follow_lights),
+            ("depsgraph_update_post", shadows.follow_shadow_visibility),
+            ("depsgraph_update_post", on_depsgraph_update), ("load_post", forget),
+            ("load_post", shadows.follow_on_load), ("load_post", upgrade_on_load),
+            ("undo_post", forget), ("redo_post", forget),
+            *world_copies.HANDLERS)
+#: The functions that relink: last of the extension's handlers on their events.
+RELINKS = (on_depsgraph_update, upgrade_on_load)

@@ -1,10 +1,12 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""The World's copies of the lights' transforms: live only where something reads them
-(issue 38).
+"""The World's copies of the lights' transforms, the whole concept: their keys, which groups
+read them, their drivers, and their being live only where something reads them (issue 38).
 
-A lights group reads each light's world location and axis from a World custom property
-(``rig.world_key``) that drivers on the World keep equal to the light's transform
-(``drivers.world_vector``): moving a light then updates the World, not the materials.  But a
+A lights group (``rig.py``) or a Per Vertex / Per Face group (``shading/groups.py``) reads
+each light's world location and axis from a World custom property (:func:`world_key`,
+listed in the group's ``WORLD_KEYS``) through an Attribute node (:func:`read`), and drivers
+on the World keep it equal to the light's transform (:func:`write`): moving a light then
+updates the World, not the materials; :func:`prune` removes the copies no group reads.  But a
 World update is not free in Eevee: besides the depsgraph's work, Eevee marks its world
 light probe dirty on any update of the World and renders it again (``eevee::World::sync``).
 On Blender 5.3+, where a Phong material's Eevee side is the light loop (``loop.py``), Eevee
@@ -33,13 +35,14 @@ Nothing here runs before 5.3 (``compat.HAS_LIGHT_LOOP``): there Eevee reads the 
 
 from __future__ import annotations
 
+import re
 import threading
+import zlib
 
 import bpy
 from bpy.app.handlers import persistent
 
 from .. import compat
-from . import drivers, rig
 from . import loop as light_loop
 
 #: Render engines that read no View Layer attribute of a Phong material whose lights
@@ -47,13 +50,191 @@ from . import loop as light_loop
 LOOP_ENGINES = frozenset({"BLENDER_EEVEE", "BLENDER_EEVEE_NEXT", "BLENDER_WORKBENCH"})
 _KINDS = ("LOCATION", "AXIS")
 
+#: A light's world location (Point, Spot) and world -Z axis (Sun, Spot) reach its lights
+#: group as World custom properties of 4 floats (``world_key``), written by drivers on the
+#: World and read by Attribute nodes of type View Layer: moving a light then updates the
+#: World, not the node trees of the materials (issue 30).  Each such Attribute node is a
+#: search loop in Eevee's shader, whose compile time grows steeply with their number (and
+#: with the term AOVs on the view layer: ``compat.py``), so a group reads at most
+#: ``compat.VIEW_LAYER_LOOKUPS``; the lights beyond (and a scene without a World) keep
+#: drivers on the group's sockets.  The group lists its keys in ``WORLD_KEYS``.
+WORLD_PREFIX = "phong_light_"
+WORLD_KEYS = "phong_world_keys"
+#: The keys a group with the loop part reads beyond ``compat.VIEW_LAYER_LOOKUPS`` (Eevee
+#: compiles none of them); apart, so that the Per Vertex / Per Face groups, which Eevee
+#: compiles, read only those of ``WORLD_KEYS`` (``shading/groups.py``).
+LOOP_WORLD_KEYS = "phong_world_keys_loop"
+TRANSFORM_SOCKETS = {"LOCATION": "Position", "AXIS": "Direction"}
+
+
+# -- the keys and who reads them ---------------------------------------------------------
+
+def world_key(obj, kind: str) -> str:
+    """The World custom property that carries *obj*'s world location (*kind* "LOCATION") or
+    world -Z axis ("AXIS"): its name in letters, digits and underscores, and a checksum of the
+    exact name (two names that read the same stay apart)."""
+    safe = re.sub(r"[^A-Za-z0-9]", "_", obj.name)[:40]
+    suffix = "p" if kind == "LOCATION" else "d"
+    return f"{WORLD_PREFIX}{safe}_{zlib.crc32(obj.name.encode()):08x}_{suffix}"
+
+
+def prune(worlds=None) -> int:
+    """Remove the light-transform properties (and their drivers) of *worlds* (default: all
+    local worlds) that no lights group reads any more; returns how many."""
+    used = set()
+    for tree in bpy.data.node_groups:
+        used.update(tree.get(WORLD_KEYS, ()))
+        used.update(tree.get(LOOP_WORLD_KEYS, ()))
+    removed = 0
+    for world in (bpy.data.worlds if worlds is None else worlds):
+        if world is None or world.library is not None:
+            continue
+        for key in [k for k in world.keys() if k.startswith(WORLD_PREFIX) and k not in used]:
+            remove(world, key)
+            removed += 1
+    return removed
+
+
+def clear_listed(tree, loop: bool = True) -> None:
+    """*tree* (a group being rewritten) lists no key yet (*loop*: nor for its loop part, a
+    lights group's)."""
+    tree[WORLD_KEYS] = []
+    if loop:
+        tree[LOOP_WORLD_KEYS] = []
+
+
+def listed(tree, loop: bool = False) -> tuple:
+    """The keys the group *tree* reads (*loop*: those its loop part leaves to Cycles)."""
+    return tuple(tree.get(LOOP_WORLD_KEYS if loop else WORLD_KEYS, ())) if tree is not None \
+        else ()
+
+
+def list_key(tree, key) -> None:
+    """Add *key* to the keys *tree* (a Per Vertex / Per Face group) reads."""
+    tree[WORLD_KEYS] = [*tree.get(WORLD_KEYS, ()), key]
+
+
+def read(tree, world, obj, kind, socket, location, into=WORLD_KEYS) -> None:
+    """*socket* of the lights group *tree* fed by an Attribute node (View Layer) of *obj*'s
+    copy *kind* on *world* (written, with its drivers); the key is listed in the group's
+    property *into* (``WORLD_KEYS`` or ``LOOP_WORLD_KEYS``)."""
+    key = world_key(obj, kind)
+    write(world, key, obj, kind)
+    attribute = tree.nodes.new("ShaderNodeAttribute")
+    attribute.attribute_type = "VIEW_LAYER"
+    attribute.attribute_name = key
+    attribute.name = attribute.label = f"{TRANSFORM_SOCKETS[kind].lower()}:{obj.name}"
+    attribute.location = location
+    tree.links.new(attribute.outputs["Vector"], socket)
+    tree[into] = [*tree.get(into, ()), key]
+
+
+# -- the copies' drivers ---------------------------------------------------------------------
+
+def _fresh_prop(id_block, key, index):
+    """A new driver F-curve on ``id_block["key"][index]``, emptied."""
+    path = f'["{bpy.utils.escape_identifier(key)}"]'
+    try:
+        id_block.driver_remove(path, index)
+    except TypeError:
+        pass
+    fcurve = id_block.driver_add(path, index)
+    for modifier in list(fcurve.modifiers):
+        fcurve.modifiers.remove(modifier)
+    driver = fcurve.driver
+    for var in list(driver.variables):
+        driver.variables.remove(var)
+    return driver
+
+
+def write(world, key, obj, kind) -> None:
+    """``world[key]`` (4 floats) = the object's world location (*kind* "LOCATION") or world
+    -Z axis (*kind* "AXIS") in its first three, 0 in the fourth; the drivers live on the
+    World (its animation data), so a moved light updates the World, not the node trees that
+    read it (Attribute nodes of type View Layer: docs/contract.md, "Several lights")."""
+    matrix = obj.matrix_world
+    if kind == "LOCATION":
+        value = [float(v) for v in matrix.translation]
+    else:
+        value = [-float(matrix[i][2]) for i in range(3)]
+    current = world.get(key)
+    if current is not None and len(current) == 4 and not isinstance(current, str):
+        for index, v in enumerate(value):  # in place (no ID property freed: handler-safe)
+            current[index] = v
+    else:
+        world[key] = [*value, 0.0]
+    if _drivers_fit(world, key, obj, kind):
+        return  # unchanged: nothing freed or re-made (the handler relinks on many edits)
+    for index in range(3):
+        driver = _fresh_prop(world, key, index)
+        var = driver.variables.new()
+        var.name = "v"
+        if kind == "LOCATION":
+            driver.type = "AVERAGE"
+            var.type = "TRANSFORMS"
+            target = var.targets[0]
+            target.id = obj
+            target.transform_type = ("LOC_X", "LOC_Y", "LOC_Z")[index]
+            target.transform_space = "WORLD_SPACE"
+        else:
+            driver.type = "SCRIPTED"
+            driver.expression = "v * -1.0"
+            var.type = "SINGLE_PROP"
+            var.targets[0].id_type = "OBJECT"
+            var.targets[0].id = obj
+            var.targets[0].data_path = f"matrix_world[2][{index}]"
+
+
+def _drivers_fit(world, key, obj, kind) -> bool:
+    """Whether ``world[key]``'s three drivers already read *obj* as *kind* wants."""
+    anim = world.animation_data
+    if anim is None:
+        return False
+    path = f'["{bpy.utils.escape_identifier(key)}"]'
+    found = {fc.array_index: fc for fc in anim.drivers if fc.data_path == path}
+    if sorted(found) != [0, 1, 2]:
+        return False
+    for index, fcurve in found.items():
+        driver = fcurve.driver
+        if len(driver.variables) != 1 or fcurve.modifiers:
+            return False
+        var = driver.variables[0]
+        target = var.targets[0]
+        if target.id != obj:
+            return False
+        if kind == "LOCATION":
+            ok = (driver.type == "AVERAGE" and var.type == "TRANSFORMS"
+                  and target.transform_type == ("LOC_X", "LOC_Y", "LOC_Z")[index]
+                  and target.transform_space == "WORLD_SPACE")
+        else:
+            ok = (driver.type == "SCRIPTED" and driver.expression == "v * -1.0"
+                  and var.type == "SINGLE_PROP" and var.name == "v"
+                  and target.data_path == f"matrix_world[2][{index}]")
+        if not ok:
+            return False
+    return True
+
+
+def remove(world, key) -> None:
+    """Remove ``world[key]`` and its drivers."""
+    path = f'["{bpy.utils.escape_identifier(key)}"]'
+    anim = world.animation_data
+    if anim is not None:
+        for fcurve in [fc for fc in anim.drivers if fc.data_path == path]:
+            anim.drivers.remove(fcurve)
+    if key in world.keys():
+        del world[key]
+
+
+# -- parked and live -------------------------------------------------------------------------
+
 
 def _copy_fcurves(world) -> list:
     """The World's drivers of light-transform copies."""
     anim = world.animation_data
     if anim is None:
         return []
-    prefix = f'["{rig.WORLD_PREFIX}'
+    prefix = f'["{WORLD_PREFIX}'
     return [fc for fc in anim.drivers if fc.data_path.startswith(prefix)]
 
 
@@ -66,7 +247,7 @@ def _readers_need_copies() -> bool:
     """Whether a node group that Eevee compiles reads the copies: one with World keys and
     no loop part (a lights group of a scene with term passes, of the X3D model, a Per
     Vertex / Per Face group), used by something."""
-    return any(tree.users and tree.get(rig.WORLD_KEYS) and not light_loop.has_loop(tree)
+    return any(tree.users and tree.get(WORLD_KEYS) and not light_loop.has_loop(tree)
                for tree in bpy.data.node_groups)
 
 
@@ -92,7 +273,7 @@ def make_live(world) -> int:
     returns how many copies were made live."""
     if world is None or world.library is not None:
         return 0
-    keys = {k for k in world.keys() if k.startswith(rig.WORLD_PREFIX)}
+    keys = {k for k in world.keys() if k.startswith(WORLD_PREFIX)}
     if not keys:
         return 0
     made = 0
@@ -100,9 +281,9 @@ def make_live(world) -> int:
         if obj.type != "LIGHT":
             continue
         for kind in _KINDS:
-            key = rig.world_key(obj, kind)
+            key = world_key(obj, kind)
             if key in keys:
-                drivers.world_vector(world, key, obj, kind)  # unchanged ones are kept
+                write(world, key, obj, kind)  # unchanged ones are kept
                 made += 1
     return made
 
@@ -110,7 +291,7 @@ def make_live(world) -> int:
 def _live_if_read(world) -> None:
     """*world*'s parked copies live again where something can read them now."""
     if (world is not None and world.library is None and not is_live(world)
-            and any(k.startswith(rig.WORLD_PREFIX) for k in world.keys())
+            and any(k.startswith(WORLD_PREFIX) for k in world.keys())
             and not can_park(world)):
         make_live(world)
 
@@ -127,7 +308,8 @@ def follow(scene) -> None:
 
 def follow_readers() -> None:
     """Every World whose parked copies something can read now (a material just set Per
-    Vertex / Per Face: ``shading/modes.py``): live again."""
+    Vertex / Per Face, ``shading/modes.py``, whose group, ``shading/groups.py``, reads
+    them): live again."""
     if compat.HAS_LIGHT_LOOP:
         for world in bpy.data.worlds:
             _live_if_read(world)

@@ -29,6 +29,7 @@ def setter(key, names):
         if material.get(key, names[0]) == new and key in material.keys():
             return
         material[key] = new
+        # the upward call: shading.modes.update (addon/__init__.py, connect)
         callback = _on_change() if _on_change is not None else None
         if callback is not None:
             callback(material)
@@ -58,6 +59,7 @@ def opacity_getter(node_name):
 
 def opacity_setter():
     def set_(self, value):
+        # lighting.materials.set_opacity (addon/__init__.py, connect)
         callback = _on_opacity() if _on_opacity is not None else None
         if callback is not None:
             callback(self.id_data, value)

@@ -6,7 +6,7 @@ custom property ``phong_shading``, so a file keeps it without the extension) and
 import bpy
 from bpy.props import EnumProperty, FloatProperty, PointerProperty
 
-from ..lighting import materials, sync
+from ..lighting import materials
 from . import forwarding, modes
 
 SHADING_ITEMS = (
@@ -34,24 +34,12 @@ class PhongMaterialSettings(bpy.types.PropertyGroup):
                     "control node; below 1 the material blends)")
 
 
-def _changed(material):
-    modes.update(material)
-
-
 def register():
-    sync.AFTER_FINISH.append(modes.refresh)  # Apply and Relink refresh these modes too
-    forwarding.set_callback(_changed)
-    forwarding.set_opacity_callback(materials.set_opacity)
+    # what a set value calls (forwarding's callbacks) is set by addon/__init__.py (connect)
     bpy.utils.register_class(PhongMaterialSettings)
     bpy.types.Material.phong = PointerProperty(type=PhongMaterialSettings)
-    modes.register()
 
 
 def unregister():
-    modes.unregister()
     del bpy.types.Material.phong
     bpy.utils.unregister_class(PhongMaterialSettings)
-    forwarding.set_callback(None)
-    forwarding.set_opacity_callback(None)
-    if modes.refresh in sync.AFTER_FINISH:
-        sync.AFTER_FINISH.remove(modes.refresh)

@@ -3,6 +3,7 @@
 
 import bpy
 
+from ...node_groups import models
 from ..lighting import properties, rig, shadows
 from ..lighting.lights import SUPPORTED
 from ..lighting.materials import OPACITY, blends, is_phong_material
@@ -36,10 +37,9 @@ class DATA_PT_phong_light(bpy.types.Panel):
         col = layout.column(align=True)
         for attr, _target in properties.model_settings(model, light):  # one list of them
             col.prop(settings, attr)
-        if model == "threejs" and light.type == "SPOT":  # docs/threejs.md
-            layout.label(text="Angle: half the spot size", icon="INFO")
-        if model == "x3d" and light.type == "SPOT":  # docs/x3d.md
-            layout.label(text="Cut-off angle: half the spot size", icon="INFO")
+        note = models.get(model).spot_note  # docs/threejs.md, docs/x3d.md
+        if note and light.type == "SPOT":
+            layout.label(text=note, icon="INFO")
         layout.label(text="Colour, position, direction and spot size come from the light",
                      icon="INFO")
         layout.prop(light, "use_shadow", text="Cast Shadow")  # Blender's own switch
