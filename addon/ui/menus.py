@@ -1,12 +1,11 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""Shift+A ▸ Phong in the Shader Editor; File ▸ Import ▸ Wavefront (.obj) as Phong and File ▸
-Export ▸ Phong Materials (.mtl)."""
+"""Shift+A ▸ Phong in the Shader Editor; the File ▸ Import and File ▸ Export entries of every
+format (``interchange/formats.py``, drawn by ``file_io``)."""
 
 import bpy
 
-from .operators import (PHONG_OT_add_node_group, PHONG_OT_export_mtl, PHONG_OT_export_obj,
-                        PHONG_OT_export_threejs, PHONG_OT_import_obj,
-                        PHONG_OT_load_node_groups)
+from . import file_io
+from .operators import PHONG_OT_add_node_group, PHONG_OT_load_node_groups
 
 #: The sections of Shift+A ▸ Phong, also the asset catalogs (``assets.py``).
 SECTIONS = (
@@ -48,26 +47,15 @@ def _draw_add_menu(self, context):
         self.layout.menu(NODE_MT_phong_add.bl_idname)
 
 
-def _draw_export_menu(self, _context):
-    self.layout.operator(PHONG_OT_export_obj.bl_idname, text="Wavefront (.obj) with Phong Materials")
-    self.layout.operator(PHONG_OT_export_mtl.bl_idname, text="Phong Materials (.mtl)")
-    self.layout.operator(PHONG_OT_export_threejs.bl_idname, text="three.js Page (.html)")
-
-
-def _draw_import_menu(self, _context):
-    self.layout.operator(PHONG_OT_import_obj.bl_idname, text="Wavefront (.obj) as Phong")
-    self.layout.operator("phong.import_fbx", text="FBX (Phong) (.fbx)")
-
-
 def register():
     bpy.utils.register_class(NODE_MT_phong_add)
     bpy.types.NODE_MT_add.append(_draw_add_menu)
-    bpy.types.TOPBAR_MT_file_export.append(_draw_export_menu)
-    bpy.types.TOPBAR_MT_file_import.append(_draw_import_menu)
+    bpy.types.TOPBAR_MT_file_export.append(file_io.draw_export_menu)
+    bpy.types.TOPBAR_MT_file_import.append(file_io.draw_import_menu)
 
 
 def unregister():
-    bpy.types.TOPBAR_MT_file_import.remove(_draw_import_menu)
-    bpy.types.TOPBAR_MT_file_export.remove(_draw_export_menu)
+    bpy.types.TOPBAR_MT_file_import.remove(file_io.draw_import_menu)
+    bpy.types.TOPBAR_MT_file_export.remove(file_io.draw_export_menu)
     bpy.types.NODE_MT_add.remove(_draw_add_menu)
     bpy.utils.unregister_class(NODE_MT_phong_add)
