@@ -54,6 +54,9 @@ class Format:
     #: the drop handler's label: files dropped on the 3D Viewport are imported (where the
     #: release has ``bpy.types.FileHandler``); None: not dropped
     drop_label: Optional[str] = None
+    #: the file brings its own lights (an import reports the scene's lights only for a
+    #: format without them, OBJ, as Apply reports them)
+    has_lights: bool = True
 
     @property
     def glob(self) -> str:
@@ -68,7 +71,8 @@ FORMATS = (
            import_menu="Wavefront (.obj) as Phong",
            export_menu="Wavefront (.obj) with Phong Materials",
            import_operator="phong.import_obj", export_operator="phong.export_obj",
-           import_report="Import OBJ as Phong", export_report="Export OBJ with Phong"),
+           import_report="Import OBJ as Phong", export_report="Export OBJ with Phong",
+           has_lights=False),
     Format("mtl", (".mtl",), None, mtl_export.export_library,
            export_menu="Phong Materials (.mtl)", export_operator="phong.export_mtl",
            export_report="Export Phong MTL"),

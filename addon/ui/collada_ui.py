@@ -49,4 +49,23 @@ COLLADA 1.4.1 profile_COMMON phong / blinn / lambert / constant"""
 classes = (PHONG_OT_import_collada, PHONG_OT_export_collada, *file_io.drop_handler("collada"))
 
 
-register, unregister = bpy.utils.register_classes_factory(classes)
+def _draw_import(self, _context):
+    file_io.menu_entry(self, "collada", "import")
+
+
+def _draw_export(self, _context):
+    file_io.menu_entry(self, "collada", "export")
+
+
+def register():
+    for cls in classes:
+        bpy.utils.register_class(cls)
+    bpy.types.TOPBAR_MT_file_import.append(_draw_import)
+    bpy.types.TOPBAR_MT_file_export.append(_draw_export)
+
+
+def unregister():
+    bpy.types.TOPBAR_MT_file_export.remove(_draw_export)
+    bpy.types.TOPBAR_MT_file_import.remove(_draw_import)
+    for cls in reversed(classes):
+        bpy.utils.unregister_class(cls)

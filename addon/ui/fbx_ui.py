@@ -64,4 +64,17 @@ Phong ambient"""
 classes = (PHONG_OT_import_fbx, PHONG_OT_export_fbx, *file_io.drop_handler("fbx"))
 
 
-register, unregister = bpy.utils.register_classes_factory(classes)
+def _draw_export(self, _context):
+    file_io.menu_entry(self, "fbx", "export")
+
+
+def register():
+    for cls in classes:
+        bpy.utils.register_class(cls)
+    bpy.types.TOPBAR_MT_file_export.append(_draw_export)
+
+
+def unregister():
+    bpy.types.TOPBAR_MT_file_export.remove(_draw_export)
+    for cls in reversed(classes):
+        bpy.utils.unregister_class(cls)

@@ -2,7 +2,7 @@
 """What the File ▸ Import / Export operators of every format share (the table of formats is
 ``interchange/formats.py``): the run and reports of an import and an export, the check of an
 export path, the lights report, the invoke of a file dropped on the 3D Viewport, its drop
-handler and the File menus' entries."""
+handler and a format's File menu entry."""
 
 import os
 
@@ -39,7 +39,8 @@ def run_import(operator, context, key: str, **options) -> set:
     """Import *operator*'s file as the format *key* of ``formats.FORMATS`` and report as
     every import reports (its ``import_report``, "Import X3D: ..."): the file's problem
     (``formats.InterchangeError``, whose message names the file) as an error, each warning,
-    the lights (where it made objects), and what was made."""
+    the scene's lights that its Phong materials cannot use (a format without lights of its
+    own, where it made objects), and what was made."""
     fmt = formats.by_key(key)
     path = bpy.path.abspath(operator.filepath)
     try:
@@ -49,8 +50,8 @@ def run_import(operator, context, key: str, **options) -> set:
         return {"CANCELLED"}
     for warning in result.warnings:
         operator.report({"WARNING"}, f"{fmt.import_report}: {warning}")
-    if result.objects and result.sync is not None:
-        lights_report(operator, result.sync)
+    if result.objects and result.sync is not None and not fmt.has_lights:
+        lights_report(operator, result.sync)   # OBJ: the scene's lights light the file
     operator.report({"INFO"}, f"Imported {len(result.objects)} object(s) with "
                               f"{len(result.materials)} Phong material(s) from "
                               f"{os.path.basename(path)}")
@@ -133,15 +134,11 @@ def drop_handler(key: str) -> list:
         "bl_file_extensions": ";".join(fmt.suffixes), "poll_drop": classmethod(poll_drop)})]
 
 
-def draw_import_menu(self, _context):
-    """File ▸ Import: every format of the table with an import operator."""
-    for fmt in formats.FORMATS:
-        if fmt.import_menu:
-            self.layout.operator(fmt.import_operator, text=fmt.import_menu)
-
-
-def draw_export_menu(self, _context):
-    """File ▸ Export: every format of the table with an export operator."""
-    for fmt in formats.FORMATS:
-        if fmt.export_menu:
-            self.layout.operator(fmt.export_operator, text=fmt.export_menu)
+def menu_entry(menu, key: str, direction: str) -> None:
+    """The File ▸ Import (*direction* "import") or File ▸ Export ("export") entry of the
+    format *key*: its operator and label from the table."""
+    fmt = formats.by_key(key)
+    if direction == "import":
+        menu.layout.operator(fmt.import_operator, text=fmt.import_menu)
+    else:
+        menu.layout.operator(fmt.export_operator, text=fmt.export_menu)

@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Shift+A ▸ Phong in the Shader Editor; the File ▸ Import and File ▸ Export entries of every
-format (``interchange/formats.py``, drawn by ``file_io``)."""
+format without a module of its own here (OBJ, MTL, three.js; FBX's import), their labels from
+``interchange/formats.py``."""
 
 import bpy
 
@@ -47,15 +48,25 @@ def _draw_add_menu(self, context):
         self.layout.menu(NODE_MT_phong_add.bl_idname)
 
 
+def _draw_export_menu(self, _context):
+    for key in ("obj", "mtl", "threejs"):
+        file_io.menu_entry(self, key, "export")
+
+
+def _draw_import_menu(self, _context):
+    for key in ("obj", "fbx"):
+        file_io.menu_entry(self, key, "import")
+
+
 def register():
     bpy.utils.register_class(NODE_MT_phong_add)
     bpy.types.NODE_MT_add.append(_draw_add_menu)
-    bpy.types.TOPBAR_MT_file_export.append(file_io.draw_export_menu)
-    bpy.types.TOPBAR_MT_file_import.append(file_io.draw_import_menu)
+    bpy.types.TOPBAR_MT_file_export.append(_draw_export_menu)
+    bpy.types.TOPBAR_MT_file_import.append(_draw_import_menu)
 
 
 def unregister():
-    bpy.types.TOPBAR_MT_file_import.remove(file_io.draw_import_menu)
-    bpy.types.TOPBAR_MT_file_export.remove(file_io.draw_export_menu)
+    bpy.types.TOPBAR_MT_file_import.remove(_draw_import_menu)
+    bpy.types.TOPBAR_MT_file_export.remove(_draw_export_menu)
     bpy.types.NODE_MT_add.remove(_draw_add_menu)
     bpy.utils.unregister_class(NODE_MT_phong_add)

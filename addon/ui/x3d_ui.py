@@ -80,6 +80,14 @@ classes = [PHONG_OT_import_x3d, PHONG_OT_export_x3d, PHONG_OT_add_headlight,
            *file_io.drop_handler("x3d")]
 
 
+def _draw_import(self, _context):
+    file_io.menu_entry(self, "x3d", "import")
+
+
+def _draw_export(self, _context):
+    file_io.menu_entry(self, "x3d", "export")
+
+
 def _draw_light_add(self, _context):
     self.layout.separator()
     self.layout.operator(PHONG_OT_add_headlight.bl_idname, icon="LIGHT_SUN")
@@ -88,10 +96,14 @@ def _draw_light_add(self, _context):
 def register():
     for cls in classes:
         bpy.utils.register_class(cls)
+    bpy.types.TOPBAR_MT_file_import.append(_draw_import)
+    bpy.types.TOPBAR_MT_file_export.append(_draw_export)
     bpy.types.VIEW3D_MT_light_add.append(_draw_light_add)
 
 
 def unregister():
     bpy.types.VIEW3D_MT_light_add.remove(_draw_light_add)
+    bpy.types.TOPBAR_MT_file_export.remove(_draw_export)
+    bpy.types.TOPBAR_MT_file_import.remove(_draw_import)
     for cls in reversed(classes):
         bpy.utils.unregister_class(cls)
