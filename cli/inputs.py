@@ -5,10 +5,10 @@ reason for exit 2 with nothing written.
 
 A scene file is a .blend, opened as it is, or a file of another program imported as Phong
 into an empty scene by the extension's own importer (the table of formats,
-``addon/interchange/formats.py``: the same code and suffixes as File ▸ Import).  An imported file that brings no camera gets one that frames its objects (an X3D
-file without Viewpoint: the standard's default view moved to frame them, ``addon.scene.
-framing``), and one that brings no light a sun at the camera (a headlight), each named on
-stderr."""
+``addon/interchange/formats.py``: the same code and suffixes as File ▸ Import).  An imported
+file that brings no camera gets one that frames its objects (an X3D file without Viewpoint:
+the standard's default view moved to frame them, ``addon.scene.framing``), and one that
+brings no light a sun at the camera (a headlight), each named on stderr."""
 
 from __future__ import annotations
 

@@ -1,7 +1,8 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """The operators of File ▸ Import ▸ X3D / VRML97 (Phong) and File ▸ Export ▸ X3D / VRML97
-(Phong) (their entries, suffixes and drop handler from ``interchange/formats.py``), and Add ▸ Light ▸ Headlight (``phong.add_headlight``): a Sun that follows the scene camera,
-the headlight of VRML97 / X3D (docs/x3d.md)."""
+(Phong) (their entries, suffixes and drop handler from ``interchange/formats.py``), and Add ▸
+Light ▸ Headlight (``phong.add_headlight``): a Sun that follows the scene camera, the
+headlight of VRML97 / X3D (docs/x3d.md)."""
 
 import bpy
 from bpy.props import BoolProperty, StringProperty
