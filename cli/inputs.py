@@ -4,11 +4,11 @@
 reason for exit 2 with nothing written.
 
 A scene file is a .blend, opened as it is, or a file of another program imported as Phong
-into an empty scene by the extension's own importer (``IMPORTERS``: the same code as File ▸
-Import).  An imported file that brings no camera gets one that frames its objects (an X3D
-file without Viewpoint: the standard's default view moved to frame them, ``addon.scene.
-framing``), and one that brings no light a sun at the camera (a headlight), each named on
-stderr."""
+into an empty scene by the extension's own importer (the table of formats,
+``addon/interchange/formats.py``: the same code and suffixes as File ▸ Import).  An imported
+file that brings no camera gets one that frames its objects (an X3D file without Viewpoint:
+the standard's default view moved to frame them, ``addon.scene.framing``), and one that
+brings no light a sun at the camera (a headlight), each named on stderr."""
 
 from __future__ import annotations
 
@@ -31,53 +31,28 @@ def peer_problem(peers) -> str | None:
     return None
 
 
-def _import_obj(context, path) -> list:
-    from ..addon.interchange import obj_import  # noqa: PLC0415
-    from ..core import mtl  # noqa: PLC0415
+def suffix_formats() -> dict:
+    """{file suffix: the format that imports it} (``formats.FORMATS``; imports ``bpy``)."""
+    from ..addon.interchange import formats  # noqa: PLC0415
+
+    return {suffix: fmt for fmt in formats.FORMATS if fmt.importer is not None
+            for suffix in fmt.suffixes}
+
+
+def import_into(context, path, fmt) -> list:
+    """Import *path* as *fmt* (``formats.Format``) into *context*'s scene; returns the
+    warnings.  BadInput when nothing could be imported (its message names the file)."""
+    from ..addon.interchange import formats  # noqa: PLC0415
 
     try:
-        objects, _materials, warnings, _sync = obj_import.import_obj(context, path)
-    except mtl.MtlError as error:
-        raise BadInput(f"{path}: {error}") from None
-    if not objects:
-        raise BadInput(f"{path}: no mesh in the file")
-    return warnings
-
-
-def _import_collada(context, path) -> list:
-    from ..addon.interchange import collada_import  # noqa: PLC0415
-
-    try:
-        return collada_import.import_file(path, context)
-    except collada_import.ColladaImportError as error:  # its message names the file
+        result = fmt.importer(context, path)
+    except formats.InterchangeError as error:
         raise BadInput(str(error)) from None
+    if not result.objects:
+        raise BadInput("; ".join([f"{path}: no mesh in the file", *result.warnings]))
+    return result.warnings
 
 
-def _import_fbx(context, path) -> list:
-    from ..addon.interchange import fbx_import  # noqa: PLC0415
-    from ..core import fbx  # noqa: PLC0415
-
-    try:
-        return fbx_import.import_file(path, context)
-    except fbx.FbxError as error:
-        raise BadInput(str(error)) from None
-
-
-def _import_x3d(context, path) -> list:
-    from ..addon.interchange import x3d_import  # noqa: PLC0415
-
-    try:
-        return x3d_import.import_file(path, context)
-    except x3d_import.X3DImportError as error:  # its message names the file
-        raise BadInput(str(error)) from None
-
-
-#: file extension -> the importer of that format: (context, path) -> warnings; BadInput when
-#: nothing could be imported.
-IMPORTERS = {".obj": _import_obj, ".dae": _import_collada, ".fbx": _import_fbx}
-#: VRML97 / X3D (issue 36), gzipped too ("model.wrl.gz" ends in .gz)
-IMPORTERS.update({suffix: _import_x3d for suffix in (".wrl", ".wrz", ".x3d", ".x3dz", ".x3dv",
-                                                     ".x3dvz", ".gz")})
 #: A scene custom property an importer sets where the file asks for no light at all (X3D's
 #: NavigationInfo headlight FALSE): no sun is added at the camera then.
 NO_DEFAULT_LIGHT = "phong_x3d_no_headlight"
@@ -96,11 +71,12 @@ def open_scene_file(file: str, scenes_arg, importers: bool = True) -> tuple:
     if not os.path.isfile(path):
         raise BadInput(f"{file}: no such file")
     suffix = os.path.splitext(path)[1].lower()
-    if importers and suffix in IMPORTERS:
-        _import_into_empty_file(path, IMPORTERS[suffix])
+    readers = suffix_formats() if importers else {}
+    if suffix in readers:
+        _import_into_empty_file(path, readers[suffix])
     else:
         if suffix != ".blend" and importers:
-            known = ", ".join([".blend", *IMPORTERS])
+            known = ", ".join([".blend", *readers])
             raise BadInput(f"{file}: not a file this command reads ({known})")
         try:
             bpy.ops.wm.open_mainfile(filepath=path, load_ui=False)
@@ -118,14 +94,14 @@ def open_scene_file(file: str, scenes_arg, importers: bool = True) -> tuple:
     return names, wanted
 
 
-def _import_into_empty_file(path, importer) -> None:
+def _import_into_empty_file(path, fmt) -> None:
     import bpy  # noqa: PLC0415
 
     bpy.ops.wm.read_homefile(use_empty=True)
     context = bpy.context
     scene = context.scene
     scene.name = os.path.splitext(os.path.basename(path))[0] or "Imported"
-    for warning in importer(context, path):
+    for warning in import_into(context, path, fmt):
         print(f"phong: {os.path.basename(path)}: {warning}", file=sys.stderr)
     framed = _frame(scene)
     if framed is not None:

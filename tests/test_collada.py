@@ -504,7 +504,7 @@ def test_a_failed_import_leaves_the_file_as_it_was(bpy_clean, tmp_path):
     from phong_nodes.addon.interchange import collada_import  # noqa: PLC0415
 
     with pytest.raises(collada_import.ColladaImportError, match="not well-formed"):
-        collada_import.import_file(str(bad), bpy.context)
+        collada_import.import_file(bpy.context, str(bad))
 
 
 def test_real_files_of_pycollada_import(bpy_clean):

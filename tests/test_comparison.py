@@ -334,7 +334,7 @@ def test_the_operator_reports_a_camera_that_sees_nothing_as_an_error(bpy_clean, 
     bpy.context.window.scene = scene
     scene.render.resolution_x, scene.render.resolution_y = 32, 24
     with bpy.context.temp_override(scene=scene):
-        x3d_import.import_file(str(path), bpy.context)
+        x3d_import.import_file(bpy.context, str(path))
         assert not scene.camera.get(x3d_import.DEFAULT_VIEWPOINT_KEY), "the file's Viewpoint"
         with pytest.raises(RuntimeError, match=r"Compare Phong Scene: 'Away': the camera sees "
                            r"0 of 768 pixels of Phong surfaces .*frame the scene"):

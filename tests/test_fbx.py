@@ -672,7 +672,7 @@ def test_failure_after_the_scene_was_made_removes_everything(bpy_clean, monkeypa
              "collections", "worlds", "actions")
     before = {k: set(getattr(bpy.data, k)) for k in kinds}
     with pytest.raises(fbx_import.FbxError, match="broken on purpose"):
-        fbx_import.import_file(_path(name), bpy.context)
+        fbx_import.import_file(bpy.context, _path(name))
     assert {k: set(getattr(bpy.data, k)) for k in kinds} == before
 
 

@@ -182,7 +182,7 @@ PROFILE Immersive
 Transform { scale 1 2 4 children [ DEF Lamp PointLight { attenuation 0.5 0.6 0.8 radius 3 } ] }
 Shape { geometry Box { } }
 """)
-    warnings = x3d_import.import_file(path, bpy.context)
+    warnings = x3d_import.import_file(bpy.context, path).warnings
     assert any("non-uniform scale" in w and "Lamp" in w for w in warnings), warnings
     lamp = bpy.data.lights["Lamp"]
     assert lamp["phong_constant"] == pytest.approx(0.5)

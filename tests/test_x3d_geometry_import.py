@@ -35,7 +35,7 @@ def _import(bpy, path):
 
 def _warnings(bpy, path):
     from phong_nodes.addon.interchange import x3d_import  # noqa: PLC0415
-    return x3d_import.import_file(str(path), bpy.context)
+    return x3d_import.import_file(bpy.context, str(path)).warnings
 
 
 def _points(mesh) -> np.ndarray:

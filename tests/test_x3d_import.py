@@ -405,7 +405,7 @@ def test_a_failed_import_leaves_the_file_as_it_was(bpy_clean, tmp_path, monkeypa
 
     monkeypatch.setattr(x3d_import._Builder, "material", boom)   # its lights group made
     with pytest.raises(x3d_import.X3DImportError, match="boom"):
-        x3d_import.import_file(os.path.join(DATA, "hand_rules.x3dv"), bpy.context)
+        x3d_import.import_file(bpy.context, os.path.join(DATA, "hand_rules.x3dv"))
     assert _ids(bpy) == before
     assert "phong_model" not in scene.keys() and scene.camera is None
     assert scene.world["phong_ambient_intensity"] == 0.3
@@ -519,7 +519,7 @@ def test_a_second_import_keeps_one_headlight_and_a_model_switch_is_said(bpy_clea
 
     monkeypatch.setattr(x3d_import._Builder, "material", lambda *a: 1 / 0)
     with pytest.raises(x3d_import.X3DImportError):
-        x3d_import.import_file(os.path.join(DATA, "hand_rules.x3dv"), bpy.context)
+        x3d_import.import_file(bpy.context, os.path.join(DATA, "hand_rules.x3dv"))
     assert heads[0].constraints[0].target is scene.camera, "a failed import puts it back"
     assert scene.camera.name == "Front.001"
 

@@ -59,18 +59,15 @@ def build(data: dict, resolution: int = 256) -> bpy.types.Scene:
             _link(light, reached, list(objects.values()))
     _camera(scene, data["camera"], data["name"])
 
-    sync = sync_mod.Sync(scene, scene.view_layers[0])
-    sync.rebuild_groups()
-    for obj_data in data["objects"]:
-        obj = objects[obj_data["name"]]
-        (material,) = sync.apply(obj)
-        _controls(material, obj_data)
-    sync.finish()
+    with sync_mod.session(scene, scene.view_layers[0]) as sync:
+        for obj_data in data["objects"]:
+            obj = objects[obj_data["name"]]
+            (material,) = sync.apply(obj)
+            _controls(material, obj_data)
     for obj_data in data["objects"]:  # Per Vertex / Per Face: live (docs/shading_modes.md)
         shading = obj_data["material"].get("shading", "pixel").upper()
         if shading != shading_modes.PIXEL:
             shading_modes.set_mode(objects[obj_data["name"]].active_material, shading)
-    sync_mod.remember(scene, scene.view_layers[0])
     for obj_data in data["objects"]:
         if obj_data.get("bake"):
             _bake(scene, objects[obj_data["name"]], obj_data["bake"])

@@ -59,21 +59,14 @@ INPUTS = keys.COLLADA_INPUTS
 MAX_NODES = 10_000
 #: The deepest nesting of nodes (children and instance_node) that is imported.
 MAX_DEPTH = 256
-class ColladaImportError(RuntimeError):
+class ColladaImportError(native.InterchangeError):
     """The import failed; nothing was added to the file."""
 
 
-def import_file(filepath, context=None, literal_transparency=False) -> list:
-    """Import the COLLADA file *filepath* into *context*'s scene; returns the warnings.
-    Raises ColladaImportError (the scene unchanged) when it cannot be imported."""
-    context = context or bpy.context
-    _objects, _materials, warnings, _sync = import_collada(context, filepath,
-                                                           literal_transparency)
-    return warnings
-
-
-def import_collada(context, filepath, literal_transparency=False):
-    """(objects, Phong materials, warnings, the Sync run) of importing *filepath*."""
+def import_file(context, filepath, literal_transparency=False) -> native.ImportResult:
+    """Import the COLLADA file *filepath* into *context*'s scene (``formats.import_file``):
+    its objects, Phong materials and warnings.  Raises ColladaImportError (the scene
+    unchanged) when it cannot be imported."""
     try:
         doc = collada.load(filepath)
     except collada.ColladaError as error:
@@ -85,7 +78,8 @@ def import_collada(context, filepath, literal_transparency=False):
         builder.undo()
         raise ColladaImportError(f"{filepath}: import failed ({type(error).__name__}: "
                                  f"{error}); nothing imported") from error
-    return builder.objects, list(builder.materials.values()), doc.warnings, builder.sync
+    return native.ImportResult(builder.objects, list(builder.materials.values()),
+                               doc.warnings, builder.sync)
 
 
 def object_count(doc, by_id) -> int:
@@ -168,15 +162,11 @@ class _Builder:
         for node in doc.nodes:
             self.node(node, None, True, ())
         self.ambient()
-        self.sync = sync_mod.Sync(self.scene, self.context.view_layer)
-        self.sync.rebuild_groups()
-        self.bind_materials()
-        for mesh in self.meshes.values():
-            if SYMBOLS_KEY in mesh.keys():
-                del mesh[SYMBOLS_KEY]
-        self.sync.relink(self.scene.objects)
-        self.sync.finish()
-        sync_mod.remember(self.scene, self.context.view_layer)
+        with sync_mod.session(self.scene, self.context.view_layer) as self.sync:
+            self.bind_materials()
+            for mesh in self.meshes.values():
+                if SYMBOLS_KEY in mesh.keys():
+                    del mesh[SYMBOLS_KEY]
         camera = next((o for o in self.objects if o.type == "CAMERA"), None)
         if camera is not None and self.scene.camera is None:
             self.scene.camera = camera
@@ -534,12 +524,7 @@ class _Builder:
     def image(self, texture, source):
         if texture.resolved in self.images:
             return self.images[texture.resolved]
-        image = None
-        if texture.exists:
-            try:
-                image = bpy.data.images.load(texture.resolved, check_existing=True)
-            except RuntimeError:
-                image = None
+        image = native.load_image(texture.resolved) if texture.exists else None
         if image is None:
             self.doc.warn(f"material {source.name}: texture {texture.path} not found or not "
                           f"readable (looked for {texture.resolved}); left out")

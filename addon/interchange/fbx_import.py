@@ -183,64 +183,49 @@ def _safe_name(name: str) -> str:
 
 def _image(texture, images, warnings, where, non_color=False):
     """A Blender image of *texture*: its file, else its embedded data (packed), else None
-    with one warning per texture file.  *non_color*: a scalar map, read as data (Non-Color);
-    a file read both as a colour and as data gets an image of each colour space."""
-    key = (texture.name, texture.content is not None)
-    data = key + ("data",)
-    if non_color:
-        if data not in images:
-            image = images[key] if key in images else _load(texture, images, warnings, where)
-            if image is None:
-                images[key] = None   # named once
-            elif image.colorspace_settings.name != native.NON_COLOR:
-                if images.get(key) is image:   # also read as a colour
-                    image = image.copy()
-                image.colorspace_settings.name = native.NON_COLOR
-            images[data] = image
-        return images[data]
+    with one warning per texture.  *non_color*: a scalar map, read as data (Non-Color); a
+    texture read both as a colour and as data gets an image of each colour space."""
+    key = (texture.name, texture.content is not None, bool(non_color))
     if key not in images:
-        image = _load(texture, images, warnings, where)
-        if image is not None and images.get(data) is image:   # also read as data
-            image = image.copy()
-        if image is not None and image.colorspace_settings.name == native.NON_COLOR:
-            image.colorspace_settings.name = "sRGB"   # (Blender's importer read it as a map)
-        images[key] = image
+        images[key] = _load(texture, images, warnings, where, non_color)
     return images[key]
 
 
-def _load(texture, images, warnings, where):
-    """The image of *texture*: the one Blender's importer made (``images[""]``), its file,
-    else its embedded data (packed), else None with a warning."""
+def _load(texture, images, warnings, where, non_color):
+    """The image of *texture* in the colour space *non_color* asks: the one Blender's
+    importer made (``images[""]``, set to that colour space; a copy where the import reads
+    it in the other one too), its file (``native.load_image``), else its embedded data
+    (packed), else None with a warning (``None`` is remembered: named once)."""
     base = _safe_name(texture.name)
-    image = next((i for i in images.get("", ()) if i.name == base or _safe_name(
+    made = next((i for i in images.get("", ()) if i.name == base or _safe_name(
         bpy.path.basename(i.filepath)) == base), None)  # Blender's importer read it already
-    if image is not None:
+    if made is not None:
+        other = images.get((texture.name, texture.content is not None, not non_color))
+        image = made.copy() if other is made else made
+        if (image.colorspace_settings.name == native.NON_COLOR) != bool(non_color):
+            image.colorspace_settings.name = native.NON_COLOR if non_color else "sRGB"
         return image
-    found = texture.resolved
-    if found is not None:
-        try:
-            image = bpy.data.images.load(found, check_existing=True)
-        except RuntimeError:
-            image = None
+    image = None
+    if texture.resolved is not None:
+        image = native.load_image(texture.resolved, images, non_color)
     if image is None and texture.content is not None:
         if len(texture.content) > fbx.MAX_EMBEDDED:
-            warnings.append(f"{where}: embedded texture {texture.name} larger than "
-                            f"{fbx.MAX_EMBEDDED >> 20} MiB, left out")
-        else:
-            with tempfile.TemporaryDirectory() as folder:
-                file = os.path.join(folder, _safe_name(texture.name))
-                with open(file, "wb") as handle:
-                    handle.write(texture.content)
-                try:
-                    image = bpy.data.images.load(file, check_existing=False)
-                    image.pack()
-                    image.filepath = "//" + _safe_name(texture.name)
-                    image.name = _safe_name(texture.name)
-                except RuntimeError:
-                    if image is not None:
-                        bpy.data.images.remove(image)
-                    image = None
-    if image is None:
+            other = images.get((texture.name, True, not non_color), False)
+            if other is not None:   # named once
+                warnings.append(f"{where}: embedded texture {texture.name} larger than "
+                                f"{fbx.MAX_EMBEDDED >> 20} MiB, left out")
+            return None
+        with tempfile.TemporaryDirectory() as folder:
+            file = os.path.join(folder, _safe_name(texture.name))
+            with open(file, "wb") as handle:
+                handle.write(texture.content)
+            image = native.load_image(file, non_color=non_color, existing=False)
+            if image is not None:
+                image.pack()
+                image.filepath = "//" + _safe_name(texture.name)
+                image.name = _safe_name(texture.name)
+    if image is None and images.get((texture.name, texture.content is not None,
+                                     not non_color), False) is not None:
         warnings.append(f"{where}: texture {texture.name} not found (looked for "
                         f"{' and '.join(texture.candidates) or texture.name}); left out")
     return image
@@ -385,22 +370,27 @@ def apply_light(light, source: fbx.Light, warnings: list, path) -> None:
 
 # -- the import -------------------------------------------------------------------------------
 
-def import_file(filepath, context) -> list:
-    """Import the FBX file *filepath* into *context*'s scene; returns the warnings (see
-    :func:`import_fbx`)."""
-    return import_fbx(context, filepath)[2]
+class FbxImportError(native.InterchangeError, fbx.FbxError):
+    """The import failed (the file cannot be read, or building its scene failed): names the
+    file; nothing was added to the scene.  A ``core.fbx.FbxError`` too."""
+
+    def __init__(self, path: str, message: str):
+        fbx.FbxError.__init__(self, path, message)
 
 
-def import_fbx(context, filepath) -> tuple:
-    """Import the FBX file *filepath* into *context*'s scene: (the new objects, the Phong
-    materials made, the warnings).  Raises :class:`core.fbx.FbxError` (and leaves the scene
-    as it was) when it cannot.
+def import_file(context, filepath) -> native.ImportResult:
+    """Import the FBX file *filepath* into *context*'s scene (``formats.import_file``): the
+    new objects, the Phong materials made, the warnings.  Raises :class:`FbxImportError`
+    (and leaves the scene as it was) when it cannot.
 
     A binary file of FBX 7100 and later is read by Blender's own importer while ufbx reads
     its values in the child process (``fbx.start``); other files are built from ufbx."""
     path = os.path.abspath(bpy.path.abspath(filepath))
     blender = _binary_7100(path) and ensure_fbx_addon()
-    reading = fbx.start(path, geometry=not blender)   # FbxError: file not found
+    try:
+        reading = fbx.start(path, geometry=not blender)   # FbxError: file not found
+    except FbxError as error:
+        raise _error(error) from None
     before = native.snapshot()
     objects_before = set(context.scene.objects)
     later, unread = [], False
@@ -439,17 +429,25 @@ def import_fbx(context, filepath) -> tuple:
                 data = fbx.read(path, geometry=True)
             slots = _build(context, data, path, warnings)
         new = [o for o in context.scene.objects if o not in objects_before]
-        _finish(context, data, new, warnings, path, before, slots, convert_all=unread)
+        sync = _finish(context, data, new, warnings, path, before, slots,
+                       convert_all=unread)
         made = [m for m in native.added(before, "materials") if recipe.is_phong_material(m)]
-    except FbxError:
+    except FbxError as error:
         native.remove_added(before)
-        raise
+        raise _error(error) from None
     except Exception as error:  # noqa: BLE001 - any failure: nothing stays, one clear error
         native.remove_added(before)
-        raise FbxError(path, f"import failed ({type(error).__name__}: {error})") from None
+        raise FbxImportError(path, f"import failed ({type(error).__name__}: {error})") from None
     finally:
         reading.close()
-    return new, made, warnings
+    return native.ImportResult(new, made, warnings, sync)
+
+
+def _error(error) -> FbxImportError:
+    """*error* (a ``core.fbx.FbxError``) as the import's error, its message kept."""
+    if isinstance(error, FbxImportError):
+        return error
+    return FbxImportError(error.path, str(error).removeprefix(f"{error.path}: "))
 
 
 def _sources(made, data: fbx.Scene) -> dict:
@@ -491,8 +489,25 @@ def _finish(context, data: fbx.Scene, new, warnings, path, before, slots=None,
             source = lights_by_node.get(obj.name) or lights_by_node.get(_base_name(obj.name))
             if source is not None:
                 apply_light(obj.data, source, warnings, path)
-    sync = sync_mod.Sync(context.scene, context.view_layer)
-    sync.rebuild_groups()
+    with sync_mod.session(context.scene, context.view_layer) as sync:
+        _materials(sync, data, new, warnings, path, before, slots, convert_all)
+    if convert_all:
+        return sync
+    world = context.scene.world
+    if world is None:
+        world = context.scene.world = bpy.data.worlds.new("World")
+    user = data.user   # the World's own intensity and colour, kept by Phong Nodes' export
+    if "AmbientIntensity" in user and all(f"Ambient{c}" in user for c in "RGB"):
+        properties.write_world(world, user["AmbientIntensity"],
+                               tuple(user[f"Ambient{c}"] for c in "RGB"))
+        return sync
+    properties.write_world(world, 1.0, data.ambient)
+    return sync
+
+
+def _materials(sync, data, new, warnings, path, before, slots, convert_all) -> None:
+    """The Phong materials of the import (``_finish``), whatever it made that nothing uses
+    removed."""
     meshes = [o for o in new if o.type == "MESH"]
     group = sync.group(*sync.light_set(meshes[0])) if meshes else None
     images = {"": native.added(before, "images")}  # "": the images Blender's importer made
@@ -526,17 +541,3 @@ def _finish(context, data: fbx.Scene, new, warnings, path, before, slots=None,
                 apply_material(phong, source, warnings, images, path)
             native.take_place(made, phong)
     native.remove_unused(before)
-    sync.relink(context.scene.objects)
-    sync.finish()
-    sync_mod.remember(context.scene, context.view_layer)
-    if convert_all:
-        return
-    world = context.scene.world
-    if world is None:
-        world = context.scene.world = bpy.data.worlds.new("World")
-    user = data.user   # the World's own intensity and colour, kept by Phong Nodes' export
-    if "AmbientIntensity" in user and all(f"Ambient{c}" in user for c in "RGB"):
-        properties.write_world(world, user["AmbientIntensity"],
-                               tuple(user[f"Ambient{c}"] for c in "RGB"))
-        return
-    properties.write_world(world, 1.0, data.ambient)

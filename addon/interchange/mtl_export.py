@@ -205,13 +205,30 @@ def export(phong_materials, filepath) -> list:
     return warnings
 
 
-def export_obj(phong_by_name, filepath, selection_only=False) -> list:
-    """Blender's own OBJ export of the scene (geometry, ``usemtl`` names, its MTL), whose MTL
-    then gets the exact entry of every Phong material (*phong_by_name*: material name ->
-    material), named as :func:`mtl_names` (the OBJ's ``usemtl`` lines renamed to match);
-    the other materials keep Blender's entries.  Returns the warnings."""
+def export_library(context, filepath, use_selection=False) -> list:
+    """Every Phong material of the file (*use_selection*: those of the selected objects) as
+    the MTL library *filepath*; returns the warnings.  ValueError when there is none."""
+    if use_selection:
+        found = {slot.material for obj in (context.selected_objects or [])
+                 for slot in obj.material_slots if recipe.is_phong_material(slot.material)}
+        chosen = [m for m in recipe.phong_materials() if m in found]
+        where = "the selected objects have"
+    else:
+        chosen = recipe.phong_materials()
+        where = "the file has"
+    if not chosen:
+        raise ValueError(f"{where} no Phong material; run Apply Phong Material first")
+    return export(chosen, filepath)
+
+
+def export_obj(context, filepath, use_selection=False) -> list:
+    """Blender's own OBJ export of *context*'s scene (geometry, ``usemtl`` names, its MTL),
+    whose MTL then gets the exact entry of every Phong material, named as :func:`mtl_names`
+    (the OBJ's ``usemtl`` lines renamed to match); the other materials keep Blender's
+    entries.  Returns the warnings."""
+    phong_by_name = {m.name: m for m in recipe.phong_materials()}
     result = bpy.ops.wm.obj_export(filepath=filepath, export_materials=True,
-                                   export_selected_objects=selection_only)
+                                   export_selected_objects=use_selection)
     if result != {"FINISHED"}:
         raise RuntimeError(f"Blender's OBJ exporter returned {sorted(result)}")
     mtl_path = os.path.splitext(filepath)[0] + ".mtl"

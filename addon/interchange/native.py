@@ -12,6 +12,11 @@ materials keeps its source, see ``lighting/materials.py``).
 
 Only data blocks that did not exist before the import are ever touched (:func:`snapshot`).
 
+Every importer answers alike (``formats.py`` holds the table of formats): its
+``import_file(context, filepath, **options)`` returns an :class:`ImportResult` (objects,
+materials, warnings) or raises an :class:`InterchangeError` (its message names the file) with
+the scene as it was; the images of every format come through :func:`load_image`.
+
 Also what importers and exporters share of Blender's own side: :func:`ensure_fbx_addon`
 (Blender's FBX add-on, whose importer and exporter both serve) and :func:`image_components`
 (an image file's channels, read from its header).
@@ -19,10 +24,31 @@ Also what importers and exporters share of Blender's own side: :func:`ensure_fbx
 
 from __future__ import annotations
 
+import os
+from dataclasses import dataclass, field
+
 import bpy
 
 from .. import compat
 from ..lighting import materials as recipe
+
+@dataclass
+class ImportResult:
+    """What an import made: its objects, its Phong materials, its warnings (each a line that
+    names what it is about), and the ``lighting.sync.Sync`` run that finished it (its lights,
+    for the operators' report of unsupported or missing lights)."""
+
+    objects: list = field(default_factory=list)
+    materials: list = field(default_factory=list)
+    warnings: list = field(default_factory=list)
+    sync: object = None
+
+
+class InterchangeError(RuntimeError):
+    """A file that cannot be imported: the message names the file and what is wrong; nothing
+    was added to the scene.  Each format's own error (``X3DImportError``,
+    ``ColladaImportError``, ...) is one of these."""
+
 
 #: The ``bpy.data`` collections an import may add to.
 KINDS = ("objects", "meshes", "materials", "images", "node_groups", "lights", "cameras",
@@ -124,6 +150,47 @@ def remove_unused(before: dict) -> list:
 MAP_NODE = "phong_map:"
 MEAN = (1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0)
 NON_COLOR = "Non-Color"
+
+
+def load_image(path, cache=None, non_color=False, straight_alpha=False, existing=True):
+    """The one image loader of the importers: the Blender image of the file *path*, or None
+    where Blender cannot read it (or it has no pixels; the caller warns).
+
+    * One rule for the colour space: a colour map keeps the colour space Blender gives the
+      file (sRGB for 8-bit images); a map whose texel is a number (*non_color*: bump,
+      exponent, opacity maps, and X3D's textures, whose texel is the colour in the
+      standard's equation as diffuseColor's numbers are) is Non-Color.  A file read both
+      ways gets one image of each colour space, so that neither changes the other.
+      *straight_alpha*: its colour read apart from its alpha (:func:`straight`).
+    * One cache: *cache* ({(path, non_color): image or None}, one per import) loads each
+      file once per colour space; *existing*: an image of the same file already in the file,
+      of the same colour space (and alpha mode), is used rather than loaded again, as
+      Blender's ``check_existing`` does (X3D renames its images: it loads its own)."""
+    path = os.path.normpath(os.path.abspath(path))
+    key = (path, bool(non_color))
+    if cache is not None and key in cache:
+        return cache[key]
+    image = None
+    if existing:
+        image = next((i for i in bpy.data.images if i.source == "FILE" and i.library is None
+                      and os.path.normpath(bpy.path.abspath(i.filepath)) == path
+                      and (i.colorspace_settings.name == NON_COLOR) == bool(non_color)
+                      and (not straight_alpha or i.alpha_mode == "CHANNEL_PACKED")), None)
+    if image is None:
+        try:
+            image = bpy.data.images.load(path, check_existing=False)
+        except RuntimeError:
+            image = None
+        if image is not None and (image.size[0] == 0 or image.size[1] == 0):
+            bpy.data.images.remove(image)
+            image = None
+        if image is not None and non_color:
+            image.colorspace_settings.name = NON_COLOR
+        if straight_alpha:
+            straight(image)
+    if cache is not None:
+        cache[key] = image
+    return image
 
 
 def _node(tree, name, kind, location):

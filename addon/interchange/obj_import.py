@@ -53,7 +53,6 @@ BUMP_NODE = "phong_mtl_bump"
 MAPPING_NODE = "phong_mtl_place:"  # + input name: the map's -o / -s (a Mapping node)
 UV_NODE = "phong_mtl_uv"           # the UV coordinates the Mapping nodes read
 BLACK = (0.0, 0.0, 0.0)
-NON_COLOR = "Non-Color"
 #: Custom property of an imported Phong material: the MTL illumination model it was read as
 #: (0, 1 or 2), so that export writes it back (``mtl_export.to_mtl``).
 ILLUM_KEY = keys.MTL_ILLUM
@@ -86,22 +85,13 @@ def values(source: mtl.Material) -> dict:
 
 
 def _image(texture, missing, where, non_color=False):
-    """The image of *texture*, or None when its file is missing (recorded in *missing*: one
-    warning per file, naming every material that uses it).  A file used both as a colour
-    map and as a bump map gets one image of each colour space, so that neither changes the
-    other."""
-    if not texture.exists:
+    """The image of *texture* (``native.load_image``: a bump map as data, the colour maps
+    as colours; an image of the file already there in that colour space is used), or None
+    when its file is missing or unreadable (recorded in *missing*: one warning per file,
+    naming every material that uses it)."""
+    image = native.load_image(texture.resolved, non_color=non_color) if texture.exists else None
+    if image is None:
         missing.setdefault(texture.resolved, (texture, []))[1].append(where)
-        return None
-    path = os.path.normpath(texture.resolved)
-    for image in bpy.data.images:
-        if image.source == "FILE" and image.library is None and \
-                os.path.normpath(bpy.path.abspath(image.filepath)) == path and \
-                (image.colorspace_settings.name == NON_COLOR) == non_color:
-            return image
-    image = bpy.data.images.load(path, check_existing=False)
-    if non_color:
-        image.colorspace_settings.name = NON_COLOR
     return image
 
 
@@ -112,7 +102,9 @@ def missing_warnings(missing) -> list:
     for texture, users in missing.values():
         looked = " and ".join(texture.looked_at or (texture.resolved,))
         names = sorted({name for _where, name in users})
-        out.append(f"{users[0][0]}: texture {texture.path} not found (looked for {looked}); "
+        problem = (f"not readable by Blender ({texture.resolved})" if texture.exists else
+                   f"not found (looked for {looked})")
+        out.append(f"{users[0][0]}: texture {texture.path} {problem}; "
                    f"left out of {', '.join(names)}")
     return out
 
@@ -226,46 +218,65 @@ def _bump(tree, lights, image, strength) -> set:
     return {MAP_NODE + "bump", BUMP_NODE}
 
 
-def import_obj(context, filepath):
-    """Import *filepath*; returns (new objects, Phong materials, warnings, the Sync run).  Raises
-    ``mtl.MtlError`` (nothing imported) for a missing or unreadable OBJ file or library,
-    RuntimeError when Blender's importer fails.
+class ObjImportError(native.InterchangeError):
+    """The import failed (a missing or unreadable OBJ file or MTL library, Blender's importer
+    failed); nothing was added to the file."""
+
+
+def import_file(context, filepath) -> native.ImportResult:
+    """Import *filepath* (``formats.import_file``): its new mesh objects, Phong materials
+    and warnings (one names a file without a mesh).  Raises :class:`ObjImportError` (nothing
+    imported) for a missing or unreadable OBJ file or library, or when Blender's importer
+    fails.
 
     Blender's importer makes the geometry and a Principled material per ``usemtl`` name (with
     ``.001`` where the file already holds the name); each of those is replaced by a Phong
     material of the MTL's values under the same name (``native.take_place``), and what the
     importer made that nothing uses any more (its images) is removed: the file's materials
     are added, nothing else."""
-    if not os.path.isfile(filepath):
-        raise mtl.MtlError(filepath, 0, "file not found")
-    by_name, warnings = mtl.load_for_obj(filepath)
+    try:
+        if not os.path.isfile(filepath):
+            raise mtl.MtlError(filepath, 0, "file not found")
+        by_name, warnings = mtl.load_for_obj(filepath)
+    except mtl.MtlError as error:
+        raise ObjImportError(f"{error}; nothing imported") from None
     before = native.snapshot()
-    result = bpy.ops.wm.obj_import(filepath=filepath)
-    if result != {"FINISHED"}:
-        raise RuntimeError(f"Blender's OBJ importer returned {sorted(result)}")
+    try:
+        result = bpy.ops.wm.obj_import(filepath=filepath)
+        if result != {"FINISHED"}:
+            raise ObjImportError(f"Blender's OBJ importer returned {sorted(result)}")
+        return _replace_materials(context, filepath, before, by_name, warnings)
+    except ObjImportError:
+        native.remove_added(before)
+        raise
+    except Exception as error:  # noqa: BLE001 - any failure: nothing stays, one clear error
+        native.remove_added(before)
+        raise ObjImportError(f"{filepath}: import failed ({type(error).__name__}: {error}); "
+                             "nothing imported") from None
+
+
+def _replace_materials(context, filepath, before, by_name, warnings) -> native.ImportResult:
     new = [o for o in native.added(before, "objects") if o.type == "MESH"]
-    sync = sync_mod.Sync(context.scene, context.view_layer)
-    sync.rebuild_groups()
-    group = sync.group(*sync.light_set(new[0])) if new else None
     done, missing = {}, {}
-    for made in sorted(native.added(before, "materials"), key=lambda m: m.name):
-        source = _mtl_name(made, by_name)
-        if made.users == 0 or group is None:
-            continue   # a material no object uses: removed below
-        phong = recipe.new_material(made.name, group)
-        if source is not None:
-            apply_mtl(phong, source, warnings, missing)
-        else:  # a usemtl name that no library defines: Blender's default, as Phong
-            warnings.append(f"{filepath}: material {made.name!r} is defined in no MTL "
-                            "library; a default Phong material used")
-        native.take_place(made, phong)
-        done[phong.name] = phong
-    for obj in new:  # an object without a material gets a default one, as Apply gives it
-        if not obj.material_slots or any(slot.material is None for slot in obj.material_slots):
-            sync.apply(obj)
-    native.remove_unused(before)
-    warnings += missing_warnings(missing)
-    sync.relink(context.scene.objects)
-    sync.finish()
-    sync_mod.remember(context.scene, context.view_layer)
-    return new, list(done.values()), warnings, sync
+    with sync_mod.session(context.scene, context.view_layer) as sync:
+        group = sync.group(*sync.light_set(new[0])) if new else None
+        for made in sorted(native.added(before, "materials"), key=lambda m: m.name):
+            source = _mtl_name(made, by_name)
+            if made.users == 0 or group is None:
+                continue   # a material no object uses: removed below
+            phong = recipe.new_material(made.name, group)
+            if source is not None:
+                apply_mtl(phong, source, warnings, missing)
+            else:  # a usemtl name that no library defines: Blender's default, as Phong
+                warnings.append(f"{filepath}: material {made.name!r} is defined in no MTL "
+                                "library; a default Phong material used")
+            native.take_place(made, phong)
+            done[phong.name] = phong
+        for obj in new:  # an object without a material gets a default one, as Apply gives
+            if not obj.material_slots or any(s.material is None for s in obj.material_slots):
+                sync.apply(obj)
+        native.remove_unused(before)
+        warnings += missing_warnings(missing)
+    if not new:
+        warnings.append(f"no mesh in {filepath}")
+    return native.ImportResult(new, list(done.values()), warnings, sync)

@@ -192,13 +192,19 @@ def scene_dict(scene, view_layer, width: int, height: int, objects=None,
     return page, sorted(set(warnings))
 
 
-def export(filepath: str, scene, view_layer, width=None, height=None) -> list:
-    """Write the three.js page *filepath* (and three.js beside it); returns the warnings.
-    The size defaults to the scene's render size."""
+def export(context, filepath: str, use_selection=False, width=None, height=None) -> list:
+    """Write the three.js page *filepath* (and three.js beside it) of *context*'s scene (its
+    selected Phong objects: *use_selection*); returns the warnings.  The size defaults to
+    the scene's render size."""
+    scene, view_layer = context.scene, context.view_layer
+    objects = None
+    if use_selection:
+        chosen = set(context.selected_objects or ())
+        objects = [o for o in describe.phong_objects(scene, view_layer) if o in chosen]
     if width is None or height is None:
         percent = scene.render.resolution_percentage / 100.0
         width = max(1, round(scene.render.resolution_x * percent))
         height = max(1, round(scene.render.resolution_y * percent))
-    data, warnings = scene_dict(scene, view_layer, width, height, shadows=True)
+    data, warnings = scene_dict(scene, view_layer, width, height, objects, shadows=True)
     threejs.write_page(filepath, data)
     return warnings

@@ -52,7 +52,6 @@ from . import keys, native
 
 #: Blender's Z up to the file's Y up (the inverse of x3d.Y_UP_TO_Z_UP: a rotation).
 Z_UP_TO_Y_UP = x3d.Y_UP_TO_Z_UP.T.copy()
-EXTENSIONS = (".x3d", ".x3dv", ".wrl", ".x3dz", ".x3dvz", ".wrz", ".gz")
 #: A light's radius where the scene's model has none (written for a scene in another model).
 NO_RADIUS = 1.0e6
 

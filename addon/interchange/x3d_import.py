@@ -96,19 +96,14 @@ SPOT_SIZE = (math.radians(1.0), math.pi)
 CAMERA_ANGLE = (0.00640536, 3.01675)
 
 
-class X3DImportError(RuntimeError):
+class X3DImportError(native.InterchangeError):
     """The import failed; nothing was added to the file."""
 
 
-def import_file(filepath, context=None) -> list:
-    """Import the VRML97 / X3D file *filepath* into *context*'s scene; returns the warnings.
-    Raises X3DImportError (the scene unchanged) when it cannot be imported."""
-    context = context or bpy.context
-    return import_x3d(context, filepath)[2]
-
-
-def import_x3d(context, filepath):
-    """(objects, Phong materials, warnings, the Sync run) of importing *filepath*."""
+def import_file(context, filepath) -> native.ImportResult:
+    """Import the VRML97 / X3D file *filepath* into *context*'s scene
+    (``formats.import_file``): its objects, Phong materials and warnings.  Raises
+    X3DImportError (the scene unchanged) when it cannot be imported."""
     try:
         doc = x3d.load(filepath)
     except x3d.X3DError as error:
@@ -122,7 +117,7 @@ def import_x3d(context, filepath):
         builder.undo()
         raise X3DImportError(f"{filepath}: import failed ({type(error).__name__}: {error}); "
                              "nothing imported") from error
-    return (builder.objects, builder.made, builder.warnings(), builder.sync)
+    return native.ImportResult(builder.objects, builder.made, builder.warnings(), builder.sync)
 
 
 # -- pure helpers (no bpy) --------------------------------------------------------------------
@@ -363,12 +358,9 @@ class _Builder:
                           "model to X3D / VRML97: its other Phong materials show that model too")
             scene.phong.model = "x3d"      # relinks the scene's Phong materials, if any
         self.no_world_ambient()
-        self.sync = sync_mod.Sync(scene, self.layer)
-        self.sync.rebuild_groups()
-        for obj, inst in self.uses:   # each material made for its objects' light set
-            self.bind(obj, inst)
-        self.sync.finish()
-        sync_mod.remember(scene, self.layer)
+        with sync_mod.session(scene, self.layer) as self.sync:
+            for obj, inst in self.uses:   # each material made for its objects' light set
+                self.bind(obj, inst)
 
     def shape(self, inst):
         geometry = inst.shape.geometry
@@ -884,14 +876,8 @@ class _Builder:
             image.update()
             image.pack()
             components = comps
-        elif texture.path is not None:
-            try:
-                image = bpy.data.images.load(texture.path, check_existing=False)
-            except RuntimeError:
-                image = None
-            if image is not None and (image.size[0] == 0 or image.size[1] == 0):
-                bpy.data.images.remove(image)
-                image = None
+        elif texture.path is not None:   # its own image (renamed below), as data
+            image = native.load_image(texture.path, non_color=True, existing=False)
             if image is None:
                 self.warn(f"texture files that Blender cannot read left out: {texture.path}")
             else:

@@ -226,14 +226,28 @@ class Sync:
 AFTER_FINISH: list = []
 
 
-def relink_scene(scene, view_layer=None, prune: bool = True) -> Sync:
-    """Bring the Phong materials of *scene*'s objects up to date with its lights."""
+@contextlib.contextmanager
+def session(scene, view_layer=None, prune: bool = True):
+    """One run over *scene* that ends as a relink ends: yields a :class:`Sync` with the
+    scene's groups rebuilt; the block makes or binds its Phong materials (Apply, an import,
+    a demo scene), and on leaving it every Phong material of the scene's objects is pointed
+    at its light set's group (the objects already there too: an imported file's lights may
+    reach them), unused groups are removed (*prune*: and the World keys no group reads), the
+    World's copies follow (``world_copies.follow``) and the lights are remembered.  An error
+    inside the block leaves the end undone: the caller rolls back."""
     sync = Sync(scene, view_layer)
     sync.rebuild_groups()
+    yield sync
     sync.relink(scene.objects)
     sync.finish(prune)
     world_copies.follow(scene)
     remember(scene, view_layer)
+
+
+def relink_scene(scene, view_layer=None, prune: bool = True) -> Sync:
+    """Bring the Phong materials of *scene*'s objects up to date with its lights."""
+    with session(scene, view_layer, prune) as sync:
+        pass
     return sync
 
 

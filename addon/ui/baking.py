@@ -10,7 +10,8 @@ from bpy.props import BoolProperty, EnumProperty, IntProperty, StringProperty
 from bpy_extras.io_utils import ExportHelper
 
 from ..baking import gltf, lighting, show
-from .operators import _export_path, _selected_meshes
+from .file_io import export_path as _export_path
+from .operators import _selected_meshes
 
 TARGET_ITEMS = (("IMAGE", "Image", "An image per object through its UV map"),
                 ("VERTEX", "Vertex Colors", "A colour attribute per vertex, interpolated "

@@ -1,12 +1,12 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""File ▸ Import ▸ COLLADA (Phong) (.dae), File ▸ Export ▸ COLLADA (Phong) (.dae) and drag and
-drop of .dae files into the 3D Viewport (where the release has ``bpy.types.FileHandler``)."""
+"""The operators of File ▸ Import ▸ COLLADA (Phong) (.dae) and File ▸ Export ▸ COLLADA (Phong)
+(.dae), and the drop handler of .dae files (their entries and suffixes from
+``interchange/formats.py``)."""
 
 import bpy
 from bpy.props import BoolProperty, StringProperty
 from bpy_extras.io_utils import ExportHelper
 
-from ..interchange import collada_export, collada_import
 from . import file_io
 
 
@@ -18,18 +18,15 @@ as Phong lights (attenuation, cone, exponent), meshes, cameras and the node tree
     bl_label = "Import COLLADA (Phong)"
 
     filename_ext = ".dae"
-    filter_glob: StringProperty(default="*.dae", options={"HIDDEN"})
+    filter_glob: StringProperty(default=file_io.glob("collada"), options={"HIDDEN"})
     literal_transparency: BoolProperty(
         name="Literal Transparency", default=False,
         description="Follow the spec's transparency formula even where it makes a material "
                     "wholly invisible (several exporters write <transparency>0 meaning opaque)")
 
     def execute(self, context):
-        path = bpy.path.abspath(self.filepath)
-        return file_io.run_import(
-            self, "Import COLLADA", path,
-            lambda: collada_import.import_collada(context, path, self.literal_transparency),
-            collada_import.ColladaImportError)
+        return file_io.run_import(self, context, "collada",
+                                  literal_transparency=self.literal_transparency)
 
 
 class PHONG_OT_export_collada(bpy.types.Operator, ExportHelper):
@@ -41,27 +38,23 @@ COLLADA 1.4.1 profile_COMMON phong / blinn / lambert / constant"""
     bl_options = {"REGISTER"}
 
     filename_ext = ".dae"
-    filter_glob: StringProperty(default="*.dae", options={"HIDDEN"})
+    filter_glob: StringProperty(default=file_io.glob("collada"), options={"HIDDEN"})
     use_selection: BoolProperty(name="Selected Objects Only", default=False,
                                 description="Only the selected objects")
 
     def execute(self, context):
-        path = bpy.path.abspath(self.filepath)
-        return file_io.run_export(self, "Export COLLADA", path, lambda: collada_export.export(
-            context, path, self.use_selection))
+        return file_io.run_export(self, context, "collada", self.use_selection)
 
 
-classes = [PHONG_OT_import_collada, PHONG_OT_export_collada,
-           *file_io.drop_handler("PHONG_FH_collada", "COLLADA (Phong)", "phong.import_collada",
-                                 (".dae",))]
+classes = (PHONG_OT_import_collada, PHONG_OT_export_collada, *file_io.drop_handler("collada"))
 
 
 def _draw_import(self, _context):
-    self.layout.operator(PHONG_OT_import_collada.bl_idname, text="COLLADA (Phong) (.dae)")
+    file_io.menu_entry(self, "collada", "import")
 
 
 def _draw_export(self, _context):
-    self.layout.operator(PHONG_OT_export_collada.bl_idname, text="COLLADA (Phong) (.dae)")
+    file_io.menu_entry(self, "collada", "export")
 
 
 def register():

@@ -1,13 +1,12 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""File ▸ Import ▸ FBX (Phong) and drag and drop of .fbx files into the 3D Viewport (where the
-release has ``bpy.types.FileHandler``) (issue 35); File ▸ Export ▸ FBX (.fbx) with Phong
-Materials (issue 45)."""
+"""The operators of File ▸ Import ▸ FBX (Phong) (issue 35) and File ▸ Export ▸ FBX (.fbx) with
+Phong Materials (issue 45), and the drop handler of .fbx files (their entries and suffixes
+from ``interchange/formats.py``)."""
 
 import bpy
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, StringProperty
 from bpy_extras.io_utils import ExportHelper
 
-from ..interchange import fbx_export, fbx_import
 from . import file_io
 
 _AXES = [(a, a, "") for a in ("X", "Y", "Z", "-X", "-Y", "-Z")]
@@ -21,13 +20,10 @@ values (binary 7100+ through Blender's importer, ASCII and FBX 6.1 through ufbx)
     bl_label = "Import FBX (Phong)"
 
     filename_ext = ".fbx"
-    filter_glob: StringProperty(default="*.fbx", options={"HIDDEN"})
+    filter_glob: StringProperty(default=file_io.glob("fbx"), options={"HIDDEN"})
 
     def execute(self, context):
-        path = bpy.path.abspath(self.filepath)
-        return file_io.run_import(self, "Import FBX (Phong)", path,
-                                  lambda: fbx_import.import_fbx(context, path),
-                                  fbx_import.FbxError)
+        return file_io.run_import(self, context, "fbx")
 
 
 class PHONG_OT_export_fbx(bpy.types.Operator, ExportHelper):
@@ -40,7 +36,7 @@ Phong ambient"""
     bl_options = {"REGISTER"}
 
     filename_ext = ".fbx"
-    filter_glob: StringProperty(default="*.fbx", options={"HIDDEN"})
+    filter_glob: StringProperty(default=file_io.glob("fbx"), options={"HIDDEN"})
     use_selection: BoolProperty(name="Selected Objects Only", default=False,
                                 description="Only the selected objects")
     # Blender's FBX options passed through (bpy.ops.export_scene.fbx), as its defaults
@@ -61,19 +57,15 @@ Phong ambient"""
               "path_mode", "embed_textures")
 
     def execute(self, context):
-        path = bpy.path.abspath(self.filepath)
         options = {key: getattr(self, key) for key in self.PASSED}
-        return file_io.run_export(self, "Export FBX (Phong)", path, lambda: fbx_export.export(
-            context, path, self.use_selection, **options))
+        return file_io.run_export(self, context, "fbx", self.use_selection, **options)
 
 
-classes = (PHONG_OT_import_fbx, PHONG_OT_export_fbx,
-           *file_io.drop_handler("PHONG_FH_fbx", "FBX (Phong)", "phong.import_fbx", (".fbx",)))
+classes = (PHONG_OT_import_fbx, PHONG_OT_export_fbx, *file_io.drop_handler("fbx"))
 
 
 def _draw_export(self, _context):
-    self.layout.operator(PHONG_OT_export_fbx.bl_idname,
-                         text="FBX (.fbx) with Phong Materials")
+    file_io.menu_entry(self, "fbx", "export")
 
 
 def register():

@@ -1,12 +1,12 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""Shift+A ▸ Phong in the Shader Editor; File ▸ Import ▸ Wavefront (.obj) as Phong and File ▸
-Export ▸ Phong Materials (.mtl)."""
+"""Shift+A ▸ Phong in the Shader Editor; the File ▸ Import and File ▸ Export entries of every
+format without a module of its own here (OBJ, MTL, three.js; FBX's import), their labels from
+``interchange/formats.py``."""
 
 import bpy
 
-from .operators import (PHONG_OT_add_node_group, PHONG_OT_export_mtl, PHONG_OT_export_obj,
-                        PHONG_OT_export_threejs, PHONG_OT_import_obj,
-                        PHONG_OT_load_node_groups)
+from . import file_io
+from .operators import PHONG_OT_add_node_group, PHONG_OT_load_node_groups
 
 #: The sections of Shift+A ▸ Phong, also the asset catalogs (``assets.py``).
 SECTIONS = (
@@ -49,14 +49,13 @@ def _draw_add_menu(self, context):
 
 
 def _draw_export_menu(self, _context):
-    self.layout.operator(PHONG_OT_export_obj.bl_idname, text="Wavefront (.obj) with Phong Materials")
-    self.layout.operator(PHONG_OT_export_mtl.bl_idname, text="Phong Materials (.mtl)")
-    self.layout.operator(PHONG_OT_export_threejs.bl_idname, text="three.js Page (.html)")
+    for key in ("obj", "mtl", "threejs"):
+        file_io.menu_entry(self, key, "export")
 
 
 def _draw_import_menu(self, _context):
-    self.layout.operator(PHONG_OT_import_obj.bl_idname, text="Wavefront (.obj) as Phong")
-    self.layout.operator("phong.import_fbx", text="FBX (Phong) (.fbx)")
+    for key in ("obj", "fbx"):
+        file_io.menu_entry(self, key, "import")
 
 
 def register():

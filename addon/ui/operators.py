@@ -18,11 +18,9 @@ from .. import loader
 from ..comparison import engine
 from ..demos import builder
 from ..scene import describe
-from ...core import mtl
-from ...core import threejs
-from ..interchange import mtl_export, obj_import, threejs_export
 from ..lighting import loop, materials, rig, shadows
 from ..lighting import sync as sync_mod
+from . import file_io
 
 
 class PHONG_OT_load_node_groups(bpy.types.Operator):
@@ -103,25 +101,7 @@ def _warn(op, message):
         op.report({"WARNING"}, message)
 
 
-def _lights_report(op, sync) -> None:
-    """Warnings every light operation gives: unsupported lights, no light, a linking
-    collection whose objects have no Phong material."""
-    if sync.unsupported:
-        names = ", ".join(f"{o.name} ({o.data.type.title()})" for o in sync.unsupported)
-        op.report({"WARNING"}, f"Phong: unsupported light type ignored: {names}; only Point, "
-                               "Sun and Spot lights drive Phong materials")
-    if not sync.lights:
-        op.report({"WARNING"}, "Phong: the scene has no Point, Sun or Spot light; the "
-                               "materials show ambient and irradiant only")
-    for light, rule in zip(sync.lights, sync.rules):
-        if rule is None or not rule[0]:
-            continue
-        collection = light.light_linking.receiver_collection
-        if not any(materials.is_phong_material(slot.material) for obj in collection.all_objects
-                   for slot in obj.material_slots):
-            op.report({"WARNING"}, f"Phong: light {light.name!r} lights only the objects of "
-                                   f"collection {collection.name!r}, and none of them has a "
-                                   "Phong material")
+_lights_report = file_io.lights_report
 
 
 def _selected_meshes(op, context, action):
@@ -168,16 +148,12 @@ originals are kept)"""
             return {"CANCELLED"}
         if self.model != "SCENE":
             context.scene[rig.MODEL_KEY] = self.model.lower()
-        sync = sync_mod.Sync(context.scene, context.view_layer)
-        sync.rebuild_groups()
-        sync.prepare(meshes)
         done = {}
-        for obj in meshes:
-            for material in sync.apply(obj):
-                done[material.name] = None
-        sync.relink(context.scene.objects)
-        sync.finish()
-        sync_mod.remember(context.scene, context.view_layer)
+        with sync_mod.session(context.scene, context.view_layer) as sync:
+            sync.prepare(meshes)
+            for obj in meshes:
+                for material in sync.apply(obj):
+                    done[material.name] = None
         _lights_report(self, sync)
         names = list(done)
         shown = ", ".join(names[:8]) + (f" and {len(names) - 8} more" if len(names) > 8 else "")
@@ -388,17 +364,7 @@ means Bake Phong Lighting only"""
     bl_options = {"REGISTER", "INTERNAL"}
 
 
-# -- interchange ---------------------------------------------------------------------
-
-def _export_path(op, action):
-    """The absolute path of *op*'s filepath, or None after an error report when it does not
-    name a file in an existing folder."""
-    path = bpy.path.abspath(op.filepath)
-    if not path or os.path.isdir(path) or not os.path.isdir(os.path.dirname(path) or "."):
-        op.report({"ERROR"}, f"{action}: {path!r} is not a file in an existing folder")
-        return None
-    return path
-
+# -- interchange (the formats' table: interchange/formats.py) --------------------------------
 
 class PHONG_OT_export_mtl(bpy.types.Operator, ExportHelper):
     """Write the Phong materials as a Wavefront MTL library (Kd = Object Color, Ka = Ambient \
@@ -409,36 +375,12 @@ Object Color, Ks, Ns, Ke, illum 2)"""
     bl_options = {"REGISTER"}
 
     filename_ext = ".mtl"
-    filter_glob: StringProperty(default="*.mtl", options={"HIDDEN"})
+    filter_glob: StringProperty(default=file_io.glob("mtl"), options={"HIDDEN"})
     selection_only: BoolProperty(name="Selected Objects Only", default=False,
                                  description="Only the Phong materials of the selected objects")
 
     def execute(self, context):
-        if self.selection_only:
-            found = {slot.material for obj in (context.selected_objects or [])
-                     for slot in obj.material_slots if materials.is_phong_material(slot.material)}
-            chosen = [m for m in materials.phong_materials() if m in found]
-            where = "the selected objects have"
-        else:
-            chosen = materials.phong_materials()
-            where = "the file has"
-        if not chosen:
-            self.report({"ERROR"}, f"Export Phong MTL: {where} no Phong material; "
-                                   "run Apply Phong Material first")
-            return {"CANCELLED"}
-        path = _export_path(self, "Export Phong MTL")
-        if path is None:
-            return {"CANCELLED"}
-        try:
-            warnings = mtl_export.export(chosen, path)
-        except OSError as error:
-            self.report({"ERROR"}, f"Export Phong MTL: cannot write {path}: "
-                                   f"{error.strerror or error}")
-            return {"CANCELLED"}
-        if warnings:
-            self.report({"WARNING"}, "Export Phong MTL: " + "; ".join(warnings))
-        self.report({"INFO"}, f"Wrote {len(chosen)} Phong material(s) to {path}")
-        return {"FINISHED"}
+        return file_io.run_export(self, context, "mtl", self.selection_only)
 
 
 class PHONG_OT_export_obj(bpy.types.Operator, ExportHelper):
@@ -450,24 +392,12 @@ every Phong material (the other materials as Blender writes them)"""
     bl_options = {"REGISTER"}
 
     filename_ext = ".obj"
-    filter_glob: StringProperty(default="*.obj", options={"HIDDEN"})
+    filter_glob: StringProperty(default=file_io.glob("obj"), options={"HIDDEN"})
     selection_only: BoolProperty(name="Selected Objects Only", default=False,
                                  description="Only the selected objects")
 
     def execute(self, context):
-        path = _export_path(self, "Export OBJ with Phong")
-        if path is None:
-            return {"CANCELLED"}
-        phong = {m.name: m for m in materials.phong_materials()}
-        try:
-            warnings = mtl_export.export_obj(phong, path, self.selection_only)
-        except (OSError, RuntimeError, mtl.MtlError) as error:
-            self.report({"ERROR"}, f"Export OBJ with Phong: {error}")
-            return {"CANCELLED"}
-        if warnings:
-            self.report({"WARNING"}, "Export OBJ with Phong: " + "; ".join(warnings))
-        self.report({"INFO"}, f"Wrote {path} and its MTL")
-        return {"FINISHED"}
+        return file_io.run_export(self, context, "obj", self.selection_only)
 
 
 class PHONG_OT_import_obj(bpy.types.Operator, ImportHelper):
@@ -479,27 +409,10 @@ scene's lights (Ka, Kd, Ks, Ns, Ke, illum 0-2, maps); the importer's materials a
     bl_options = {"REGISTER", "UNDO"}
 
     filename_ext = ".obj"
-    filter_glob: StringProperty(default="*.obj", options={"HIDDEN"})
+    filter_glob: StringProperty(default=file_io.glob("obj"), options={"HIDDEN"})
 
     def execute(self, context):
-        path = bpy.path.abspath(self.filepath)
-        try:
-            objects, done, warnings, sync = obj_import.import_obj(context, path)
-        except mtl.MtlError as error:
-            self.report({"ERROR"}, f"Import OBJ as Phong: {error}; nothing imported")
-            return {"CANCELLED"}
-        except RuntimeError as error:
-            self.report({"ERROR"}, f"Import OBJ as Phong: {error}")
-            return {"CANCELLED"}
-        for warning in warnings:
-            self.report({"WARNING"}, f"Import OBJ as Phong: {warning}")
-        if not objects:
-            self.report({"WARNING"}, f"Import OBJ as Phong: no mesh in {path}")
-            return {"FINISHED"}
-        _lights_report(self, sync)
-        self.report({"INFO"}, f"Imported {len(objects)} object(s) with {len(done)} Phong "
-                              f"material(s) from {os.path.basename(path)}")
-        return {"FINISHED"}
+        return file_io.run_import(self, context, "obj")
 
 
 def _show_image(context, path):
@@ -527,25 +440,10 @@ class PHONG_OT_export_threejs(bpy.types.Operator, ExportHelper):
     bl_options = {"REGISTER"}
 
     filename_ext = ".html"
-    filter_glob: StringProperty(default="*.html", options={"HIDDEN"})
+    filter_glob: StringProperty(default=file_io.glob("threejs"), options={"HIDDEN"})
 
     def execute(self, context):
-        path = _export_path(self, "Export three.js page")
-        if path is None:
-            return {"CANCELLED"}
-        try:
-            warnings = threejs_export.export(path, context.scene, context.view_layer)
-        except (ValueError, threejs.ThreeMissing) as error:
-            self.report({"ERROR"}, f"Export three.js page: {error}")
-            return {"CANCELLED"}
-        except OSError as error:
-            self.report({"ERROR"}, f"Export three.js page: cannot write {path}: "
-                                   f"{error.strerror or error}")
-            return {"CANCELLED"}
-        if warnings:
-            self.report({"WARNING"}, "Export three.js page: " + "; ".join(warnings))
-        self.report({"INFO"}, f"Wrote the three.js page {path}")
-        return {"FINISHED"}
+        return file_io.run_export(self, context, "threejs")
 
 
 classes = (PHONG_OT_load_node_groups, PHONG_OT_add_node_group, PHONG_OT_apply_material,

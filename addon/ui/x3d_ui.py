@@ -1,21 +1,16 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""File ▸ Import ▸ X3D / VRML97 (Phong), File ▸ Export ▸ X3D / VRML97 (Phong), drag and drop
-of VRML97 / X3D files into the 3D Viewport (where the release has ``bpy.types.FileHandler``),
-and Add ▸ Light ▸ Headlight (``phong.add_headlight``): a Sun that follows the scene camera,
-the headlight of VRML97 / X3D (docs/x3d.md)."""
+"""The operators of File ▸ Import ▸ X3D / VRML97 (Phong) and File ▸ Export ▸ X3D / VRML97
+(Phong) (their entries, suffixes and drop handler from ``interchange/formats.py``), and Add ▸
+Light ▸ Headlight (``phong.add_headlight``): a Sun that follows the scene camera, the
+headlight of VRML97 / X3D (docs/x3d.md)."""
 
 import bpy
 from bpy.props import BoolProperty, StringProperty
 from bpy_extras.io_utils import ExportHelper
 
-from ..interchange import x3d_export, x3d_import
 from ..lighting import headlight, rig
 from ..lighting import sync as sync_mod
 from . import file_io
-
-#: The file names the importer reads (gzipped too) and the drop handler takes.
-EXTENSIONS = (".wrl", ".wrz", ".x3d", ".x3dz", ".x3dv", ".x3dvz", ".gz")
-GLOB = ";".join(f"*{e}" for e in EXTENSIONS)
 
 
 class PHONG_OT_import_x3d(bpy.types.Operator, file_io.DroppableImport):
@@ -27,13 +22,10 @@ headlight), shapes, instances and viewpoint"""
     bl_label = "Import X3D / VRML97 (Phong)"
 
     filename_ext = ".wrl"
-    filter_glob: StringProperty(default=GLOB, options={"HIDDEN"})
+    filter_glob: StringProperty(default=file_io.glob("x3d"), options={"HIDDEN"})
 
     def execute(self, context):
-        path = bpy.path.abspath(self.filepath)
-        return file_io.run_import(self, "Import X3D", path,
-                                  lambda: x3d_import.import_x3d(context, path),
-                                  x3d_import.X3DImportError)
+        return file_io.run_import(self, context, "x3d")
 
 
 class PHONG_OT_export_x3d(bpy.types.Operator, ExportHelper):
@@ -46,14 +38,12 @@ the camera as X3D (.x3d, .x3dv) or VRML97 (.wrl), gzipped for .x3dz, .x3dvz, .wr
 
     filename_ext = ".x3d"
     check_extension = False   # .x3d, .x3dv, .wrl, ... all stay as typed
-    filter_glob: StringProperty(default=GLOB, options={"HIDDEN"})
+    filter_glob: StringProperty(default=file_io.glob("x3d"), options={"HIDDEN"})
     use_selection: BoolProperty(name="Selected Objects Only", default=False,
                                 description="Only the selected objects")
 
     def execute(self, context):
-        path = bpy.path.abspath(self.filepath)
-        return file_io.run_export(self, "Export X3D", path, lambda: x3d_export.export(
-            context, path, self.use_selection))
+        return file_io.run_export(self, context, "x3d", self.use_selection)
 
 
 class PHONG_OT_add_headlight(bpy.types.Operator):
@@ -88,16 +78,15 @@ scene camera"""
 
 
 classes = [PHONG_OT_import_x3d, PHONG_OT_export_x3d, PHONG_OT_add_headlight,
-           *file_io.drop_handler("PHONG_FH_x3d", "X3D / VRML97 (Phong)", "phong.import_x3d",
-                                 EXTENSIONS)]
+           *file_io.drop_handler("x3d")]
 
 
 def _draw_import(self, _context):
-    self.layout.operator(PHONG_OT_import_x3d.bl_idname, text="X3D / VRML97 (Phong)")
+    file_io.menu_entry(self, "x3d", "import")
 
 
 def _draw_export(self, _context):
-    self.layout.operator(PHONG_OT_export_x3d.bl_idname, text="X3D / VRML97 (Phong)")
+    file_io.menu_entry(self, "x3d", "export")
 
 
 def _draw_light_add(self, _context):
