@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Enabling and disabling the extension leaves nothing behind and raises nothing."""
 
+import sys
 import blender_env as be
 
 
@@ -68,10 +69,11 @@ def test_every_handler_is_registered_in_its_order_relink_last(extension):
         event = next(e for e, f in addon.HANDLERS if f is relink)
         assert ours(event)[-1] is relink, f"{relink.__name__} runs last on {event}"
     # every persistent function of the add-on is in the list (none registered elsewhere)
-    persistent = {f for module in (sync, modes, addon.loader, sync.world_copies,
-                                   sync.materials, sync.light_loop)
+    package = addon.__name__ + "."
+    persistent = {f for name, module in list(sys.modules.items()) if name.startswith(package)
                   for f in vars(module).values()
-                  if callable(f) and hasattr(f, "_bpy_persistent")}
+                  if callable(f) and hasattr(f, "_bpy_persistent")
+                  and f.__module__.startswith(package)}
     assert persistent == {f for _e, f in addon.HANDLERS}
     assert modes.refresh in sync.AFTER_FINISH and forwarding._on_model_change() is \
         sync.relink_scene
