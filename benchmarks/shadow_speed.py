@@ -79,6 +79,8 @@ def worker(engine, case, objects, n_lights, samples, res, renders, variant="") -
 
             tree = meshes[0].material_slots[0].material.node_tree
             ungroup_all(tree.nodes["phong_lights"].node_tree)
+        elif part == "noblinn":  # every material's Blinn is 0: the Blinn branch unlinked
+            _without_blinn(bpy.data.node_groups["Phong Light Terms"])
         elif part == "shared":
             for obj in meshes:
                 obj.material_slots[0].material = meshes[0].material_slots[0].material
@@ -104,6 +106,28 @@ def worker(engine, case, objects, n_lights, samples, res, renders, variant="") -
             out["samples_s"].append(out["render_s"][-1] - (first - start))
     out["bpy"] = bpy.app.version_string
     return out
+
+
+def _without_blinn(tree) -> None:
+    """Ablation (same picture where Blinn is 0): in Phong Light Terms, the highlight blend
+    (1 - Blinn)·Phong + Blinn·Blinn-Phong replaced by its first product, so that Blender's
+    inliner never reaches the Blinn-Phong branch (what a Switch on a constant Blinn gives)."""
+    group_in = next(n for n in tree.nodes if n.bl_idname == "NodeGroupInput")
+    blinn = group_in.outputs["Blinn"]
+    for link in list(blinn.links):
+        product = link.to_node
+        if product.bl_idname != "ShaderNodeMath" or product.operation != "MULTIPLY":
+            continue
+        for out_link in list(product.outputs[0].links):
+            add = out_link.to_node
+            if add.bl_idname != "ShaderNodeMath" or add.operation != "ADD":
+                continue
+            other = next(s for s in add.inputs[:2] if s.is_linked
+                         and s.links[0].from_node != product).links[0].from_socket
+            for target in [l.to_socket for l in add.outputs[0].links]:
+                tree.links.new(other, target)
+            return
+    raise RuntimeError("no Blinn blend found")
 
 
 def f12(engine, objects, n_lights, samples, res, repeats, renders, cases=CASES,
