@@ -46,7 +46,10 @@ def worker(engine, case, objects, n_lights, samples, res, renders, variant="") -
     """One process, one case: the scene built, rendered once untimed, then *renders* timed
     renders; *variant*: ablations of the Phong materials while looking for the constant
     (``noemission``: Cycles' emission sampling off; ``noeevee``: the EEVEE Material Outputs
-    removed; ``shared``: every object given the first object's material)."""
+    removed; ``ungrouped``: the lights group's nested groups replaced by their nodes;
+    ``noblinn``: ``_without_blinn``; ``persistent``: Cycles' Persistent Data on; ``move``: the first light
+    moved before each timed render; ``shared``:
+    every object given the first object's material; joined by "+")."""
     os.environ["PHONG_BENCH_SHADOWS"] = "1"
     from .eevee_materials import _camera  # noqa: PLC0415
     from .measure import (apply_phong, artist_scene, render, set_cycles,  # noqa: PLC0415
@@ -81,6 +84,10 @@ def worker(engine, case, objects, n_lights, samples, res, renders, variant="") -
             ungroup_all(tree.nodes["phong_lights"].node_tree)
         elif part == "noblinn":  # every material's Blinn is 0: the Blinn branch unlinked
             _without_blinn(bpy.data.node_groups["Phong Light Terms"])
+        elif part == "persistent":  # Render > Performance > Persistent Data (the user's)
+            scene.render.use_persistent_data = True
+        elif part == "move":  # each timed render after a move of the first light
+            pass
         elif part == "shared":
             for obj in meshes:
                 obj.material_slots[0].material = meshes[0].material_slots[0].material
@@ -95,7 +102,10 @@ def worker(engine, case, objects, n_lights, samples, res, renders, variant="") -
     bpy.app.handlers.render_stats.append(stats)
     render(scene)
     out = {"render_s": [], "sync_s": [], "samples_s": [], "cpu_s": []}
-    for _ in range(renders):
+    for index in range(renders):
+        if "move" in variant.split("+"):
+            _lights[0].location.x += 0.5 if index % 2 == 0 else -0.5
+            scene.view_layers[0].update()
         stamps.clear()
         start, cpu = time.perf_counter(), time.process_time()
         out["render_s"].append(render(scene))
