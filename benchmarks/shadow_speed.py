@@ -47,7 +47,8 @@ def worker(engine, case, objects, n_lights, samples, res, renders, variant="") -
     renders; *variant*: ablations of the Phong materials while looking for the constant
     (``noemission``: Cycles' emission sampling off; ``noeevee``: the EEVEE Material Outputs
     removed; ``ungrouped``: the lights group's nested groups replaced by their nodes;
-    ``noblinn``: ``_without_blinn``; ``persistent``: Cycles' Persistent Data on; ``move``: the first light
+    ``noblinn``: ``_without_blinn``; ``persistent``: Cycles' Persistent Data on; ``castoff``: the lights' Cast Shadow
+    off; ``move``: the first light
     moved before each timed render; ``shared``:
     every object given the first object's material; joined by "+")."""
     os.environ["PHONG_BENCH_SHADOWS"] = "1"
@@ -86,6 +87,9 @@ def worker(engine, case, objects, n_lights, samples, res, renders, variant="") -
             _without_blinn(bpy.data.node_groups["Phong Light Terms"])
         elif part == "persistent":  # Render > Performance > Persistent Data (the user's)
             scene.render.use_persistent_data = True
+        elif part == "castoff":  # the lights' Cast Shadow off (Principled's too: not the goal)
+            for light in _lights:
+                light.data.use_shadow = False
         elif part == "move":  # each timed render after a move of the first light
             pass
         elif part == "shared":
