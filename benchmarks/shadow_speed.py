@@ -4,7 +4,8 @@ casting shadows on both sides, in one run.
 
     .venv/bin/python -m phong_nodes.benchmarks.shadow_speed [--objects 1000] [--res 128]
         [--repeats 2] [--renders 1] [--rounds 2] [--out benchmarks/shadow_speed_results.json]
-    .venv/bin/python -m phong_nodes.benchmarks.shadow_speed --table benchmarks/shadow_speed_results.json
+    .venv/bin/python -m phong_nodes.benchmarks.shadow_speed --table \
+        benchmarks/shadow_speed_results.json
 
 The scene is figure 6's artist scene (``measure.artist_scene``: cubes with their own mesh and
 Principled material, lights cycling point, sun, spot, point) with ``measure.SHADOWS_ENV`` set:
@@ -47,8 +48,8 @@ def worker(engine, case, objects, n_lights, samples, res, renders, variant="") -
     renders; *variant*: ablations of the Phong materials while looking for the constant
     (``noemission``: Cycles' emission sampling off; ``noeevee``: the EEVEE Material Outputs
     removed; ``ungrouped``: the lights group's nested groups replaced by their nodes;
-    ``noblinn``: ``_without_blinn``; ``persistent``: Cycles' Persistent Data on; ``castoff``: the lights' Cast Shadow
-    off; ``move``: the first light
+    ``noblinn``: ``_without_blinn``; ``persistent``: Cycles' Persistent Data on;
+    ``castoff``: the lights' Cast Shadow off; ``move``: the first light
     moved before each timed render; ``shared``:
     every object given the first object's material; joined by "+")."""
     os.environ["PHONG_BENCH_SHADOWS"] = "1"
@@ -218,9 +219,11 @@ def table(result) -> str:
         lines += ["", f"| a drag of each of {moves['lights']} lights | median per light "
                   "| / Principled: median | worst light |", "|---|---|---|---|"]
         lines.append(f"| Principled | {1000 * moves['median_s']['principled']:.2f} ms | 1 | |")
-        for design in ("phong", "phong_live", "lights_group"):
+        for design, label in (("phong", "Phong (light loop)"),
+                              ("phong_live", "Phong, the World's copies live"),
+                              ("lights_group", "lights groups of 5.2")):
             if design in moves["median_s"]:
-                lines.append(f"| {design} | {1000 * moves['median_s'][design]:.2f} ms | "
+                lines.append(f"| {label} | {1000 * moves['median_s'][design]:.2f} ms | "
                              f"{moves['median_ratio'][design]:.2f}× | "
                              f"{moves['worst_ratio'][design]:.2f}× |")
     return "\n".join(lines)
