@@ -400,9 +400,21 @@ def apply_phong(bpy, scene, meshes) -> None:
         raise RuntimeError(f"apply_material returned {result}")
 
 
+#: Environment variable: set (to anything but "" or "0"), ``artist_scene`` builds the scene of
+#: issue 43's speed goals (``shadow_speed.py``): every light casts shadows and the cubes stand
+#: on a floor of their own (its own Principled material: Phong too after Apply).  An
+#: environment variable so that the child processes of ``light_move --files`` build it too.
+SHADOWS_ENV = "PHONG_BENCH_SHADOWS"
+
+
+def shadows_wanted() -> bool:
+    return os.environ.get(SHADOWS_ENV, "") not in ("", "0")
+
+
 def artist_scene(name, n_objects, n_lights):
     """An artist's scene: *n_objects* cubes, each with its own mesh and its own Principled
-    material (one colour each), lit by *n_lights* lights cycling point, sun, spot, point."""
+    material (one colour each), lit by *n_lights* lights cycling point, sun, spot, point;
+    with ``SHADOWS_ENV`` set, the lights cast shadows and a floor is the last object."""
     bpy = _bpy()
     from phong_nodes.addon.lighting import properties  # noqa: PLC0415
 
@@ -424,9 +436,30 @@ def artist_scene(name, n_objects, n_lights):
     lights = [add_light(scene, f"{name} light {k}", ARTIST_LIGHTS[k % len(ARTIST_LIGHTS)],
                         (3.0 * cols * (k + 0.5) / n_lights, -10.0, 20.0))
               for k in range(n_lights)]
+    if shadows_wanted():
+        for light in lights:
+            light.data.use_shadow = True
+        objects.append(_floor(scene, name, template, cols))
     scene.world = bpy.data.worlds.new(name)
     properties.write_world(scene.world, 0.1, (1.0, 1.0, 1.0))
     return scene, objects, lights
+
+
+def _floor(scene, name, template, cols):
+    """A square under the cubes (1 below their bottoms, 3 beyond the grid on every side),
+    its own mesh and a copy of *template* (grey)."""
+    bpy = _bpy()
+    mesh = bpy.data.meshes.new(f"{name} floor")
+    low, high = -4.0, 3.0 * cols + 1.0
+    mesh.from_pydata([(low, low, -2.0), (high, low, -2.0), (high, high, -2.0), (low, high, -2.0)],
+                     [], [(0, 1, 2, 3)])
+    material = template.copy()
+    material.node_tree.nodes["Principled BSDF"].inputs["Base Color"].default_value = (
+        0.5, 0.5, 0.5, 1.0)
+    mesh.materials.append(material)
+    obj = bpy.data.objects.new(f"{name} floor", mesh)
+    scene.collection.objects.link(obj)
+    return obj
 
 
 def add_light(scene, name, kind, location):
