@@ -25,8 +25,9 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 SIZES = (1000, 10000)
 
 
-def worker(n_objects: int) -> float:
-    """Seconds of one Apply on *n_objects* cubes (run in a process of its own)."""
+def worker(n_objects: int) -> dict:
+    """Seconds of one Apply on *n_objects* cubes (run in a process of its own), and of
+    Blender's own slot assignment in the same scene after it (:func:`floor`)."""
     from . import measure  # noqa: PLC0415  (imports bpy)
 
     bpy = measure.worker_setup()
@@ -40,19 +41,17 @@ def worker(n_objects: int) -> float:
     seconds = time.perf_counter() - start
     if result != {"FINISHED"}:
         raise RuntimeError(f"apply_material returned {result}")
-    return seconds
+    return {"seconds": seconds, "floor": floor(objects)}
 
 
-def floor(n_objects: int) -> float:
-    """Seconds Blender itself takes to put a new material in each cube's one slot (no Phong
-    code; the materials made before the clock starts): the part of Apply that no add-on can
-    avoid, since every slot assignment walks the file's objects
-    (``BKE_objects_materials_sync_length_all``)."""
-    from . import measure  # noqa: PLC0415  (imports bpy)
+def floor(objects) -> float:
+    """Seconds Blender itself takes to put a new material in each of *objects*' one slot (no
+    Phong code; the materials made before the clock starts): the part of Apply that no add-on
+    can avoid, since every slot assignment walks the file's objects
+    (``BKE_objects_materials_sync_length_all``).  Timed in Apply's process, right after it."""
+    import bpy  # noqa: PLC0415
 
-    bpy = measure.worker_setup()
-    _scene, objects, _lights = measure.artist_scene("Apply", n_objects, 4)
-    new = [bpy.data.materials.new(f"Floor {i:05d}") for i in range(n_objects)]
+    new = [bpy.data.materials.new(f"Floor {i:05d}") for i in range(len(objects))]
     start = time.perf_counter()
     for obj, material in zip(objects, new):
         obj.material_slots[0].material = material
@@ -64,30 +63,29 @@ def main(argv=None) -> int:
     parser.add_argument("--rounds", type=int, default=3)
     parser.add_argument("--out", default=os.path.join(HERE, "apply_scale_results.json"))
     parser.add_argument("--worker", type=int, help=argparse.SUPPRESS)
-    parser.add_argument("--floor", action="store_true", help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
     if args.worker:
-        print(json.dumps({"seconds": (floor if args.floor else worker)(args.worker)}))
+        print(json.dumps(worker(args.worker)))
         sys.stdout.flush()
         os._exit(0)  # noqa: SLF001  (bpy's exit is slow with 10,000 objects and not measured)
     times = {n: [] for n in SIZES}
     floors = {n: [] for n in SIZES}
     for round_index in range(args.rounds):
         for n in SIZES:
-            for kind, into in (("Apply", times), ("Blender's slot assignment", floors)):
-                command = [sys.executable, "-m", "phong_nodes.benchmarks.apply_scale",
-                           "--worker", str(n)] + (["--floor"] if into is floors else [])
-                run = subprocess.run(command, capture_output=True, text=True, check=True)
-                seconds = json.loads(run.stdout.strip().splitlines()[-1])["seconds"]
-                into[n].append(seconds)
-                print(f"round {round_index + 1}: {n} objects, {kind} {seconds:.2f} s",
-                      flush=True)
+            run = subprocess.run([sys.executable, "-m", "phong_nodes.benchmarks.apply_scale",
+                                  "--worker", str(n)], capture_output=True, text=True,
+                                 check=True)
+            measured = json.loads(run.stdout.strip().splitlines()[-1])
+            times[n].append(measured["seconds"])
+            floors[n].append(measured["floor"])
+            print(f"round {round_index + 1}: {n} objects, Apply {measured['seconds']:.2f} s, "
+                  f"then Blender's slot assignment alone {measured['floor']:.3f} s", flush=True)
     import bpy  # noqa: PLC0415
 
     medians = {n: statistics.median(v) for n, v in times.items()}
     floor_medians = {n: statistics.median(v) for n, v in floors.items()}
     ratio = medians[SIZES[1]] / medians[SIZES[0]]
-    beyond = {n: medians[n] - floor_medians[n] for n in SIZES}
+    beyond = {n: statistics.median(a - f for a, f in zip(times[n], floors[n])) for n in SIZES}
     result = {"bpy": bpy.app.version_string, "rounds": args.rounds,
               "load_average": os.getloadavg(),
               "seconds": {str(n): v for n, v in times.items()},
