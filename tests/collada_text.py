@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Helpers of the COLLADA tests (``test_collada.py``, ``test_collada_files.py``): the test data,
-small documents written as text, schema validation, a Phong material's controls read back."""
+small documents written as text, schema validation, the file's data blocks by kind."""
 
 from __future__ import annotations
 
@@ -49,21 +49,6 @@ def _valid(text):
     done = subprocess.run([sys.executable, "-c", _VALIDATE], input=text.encode("utf-8"),
                           capture_output=True, timeout=120)
     assert done.returncode == 0, (done.stdout + done.stderr).decode("utf-8", "replace")[-3000:]
-
-
-def _controls(material):
-    nodes = material.node_tree.nodes
-    lights = nodes["phong_lights"]
-
-    def colour(name):
-        return tuple(lights.inputs[name].links[0].from_node.outputs[0].default_value)[:3]
-
-    return {"Object Color": colour("Object Color"),
-            "Ambient Object Color": colour("Ambient Object Color"),
-            "Specular Color": colour("Specular Color"),
-            "Irradiant Color": colour("Irradiant Color"),
-            "Exponent": nodes["phong_exponent"].outputs[0].default_value,
-            "Blinn": nodes["phong_blinn"].outputs[0].default_value}
 
 
 def _f32(values):

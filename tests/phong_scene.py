@@ -117,6 +117,24 @@ def _finish_materials(bpy, plane, sphere):
     tree.nodes["phong_irradiant_color"].outputs[0].default_value = (0.02, 0.0, 0.03, 1.0)
 
 
+def linked_controls(material):
+    """A Phong material's controls as its lights group reads them: the colour of the node linked
+    to each colour input, and the values of the exponent and Blinn nodes (the importers' tests
+    compare them with the file's values)."""
+    nodes = material.node_tree.nodes
+    lights = nodes["phong_lights"]
+
+    def colour(name):
+        return tuple(lights.inputs[name].links[0].from_node.outputs[0].default_value)[:3]
+
+    return {"Object Color": colour("Object Color"),
+            "Ambient Object Color": colour("Ambient Object Color"),
+            "Specular Color": colour("Specular Color"),
+            "Irradiant Color": colour("Irradiant Color"),
+            "Exponent": nodes["phong_exponent"].outputs[0].default_value,
+            "Blinn": nodes["phong_blinn"].outputs[0].default_value}
+
+
 # -- reference ------------------------------------------------------------------
 
 def _controls(material):

@@ -25,7 +25,8 @@ import numpy as np
 import pytest
 
 import blender_env as be
-from collada_text import DATA, F32, LIT, _controls, _doc, _f32, _ids, _valid, be_reset
+from collada_text import DATA, F32, LIT, _doc, _f32, _ids, _valid, be_reset
+from phong_scene import linked_controls
 
 from phong_nodes.core import collada
 
@@ -372,7 +373,7 @@ def test_names_are_ncnames_with_the_exact_name_in_an_extra():
 def test_import_sets_lights_materials_and_transforms_exactly(bpy_clean):
     bpy = bpy_clean
     assert bpy.ops.phong.import_collada(filepath=LIT) == {"FINISHED"}
-    got = _controls(bpy.data.materials["Red Paint"])
+    got = linked_controls(bpy.data.materials["Red Paint"])
     assert got["Object Color"] == _f32((0.8, 0.1, 0.1))
     assert got["Ambient Object Color"] == _f32((0.1, 0.2, 0.3))
     assert got["Specular Color"] == _f32((0.5, 0.4, 0.3))
@@ -471,7 +472,7 @@ def test_round_trip_import_export_import_keeps_names_and_values(bpy_clean, tmp_p
                            tuple(np.round(np.array(o.matrix_world), 5).reshape(-1)))
                   for o in bpy.data.objects if o.type == "LIGHT"}
         mats = {m.name: {k: tuple(F32(v)) if isinstance(v, tuple) else F32(v)
-                         for k, v in _controls(m).items()}
+                         for k, v in linked_controls(m).items()}
                 for m in bpy.data.materials if m.get("phong_nodes_material")}
         world = bpy.context.scene.world
         return lights, mats, (world.phong.ambient_intensity, tuple(world.phong.ambient_color))

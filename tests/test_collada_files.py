@@ -15,7 +15,8 @@ import numpy as np
 import pytest
 
 import blender_env as be
-from collada_text import DATA, F32, LIT, _controls, _doc, _f32, _ids, _valid, be_reset
+from collada_text import DATA, F32, LIT, _doc, _f32, _ids, _valid, be_reset
+from phong_scene import linked_controls
 
 from phong_nodes.core import collada
 
@@ -525,7 +526,7 @@ def test_fbx_exporter_file_with_decimal_commas_and_a_plain_image_reference(bpy_c
     logged = "".join(capfd.readouterr())
     assert logged.count("decimal commas") == 1
     assert logged.count(f"texture {image} not found") == 1
-    got = _controls(bpy.data.materials[mat.name])
+    got = linked_controls(bpy.data.materials[mat.name])
     assert got["Ambient Object Color"] == _f32(ambient[:3])
 
 
@@ -769,7 +770,7 @@ def test_instances_of_one_mesh_binding_different_materials(bpy_clean, tmp_path):
     assert bpy.ops.phong.import_collada(filepath=str(path)) == {"FINISHED"}
     assert bpy.data.objects["Quad node"].data is bpy.data.objects["Second quad"].data
     assert bound() == {"Quad node": "Red Paint", "Second quad": "Blue"}
-    assert _controls(bpy.data.materials["Blue"])["Specular Color"] == (0.0, 0.0, 1.0)
+    assert linked_controls(bpy.data.materials["Blue"])["Specular Color"] == (0.0, 0.0, 1.0)
     assert "phong_collada_symbols" not in bpy.data.objects["Quad node"].data.keys()
     out = tmp_path / "two_out.dae"
     assert bpy.ops.phong.export_collada(filepath=str(out)) == {"FINISHED"}
@@ -810,7 +811,7 @@ def test_blender_42_exporter_file_full_cone_and_values(bpy_clean):
     assert tuple(spot.data.color) == _f32(_text_floats(spot_xml.find(".//color")))
     tile = next(o for o in bpy.data.objects if o.type == "MESH")
     diffuse = _text_floats(root.find(".//lambert/diffuse/color"))
-    got = _controls(tile.active_material)
+    got = linked_controls(tile.active_material)
     assert got["Object Color"] == _f32(diffuse[:3])
     assert got["Specular Color"] == (0.0, 0.0, 0.0), "lambert"
     assert bpy.context.scene.camera is not None

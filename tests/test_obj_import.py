@@ -18,7 +18,7 @@ import pytest
 
 import blender_env as be
 from phong_nodes.core import mtl
-from phong_scene import _light, render
+from phong_scene import _light, linked_controls, render
 
 DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "data", "obj")
 THETA = math.radians(40.0)   # the sun's tilt from the vertical
@@ -31,22 +31,6 @@ ATOL = 3e-5
 
 def _import(bpy, path):
     return bpy.ops.phong.import_obj(filepath=path)
-
-
-def _controls(material):
-    nodes = material.node_tree.nodes
-    lights = nodes["phong_lights"]
-
-    def colour(name):
-        link = lights.inputs[name].links[0]
-        return tuple(link.from_node.outputs[0].default_value)[:3]
-
-    return {"Object Color": colour("Object Color"),
-            "Ambient Object Color": colour("Ambient Object Color"),
-            "Specular Color": colour("Specular Color"),
-            "Irradiant Color": colour("Irradiant Color"),
-            "Exponent": nodes["phong_exponent"].outputs[0].default_value,
-            "Blinn": nodes["phong_blinn"].outputs[0].default_value}
 
 
 def _lit_scene(bpy, name):
@@ -108,7 +92,7 @@ def test_files_from_blender_and_trimesh_import_with_their_values(bpy_clean, capf
     assert _import(bpy, os.path.join(DATA, "trimesh_box.obj")) == {"FINISHED"}
     logged = "".join(capfd.readouterr())
     tile = bpy.data.objects["Tile"].active_material
-    got = _controls(tile)
+    got = linked_controls(tile)
     f32 = lambda v: pytest.approx(tuple(np.float32(v)), abs=0)  # noqa: E731
     assert got["Object Color"] == f32((0.1, 0.3, 0.6))
     assert got["Ambient Object Color"] == f32((1.0, 1.0, 1.0))
@@ -117,7 +101,7 @@ def test_files_from_blender_and_trimesh_import_with_their_values(bpy_clean, capf
     assert "blender_tile.mtl" not in logged, "Ni 1.5 and d 1 of an opaque material: neutral"
     box = next(o for o in bpy.data.objects if o.name.startswith("box") or
                o.name.startswith("trimesh")).active_material
-    got = _controls(box)
+    got = linked_controls(box)
     assert got["Object Color"] == f32((0.8, 0.4, 0.2))
     assert got["Ambient Object Color"] == f32((0.2, 0.2, 0.2))
     assert got["Specular Color"] == f32((0.50196078, 0.50196078, 0.50196078))
@@ -137,7 +121,7 @@ def test_round_trip_import_export_import(bpy_clean, tmp_path):
     bpy = bpy_clean
     _lit_scene(bpy, "Trip")
     assert _import(bpy, os.path.join(DATA, "illum.obj")) == {"FINISHED"}
-    first = {m.name: _controls(m) for m in bpy.data.materials if m.get("phong_nodes_material")}
+    first = {m.name: linked_controls(m) for m in bpy.data.materials if m.get("phong_nodes_material")}
     out = tmp_path / "again.mtl"
     assert bpy.ops.phong.export_mtl(filepath=str(out)) == {"FINISHED"}
     text = out.read_text()
@@ -162,7 +146,7 @@ def test_round_trip_import_export_import(bpy_clean, tmp_path):
     be.reset_empty_file()
     _lit_scene(bpy, "Trip again")
     assert _import(bpy, str(obj)) == {"FINISHED"}
-    again = {m.name: _controls(m) for m in bpy.data.materials if m.get("phong_nodes_material")}
+    again = {m.name: linked_controls(m) for m in bpy.data.materials if m.get("phong_nodes_material")}
     assert again == first
     assert bpy.ops.phong.export_mtl(filepath=str(tmp_path / "third.mtl")) == {"FINISHED"}
     assert (tmp_path / "third.mtl").read_text() == text
@@ -235,8 +219,8 @@ def test_statements_that_cannot_be_read_are_left_out_with_a_warning(bpy_clean, t
     assert f"{mtl_path}:2: Kd: 'oops' is not a number; left out" in logged
     assert (f"{mtl_path}:6: illum '12' is not an illumination model (0 to 10); read as "
             "illum 2") in logged
-    assert _controls(bpy.data.materials["flat"])["Object Color"] == (0.25,) * 3
-    assert _controls(bpy.data.materials["matte"])["Blinn"] == 1.0
+    assert linked_controls(bpy.data.materials["flat"])["Object Color"] == (0.25,) * 3
+    assert linked_controls(bpy.data.materials["matte"])["Blinn"] == 1.0
 
 
 def test_missing_obj_file(bpy_clean, tmp_path):
@@ -315,7 +299,7 @@ def test_3ds_max_file_with_tabs_and_a_texture_found_by_its_bare_name(bpy_clean, 
     assert logged.count("texture cars/texture-y.jpg not found") == 1, logged
     assert ("; left out of _mustang01Car_interior, wire_028089177" in logged)
     assert "not representable" not in logged, "Ni 1.5, d 1, Tr 0, Tf 1 1 1: neutral"
-    wire = _controls(bpy.data.materials["wire_028089177"])
+    wire = linked_controls(bpy.data.materials["wire_028089177"])
     assert wire["Specular Color"] == pytest.approx(tuple(np.float32([0.35] * 3)), abs=0)
     assert wire["Exponent"] == 32.0
     # the texture beside the MTL
@@ -380,9 +364,9 @@ def test_forms_other_readers_accept_are_read(bpy_clean, tmp_path, capfd):
             "'height.png'") in logged
     ours = [line for line in logged.splitlines() if "Import OBJ as Phong: /" in line]
     assert len(ours) == 2, ours   # nothing else to say
-    old = _controls(bpy.data.materials["Old Blender"])
+    old = linked_controls(bpy.data.materials["Old Blender"])
     assert old["Exponent"] == 0.0 and old["Object Color"] == tuple(np.float32([0.64] * 3))
-    flat = _controls(bpy.data.materials["color_16089887"])
+    flat = linked_controls(bpy.data.materials["color_16089887"])
     assert flat["Irradiant Color"] == tuple(np.float32(
         [0.9372549019607843, 0.3764705882352941, 0.19215686274509805]))
     assert flat["Object Color"] == flat["Specular Color"] == (0.0, 0.0, 0.0)
@@ -405,7 +389,7 @@ def test_files_of_other_programs_round_trip(bpy_clean, tmp_path, library):
     source = mtl.load(str(tmp_path / "source.mtl"))
     obj = _obj(tmp_path / "m.obj", "source.mtl", [m.name for m in source])
     assert _import(bpy, obj) == {"FINISHED"}
-    first = {m.name: _controls(m) for m in bpy.data.materials if m.get("phong_nodes_material")}
+    first = {m.name: linked_controls(m) for m in bpy.data.materials if m.get("phong_nodes_material")}
     out = tmp_path / "written.mtl"
     assert bpy.ops.phong.export_mtl(filepath=str(out)) == {"FINISHED"}
     written = {m.name: m for m in mtl.load(str(out))}
@@ -426,7 +410,7 @@ def test_files_of_other_programs_round_trip(bpy_clean, tmp_path, library):
     be.reset_empty_file()
     _lit_scene(bpy, "Real trip again")
     assert _import(bpy, obj) == {"FINISHED"}
-    assert {m.name: _controls(m) for m in bpy.data.materials
+    assert {m.name: linked_controls(m) for m in bpy.data.materials
             if m.get("phong_nodes_material")} == first
 
 
