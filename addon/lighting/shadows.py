@@ -185,7 +185,7 @@ def follow_shadow_visibility(scene, depsgraph=None) -> None:
     objects = depsgraph.view_layer.objects
     active = objects.active
     if active is None or active.library is not None or not _raycast_pending(active) \
-            or not _casts_rays(scene):
+            or not casts_rays(scene):
         return
     follow_shadow(active)
     for obj in objects.selected:  # Alt+click edits every selected object with the active
@@ -199,11 +199,11 @@ def follow_on_load(*_args) -> None:
     if compat.RAYCAST_VISIBILITY is None:
         return
     for scene in bpy.data.scenes:
-        if scene.library is None and _casts_rays(scene):
+        if scene.library is None and casts_rays(scene):
             follow_scene(scene)
 
 
-def _casts_rays(scene) -> bool:
+def casts_rays(scene) -> bool:
     """Whether a lights group of *scene* casts shadow rays."""
     from . import rig  # noqa: PLC0415 (rig imports this module)
 

@@ -211,7 +211,7 @@ class Sync:
                 bpy.data.node_groups.remove(tree)
         if prune:
             world_copies.prune()
-        if any(shadows.has_shadows(t) for t in rig.groups_of(self.scene)):
+        if shadows.casts_rays(self.scene):
             shadows.follow_scene(self.scene)  # Cycles 5.3: Ray Cast after Shadow
         else:
             shadows.give_back_raycast(self.scene, remove=prune)

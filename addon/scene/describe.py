@@ -76,7 +76,7 @@ def describe(scene, view_layer, objects) -> dict:
     rules = [lights_mod.receivers(obj) for obj in lights]
     data = scene_file(scene) or {}
     width, height = scene.render.resolution_x, scene.render.resolution_y
-    rays = any(shadows.has_shadows(tree) for tree in rig.groups_of(scene))
+    rays = shadows.casts_rays(scene)
     described = [_light(obj.evaluated_get(depsgraph)) for obj in lights]
     for light, obj in zip(described, lights):
         light["shadows"] = bool(rays and obj.data.use_shadow)
