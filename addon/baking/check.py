@@ -33,8 +33,9 @@ def _cycles(scene, objects, width, height, folder) -> np.ndarray:
         render.exact(scene, "cycles", o.set)
         o.set(scene.render, "film_transparent", True)
         compat.set_multilayer_exr(scene.render.image_settings, o.set)
+        baked = set(objects)
         for other in scene.objects:
-            if other.type == "MESH" and other not in objects:
+            if other.type == "MESH" and other not in baked:
                 o.set(other, "hide_render", True)
         for obj in objects:
             show.show(obj)

@@ -144,7 +144,8 @@ def check(scene, objects, settings: Settings) -> tuple:
         raise BakeError(f"resolution {settings.resolution}: expected 1 to 16384 pixels")
     warnings = []
     chosen = [o for o in objects if has_phong(o)]
-    skipped = [o for o in objects if o not in chosen and o.type in ("MESH", "CURVE", "SURFACE",
+    chosen_set = set(chosen)
+    skipped = [o for o in objects if o not in chosen_set and o.type in ("MESH", "CURVE", "SURFACE",
                                                                      "FONT", "META")]
     if skipped:
         warnings.append(f"left out (no mesh with a Phong material): {_names(skipped)}")

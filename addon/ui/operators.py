@@ -109,7 +109,8 @@ def _selected_meshes(op, context, action):
     selected = list(context.selected_objects or [])
     meshes = [o for o in selected if o.type == "MESH" and o.library is None
               and o.data.library is None]
-    others = [o for o in selected if o not in meshes]
+    editable = set(meshes)  # a set: a list's `in` made Apply quadratic (1.3 s at 10,000)
+    others = [o for o in selected if o not in editable]
     if not meshes:
         what = (f"no mesh among the selected objects ({', '.join(o.name for o in others)})"
                 if others else "nothing is selected")
