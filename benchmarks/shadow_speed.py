@@ -49,7 +49,9 @@ def worker(engine, case, objects, n_lights, samples, res, renders, variant="") -
     (``noemission``: Cycles' emission sampling off; ``noeevee``: the EEVEE Material Outputs
     removed; ``ungrouped``: the lights group's nested groups replaced by their nodes;
     ``noblinn``: ``_without_blinn``; ``persistent``: Cycles' Persistent Data on;
-    ``castoff``: the lights' Cast Shadow off; ``move``: the first light
+    ``castoff``: the lights' Cast Shadow off; ``extratrees``: 1,000 unused materials more
+    in the file (Eevee: each material's shader walks the file's node trees, see
+    benchmarks/README.md); ``move``: the first light
     moved before each timed render; ``shared``:
     every object given the first object's material; joined by "+")."""
     os.environ["PHONG_BENCH_SHADOWS"] = "1"
@@ -93,6 +95,9 @@ def worker(engine, case, objects, n_lights, samples, res, renders, variant="") -
                 light.data.use_shadow = False
         elif part == "move":  # each timed render after a move of the first light
             pass
+        elif part == "extratrees":  # 1,000 more node trees in the file (unused materials)
+            for index in range(1000):
+                bpy.data.materials.new(f"Extra {index:04d}").use_fake_user = True
         elif part == "shared":
             for obj in meshes:
                 obj.material_slots[0].material = meshes[0].material_slots[0].material
