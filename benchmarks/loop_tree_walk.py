@@ -43,8 +43,8 @@ def _loop_nodes(tree):
 
 
 def worker(kind: str, objects: int, extra: int) -> float:
-    import bmesh  # noqa: PLC0415
     import bpy  # noqa: PLC0415
+    import bmesh  # noqa: PLC0415  (importable once bpy is)
 
     bpy.ops.wm.read_factory_settings(use_empty=True)
     scene = bpy.context.scene
