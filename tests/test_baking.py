@@ -397,6 +397,24 @@ def test_bad_input_names_the_problem_and_changes_nothing(bpy_clean):
     assert all(m.get(lighting.TEMP_KEY) is None for m in bpy.data.materials)
 
 
+def test_check_keeps_phong_meshes_in_order_and_names_the_meshes_it_leaves_out(bpy_clean):
+    """``check``: the objects with a Phong material, in the order given; a warning names the
+    meshes (and curves, text, ...) without one, never a camera or a light."""
+    bpy = bpy_clean
+    from phong_nodes.addon.baking import lighting  # noqa: PLC0415
+
+    scene = _build(bpy, "phong_vs_gouraud")
+    plain = bpy.data.objects.new("plain", bpy.data.meshes.new("plain"))
+    scene.collection.objects.link(plain)
+    phong, gouraud = scene.objects["phong"], scene.objects["gouraud"]
+    given = [gouraud, scene.camera, plain, phong]
+    chosen, warnings = lighting.check(scene, given, _settings(target="VERTEX"))
+    assert chosen == [gouraud, phong]
+    assert warnings == ["left out (no mesh with a Phong material): 'plain'"]
+    with pytest.raises(lighting.BakeError, match="no selected mesh has a Phong material"):
+        lighting.check(scene, [plain, scene.camera], _settings(target="VERTEX"))
+
+
 def _glb_json(path):
     import struct  # noqa: PLC0415
 

@@ -143,10 +143,12 @@ def check(scene, objects, settings: Settings) -> tuple:
     if settings.target == "IMAGE" and not 1 <= settings.resolution <= 16384:
         raise BakeError(f"resolution {settings.resolution}: expected 1 to 16384 pixels")
     warnings = []
-    chosen = [o for o in objects if has_phong(o)]
-    chosen_set = set(chosen)
-    skipped = [o for o in objects if o not in chosen_set and o.type in ("MESH", "CURVE", "SURFACE",
-                                                                     "FONT", "META")]
+    chosen, skipped = [], []  # one pass: no membership test against a list
+    for obj in objects:
+        if has_phong(obj):
+            chosen.append(obj)
+        elif obj.type in ("MESH", "CURVE", "SURFACE", "FONT", "META"):
+            skipped.append(obj)
     if skipped:
         warnings.append(f"left out (no mesh with a Phong material): {_names(skipped)}")
     if not chosen:

@@ -107,10 +107,10 @@ _lights_report = file_io.lights_report
 def _selected_meshes(op, context, action):
     """The editable selected meshes, or None after an error report."""
     selected = list(context.selected_objects or [])
-    meshes = [o for o in selected if o.type == "MESH" and o.library is None
-              and o.data.library is None]
-    editable = set(meshes)  # a set: a list's `in` made Apply quadratic (1.3 s at 10,000)
-    others = [o for o in selected if o not in editable]
+    meshes, others = [], []  # one pass: `o not in meshes` made Apply quadratic (1.3 s at 10,000)
+    for obj in selected:
+        editable = obj.type == "MESH" and obj.library is None and obj.data.library is None
+        (meshes if editable else others).append(obj)
     if not meshes:
         what = (f"no mesh among the selected objects ({', '.join(o.name for o in others)})"
                 if others else "nothing is selected")
