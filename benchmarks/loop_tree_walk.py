@@ -16,9 +16,10 @@ sample, 64²) untimed, then one timed.  The kinds:
     .venv/bin/python -m phong_nodes.benchmarks.loop_tree_walk --objects 300 --extra 2000
 
 What it shows (benchmarks/README.md, "Eevee: the light loop's shaders walk the file"):
-``GPU_material_from_nodetree`` → ``ntree_exec_begin`` → ``BKE_ntree_update_after_single_tree_change``
-on the inlined tree; with light-loop nodes in it, the update rebuilds the group-user relations
-of every node tree in ``G.main`` (``get_tree_update_order``), once per material shader.
+``GPU_material_from_nodetree`` → ``ntree_exec_begin`` →
+``BKE_ntree_update_after_single_tree_change`` on the inlined tree; with light-loop nodes in
+it, the update rebuilds the group-user relations of every node tree in ``G.main``
+(``get_tree_update_order``), once per material shader.
 """
 
 from __future__ import annotations
