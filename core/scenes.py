@@ -12,8 +12,10 @@ Schema (units: Blender world space, Z up; angles in degrees; colours are either
 ``"#RRGGBB"`` (sRGB, converted to scene-linear) or ``[r, g, b]`` (scene-linear, >= 0)):
 
     title = "..."                 # required
-    model = "seeds"               # or "threejs": three.js r181's MeshPhongMaterial /
-                                  # MeshLambertMaterial and its lights (docs/threejs.md)
+    model = "seeds"               # a lighting model of node_groups/models.py: "seeds",
+                                  # "threejs" (three.js r181's MeshPhongMaterial /
+                                  # MeshLambertMaterial and its lights, docs/threejs.md) or
+                                  # "x3d" (X3D / VRML97's lighting equation, docs/x3d.md)
     source = "seed 000 §3.1"      # where the figure comes from (optional)
     description = "..."           # optional
     aspect = 2.0                  # width / height of the picture (default 1)
@@ -42,6 +44,11 @@ Schema (units: Blender world space, Z up; angles in degrees; colours are either
     # model = "threejs": lights take three.js's settings instead (three.js defaults):
     #   intensity = 1.0; distance = 0.0 (point, spot: cut-off, 0 = none); decay = 2.0
     #   (point, spot); half_angle = 60.0 (spot: three.js's angle); penumbra = 0.0 (spot, [0, 1])
+    # model = "x3d": lights take X3D's fields instead (X3D's defaults): intensity = 1.0;
+    #   ambient = 0.0 (ambientIntensity, [0, 1]); constant = 1.0, linear = 0.0, quadratic = 0.0
+    #   (point, spot: attenuation 1/max(a0 + a1·d + a2·d², 1)); radius = 100.0 (point, spot);
+    #   half_angle = 90.0 (spot: cutOffAngle, degrees); beam_width = 45.0 (spot: beamWidth,
+    #   degrees; held in radians in the parsed scene, as Blender's light holds it)
     [[objects]]                   # at least one
     name = "ball"                 # unique, required
     shape = "sphere"              # or "plane" (square, normal +Z before rotation)
@@ -62,6 +69,15 @@ Schema (units: Blender world space, Z up; angles in degrees; colours are either
                                   # (docs/shading_modes.md); not compared
     # model = "threejs": type = "phong" or "lambert"; color (default "#FFFFFF"),
     # specular_color ("#111111"), exponent (shininess, 30), irradiant (emissive); no blinn
+    # model = "x3d": color (diffuseColor, default [0.8, 0.8, 0.8]), ambient_intensity (0.2,
+    # [0, 1]: the ambient lights see ambient_intensity × color), specular_color ([0, 0, 0]),
+    # exponent (128 × shininess, 25.6), irradiant (emissiveColor); no blinn (X3D's highlight
+    # is the half-vector one)
+
+The models' names come from the lighting models' table (``node_groups/models.py``); each has
+its readers of lights and materials here (``LIGHT_READERS``, ``MATERIAL_READERS``).  Every
+parsed material has ``ambient_color``: the colour the ambient light sees (the object colour,
+or ambient_intensity × it in X3D).
 """
 
 from __future__ import annotations
@@ -71,7 +87,8 @@ import os
 import re
 import tomllib
 
-from ..node_groups.library import FALLOFF_DEFAULTS
+from ..node_groups import models
+from ..node_groups.library import FALLOFF_DEFAULTS, X3D_BEAM_WIDTH, X3D_RADIUS
 
 #: The scenes shipped with the extension.
 SCENES_DIR = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "scenes")
@@ -86,8 +103,8 @@ FALLOFF_EXPONENTS = {0.0: (0.0, 0.0, 1.0), 1.0: (0.0, 1.0, 0.0), 2.0: (1.0, 0.0,
 #: The largest falloff_exponent (the Phong Power Falloff group's Exponent input goes to 16).
 MAX_FALLOFF_EXPONENT = 16.0
 NAME_RE = re.compile(r"^[a-z0-9_]+$")
-#: The lighting models of a scene file (``model = ...``).
-MODELS = ("seeds", "threejs")
+#: The lighting models of a scene file (``model = ...``): the lighting models' table's.
+MODELS = models.NAMES
 THREEJS_MATERIALS = ("phong", "lambert")
 
 
@@ -264,6 +281,14 @@ THREEJS_LIGHT_KEYS = {
     "spot": ("name", "type", "color", "intensity", "shadows", "position", "direction", "distance",
              "decay", "half_angle", "penumbra"),
 }
+#: The lights' keys in the X3D / VRML97 model.
+X3D_LIGHT_KEYS = {
+    "point": ("name", "type", "color", "intensity", "shadows", "position", "ambient",
+              "constant", "linear", "quadratic", "radius"),
+    "directional": ("name", "type", "color", "intensity", "shadows", "direction", "ambient"),
+    "spot": ("name", "type", "color", "intensity", "shadows", "position", "direction",
+             "ambient", "constant", "linear", "quadratic", "radius", "half_angle", "beam_width"),
+}
 OBJECT_KEYS = ("name", "shape", "location", "rotation", "size", "segments", "bake", "label",
                "lights", "terms", "material", "shadows")
 BAKES = ("vertex", "image")
@@ -271,6 +296,8 @@ MATERIAL_KEYS = ("color", "specular_color", "exponent", "blinn", "irradiant", "t
                  "shading")
 THREEJS_MATERIAL_KEYS = ("type", "color", "specular_color", "exponent", "irradiant", "texture",
                          "shading")
+X3D_MATERIAL_KEYS = ("color", "ambient_intensity", "specular_color", "exponent", "irradiant",
+                     "texture", "shading")
 #: A material's shading (docs/shading_modes.md): where the model is evaluated.
 SHADINGS = ("pixel", "vertex", "face")
 TEXTURE_KEYS = ("type", "color2", "scale")
@@ -323,7 +350,7 @@ def _lights(c: _Checker, raws: list, model: str = "seeds") -> list:
     lights = []
     for index, raw in enumerate(raws):
         where = f"lights[{index}]"
-        light = (_threejs_light if model == "threejs" else _light)(c, raw, where, index)
+        light = LIGHT_READERS[model](c, raw, where, index)
         if any(other["name"] == light["name"] for other in lights):
             c.fail(f"{where}.name", "a name not used by another light", light["name"])
         lights.append(light)
@@ -393,6 +420,32 @@ def _threejs_light(c: _Checker, raw: dict, where: str, index: int) -> dict:
     return light
 
 
+def _x3d_light(c: _Checker, raw: dict, where: str, index: int) -> dict:
+    """A light of an X3D / VRML97 scene: X3D's fields and defaults (docs/x3d.md)."""
+    light = _light_head(c, raw, where, index, X3D_LIGHT_KEYS)
+    kind = light["type"]
+    light["ambient"] = c.number(raw, "ambient", where, default=0.0, minimum=0.0, maximum=1.0)
+    if kind in ("point", "spot"):
+        light["position"] = c.vector(raw, "position", where)
+        for key, default in (("constant", 1.0), ("linear", 0.0), ("quadratic", 0.0)):
+            light[key] = c.number(raw, key, where, default=default, minimum=0.0)
+        light["radius"] = c.number(raw, "radius", where, default=X3D_RADIUS, minimum=0.0,
+                                   exclusive_min=True)
+    if kind in ("directional", "spot"):
+        light["direction"] = c.vector(raw, "direction", where, nonzero=True)
+    if kind == "spot":
+        light["half_angle"] = c.number(raw, "half_angle", where, default=90.0, minimum=0.0,
+                                       maximum=90.0, exclusive_min=True)
+        light["beam_width"] = math.radians(c.number(
+            raw, "beam_width", where, default=math.degrees(X3D_BEAM_WIDTH), minimum=0.0,
+            maximum=180.0, exclusive_min=True))
+    return light
+
+
+#: model -> the reader of its lights.
+LIGHT_READERS = {"seeds": _light, "threejs": _threejs_light, "x3d": _x3d_light}
+
+
 def _objects(c: _Checker, raws: list, light_names: list, model: str = "seeds") -> list:
     if not raws:
         c.fail("objects", "at least one [[objects]] table", [])
@@ -425,22 +478,9 @@ def _objects(c: _Checker, raws: list, light_names: list, model: str = "seeds") -
 
 
 def _material(c: _Checker, mat: dict, where: str, model: str = "seeds") -> dict:
-    threejs = model == "threejs"
-    c.unknown(mat, THREEJS_MATERIAL_KEYS if threejs else MATERIAL_KEYS, where)
-    material = {
-        "color": c.color(mat, "color", where, "#FFFFFF" if threejs else "#CCCCCC"),
-        "specular_color": c.color(mat, "specular_color", where,
-                                  "#111111" if threejs else "#FFFFFF"),
-        "exponent": c.number(mat, "exponent", where, default=30.0, minimum=0.0),
-        "blinn": 0.0 if threejs else c.number(mat, "blinn", where, default=0.0, minimum=0.0,
-                                              maximum=1.0),
-        "irradiant": c.color(mat, "irradiant", where, (0.0, 0.0, 0.0)),
-        "texture": None,
-        "shading": c.string(mat, "shading", where, default="pixel", choices=SHADINGS),
-    }
-    if threejs:
-        material["type"] = c.string(mat, "type", where, default="phong",
-                                    choices=THREEJS_MATERIALS)
+    material = MATERIAL_READERS[model](c, mat, where)
+    material["texture"] = None
+    material["shading"] = c.string(mat, "shading", where, default="pixel", choices=SHADINGS)
     if "texture" in mat:
         tex = c.table(mat, "texture", where)
         twhere = f"{where}.texture"
@@ -452,6 +492,46 @@ def _material(c: _Checker, mat: dict, where: str, model: str = "seeds") -> dict:
                               exclusive_min=True),
         }
     return material
+
+
+def _seeds_material(c: _Checker, mat: dict, where: str) -> dict:
+    c.unknown(mat, MATERIAL_KEYS, where)
+    color = c.color(mat, "color", where, "#CCCCCC")
+    return {"color": color, "ambient_color": list(color),
+            "specular_color": c.color(mat, "specular_color", where, "#FFFFFF"),
+            "exponent": c.number(mat, "exponent", where, default=30.0, minimum=0.0),
+            "blinn": c.number(mat, "blinn", where, default=0.0, minimum=0.0, maximum=1.0),
+            "irradiant": c.color(mat, "irradiant", where, (0.0, 0.0, 0.0))}
+
+
+def _threejs_material(c: _Checker, mat: dict, where: str) -> dict:
+    c.unknown(mat, THREEJS_MATERIAL_KEYS, where)
+    color = c.color(mat, "color", where, "#FFFFFF")
+    return {"color": color, "ambient_color": list(color),
+            "specular_color": c.color(mat, "specular_color", where, "#111111"),
+            "exponent": c.number(mat, "exponent", where, default=30.0, minimum=0.0),
+            "blinn": 0.0,
+            "irradiant": c.color(mat, "irradiant", where, (0.0, 0.0, 0.0)),
+            "type": c.string(mat, "type", where, default="phong", choices=THREEJS_MATERIALS)}
+
+
+def _x3d_material(c: _Checker, mat: dict, where: str) -> dict:
+    """An X3D Material's fields (docs/x3d.md): Ka = ambientIntensity × diffuseColor."""
+    c.unknown(mat, X3D_MATERIAL_KEYS, where)
+    color = c.color(mat, "color", where, (0.8, 0.8, 0.8))
+    ambient = c.number(mat, "ambient_intensity", where, default=0.2, minimum=0.0, maximum=1.0)
+    return {"color": color, "ambient_intensity": ambient,
+            "ambient_color": [ambient * v for v in color],
+            "specular_color": c.color(mat, "specular_color", where, (0.0, 0.0, 0.0)),
+            "exponent": c.number(mat, "exponent", where, default=25.6, minimum=0.0,
+                                 maximum=128.0),
+            "blinn": 1.0,
+            "irradiant": c.color(mat, "irradiant", where, (0.0, 0.0, 0.0))}
+
+
+#: model -> the reader of its materials.
+MATERIAL_READERS = {"seeds": _seeds_material, "threejs": _threejs_material,
+                    "x3d": _x3d_material}
 
 
 def load(path: str) -> dict:

@@ -149,3 +149,102 @@ def test_a_falloff_exponent_other_than_0_1_2_is_the_power_falloff(tmp_path):
         for key, value in expected.items():
             assert light[key] == value, (k, key)
         assert ("falloff" in light) == (k not in (0, 1, 2))
+
+
+# -- the lighting models of the table -------------------------------------------------
+
+def _scene_in(model: str, light: str = "", material: str = "") -> dict:
+    text = f"""
+title = "t"
+model = "{model}"
+[camera]
+location = [0, -5, 0]
+[[lights]]
+name = "p"
+type = "point"
+position = [1, -2, 3]
+{light}
+[[lights]]
+name = "s"
+type = "spot"
+position = [0, 0, 3]
+direction = [0, 0, -1]
+[[lights]]
+name = "d"
+type = "directional"
+direction = [0, 1, -1]
+[[objects]]
+name = "ball"
+material = {{ {material} }}
+"""
+    import tomllib
+    return scenes.parse(tomllib.loads(text), "m.toml")
+
+
+def test_scene_files_read_every_model_of_the_lighting_models_table():
+    """A model added to node_groups/models.py is a scene file's model too, with its readers:
+    no second list of models here."""
+    from phong_nodes.node_groups import models
+
+    assert scenes.MODELS == models.NAMES
+    assert set(scenes.LIGHT_READERS) == set(scenes.MATERIAL_READERS) == set(models.NAMES)
+    for name in models.NAMES:
+        data = _scene_in(name)
+        assert data["model"] == name
+        assert [light["type"] for light in data["lights"]] == ["point", "spot", "directional"]
+        assert len(data["objects"][0]["material"]["ambient_color"]) == 3
+    with pytest.raises(scenes.SceneError, match="model: expected one of 'seeds', 'threejs', "
+                                                "'x3d', got 'gltf'"):
+        _scene_in("gltf")
+
+
+def test_x3d_scene_files_take_x3ds_fields_and_defaults():
+    """X3D's defaults (ISO/IEC 19775-1 §17.4: attenuation 1 0 0, radius 100, beamWidth π/4,
+    cutOffAngle π/2; Material: diffuseColor 0.8, ambientIntensity 0.2, shininess 0.2)."""
+    import math
+
+    data = _scene_in("x3d")
+    point, spot, sun = data["lights"]
+    assert (point["constant"], point["linear"], point["quadratic"]) == (1.0, 0.0, 0.0)
+    assert point["radius"] == 100.0 and point["ambient"] == sun["ambient"] == 0.0
+    assert spot["half_angle"] == 90.0 and spot["beam_width"] == pytest.approx(math.pi / 4, 1e-4)
+    assert "edge_exponent" not in spot and "diffuse" not in sun
+    material = data["objects"][0]["material"]
+    assert material["color"] == [0.8, 0.8, 0.8] and material["ambient_intensity"] == 0.2
+    assert material["ambient_color"] == pytest.approx([0.16, 0.16, 0.16])
+    assert material["specular_color"] == [0.0, 0.0, 0.0]
+    assert material["exponent"] == pytest.approx(25.6) and material["blinn"] == 1.0
+
+    data = _scene_in("x3d", "ambient = 0.25\nconstant = 0\nquadratic = 0.5\nradius = 4",
+                     "color = [0.5, 0.2, 0.1], ambient_intensity = 0.5, exponent = 128")
+    point = data["lights"][0]
+    assert (point["ambient"], point["constant"], point["quadratic"], point["radius"]) == (
+        0.25, 0.0, 0.5, 4.0)
+    material = data["objects"][0]["material"]
+    assert material["ambient_color"] == pytest.approx([0.25, 0.1, 0.05])
+    # the other models' ambient light sees the object colour itself
+    assert _scene_in("seeds", material="color = [0.5, 0.2, 0.1]")["objects"][0]["material"][
+        "ambient_color"] == [0.5, 0.2, 0.1]
+
+
+@pytest.mark.parametrize("light, material, message", [
+    ("edge_exponent = 2", "", "lights[0].edge_exponent: unknown key; expected one of ambient, "
+                              "color, constant, intensity, linear, name, position, quadratic, "
+                              "radius, shadows, type"),
+    ("diffuse = 0.5", "", "lights[0].diffuse: unknown key; expected one of ambient, "),
+    ("ambient = 1.5", "", "lights[0].ambient: expected a number <= 1, got 1.5"),
+    ("radius = 0", "", "lights[0].radius: expected a number > 0, got 0.0"),
+    ("", "blinn = 1", "objects[0].material.blinn: unknown key; expected one of "
+                      "ambient_intensity, color, exponent, irradiant, shading, specular_color, "
+                      "texture"),
+    ("", "ambient_intensity = -0.1", "objects[0].material.ambient_intensity: expected a number "
+                                     ">= 0 and <= 1, got -0.1"),
+    ("", "exponent = 200", "objects[0].material.exponent: expected a number <= 128, got 200.0"),
+])
+def test_x3d_scene_files_refuse_other_models_fields_and_out_of_range_values(light, material,
+                                                                            message):
+    with pytest.raises(scenes.SceneError) as caught:
+        _scene_in("x3d", light, material)
+    assert str(caught.value).startswith(f"m.toml: {message}"), str(caught.value)
+    if light.startswith("diffuse"):  # the seeds' light field, not X3D's
+        assert _scene_in("seeds", light)["lights"][0]["diffuse"] == 0.5

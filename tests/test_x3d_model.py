@@ -136,3 +136,67 @@ def test_a_scene_in_the_x3d_model_matches_the_standards_equation(bpy_clean, tmp_
     picture = oiio.ImageBuf(str(tmp_path / "x3d" / "reference.png")).get_pixels(oiio.FLOAT)
     lit = picture[..., :3].max(axis=-1) > 0.02
     assert lit.mean() > 0.5 and (picture[..., :3].max(axis=-1)[lit] < 0.999).mean() > 0.9
+
+
+# -- the X3D model in scene files (scenes/x3d_lights.toml) ------------------------------
+
+@pytest.mark.slow
+@pytest.mark.cycles
+@pytest.mark.eevee
+def test_the_x3d_scene_file_matches_the_standards_equation(bpy_clean, tmp_path):
+    """The shipped X3D scene file, built as `phong demo` builds it: Cycles and Eevee against
+    reference.py's X3D equation, and the file's fields on Blender's lights."""
+    import os  # noqa: PLC0415
+
+    from phong_nodes.addon.comparison import engine  # noqa: PLC0415
+    from phong_nodes.addon.demos import builder  # noqa: PLC0415
+    from phong_nodes.core import scenes  # noqa: PLC0415
+    data = scenes.load(os.path.join(scenes.SCENES_DIR, "x3d_lights.toml"))
+    scene = builder.build(data, 80)
+    assert scene.phong.model == "x3d"
+    metrics = engine.run(scene, str(tmp_path / "x3d_lights"))
+    cycles = metrics["pairs"]["cycles-reference"]["max_abs"]
+    eevee = metrics["pairs"]["eevee-reference"]["share_over_1_255"]
+    be.report(f"[x3d scene file] Cycles max |Δ| {cycles:.2e}, Eevee {1 - eevee:.3%} within "
+              f"1/255, {metrics['pixels']['compared']} pixels")
+    assert metrics["ok"], metrics["verdict"]
+    assert cycles <= 1e-4 and metrics["pixels"]["compared"] > 3000
+    lights = {light["name"]: light for light in metrics["parameters"]["lights"]}
+    assert lights["bulb"]["radius"] == pytest.approx(3.0)
+    assert lights["bulb"]["quadratic"] == pytest.approx(0.4)
+    assert lights["bulb"]["ambient"] == pytest.approx(0.15)
+    assert lights["spot"]["beam_width"] == pytest.approx(math.radians(12.0), abs=1e-6)
+    assert lights["spot"]["half_angle"] == pytest.approx(30.0, abs=1e-4)
+    assert lights["sun"]["ambient"] == pytest.approx(0.2)
+
+
+@pytest.mark.cycles
+def test_an_x3d_scene_files_ambient_light_sees_ambient_intensity_times_the_colour(bpy_clean,
+                                                                                   tmp_path):
+    """Ka = ambientIntensity × diffuseColor, a checker texture's colours included: lit by the
+    World's ambient light alone (white, 1), a tile shows 0.5 × its colour, the textured tile
+    0.5 × each of its checker's two colours."""
+    from phong_nodes.addon.demos import builder  # noqa: PLC0415
+    from phong_nodes.core import scenes  # noqa: PLC0415
+    checker = {"type": "checker", "color2": [0.2, 0.6, 1.0], "scale": 2.0}
+    tile = {"shape": "plane", "size": 0.9}
+    data = scenes.parse({
+        "title": "ambient", "model": "x3d", "aspect": 2.0,
+        "camera": {"type": "orthographic", "location": [0, 0, 5], "ortho_scale": 4.0},
+        "ambient": {"intensity": 1.0, "color": [1.0, 1.0, 1.0]},
+        "objects": [
+            {"name": "plain", "location": [-1, 0, 0], **tile,
+             "material": {"color": [0.8, 0.4, 0.2], "ambient_intensity": 0.5}},
+            {"name": "textured", "location": [1, 0, 0], **tile,
+             "material": {"color": [0.8, 0.4, 0.2], "ambient_intensity": 0.5,
+                          "texture": checker}}]}, "ambient.toml")
+    data["name"] = "ambient"
+    scene = builder.build(data, 32)
+    be.configure_engine(scene, "cycles")
+    be.set_output_multilayer_exr(scene)
+    be.render_exr(scene, str(tmp_path / "ambient.exr"))
+    rgb = be.read_multilayer_exr(str(tmp_path / "ambient.exr"))["Combined"][..., :3]
+    left, right = rgb[8:24, 4:28].reshape(-1, 3), rgb[8:24, 36:60].reshape(-1, 3)
+    assert np.abs(left - [0.4, 0.2, 0.1]).max() < 1e-4
+    colours = {tuple(round(float(v), 3) for v in p) for p in right}
+    assert colours == {(0.4, 0.2, 0.1), (0.1, 0.3, 0.5)}, colours

@@ -151,17 +151,35 @@ def _controls(material, obj_data) -> None:
     lights = nodes[materials.LIGHTS_NODE]
     color_feed = lights.inputs["Object Color"].links[0].from_socket
     textured = color_feed.node.name != "phong_object_color"
-    # The ambient light sees the material's own Ambient Object Color control: the object
-    # colour, or black without the ambient term (the same layout for every object).
-    ambient = color_feed if textured and "ambient" in terms else compat.value_output(
-        materials.control_node(tree, materials.AMBIENT_CONTROL, "Ambient Object Color",
-                               mat["color"] if "ambient" in terms else BLACK))
+    # The ambient light sees the material's own Ambient Object Color control: the model's
+    # ambient colour (the object colour; X3D: ambient_intensity × it), or black without the
+    # ambient term (the same layout for every object).  Textured: the texture (× X3D's
+    # ambient_intensity).
+    if textured and "ambient" in terms:
+        ambient = color_feed
+        if mat.get("ambient_intensity") is not None:
+            ambient = _scaled(tree, color_feed, mat["ambient_intensity"])
+    else:
+        ambient = compat.value_output(materials.control_node(
+            tree, materials.AMBIENT_CONTROL, "Ambient Object Color",
+            mat["ambient_color"] if "ambient" in terms else BLACK))
     tree.links.new(ambient, lights.inputs[materials.AMBIENT_INPUT])
     control = nodes["phong_object_color"]
     materials.set_quietly(compat.value_output(control),
                           (*(mat["color"] if "diffuse" in terms else BLACK), 1.0))
     if textured and "diffuse" not in terms:
         tree.links.new(compat.value_output(control), lights.inputs["Object Color"])
+
+
+def _scaled(tree, socket, factor):
+    """*socket* (a colour) × *factor*, by a Vector Math Scale node named "ambient_scale"."""
+    node = tree.nodes.new("ShaderNodeVectorMath")
+    node.name = node.label = "ambient_scale"
+    node.operation = "SCALE"
+    node.location = (socket.node.location.x + 250.0, socket.node.location.y - 250.0)
+    tree.links.new(socket, compat.input_socket(node, "Vector"))
+    compat.input_socket(node, "Scale").default_value = float(factor)
+    return compat.output_socket(node, "Vector")
 
 
 def _link(light, reached, everyone) -> None:
