@@ -741,6 +741,8 @@ class LoopModel:
     parameters: tuple
     slots: dict
     pack: object  # function(light values: dict) -> {parameter name: tuple of floats}
+    #: slots whose light no shadow takes away (X3D's per-light ambient light)
+    unshadowed: tuple = ()
 
 
 LOOP_MODELS: dict = {}
@@ -786,11 +788,12 @@ def accumulate(light, color, factor=1.0):
     return np.maximum(light, 0.0) * np.clip(color, 0.0, 1.0) * factor
 
 
-def _loop_model(model, parameters, slots):
+def _loop_model(model, parameters, slots, unshadowed=()):
     """*model*'s loop: its group is the model's ``loop`` in ``models.py``."""
     def register(pack):
         group_name = models.MODELS[model].loop
-        LOOP_MODELS[model] = LoopModel(group_name, tuple(parameters), dict(slots), pack)
+        LOOP_MODELS[model] = LoopModel(group_name, tuple(parameters), dict(slots), pack,
+                                       tuple(unshadowed))
         return pack
     return register
 
@@ -964,6 +967,82 @@ def _pack_threejs(light):
     return {"diffuse": (*diffuse, decay),
             "specular": (*specular, 1.0 / cutoff if cutoff > 0.0 else 0.0),
             "cone_scale": scale, "cone_offset": offset}
+
+
+@group("X3D Loop Light", "One light of the X3D / VRML97 model in Eevee's light loop: its "
+       "diffuse, specular and ambient light (the standards' lighting equation)",
+       into=RIG_GROUPS)
+def _x3d_loop_light(g):
+    """docs/x3d.md: one light's on · attenuation · spot · IL ⊗ (Ia·O_a + I·O_d·max(N·L, 0) +
+    I·O_s·max(N·H, 0)^e), packed so that one formula serves every light: the attenuation
+    1/max(a0 + a1·d + a2·d², 1) (a sun (1, 0, 0)) where d ≤ radius (a sun's radius -1:
+    everywhere); the spot ramp as saturate(ω·scale + offset), ω = acos(ℓ·axis) (scale =
+    1/(beamWidth - cutOffAngle), offset = -cutOffAngle·scale; beamWidth ≥ cutOffAngle a hard
+    edge of slope 1e7; no cone: scale 0, offset 1).  I, Ia and the light's colour are in the
+    light colours.  The ambient light goes to Light Accumulation's Transmission, which no
+    shadow darkens; Light Accumulation takes max(·, 0), which is max(N·L, 0)."""
+    l = g.vector("Light Vector", ZERO, _LV)
+    r = g.value("Distance", 1.0, _LD, min=0.0)
+    axis = g.vector("Light Axis", (0.0, 0.0, 1.0), _LA)
+    a0 = g.value("Constant", 1.0, "a0 of 1/max(a0 + a1·d + a2·d², 1) (1 for a sun)", min=0.0)
+    a1 = g.value("Linear", 0.0, "a1 (0 for a sun)", min=0.0)
+    a2 = g.value("Quadratic", 0.0, "a2 (0 for a sun)", min=0.0)
+    radius = g.value("Radius", X3D_RADIUS, "The light reaches the points within this distance "
+                     "(negative: everywhere, a sun)")
+    dcol = g.color("Diffuse Light Color", WHITE,
+                   "I·IL / the light's Diffuse factor (Light Accumulation's)")
+    scale = g.value("Cone Scale", 0.0, "1/(beamWidth - cutOffAngle) (0: no cone)")
+    scol = g.color("Specular Light Color", WHITE,
+                   "I·IL / the light's Specular factor (Light Accumulation's)")
+    offset = g.value("Cone Offset", 1.0, "-cutOffAngle·Cone Scale (1: no cone)")
+    acol = g.color("Ambient Light Color", ZERO,
+                   "Ia·IL / the light's Transmission factor (Light Accumulation's)")
+    oc = g.color("Object Color", GREY, "O_d, the material's diffuseColor")
+    sc = g.color("Specular Color", WHITE, "O_s, the material's specularColor")
+    e = g.value("Exponent", 25.6, "128 × the X3D shininess", min=0.0, max=10000.0)
+    ka = g.color("Ambient Object Color", GREY, "O_a = ambientIntensity × diffuseColor")
+    n = g.vector("Normal", (0.0, 0.0, 1.0), _UN)
+    v = g.vector("View Vector", (0.0, 0.0, 1.0), _UV)
+    reach = maximum(at_least(radius, r), less_than(radius, 0.0))
+    spot = saturate(multiply_add(acos(dot(l, normalize(axis))), scale, offset))
+    factor = (x3d_attenuation(r, a0, a1, a2) * reach) * spot
+    highlight = power(maximum(dot(normalize(l + v), n), 0.0), maximum(e, 0.0))
+    g.output("Diffuse Light", (factor * dot(l, n)) * dcol,
+             "on·att·spot·(N·L)·I·IL (Light Accumulation takes max(·, 0))", color=True)
+    g.output("Diffuse Color", oc, "O_d", color=True)
+    g.output("Specular Light", (factor * highlight) * scol, "on·att·spot·max(N·H, 0)^e·I·IL",
+             color=True)
+    g.output("Specular Color", sc, "O_s", color=True)
+    g.output("Ambient Light", factor * acol, "on·att·spot·Ia·IL", color=True)
+    g.output("Ambient Color", ka, "O_a", color=True)
+
+
+@_loop_model("x3d", (
+    LoopParameter("attenuation", components=("Constant", "Linear", "Quadratic"), alpha="Radius"),
+    LoopParameter("diffuse", vector="Diffuse Light Color", alpha="Cone Scale"),
+    LoopParameter("specular", vector="Specular Light Color", alpha="Cone Offset"),
+    LoopParameter("ambient", vector="Ambient Light Color")),
+    {"Diffuse": ("Diffuse Light", "Diffuse Color"), "Glossy": ("Specular Light", "Specular Color"),
+     "Transmission": ("Ambient Light", "Ambient Color")},
+    unshadowed=("Transmission",))
+def _pack_x3d(light):
+    kind, s = light["type"], light.get("settings", {})
+    i = float(s.get("intensity", 1.0))
+    diffuse, specular = _light_colors(light, i, i)
+    color = tuple(light.get("color", (1.0, 1.0, 1.0)))[:3]
+    ia = _over(float(s.get("ambient", 0.0)), float(light.get("transmission_factor", 1.0)))
+    near = kind in ("POINT", "SPOT")
+    attenuation = ((float(s.get("constant", 1.0)), float(s.get("linear", 0.0)),
+                    float(s.get("quadratic", 0.0)), float(s.get("radius", X3D_RADIUS)))
+                   if near else (1.0, 0.0, 0.0, -1.0))
+    scale, offset = 0.0, 1.0  # no cone: saturate(1) = 1
+    if kind == "SPOT":
+        cut = float(light.get("spot_size", math.pi)) / 2.0
+        beam = float(s.get("beam_width", X3D_BEAM_WIDTH))
+        scale = 1.0 / (beam - cut) if cut - beam > 1.0 / LOOP_HARD_EDGE else -LOOP_HARD_EDGE
+        offset = -cut * scale
+    return {"attenuation": attenuation, "diffuse": (*diffuse, scale),
+            "specular": (*specular, offset), "ambient": (*(c * ia for c in color), 0.0)}
 
 
 NAMES = tuple(GROUPS)

@@ -118,7 +118,8 @@ _TABLE = (
                   ("quadratic", NEAR, None, "Quadratic"),
                   ("radius", NEAR, None, "Radius"),
                   ("beam_width", ("SPOT",), None, "Beam Width")),
-        composition="phong_light_ambient", spot_note="Cut-off angle: half the spot size"),
+        composition="phong_light_ambient", spot_note="Cut-off angle: half the spot size",
+        loop="X3D Loop Light"),
 )
 
 #: name -> LightingModel, the default (a scene without a model) first.

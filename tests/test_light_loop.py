@@ -12,6 +12,7 @@ tests/test_light_loop_render.py."""
 from __future__ import annotations
 
 import math
+import zlib
 
 import numpy as np
 import pytest
@@ -235,3 +236,87 @@ def test_the_table_rows_of_figure_10_state_the_goals():
     assert "the World's copies live: worst 1.45×" in detail
     assert "each file in its own process, 8 rounds of 2 x 10 moves per light" in detail
     assert table.loop_rows(None) == []
+
+
+# -- the X3D / VRML97 model's loop (X3D Loop Light) -----------------------------------------
+
+def _x3d_light(rng, kind, hard=False):
+    light = _light(rng, kind)
+    cut = light["spot_size"] / 2.0
+    light["settings"] = {"intensity": rng.uniform(0.3, 1.5), "ambient": rng.uniform(0.0, 1.0),
+                         "constant": rng.uniform(0.0, 1.5), "linear": rng.uniform(0.0, 0.5),
+                         "quadratic": rng.uniform(0.0, 0.8), "radius": rng.uniform(3.0, 4.5),
+                         "beam_width": cut + 0.2 if hard else rng.uniform(0.05, cut - 0.05)}
+    light["transmission_factor"] = rng.uniform(0.3, 1.5)
+    return light
+
+
+def _x3d_reference(light, material, P, N, V):
+    """(diffuse, specular, ambient) of one X3D light by the standards' equation (reference)."""
+    s, kind = light["settings"], light["type"]
+    near = (s["intensity"], s["ambient"], s["constant"], s["linear"], s["quadratic"], s["radius"])
+    if kind == "SUN":
+        out = reference.x3d_directional_light(light["direction"], s["intensity"], s["ambient"],
+                                              geometry_position=P)
+    elif kind == "POINT":
+        out = reference.x3d_point_light(light["position"], *near, geometry_position=P)
+    else:
+        out = reference.x3d_spot_light(light["position"], light["direction"], s["beam_width"],
+                                       light["spot_size"] / 2.0, *near, geometry_position=P)
+    terms = reference.x3d_light_terms(out["Light Vector"], out["Intensity"], out["Ambient"],
+                                      light["color"], material["Exponent"], N, V)
+    return (terms["Diffuse Light"] * material["Object Color"],
+            terms["Specular Light"] * material["Specular Color"],
+            terms["Ambient Light"] * material["Ambient Object Color"]), out
+
+
+@pytest.mark.parametrize("kind", ["POINT", "SUN", "SPOT", "SPOT hard"])
+def test_the_x3d_loop_group_gives_the_standards_terms(kind):
+    """X3D Loop Light, packed and accumulated as Eevee does, against the reference's X3D
+    equation: the attenuation clamp, the radius, the spot ramp (and a hard edge where
+    beamWidth ≥ cutOffAngle), Blinn without the N·L condition (e = 0 included) and each
+    light's own ambient light, which goes to Transmission and is divided by Blender's
+    Transmission factor."""
+    rng = np.random.default_rng(zlib.crc32(kind.encode()))
+    P, N, V = _geometry(rng)
+    spec = library.LOOP_MODELS["x3d"]
+    assert spec.unshadowed == ("Transmission",)
+    worst = 0.0
+    for trial in range(6):
+        light = _x3d_light(rng, kind.split()[0], hard=kind.endswith("hard"))
+        material = {"Object Color": rng.uniform(0.1, 1.0, 3),
+                    "Specular Color": rng.uniform(0.1, 1.0, 3),
+                    "Exponent": 0.0 if trial == 0 else rng.uniform(1.0, 100.0),
+                    "Ambient Object Color": rng.uniform(0.0, 1.0, 3)}
+        packed = library.loop_parameters("x3d", light)
+        group = library.RIG_GROUPS[spec.group]
+        l, r, axis = _evaluation(light, P)
+        inputs = {"Light Vector": l, "Distance": r, "Light Axis": axis, "Normal": N,
+                  "View Vector": V, **material}
+        for parameter in spec.parameters:
+            value = packed[parameter.key("x3d")]
+            if parameter.vector is not None:
+                inputs[parameter.vector] = np.array(value[:3])
+            if parameter.alpha is not None:
+                inputs[parameter.alpha] = value[3]
+            for name, component in zip(parameter.components or (), value[:3]):
+                inputs[name] = component
+        out = group.evaluate(inputs)
+        got = [library.accumulate(out[spec.slots[slot][0]], out[spec.slots[slot][1]],
+                                  light[factor])
+               for slot, factor in (("Diffuse", "diffuse_factor"), ("Glossy", "specular_factor"),
+                                    ("Transmission", "transmission_factor"))]
+        want, ref_light = _x3d_reference(light, material, P, N, V)
+        keep = np.ones(len(P), bool)
+        if kind != "SUN":
+            keep &= np.abs(ref_light["Distance"] - light["settings"]["radius"]) > 1e-5
+        if kind.endswith("hard"):
+            keep &= np.abs(ref_light["Spot Angle"] - light["spot_size"] / 2.0) > 1e-5
+        assert keep.mean() > 0.95
+        for g, w in zip(got, want):
+            err = np.abs(g - w).max(axis=-1)[keep]
+            worst = max(worst, float(err.max()))
+            assert np.all(err <= 1e-6 + 1e-5 * np.abs(w).max(axis=-1)[keep]), (light, material)
+        lit = want[0].max(axis=-1) > 1e-3
+        assert lit.mean() > 0.002 and (kind == "SUN" or lit.mean() < 0.99), lit.mean()
+    assert worst < 1e-4

@@ -379,22 +379,30 @@ def test_scene_files_say_which_lights_and_objects_cast_shadows(tmp_path):
 @pytest.mark.parametrize("model", ["threejs", "x3d"])
 def test_the_other_models_cast_shadows_too(bpy_clean, blender_tmp, model):
     """The three.js and X3D models: Cycles within 1e-4 of the reference with shadows; Eevee
-    with them where the light loop runs the model (three.js on 5.3), else compared without
-    them (X3D: the lights group stays in Eevee, which shows none)."""
+    with them where the light loop runs (5.3: both models, X3D's per-light ambient light
+    unshadowed), else compared without them."""
     if not be.compat().HAS_RAYCAST:
         pytest.skip(f"no Raycast node in bpy {be.bpy_release()}")
     bpy = bpy_clean
     from phong_nodes.addon.comparison import engine  # noqa: PLC0415
 
-    scene, _objects, _lights = _shadow_scene(bpy, size=48)
+    scene, _objects, lights = _shadow_scene(bpy, size=48)
     scene.phong.model = model
+    if model == "x3d":  # each light's own ambient light, which no shadow darkens
+        for light in lights:
+            light.data.phong.ambient = 0.3
     assert bpy.ops.phong.relink_lights() == {"FINISHED"}
     metrics = engine.run(scene, str(blender_tmp / f"shadows_{model}"))
     report(f"[shadows {model}] {metrics['verdict']}, {metrics['pixels']['shadow_edge']} edge px, "
            f"Eevee with shadows: {metrics.get('eevee_shadows', True)}")
     assert metrics["ok"], metrics["verdict"]
-    loop = be.compat().HAS_LIGHT_LOOP and model == "threejs"
+    if model == "x3d":
+        assert [light["ambient"] for light in metrics["parameters"]["lights"]] == \
+            pytest.approx([0.3] * len(lights))
+    loop = be.compat().HAS_LIGHT_LOOP
     assert metrics.get("eevee_shadows", True) == loop
+    if loop:  # the shadows darken Eevee's picture where they darken Cycles'
+        assert metrics["pairs"]["eevee-reference"]["share_over_1_255"] <= 0.005
 
 
 def _blocked_by_solve(p, d, reach, start, tri):
@@ -461,8 +469,9 @@ def test_no_acne_far_from_the_origin(bpy_clean, blender_tmp):
 
 
 def test_the_light_panel_says_where_shadows_show(bpy_clean):
-    """Once, in the light's Phong panel: no shadows before 5.2; Cycles only on 5.2 and in the
-    X3D model; none while a term pass is on; on 5.3 what Cycles' Raycast node reads."""
+    """Once, in the light's Phong panel: no shadows before 5.2; Cycles only on 5.2 (every
+    model: each has its loop on 5.3); none while a term pass is on; on 5.3 what Cycles'
+    Raycast node reads."""
     compat = be.compat()
     from phong_nodes.addon.lighting import shadows  # noqa: PLC0415
 
@@ -471,7 +480,9 @@ def test_the_light_panel_says_where_shadows_show(bpy_clean):
         assert "need Blender 5.2+" in seeds
         return
     assert ("Cycles only" in seeds) == (not compat.HAS_LIGHT_LOOP)
-    assert "Cycles only (the X3D / VRML97 model)" in " ".join(shadows.notes("x3d", True, False))
+    for model in ("seeds", "threejs", "x3d"):
+        assert "Cycles only (Blender before 5.3)" in " ".join(shadows.notes(model, True, False))
+        assert "Cycles only" not in " ".join(shadows.notes(model, True, True))
     assert "term pass" in " ".join(shadows.notes("seeds", False, False))
     if compat.RAYCAST_VISIBILITY:
         assert "Ray Visibility ▸ Shadow (and Ray Cast)" in seeds

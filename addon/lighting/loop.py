@@ -81,6 +81,7 @@ def light_values(light) -> dict:
             "spot_size": getattr(light, "spot_size", math.pi),
             "diffuse_factor": getattr(light, "diffuse_factor", 1.0),
             "specular_factor": getattr(light, "specular_factor", 1.0),
+            "transmission_factor": getattr(light, "transmission_factor", 1.0),
             "falloff": properties.falloff_of(light), "settings": settings}
 
 
@@ -204,7 +205,7 @@ def build(tree, model, group_in, group_out, irradiant, ambient, surface=None,
         if slot in spec.slots:
             light_output, color_output = spec.slots[slot]
             source = light[light_output]
-            if shadow is not None:
+            if shadow is not None and slot not in spec.unshadowed:
                 lit = _node(tree, "ShaderNodeVectorMath", f"shadow:{slot}",
                             (x + 750.0, y - 150.0 * row))
                 lit.operation = "MULTIPLY"

@@ -386,8 +386,9 @@ def _build_chain(tree, lights, world, budget, model, loop=False, shadows=False) 
 
 def _build_light_ambient(tree, lights, world, budget, model, loop=False,
                          shadows=False) -> None:
-    """The composition "phong_light_ambient" (the X3D / VRML97 model, docs/x3d.md; no loop
-    part, *loop* is ignored): per light an X3D light group and an X3D Light Terms;
+    """The composition "phong_light_ambient" (the X3D / VRML97 model, docs/x3d.md; with
+    *loop*, the X3D Loop Light's part for Eevee): per light an X3D light group and an X3D
+    Light Terms;
     Diffuse = Σ diffuse light ⊗ Object Color, Specular = Σ specular light ⊗ Specular Color, Ambient = (the World's ambient light + Σ the lights' ambient light) ⊗ Ambient
     Object Color, Color = min(Irradiant + Ambient + Diffuse + Specular, 1)."""
     group_in, group_out, out_x = _start(tree, lights, shadows)
@@ -434,6 +435,10 @@ def _build_light_ambient(tree, lights, world, budget, model, loop=False,
     tree.links.new(ambient, group_out.inputs["Ambient"])
     _shaders(tree, color, group_out, out_x, shadows and (lambda: _color_sum(
         tree, base, _term_sums(tree, terms, None, sources, "plain "), "plain ")))
+    if loop:  # the lights' own ambient light comes from the loop (X3D Loop Light)
+        light_loop.build(tree, model, group_in, group_out,
+                         group_in.outputs["Irradiant Color"], world_ambient.outputs["Color"],
+                         surface, shadows)
     _stamp(tree, lights, model)
 
 

@@ -245,7 +245,7 @@ def is_live(world) -> bool:
 
 def _readers_need_copies() -> bool:
     """Whether a node group that Eevee compiles reads the copies: one with World keys and
-    no loop part (a lights group of a scene with term passes, of the X3D model, a Per
+    no loop part (a lights group of a scene with term passes or before 5.3, a Per
     Vertex / Per Face group), used by something."""
     return any(tree.users and tree.get(WORLD_KEYS) and not light_loop.has_loop(tree)
                for tree in bpy.data.node_groups)
