@@ -336,7 +336,7 @@ def test_a_file_of_5_3_without_the_loop(loop_bpy, blender_tmp, monkeypatch):
         tree = obj.active_material.node_tree
         group = tree.nodes[materials.LIGHTS_NODE].node_tree
         assert not group.get(loop.LOOP_KEY)
-        assert not any(n.name.startswith(loop.NODE_PREFIX) for n in group.nodes)
+        assert not any(n.label.startswith(loop.NODE_PREFIX) for n in group.nodes)
         if compat.HAS_RAYCAST:  # 5.2: shadow rays, so Eevee shows the group's Shader apart
             output = tree.nodes[materials.OUTPUT_EEVEE]
             assert output.inputs["Surface"].links[0].from_socket.name == "Shader"
@@ -475,7 +475,7 @@ def test_before_5_3_the_material_is_the_one_of_5_2(bpy_clean):
     assert [f"phong_aov:{name}" in tree.nodes for name in materials.AOVS] == [
         not rays] * len(materials.AOVS)
     assert not loop.has_loop(group) and not group.get(loop.LOOP_KEY)
-    assert not any(n.name.startswith(loop.NODE_PREFIX) for n in group.nodes)
+    assert not any(n.label.startswith(loop.NODE_PREFIX) for n in group.nodes)
     assert [o.name for o in group.interface.items_tree if o.in_out == "OUTPUT"] == [
         name for name, _type in rig.OUTPUTS]
     assert len(group.get(copies.WORLD_KEYS, ())) <= compat.VIEW_LAYER_LOOKUPS

@@ -47,7 +47,7 @@ EEVEE_SHADER = "Eevee Shader"
 #: Custom property of a lights group whose Eevee Shader is the light loop: the fingerprint of
 #: the model's loop group it was written from (a changed formula relinks on load).
 LOOP_KEY = "phong_lights_loop"
-#: Names of the loop part's nodes in a lights group.
+#: Labels of the loop part's nodes in a lights group (their names are Blender's).
 NODE_PREFIX = "loop:"
 #: The loop group's inputs that Blender's light nodes feed.
 LIGHT_VECTOR, DISTANCE, AXIS = "Light Vector", "Distance", "Light Axis"
@@ -150,8 +150,9 @@ def follow_lights(_scene, depsgraph=None) -> None:
 # -- the loop part of a lights group ---------------------------------------------------------
 
 def _node(tree, kind, name, location):
+    """A new node labelled ``NODE_PREFIX + name`` (named by Blender: see ``shadows._node``)."""
     node = tree.nodes.new(kind)
-    node.name = node.label = NODE_PREFIX + name
+    node.label = NODE_PREFIX + name
     node.location = location
     return node
 
@@ -256,7 +257,7 @@ def _write(tree, group, sources, group_in, origin) -> dict:
     for node in tree.nodes:
         if node.name not in before:
             node.location = (origin[0] + node.location.x, origin[1] + node.location.y)
-            node.name = node.label = NODE_PREFIX + node.name
+            node.label = NODE_PREFIX + (node.label or node.name)
     return outputs
 
 

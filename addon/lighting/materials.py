@@ -43,7 +43,7 @@ import bpy
 from bpy.app.handlers import persistent
 
 from .. import compat
-from . import drivers, rig, world_copies
+from . import drivers, node_copy, rig, world_copies
 from . import loop as light_loop
 from . import shadows
 
@@ -616,17 +616,22 @@ def new_material(name, lights_group, base=None):
 def from_source(source, name, lights_group, template=None):
     """The Phong version of *source* (a material, or None for an empty slot).
 
-    A texture chain feeding the source's Base Color is kept: the Phong material is then a
-    copy of the source whose other nodes are removed.  Otherwise it is a copy of
-    *template* (the same layout: Eevee compiles one shader for all of them) with the
-    source's base colour, or a new material when there is no template.
+    Without a texture chain on the source's Base Color: a copy of *template* (the same
+    layout: Eevee compiles one shader for all of them) with the source's base colour, or a
+    new material when there is no template.  With one: the same copy with the chain copied
+    in (``node_copy``) feeding Object Color; where the chain cannot be copied (or there is
+    no template), a copy of the source whose other nodes are removed, given the recipe's
+    nodes (each named: slower in a large file, see ``_textured_from_template``).
     """
     texture = base_color_link(source) if source is not None else None
     if texture is not None:
-        material = _strip_to_texture(source.copy(), texture)
-        compat.rename(material, name)
-        _controls(material.node_tree, base_color(source))
-        wire(material, lights_group, _socket_in_copy(material, texture))
+        material = (_textured_from_template(source, texture, template, name)
+                    if template is not None else None)
+        if material is None:
+            material = _strip_to_texture(source.copy(), texture)
+            compat.rename(material, name)
+            _controls(material.node_tree, base_color(source))
+            wire(material, lights_group, _socket_in_copy(material, texture))
     elif template is not None:
         material = template.copy()
         compat.rename(material, name)
@@ -643,6 +648,31 @@ def from_source(source, name, lights_group, template=None):
         material[EMPTY_SOURCE_KEY] = 1
     else:
         keep_source(material, source)
+    return material
+
+
+def _textured_from_template(source, texture, template, name):
+    """A copy of *template* (the recipe's named nodes kept: naming a node walks the whole
+    file) with *source*'s texture chain copied in (``node_copy``) feeding Object Color (and
+    the ambient light where the template's ambient sees the Object Color control); None
+    when the chain cannot be copied faithfully."""
+    material = template.copy()
+    tree = material.node_tree
+    made = node_copy.copy_upstream(source.node_tree, texture.node, tree, (-500.0, 0.0))
+    if made is None:
+        bpy.data.materials.remove(material)
+        return None
+    compat.rename(material, name)
+    feed = compat.output_socket(made[texture.node.name], texture.identifier)
+    control = compat.value_output(tree.nodes["phong_object_color"])
+    value = base_color(source)
+    set_quietly(control, CONTROLS["phong_object_color"][2] if value is None
+                else (*value[:3], 1.0))
+    lights = tree.nodes[LIGHTS_NODE]
+    tree.links.new(feed, lights.inputs["Object Color"])
+    ambient = lights.inputs[AMBIENT_INPUT]
+    if ambient.is_linked and ambient.links[0].from_socket == control:
+        tree.links.new(feed, ambient)
     return material
 
 

@@ -216,8 +216,11 @@ def has_shadows(tree) -> bool:
 
 
 def _node(tree, kind, name, location, operation=None):
+    """A new node labelled ``PREFIX + name``; its name stays Blender's: naming a node walks
+    every ID of the file (``BKE_animdata_fix_paths_rename_all``: 6 ms a node at 30,000 IDs),
+    and nothing looks these nodes up by name."""
     node = tree.nodes.new(kind)
-    node.name = node.label = PREFIX + name
+    node.label = PREFIX + name
     node.location = location
     if operation is not None:
         node.operation = operation

@@ -24,6 +24,11 @@ from . import loop as light_loop
 from . import materials, rig, shadows, world_copies
 
 
+#: The name of a template made for textured sources only (``Sync.convert``; removed at the
+#: end of the run).
+SCRATCH = "Phong template (temporary)"
+
+
 class Sync:
     """One run over a scene: its lights read once, each group and material built once."""
 
@@ -38,6 +43,7 @@ class Sync:
         # name -> material, once: bpy.data.materials.get is a linear search (0.5 ms at
         # 6,000 materials), and every Phong material names its source
         self.names = {m.name: m for m in bpy.data.materials}
+        self.scratch: list = []  # templates made for textured sources, removed at the end
         self.blends = False  # a Phong material blends: Eevee compiles the lights groups
         for material in materials.phong_materials():
             self.index.setdefault((self._origin(material), materials.lights_key(material)),
@@ -80,8 +86,12 @@ class Sync:
             return self.rewire(material, key, reach)
         group = self.group(key, reach)
         base = source.name if source is not None else "Material"
+        template = self.templates.get(key)
+        if template is None and materials.base_color_link(source) is not None:
+            template = self.templates[key] = materials.new_material(SCRATCH, group)
+            self.scratch.append(template)
         material = materials.from_source(source, self._name(base, reach, key), group,
-                                         template=self.templates.get(key))
+                                         template=template)
         if materials.base_color_link(source) is None and key not in self.templates:
             self.templates[key] = material
         self.index[(origin, (self.scene.as_pointer(), key))] = material
@@ -201,6 +211,13 @@ class Sync:
             if tree.users == 0 and tree not in self.groups.values():
                 bpy.data.node_groups.remove(tree)
 
+    def drop_scratch(self) -> None:
+        """Remove the templates made for textured sources (never given to an object)."""
+        while self.scratch:
+            material = self.scratch.pop()
+            if material.users == 0:
+                bpy.data.materials.remove(material)
+
     def finish(self, prune: bool = True) -> None:
         """Remove this scene's unused groups; *prune*: and the World properties of lights
         no group reads any more (not inside a depsgraph handler: removing an ID property
@@ -237,7 +254,10 @@ def session(scene, view_layer=None, prune: bool = True):
     inside the block leaves the end undone: the caller rolls back."""
     sync = Sync(scene, view_layer)
     sync.rebuild_groups()
-    yield sync
+    try:
+        yield sync
+    finally:
+        sync.drop_scratch()
     sync.relink(scene.objects)
     sync.finish(prune)
     world_copies.follow(scene)
