@@ -71,7 +71,7 @@ def test_threejs_defaults_of_a_minimal_file():
 
 
 @pytest.mark.parametrize("patch, message", [
-    ({"model": "three"}, "model: expected one of 'seeds', 'threejs', got 'three'"),
+    ({"model": "three"}, "model: expected one of 'seeds', 'threejs', 'x3d', got 'three'"),
     ({"model": "threejs", "lights": [{"type": "point", "position": [0, 0, 1], "quadratic": 1}]},
      "lights[0].quadratic: unknown key"),
     ({"model": "threejs", "lights": [{"type": "spot", "position": [0, 0, 1],
@@ -96,7 +96,7 @@ def test_wrong_model_in_a_scene_file_exits_2_naming_file_and_key(tmp_path):
     out = tmp_path / "out"
     result = run_cli(tmp_path, "demo", "--scenes", str(bad), "--out", str(out))
     assert result.returncode == 2
-    assert f"{bad}: model: expected one of 'seeds', 'threejs', got 'webgl'" in result.stderr
+    assert f"{bad}: model: expected one of 'seeds', 'threejs', 'x3d', got 'webgl'" in result.stderr
     assert not out.exists()
 
 
