@@ -32,15 +32,7 @@ def worker(n_objects: int) -> dict:
 
     bpy = measure.worker_setup()
     scene, objects, _lights = measure.artist_scene("Apply", n_objects, 4)
-    view_layer = scene.view_layers[0]
-    for obj in objects:
-        obj.select_set(True, view_layer=view_layer)
-    start = time.perf_counter()
-    with bpy.context.temp_override(scene=scene, view_layer=view_layer, selected_objects=objects):
-        result = bpy.ops.phong.apply_material()
-    seconds = time.perf_counter() - start
-    if result != {"FINISHED"}:
-        raise RuntimeError(f"apply_material returned {result}")
+    seconds = measure.apply_phong(bpy, scene, objects)
     return {"seconds": seconds, "floor": floor(objects)}
 
 

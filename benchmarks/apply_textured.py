@@ -20,7 +20,6 @@ import os
 import statistics
 import subprocess
 import sys
-import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 SIZES = (500, 2000)
@@ -54,16 +53,7 @@ def worker(n_objects: int, way: str) -> float:
         objects.append(obj)
     light = bpy.data.objects.new("Light", bpy.data.lights.new("Light", "POINT"))
     scene.collection.objects.link(light)
-    view_layer = scene.view_layers[0]
-    for obj in objects:
-        obj.select_set(True, view_layer=view_layer)
-    start = time.perf_counter()
-    with bpy.context.temp_override(scene=scene, view_layer=view_layer, selected_objects=objects):
-        result = bpy.ops.phong.apply_material()
-    seconds = time.perf_counter() - start
-    if result != {"FINISHED"}:
-        raise RuntimeError(f"apply_material returned {result}")
-    return seconds
+    return measure.apply_phong(bpy, scene, objects)
 
 
 def main(argv=None) -> int:

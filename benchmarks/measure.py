@@ -110,16 +110,7 @@ def build_scene(name, *, res, grid, n_lights, material, segments=32, shared_mesh
 
     build_seconds = None
     if material == "phong":
-        view_layer = scene.view_layers[0]
-        for obj in objects:
-            obj.select_set(True, view_layer=view_layer)
-        start = time.perf_counter()
-        with bpy.context.temp_override(scene=scene, view_layer=view_layer,
-                                       selected_objects=objects):
-            result = bpy.ops.phong.apply_material()
-        build_seconds = time.perf_counter() - start
-        if result != {"FINISHED"}:
-            raise RuntimeError(f"apply_material returned {result}")
+        build_seconds = apply_phong(bpy, scene, objects)
         for mat in {slot.material for obj in objects for slot in obj.material_slots}:
             mat.node_tree.nodes["phong_object_color"].outputs[0].default_value = (*OBJECT_COLOR, 1)
     else:
@@ -388,16 +379,20 @@ CUBE = ([(-1, -1, -1), (1, -1, -1), (1, 1, -1), (-1, 1, -1),
         [(0, 3, 2, 1), (4, 5, 6, 7), (0, 1, 5, 4), (1, 2, 6, 5), (2, 3, 7, 6), (3, 0, 4, 7)])
 
 
-def apply_phong(bpy, scene, meshes) -> None:
-    """Apply Phong Material to *meshes*, selected in *scene*'s first view layer (not timed);
-    RuntimeError unless the operator finishes."""
+def apply_phong(bpy, scene, meshes) -> float:
+    """Apply Phong Material to *meshes*, selected in *scene*'s first view layer; returns the
+    seconds of the operator alone (the selection not timed); RuntimeError unless the operator
+    finishes."""
     view_layer = scene.view_layers[0]
     for obj in meshes:
         obj.select_set(True, view_layer=view_layer)
+    start = time.perf_counter()
     with bpy.context.temp_override(scene=scene, view_layer=view_layer, selected_objects=meshes):
         result = bpy.ops.phong.apply_material()
+    seconds = time.perf_counter() - start
     if result != {"FINISHED"}:
         raise RuntimeError(f"apply_material returned {result}")
+    return seconds
 
 
 #: Environment variable: set (to anything but "" or "0"), ``artist_scene`` builds the scene of

@@ -109,26 +109,32 @@ def _x3d_scene(bpy):
     return scene, point, spot, sun
 
 
+def _compared(scene, folder, label):
+    """(metrics, Cycles' max |Δ|, {light name: light}) of the comparison of *scene* with the
+    reference (``engine.run``), reported, its verdict asserted."""
+    from phong_nodes.addon.comparison import engine  # noqa: PLC0415
+    metrics = engine.run(scene, str(folder))
+    cycles = metrics["pairs"]["cycles-reference"]["max_abs"]
+    eevee = metrics["pairs"]["eevee-reference"]["share_over_1_255"]
+    be.report(f"[{label}] Cycles max |Δ| {cycles:.2e}, Eevee {1 - eevee:.3%} within 1/255, "
+              f"{metrics['pixels']['compared']} pixels")
+    assert metrics["ok"], metrics["verdict"]
+    return metrics, cycles, {light["name"]: light for light in metrics["parameters"]["lights"]}
+
+
 @pytest.mark.slow
 @pytest.mark.cycles
 @pytest.mark.eevee
 def test_a_scene_in_the_x3d_model_matches_the_standards_equation(bpy_clean, tmp_path):
     bpy = bpy_clean
-    from phong_nodes.addon.comparison import engine  # noqa: PLC0415
     from phong_nodes.addon.lighting import materials  # noqa: PLC0415
     scene, point, spot, _sun = _x3d_scene(bpy)
     groups = {m.node_tree.nodes[materials.LIGHTS_NODE].node_tree.name
               for m in materials.phong_materials()}
     assert groups == {"X3D Lights X3D model"}
-    metrics = engine.run(scene, str(tmp_path / "x3d"))
-    cycles = metrics["pairs"]["cycles-reference"]["max_abs"]
-    eevee = metrics["pairs"]["eevee-reference"]["share_over_1_255"]
-    be.report(f"[x3d model] Cycles max |Δ| {cycles:.2e}, Eevee {1 - eevee:.3%} within 1/255, "
-              f"{metrics['pixels']['compared']} pixels")
-    assert metrics["ok"], metrics["verdict"]
+    metrics, cycles, lights = _compared(scene, tmp_path / "x3d", "x3d model")
     assert cycles <= 1e-4 and max(t["max_abs"] for t in metrics["terms"].values()) <= 1e-4
     assert metrics["pixels"]["compared"] > 1500
-    lights = {light["name"]: light for light in metrics["parameters"]["lights"]}
     assert lights["Spot"]["beam_width"] == pytest.approx(math.radians(15.0))
     assert lights["Point"]["radius"] == pytest.approx(3.5)
     # the picture is not saturated: most of it is below the clamp at 1
@@ -148,20 +154,13 @@ def test_the_x3d_scene_file_matches_the_standards_equation(bpy_clean, tmp_path):
     reference.py's X3D equation, and the file's fields on Blender's lights."""
     import os  # noqa: PLC0415
 
-    from phong_nodes.addon.comparison import engine  # noqa: PLC0415
     from phong_nodes.addon.demos import builder  # noqa: PLC0415
     from phong_nodes.core import scenes  # noqa: PLC0415
     data = scenes.load(os.path.join(scenes.SCENES_DIR, "x3d_lights.toml"))
     scene = builder.build(data, 80)
     assert scene.phong.model == "x3d"
-    metrics = engine.run(scene, str(tmp_path / "x3d_lights"))
-    cycles = metrics["pairs"]["cycles-reference"]["max_abs"]
-    eevee = metrics["pairs"]["eevee-reference"]["share_over_1_255"]
-    be.report(f"[x3d scene file] Cycles max |Δ| {cycles:.2e}, Eevee {1 - eevee:.3%} within "
-              f"1/255, {metrics['pixels']['compared']} pixels")
-    assert metrics["ok"], metrics["verdict"]
+    metrics, cycles, lights = _compared(scene, tmp_path / "x3d_lights", "x3d scene file")
     assert cycles <= 1e-4 and metrics["pixels"]["compared"] > 3000
-    lights = {light["name"]: light for light in metrics["parameters"]["lights"]}
     assert lights["bulb"]["radius"] == pytest.approx(3.0)
     assert lights["bulb"]["quadratic"] == pytest.approx(0.4)
     assert lights["bulb"]["ambient"] == pytest.approx(0.15)

@@ -684,14 +684,7 @@ def _socket_in_copy(material, socket):
 def _strip_to_texture(material, texture_socket):
     """Keep only the nodes upstream of *texture_socket* (by name) in the copy *material*."""
     tree = material.node_tree
-    keep, todo = set(), [tree.nodes[texture_socket.node.name]]
-    while todo:
-        node = todo.pop()
-        if node.name in keep:
-            continue
-        keep.add(node.name)
-        for socket in node.inputs:
-            todo.extend(link.from_node for link in socket.links)
+    keep = {node.name for node in node_copy.upstream(tree.nodes[texture_socket.node.name])}
     doomed = [n.name for n in tree.nodes if n.name not in keep]
     drivers.remove_node_drivers(tree, doomed)
     for name in doomed:

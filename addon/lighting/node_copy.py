@@ -20,12 +20,10 @@ from __future__ import annotations
 
 from .. import compat
 
-#: Node properties that are not settings (or are set otherwise).
+#: Node properties that are not settings (or are set otherwise); the ``bl_*`` ones too.
 _SKIP = {"rna_type", "name", "location", "location_absolute", "dimensions", "inputs", "outputs",
          "internal_links", "parent", "select", "type", "is_active_output", "color_tag",
-         "warning_propagation", "bl_idname", "bl_label", "bl_description", "bl_icon",
-         "bl_static_type", "bl_width_default", "bl_width_min", "bl_width_max",
-         "bl_height_default", "bl_height_min", "bl_height_max"}
+         "warning_propagation"}
 #: Nested settings (read-only pointers to a struct) copied property by property.
 _NESTED = {"ImageUser", "TexMapping", "ColorMapping", "ColorRamp", "CurveMapping"}
 
@@ -61,15 +59,13 @@ def copy_upstream(src_tree, node, dst_tree, offset=(0.0, 0.0)) -> dict | None:
         for source in nodes:
             copy = dst_tree.nodes.new(source.bl_idname)
             made[source.name] = copy
-            _copy_settings(source, copy)
+            _copy_struct(source, copy, top=True)
             _copy_inputs(source, copy)
         _place(dst_tree, {made[n.name].name: (n.location.x + offset[0], n.location.y + offset[1])
                           for n in nodes})
-        for source in nodes:
+        for source in nodes:  # every feeder is in *nodes* (``upstream``)
             for socket in source.inputs:
                 for link in socket.links:
-                    if link.from_node.name not in made:
-                        raise _Unsupported(link.from_node.name)
                     dst_tree.links.new(
                         compat.output_socket(made[link.from_node.name],
                                              link.from_socket.identifier),
@@ -92,14 +88,10 @@ def _place(tree, where: dict) -> None:
     tree.nodes.foreach_set("location", flat)
 
 
-def _copy_settings(source, copy) -> None:
-    _copy_struct(source, copy, top=True)
-
-
 def _copy_struct(source, copy, top=False) -> None:
     for prop in source.bl_rna.properties:
         key = prop.identifier
-        if key in _SKIP or (top and key.startswith("bl_")):
+        if key in _SKIP or key.startswith("bl_"):
             continue
         if prop.type == "POINTER":
             value = getattr(source, key)
@@ -113,10 +105,9 @@ def _copy_struct(source, copy, top=False) -> None:
             if kind not in _NESTED:
                 raise _Unsupported(f"{source.bl_rna.identifier}.{key}: {kind}")
             _copy_nested(kind, value, getattr(copy, key))
-        elif prop.type == "COLLECTION":
-            if top and key not in ("inputs", "outputs", "internal_links"):
-                if len(getattr(source, key)):
-                    raise _Unsupported(f"{source.bl_rna.identifier}.{key}")
+        elif prop.type == "COLLECTION":  # a node's own list (nested ones: _copy_nested)
+            if top and len(getattr(source, key)):
+                raise _Unsupported(f"{source.bl_rna.identifier}.{key}")
         elif not prop.is_readonly:
             value = getattr(source, key)
             if getattr(prop, "is_array", False) or getattr(prop, "array_length", 0):

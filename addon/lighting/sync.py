@@ -86,13 +86,14 @@ class Sync:
             return self.rewire(material, key, reach)
         group = self.group(key, reach)
         base = source.name if source is not None else "Material"
+        textured = materials.base_color_link(source) is not None
         template = self.templates.get(key)
-        if template is None and materials.base_color_link(source) is not None:
+        if template is None and textured:
             template = self.templates[key] = materials.new_material(SCRATCH, group)
             self.scratch.append(template)
         material = materials.from_source(source, self._name(base, reach, key), group,
                                          template=template)
-        if materials.base_color_link(source) is None and key not in self.templates:
+        if template is None:  # untextured: the first of its light set is the template
             self.templates[key] = material
         self.index[(origin, (self.scene.as_pointer(), key))] = material
         self.changed.add(material.name)
