@@ -244,6 +244,18 @@ def add_uv_sphere(scene, name, location, radius, material, segments=48, rings=24
     return obj
 
 
+def apply_phong(scene, objects, active=None) -> None:
+    """Object ▸ Apply Phong Material as a user gives it: *objects* (of *scene*) selected and
+    nothing else, *active* (default: the first of them) the active object; asserts that the
+    operator finished."""
+    bpy = import_bpy()
+    objects = list(objects)
+    for obj in scene.objects:
+        obj.select_set(obj in objects)
+    bpy.context.view_layer.objects.active = objects[0] if active is None else active
+    assert bpy.ops.phong.apply_material() == {"FINISHED"}
+
+
 def float_image(name: str, data: np.ndarray):
     """Float32 Non-Color image from an (H, W, 3|4) array (row 0 = bottom, Blender order)."""
     bpy = import_bpy()

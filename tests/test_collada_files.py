@@ -644,10 +644,7 @@ def test_export_of_a_blender_scene_writes_the_controls_and_says_what_it_cannot(b
     lamp.data["phong_falloff"] = "POWER"
     lamp.data["phong_power_k"] = 1.0
     lamp.data["phong_diffuse"] = 0.5
-    for obj in scene.objects:
-        obj.select_set(obj is tile)
-    bpy.context.view_layer.objects.active = tile
-    assert bpy.ops.phong.apply_material() == {"FINISHED"}
+    be.apply_phong(scene, [tile])
     material = tile.active_material
     nodes = material.node_tree.nodes
     nodes["phong_object_color"].outputs[0].default_value = (0.1, 0.2, 0.3, 1.0)

@@ -73,10 +73,7 @@ def _plane(bpy, scene, name, z, x1, color):
 
 
 def _apply(bpy, scene, objects):
-    for obj in scene.objects:
-        obj.select_set(obj in objects)
-    bpy.context.view_layer.objects.active = objects[0]
-    assert bpy.ops.phong.apply_material() == {"FINISHED"}
+    be.apply_phong(scene, objects)
     for ident, obj in enumerate(objects, start=1):
         _add_probe_aovs(bpy, obj.active_material, ident)
 

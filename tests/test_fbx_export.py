@@ -146,10 +146,8 @@ def _hand_scene(bpy):
         from phong_nodes.addon.lighting import properties  # noqa: PLC0415
         properties.write_light(light, settings)
     bpy.data.lights["Cone"].use_shadow = False
-    for obj in scene.objects:
-        obj.select_set(obj.name in MATERIALS)
-    bpy.context.view_layer.objects.active = planes["Glossy"]
-    assert bpy.ops.phong.apply_material() == {"FINISHED"}
+    be.apply_phong(scene, [o for o in scene.objects if o.name in MATERIALS],
+                   active=planes["Glossy"])
     made = {}
     for name, (kd, ks, exponent, blinn, ke, opacity) in MATERIALS.items():
         material = planes[name].material_slots[0].material

@@ -120,10 +120,7 @@ def _scene_with_point_lights(bpy, count: int):
         light.location = (index - 1.0, -2.0, 3.0)
         scene.collection.objects.link(light)
     bpy.context.window.scene = scene
-    for obj in scene.objects:
-        obj.select_set(obj is plane)
-    bpy.context.view_layer.objects.active = plane
-    assert bpy.ops.phong.apply_material() == {"FINISHED"}
+    be.apply_phong(scene, [plane])
     tree = plane.active_material.node_tree.nodes["phong_lights"].node_tree
     assert tree.name == f"Phong Lights {scene.name}"
     assert list(tree["phong_lights"]) == [f"Point{count}.{i}" for i in range(count)]

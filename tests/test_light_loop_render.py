@@ -66,10 +66,7 @@ def _scene(bpy, name, n_lights, intensity=None, blinn=0.35):
     sphere = be.add_uv_sphere(scene, "Sphere", (0.3, 0.2, 0.7), 1.0, source, segments=32,
                               rings=16)
     lights = [_add_light(bpy, scene, index, n_lights, intensity) for index in range(n_lights)]
-    for obj in scene.objects:
-        obj.select_set(obj in (plane, sphere))
-    bpy.context.view_layer.objects.active = sphere
-    assert bpy.ops.phong.apply_material() == {"FINISHED"}
+    be.apply_phong(scene, (plane, sphere), active=sphere)
     _add_probe_aovs(bpy, plane.active_material, 1)
     _add_probe_aovs(bpy, sphere.active_material, 2)
     tree = sphere.active_material.node_tree

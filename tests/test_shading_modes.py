@@ -83,10 +83,7 @@ def _scene(bpy, mode, light_types=("POINT", "SUN", "SPOT"), model="seeds", segme
         spot.data.phong.edge_exponent = 2.0
         spot.data.phong.diffuse = 0.9
         lights.append(spot)
-    for obj in scene.objects:
-        obj.select_set(obj is sphere)
-    bpy.context.view_layer.objects.active = sphere
-    assert bpy.ops.phong.apply_material() == {"FINISHED"}
+    be.apply_phong(scene, [sphere])
     material = sphere.active_material
     nodes = material.node_tree.nodes
     nodes["phong_exponent"].outputs[0].default_value = 18.0

@@ -87,10 +87,7 @@ def test_apply_keeps_the_scene_s_eevee_shadows(bpy_clean, blender_tmp):
     for obj in lights:
         obj.data.use_shadow = True
     distances = [(o.data.use_custom_distance, o.data.cutoff_distance) for o in lights]
-    for obj in scene.objects:
-        obj.select_set(obj is other)
-    bpy.context.view_layer.objects.active = other
-    assert bpy.ops.phong.apply_material() == {"FINISHED"}
+    be.apply_phong(scene, [other])
     assert other.active_material.get("phong_nodes_material")
     after = _render(bpy, scene, str(blender_tmp / "keep_after.exr"))
     shadowed_before = _shadowed(before, unshadowed)
@@ -226,10 +223,7 @@ def _shadow_scene(bpy, size=64, cells=40):
     sun.data.phong.intensity = 0.35
     for obj in (point, spot, sun):
         assert obj.data.use_shadow, "Blender's lights cast shadows by default"
-    for obj in scene.objects:
-        obj.select_set(obj in (floor, ball, box))
-    bpy.context.view_layer.objects.active = ball
-    assert bpy.ops.phong.apply_material() == {"FINISHED"}
+    be.apply_phong(scene, (floor, ball, box), active=ball)
     return scene, (floor, ball, box), (point, spot, sun)
 
 
@@ -514,10 +508,7 @@ def test_an_instanced_caster_is_in_the_reference(bpy_clean, blender_tmp):
         scene.collection.objects.link(empty)
     point = _light(bpy, scene, "Point", "POINT", (0.5, 0.5, 5.0))
     point.data.phong.intensity = 20.0
-    for obj in scene.objects:
-        obj.select_set(obj is floor)
-    bpy.context.view_layer.objects.active = floor
-    assert bpy.ops.phong.apply_material() == {"FINISHED"}
+    be.apply_phong(scene, [floor])
     data, _images, _passes, metrics, refimg, mask = _compare_cycles(
         bpy, scene, blender_tmp / "shadows_instances")
     err = metrics["pairs"]["cycles-reference"]

@@ -97,10 +97,7 @@ def test_textured_materials_are_copies_of_the_template_with_the_same_picture(bpy
     light = bpy.data.objects.new("Key", bpy.data.lights.new("Key", "POINT"))
     light.location = (4.0, -1.0, 3.0)
     scene.collection.objects.link(light)
-    for obj in scene.objects:
-        obj.select_set(obj in planes)
-    bpy.context.view_layer.objects.active = planes[0]
-    assert bpy.ops.phong.apply_material() == {"FINISHED"}
+    be.apply_phong(scene, planes)
     fast = [p.material_slots[0].material for p in planes]
     assert len(copied) == 4 and None not in copied  # every chain copied into the template
     # the chains were copied, not the sources: no scratch template is left behind

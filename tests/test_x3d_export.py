@@ -216,10 +216,7 @@ def _seeds_scene(bpy):
     camera.data.lens, camera.data.sensor_width, camera.data.sensor_fit = 50.0, 36.0, "AUTO"
     scene.collection.objects.link(camera)
     scene.camera = camera
-    for obj in scene.objects:
-        obj.select_set(obj in cubes)
-    bpy.context.view_layer.objects.active = cubes[0]
-    assert bpy.ops.phong.apply_material() == {"FINISHED"}
+    be.apply_phong(scene, cubes)
     for obj, (kd, exponent) in zip(cubes, (((0.8, 0.4, 0.2), 200.0), ((0.5, 0.5, 0.25), 64.0),
                                            ((0.2, 0.4, 0.6), 32.0))):
         material = obj.material_slots[0].material

@@ -86,10 +86,7 @@ def _x3d_scene(bpy):
     spot.data.spot_size = math.radians(70.0)           # cutOffAngle 35°
     sun = light("Sun", "SUN", (0.0, 0.0, 5.0), (0.7, -0.4, 0.3))
     sun.data.color = (0.5, 0.5, 0.6)
-    for obj in scene.objects:
-        obj.select_set(obj in (floor, ball))
-    bpy.context.view_layer.objects.active = ball
-    assert bpy.ops.phong.apply_material() == {"FINISHED"}
+    be.apply_phong(scene, (floor, ball), active=ball)
     scene.phong.model = "x3d"
     settings = {point: {"intensity": 0.5, "ambient": 0.1, "constant": 0.4, "linear": 0.1,
                         "quadratic": 0.3, "radius": 3.5},
