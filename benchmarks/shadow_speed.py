@@ -53,7 +53,9 @@ def worker(engine, case, objects, n_lights, samples, res, renders, variant="") -
     in the file (Eevee: each material's shader walks the file's node trees, see
     benchmarks/README.md); ``move``: the first light
     moved before each timed render; ``shared``:
-    every object given the first object's material; joined by "+")."""
+    every object given the first object's material; ``chain<K>``: every material replaced by
+    ``_chain_materials``' K math nodes and a Raycast node per light, Phong-free; joined by
+    "+")."""
     os.environ["PHONG_BENCH_SHADOWS"] = "1"
     from .eevee_materials import _camera  # noqa: PLC0415
     from .measure import (apply_phong, artist_scene, render, set_cycles,  # noqa: PLC0415
@@ -98,6 +100,8 @@ def worker(engine, case, objects, n_lights, samples, res, renders, variant="") -
         elif part == "extratrees":  # 1,000 more node trees in the file (unused materials)
             for index in range(1000):
                 bpy.data.materials.new(f"Extra {index:04d}").use_fake_user = True
+        elif part.startswith("chain"):  # chain<K>: a Cycles node budget (no Phong nodes)
+            _chain_materials(bpy, materials, int(part[5:]), len(_lights))
         elif part == "shared":
             for obj in meshes:
                 obj.material_slots[0].material = meshes[0].material_slots[0].material
@@ -126,6 +130,56 @@ def worker(engine, case, objects, n_lights, samples, res, renders, variant="") -
             out["samples_s"].append(out["render_s"][-1] - (first - start))
     out["bpy"] = bpy.app.version_string
     return out
+
+
+def _chain_materials(bpy, materials, k, rays) -> None:
+    """Ablation: each of *materials* made Emission ← one shared node group of *k* Math nodes
+    (a chain of multiply-adds of the shaded point's X, distinct constants: neither Blender's
+    inliner nor Cycles folds or merges them) times *rays* Raycast nodes' Is Hit (5.1+), with
+    the material's own colour as the group's input.  What Cycles pays per material and per
+    node, free of Phong's design: the node budget of a goal (benchmarks/README.md)."""
+    group = bpy.data.node_groups.new(f"Budget chain {k}", "ShaderNodeTree")
+    group.interface.new_socket("Color", in_out="INPUT", socket_type="NodeSocketColor")
+    group.interface.new_socket("Color", in_out="OUTPUT", socket_type="NodeSocketColor")
+    nodes, links = group.nodes, group.links
+    group_in, group_out = nodes.new("NodeGroupInput"), nodes.new("NodeGroupOutput")
+    separate = nodes.new("ShaderNodeSeparateXYZ")
+    geometry = nodes.new("ShaderNodeNewGeometry")
+    links.new(geometry.outputs["Position"], separate.inputs[0])
+    value = separate.outputs["X"]
+    for index in range(k):
+        node = nodes.new("ShaderNodeMath")
+        node.operation = "MULTIPLY_ADD"
+        links.new(value, node.inputs[0])
+        node.inputs[1].default_value = 0.999 - 1e-4 * index
+        node.inputs[2].default_value = 1e-3 * (index + 1)
+        value = node.outputs[0]
+    for index in range(rays if hasattr(bpy.types, "ShaderNodeRaycast") else 0):
+        ray = nodes.new("ShaderNodeRaycast")
+        ray.inputs["Length"].default_value = 1.0 + index
+        hit = nodes.new("ShaderNodeMath")
+        hit.operation = "MULTIPLY"
+        links.new(value, hit.inputs[0])
+        links.new(ray.outputs["Is Hit"], hit.inputs[1])
+        value = hit.outputs[0]
+    scale = nodes.new("ShaderNodeVectorMath")
+    scale.operation = "SCALE"
+    links.new(group_in.outputs[0], scale.inputs[0])
+    links.new(value, scale.inputs["Scale"])
+    links.new(scale.outputs[0], group_out.inputs[0])
+    for material in materials:
+        tree = material.node_tree
+        color = next((n.inputs["Object Color"].default_value[:] for n in tree.nodes
+                      if n.bl_idname == "ShaderNodeGroup" and "Object Color" in n.inputs),
+                     (0.8, 0.8, 0.8, 1.0))
+        tree.nodes.clear()
+        node = tree.nodes.new("ShaderNodeGroup")
+        node.node_tree = group
+        node.inputs[0].default_value = color
+        emission = tree.nodes.new("ShaderNodeEmission")
+        output = tree.nodes.new("ShaderNodeOutputMaterial")
+        tree.links.new(node.outputs[0], emission.inputs["Color"])
+        tree.links.new(emission.outputs[0], output.inputs["Surface"])
 
 
 def _without_blinn(tree) -> None:

@@ -54,3 +54,26 @@ def test_the_shadow_speed_benchmark_runs():
 
     text = shadow_speed.table({"f12": [{**result, "goal": 1.6}]})
     assert "Cycles, 2 lights, 1 samples" in text and "1.6×" in text
+
+
+_CHAIN = ("from phong_nodes.benchmarks import measure as m, shadow_speed as s; "
+          "bpy = m.worker_setup(); out = {}\n"
+          "for k in (0, 30):\n"
+          "    scene, objects, lights = m.artist_scene(f's{k}', 3, 2)\n"
+          "    materials = {o.material_slots[0].material for o in objects}\n"
+          "    s._chain_materials(bpy, materials, k, len(lights))\n"
+          "    inlined = [mat.inline_shader_nodes() for mat in materials]\n"
+          "    out[k] = sorted({len(i.node_tree.nodes) for i in inlined})\n"
+          "print('RESULT ' + json.dumps(out), flush=True)")
+
+
+def test_the_node_budget_materials_keep_every_node():
+    """The node budget (benchmarks/README.md, ``--variant chain<K>``) holds only if neither
+    Blender's inliner nor anything else folds the chain: each of K more Math nodes is one
+    more inlined node, in every material."""
+    if not hasattr(be.import_bpy().types.Material, "inline_shader_nodes"):
+        pytest.skip("Material.inline_shader_nodes: Blender 5+")
+    rays = 2 if hasattr(be.import_bpy().types, "ShaderNodeRaycast") else 0
+    result = _run(_CHAIN)
+    # Geometry, Separate XYZ, Scale, Emission, Material Output; a Raycast and a Multiply a ray
+    assert result == {"0": [5 + 2 * rays], "30": [35 + 2 * rays]}
