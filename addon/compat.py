@@ -13,6 +13,8 @@ import sys
 
 import bpy
 
+from ..node_groups.library import SWITCH_FEATURE
+
 VERSION = bpy.app.version
 #: Attribute nodes of type View Layer a lights group may hold (lights' transforms read from
 #: World custom properties, ``lighting/rig.py``): each is a search loop in Eevee's shader and
@@ -28,6 +30,9 @@ VIEW_LAYER_LOOKUPS = 4 if VERSION >= (5, 2, 0) else 0
 #: per light (``lighting/loop.py``).  Eevee only: Cycles renders that part as 0, and before 5.3
 #: the nodes do not exist (a file of 5.3 shows them as undefined nodes).
 HAS_LIGHT_LOOP = VERSION >= (5, 3, 0) and hasattr(bpy.types, "ShaderNodeLightAccumulation")
+#: The group variants this Blender can write (``node_groups.library.VARIANTS``): 5.3's shader
+#: trees have the Switch node (5.2's and earlier cannot add one).
+NODE_FEATURES = (SWITCH_FEATURE,) if VERSION >= (5, 3, 0) else ()
 #: Cycles' Raycast shader node (Blender 5.1+; 4.2-5.0 have none): a lights group casts each
 #: light's shadow ray with it (``lighting/shadows.py``).  Eevee's is screen space only: it
 #: never evaluates one (the group's Shader, which Eevee shows, has no shadow).

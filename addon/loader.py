@@ -49,7 +49,7 @@ def load_all() -> dict:
 
 def ensure_group(name: str):
     """The group called *name*, created or upgraded as needed; returns (tree, status)."""
-    spec = definition(name)
+    spec = definition(name, compat.NODE_FEATURES)
     tree = _canonical(name)
     if tree is None:
         tree = bpy.data.node_groups.new(name, TREE_TYPE)
@@ -67,7 +67,7 @@ def ensure_group(name: str):
 
 def write_group(tree, name: str) -> None:
     """Write the library's group *name* into *tree* (any file's data, e.g. temporary data)."""
-    _write(tree, definition(name))
+    _write(tree, definition(name, compat.NODE_FEATURES))
 
 
 def merge_copies() -> int:

@@ -54,7 +54,8 @@ def worker(engine, case, objects, n_lights, samples, res, renders, variant="") -
     benchmarks/README.md); ``move``: the first light
     moved before each timed render; ``shared``:
     every object given the first object's material; ``chain<K>``: every material replaced by
-    ``_chain_materials``' K math nodes and a Raycast node per light, Phong-free; joined by
+    ``_chain_materials``' K math nodes and a Raycast node per light, Phong-free; ``blend``:
+    Phong Light Terms written as before 5.3 (no Switch on the Blinn); joined by
     "+")."""
     os.environ["PHONG_BENCH_SHADOWS"] = "1"
     from .eevee_materials import _camera  # noqa: PLC0415
@@ -100,6 +101,12 @@ def worker(engine, case, objects, n_lights, samples, res, renders, variant="") -
         elif part == "extratrees":  # 1,000 more node trees in the file (unused materials)
             for index in range(1000):
                 bpy.data.materials.new(f"Extra {index:04d}").use_fake_user = True
+        elif part == "blend":  # Phong Light Terms as releases before 5.3 write it
+            from phong_nodes.addon import loader  # noqa: PLC0415
+            from phong_nodes.node_groups import library  # noqa: PLC0415
+
+            loader._write(bpy.data.node_groups["Phong Light Terms"],
+                          library.RIG_GROUPS["Phong Light Terms"])
         elif part.startswith("chain"):  # chain<K>: a Cycles node budget (no Phong nodes)
             _chain_materials(bpy, materials, int(part[5:]), len(_lights))
         elif part == "shared":

@@ -191,8 +191,32 @@ def group(name, description, into=GROUPS):
     return register
 
 
-def definition(name: str) -> GroupDef:
-    """The definition of the library's or the lights groups' group *name*."""
+#: Variants of a group for a feature of the running Blender: {name: {feature: GroupDef}}, the
+#: same sockets and the same values with fewer nodes where the feature allows
+#: (``definition(name, features)``; the loader passes ``compat.NODE_FEATURES``).
+VARIANTS: dict = {}
+#: Blender 5.3's Switch node in shader trees: Blender's inliner keeps only the branch that a
+#: constant condition chooses (``expr.SWITCH``).
+SWITCH_FEATURE = "switch"
+
+
+def variant(name, feature, description):
+    """Register a variant of group *name* for *feature* (see ``VARIANTS``)."""
+    def register(fn):
+        g = GroupDef(name, description)
+        fn(g)
+        VARIANTS.setdefault(name, {})[feature] = g
+        return fn
+    return register
+
+
+def definition(name: str, features=()) -> GroupDef:
+    """The definition of the library's or the lights groups' group *name*: its variant for
+    the first of *features* that has one, else the group as every release writes it."""
+    for feature in features:
+        found = VARIANTS.get(name, {}).get(feature)
+        if found is not None:
+            return found
     return GROUPS[name] if name in GROUPS else RIG_GROUPS[name]
 
 
@@ -408,14 +432,7 @@ def _surface(g):
              "normalize(View Vector), or Geometry ▸ Incoming when it is zero")
 
 
-@group("Phong Light Terms", "One light's diffuse and specular light, for a unit normal and view vector",
-       into=RIG_GROUPS)
-def _light_terms(g):
-    """Phong Shading's Diffuse and Specular terms of one light before the material's colours
-    (docs/model.md §Diffuse, §Specular (Phong), §Blinn-Phong, §Separate diffuse and specular
-    intensities): the lights group sums them over its lights, then multiplies the sums by the
-    Object Color and the Specular Color (once, not once per light).  Normal and View Vector
-    are taken as given (unit vectors from Phong Surface)."""
+def _light_terms_of(g, switched):
     l = g.vector("Light Vector", ZERO, _L)
     i = g.value("Light Intensity", 1.0, _I, min=0.0)
     lc = g.color("Light Color", WHITE, _LC)
@@ -429,12 +446,39 @@ def _light_terms(g):
     # as in Phong Shading, a sum of two products: Cycles folds 0·x to 0, so a material with
     # Blinn 0 (or 1) computes one highlight there (a multiply-add is not folded: +20 % render
     # time at 16 lights, benchmarks/light_floor.py)
-    factor = (1.0 - blinn) * phong_factor(l, n, v, e) + blinn * blinn_factor(l, n, v, e)
+    phong, blinn_f = phong_factor(l, n, v, e), blinn_factor(l, n, v, e)
+    factor = (1.0 - blinn) * phong + blinn * blinn_f
+    if switched:
+        factor = switch(equal(blinn, 0.0), switch(equal(blinn, 1.0), factor, blinn_f), phong)
     g.output("Diffuse Light", (i * lambert(l, n)) * (kd * lc),
              "i·max(ℓ·n, 0)·k_d·Cl_source: times Cl_objet, the diffuse term", color=True)
     g.output("Specular Light", (i * factor) * (ks * lc),
              "i·((1-Blinn)·(r·v)^e + Blinn·(h·n)^e)·k_s·Cl_source: times Cl_spec, the specular term",
              color=True)
+
+
+@group("Phong Light Terms", "One light's diffuse and specular light, for a unit normal and view vector",
+       into=RIG_GROUPS)
+def _light_terms(g):
+    """Phong Shading's Diffuse and Specular terms of one light before the material's colours
+    (docs/model.md §Diffuse, §Specular (Phong), §Blinn-Phong, §Separate diffuse and specular
+    intensities): the lights group sums them over its lights, then multiplies the sums by the
+    Object Color and the Specular Color (once, not once per light).  Normal and View Vector
+    are taken as given (unit vectors from Phong Surface)."""
+    _light_terms_of(g, switched=False)
+
+
+@variant("Phong Light Terms", SWITCH_FEATURE,
+         "One light's diffuse and specular light, for a unit normal and view vector")
+def _light_terms_switched(g):
+    """Phong Light Terms where shader trees have a Switch node (Blender 5.3): a Blinn of 0 or
+    1 (a material's constant) chooses its highlight by a Switch, so that Blender's inliner
+    drops the other one's nodes (11 a light, which it keeps after folding the blend; every
+    material compiles its own copy of every light's nodes: benchmarks/README.md, "the node
+    budget").  A Blinn between 0 and 1 blends as before; one that is not constant (a
+    texture) makes the inliner turn the Switches into Mix nodes choosing among the same
+    values."""
+    _light_terms_of(g, switched=True)
 
 
 # -- three.js (docs/threejs.md: three.js r181's shader chunks, npm three@0.181.0) ---------

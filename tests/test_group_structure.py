@@ -149,3 +149,53 @@ def test_lights_rig_cost_per_light_matches_the_snapshot(bpy_clean):
     section = ("lights rig (light loop)" if be.compat().HAS_LIGHT_LOOP
                else "lights rig" if be.compat().VIEW_LAYER_LOOKUPS else "lights rig (drivers)")
     check(section, {"1 point light": one, "3 point lights": three, "per light": per_light})
+
+
+def _dead_inlined_nodes(material) -> tuple:
+    """(nodes, dead nodes) of *material*'s Cycles output once Blender has inlined its groups
+    (``Material.inline_shader_nodes``): a dead node reaches no Material Output, yet Cycles
+    converts and optimises it, once per material."""
+    copy = material.copy()
+    try:
+        for node in [n for n in copy.node_tree.nodes if n.bl_idname == "ShaderNodeOutputMaterial"]:
+            if node.target == "EEVEE":
+                copy.node_tree.nodes.remove(node)
+            else:
+                node.target, node.is_active_output = "ALL", True
+        inlined = copy.inline_shader_nodes()
+        nodes = inlined.node_tree.nodes
+        output = next(n for n in nodes if n.bl_idname == "ShaderNodeOutputMaterial")
+        live, todo = set(), [output]
+        while todo:
+            node = todo.pop()
+            if node.name not in live:
+                live.add(node.name)
+                todo += [link.from_node for socket in node.inputs for link in socket.links]
+        return len(nodes), len(nodes) - len(live)
+    finally:
+        be.import_bpy().data.materials.remove(copy)
+
+
+def test_a_constant_blinn_leaves_no_dead_highlight_in_cycles(bpy_clean):
+    """Blender 5.3 (Switch nodes in shader trees): a material whose Blinn is 0 (the default)
+    gives Cycles no node of the Blinn-Phong highlight, nor of the blend; with the Phong Light
+    Terms that releases before 5.3 write, 5.3's inliner folds the blend but keeps the other
+    highlight's nodes: 11 more a light (the node budget: benchmarks/README.md)."""
+    import pytest  # noqa: PLC0415
+
+    if "switch" not in be.compat().NODE_FEATURES:
+        pytest.skip("shader trees have no Switch node before Blender 5.3")
+    tree = _scene_with_point_lights(bpy_clean, 3)
+    material = next(m for m in bpy_clean.data.materials
+                    if m.node_tree and m.node_tree.nodes.get("phong_lights")
+                    and m.node_tree.nodes["phong_lights"].node_tree is tree)
+    total, dead = _dead_inlined_nodes(material)
+    from phong_nodes.addon import loader  # noqa: PLC0415
+
+    loader._write(bpy_clean.data.node_groups["Phong Light Terms"],
+                  library.RIG_GROUPS["Phong Light Terms"])  # the blend, as 5.2 writes it
+    blend_total, blend_dead = _dead_inlined_nodes(material)
+    be.report(f"[constant Blinn] 3 point lights: {total} inlined nodes, {dead} dead; with "
+              f"the blend {blend_total}, {blend_dead} dead")
+    assert dead == 0 and blend_dead == 27
+    assert blend_total - total == 3 * 11
