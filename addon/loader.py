@@ -28,7 +28,9 @@ from bpy.app.handlers import persistent
 
 from ..node_groups.expr import COLOR, Expr
 from . import compat
-from ..node_groups.library import GROUPS, LIBRARY_VERSION, RIG_GROUPS, GroupDef, definition
+from ..node_groups.library import (
+    GROUPS, LIBRARY_VERSION, RIG_GROUPS, VARIANTS, GroupDef, definition,
+)
 
 STAMP_GROUP = "phong_nodes_group"
 STAMP_VERSION = "phong_nodes_version"
@@ -63,6 +65,23 @@ def ensure_group(name: str):
         status = UPGRADED
     _write(tree, spec)
     return tree, status
+
+
+def refresh_variants() -> list:
+    """Rewrite in place, links kept, each group of the file that has variants
+    (``library.VARIANTS``) and was written for another release or by an earlier version
+    (its fingerprint is not this release's definition's: e.g. Phong Light Terms without 5.3's
+    Switch); returns their names.  Groups of a newer library version are left alone."""
+    names = []
+    for name in VARIANTS:
+        tree = bpy.data.node_groups.get(name)
+        if (tree is None or tree.library is not None or _stamped(tree) != name
+                or int(tree.get(STAMP_VERSION, 0)) > LIBRARY_VERSION):
+            continue
+        if tree.get(STAMP_FINGERPRINT) != definition(name, compat.NODE_FEATURES).fingerprint:
+            ensure_group(name)
+            names.append(name)
+    return names
 
 
 def write_group(tree, name: str) -> None:

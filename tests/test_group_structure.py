@@ -199,3 +199,33 @@ def test_a_constant_blinn_leaves_no_dead_highlight_in_cycles(bpy_clean):
               f"the blend {blend_total}, {blend_dead} dead")
     assert dead == 0 and blend_dead == 27
     assert blend_total - total == 3 * 11
+
+
+def test_a_file_with_the_former_phong_light_terms_gets_the_switch_on_load(bpy_clean, blender_tmp):
+    """A file saved by the previous version on 5.3 (or where the blend was written) has
+    Phong Light Terms without the Switch: loading it rewrites the group in place, the lights
+    group's links kept, and Cycles then gets 11 nodes a light fewer."""
+    import pytest  # noqa: PLC0415
+
+    if "switch" not in be.compat().NODE_FEATURES:
+        pytest.skip("shader trees have no Switch node before Blender 5.3")
+    from phong_nodes.addon import loader  # noqa: PLC0415
+
+    bpy = bpy_clean
+    tree = _scene_with_point_lights(bpy, 3)
+    material = next(m for m in bpy.data.materials
+                    if m.node_tree and m.node_tree.nodes.get("phong_lights")
+                    and m.node_tree.nodes["phong_lights"].node_tree is tree)
+    terms = bpy.data.node_groups["Phong Light Terms"]
+    loader._write(terms, library.RIG_GROUPS["Phong Light Terms"])
+    former, links = _dead_inlined_nodes(material), len(tree.links)
+    names = (material.name, tree.name)
+    path = os.path.join(blender_tmp, "former_terms.blend")
+    bpy.ops.wm.save_as_mainfile(filepath=path)
+    bpy.ops.wm.open_mainfile(filepath=path)
+    terms = bpy.data.node_groups["Phong Light Terms"]
+    switched = library.VARIANTS["Phong Light Terms"]["switch"]
+    assert terms[loader.STAMP_FINGERPRINT] == switched.fingerprint
+    assert len(bpy.data.node_groups[names[1]].links) == links
+    total, dead = _dead_inlined_nodes(bpy.data.materials[names[0]])
+    assert former[1] == 27 and dead == 0 and former[0] - total == 3 * 11

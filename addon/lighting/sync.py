@@ -18,7 +18,7 @@ import contextlib
 import bpy
 from bpy.app.handlers import persistent
 
-from .. import compat
+from .. import compat, loader
 from . import lights as lights_mod
 from . import loop as light_loop
 from . import materials, rig, shadows, world_copies
@@ -390,12 +390,15 @@ def upgrade_on_load(*_args):
     loop part where this Blender has no light loop (a file of 5.3 opened by 5.2: its EEVEE
     Material Outputs, of nodes 5.2 does not know, are removed) or lack it where it should
     be (a file of 5.2 opened by 5.3).  Files of version 0.1 (no lights
-    groups, every light in the material) are upgraded by Relink Phong Lights."""
+    groups, every light in the material) are upgraded by Relink Phong Lights.  A group with
+    a variant for this release (5.3's Phong Light Terms) is rewritten in place where the
+    file has another (``loader.refresh_variants``)."""
     if _BUSY:
         return
     if compat.file_from_newer_release():
         _renew()
         return
+    loader.refresh_variants()
     for scene in bpy.data.scenes:
         if scene.library is not None:
             continue
