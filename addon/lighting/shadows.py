@@ -227,11 +227,13 @@ def _node(tree, kind, name, location, operation=None):
     return node
 
 
-def _vector(tree, operation, name, location, a, b=None, scale=None):
+def _vector(tree, operation, name, location, a, b=None, scale=None, c=None):
     node = _node(tree, "ShaderNodeVectorMath", name, location, operation)
     tree.links.new(a, compat.input_socket(node, "Vector"))
-    if b is not None:
+    if b is not None:  # a float socket links as (b, b, b)
         tree.links.new(b, compat.input_socket(node, "Vector_001"))
+    if c is not None:
+        tree.links.new(c, compat.input_socket(node, "Vector_002"))
     if scale is not None:
         tree.links.new(scale, compat.input_socket(node, "Scale"))
     return compat.output_socket(node, "Value" if operation == "DOT_PRODUCT" else "Vector")
@@ -251,7 +253,7 @@ def _math(tree, operation, name, location, a, b=None, c=None):
 
 def surface(tree, location) -> dict:
     """The shaded point's nodes every light's ray shares: {"P": Position, "Ng": True Normal,
-    "offset": OFFSET · (1 + max |P|)}."""
+    "offset": OFFSET · (1 + max |P|), "lift": offset · Ng}."""
     x, y = location
     geometry = _node(tree, "ShaderNodeNewGeometry", "geometry", (x, y))
     position = compat.output_socket(geometry, "Position")
@@ -264,8 +266,10 @@ def surface(tree, location) -> dict:
                 compat.output_socket(split, "Z"))
     offset = _math(tree, "MULTIPLY_ADD", "offset", (x + 900.0, y),
                    compat.output_socket(top, "Value"), OFFSET, OFFSET)
-    return {"P": position, "Ng": compat.output_socket(geometry, "True Normal"),
-            "offset": compat.output_socket(offset, "Value")}
+    normal = compat.output_socket(geometry, "True Normal")
+    offset = compat.output_socket(offset, "Value")
+    lift = _vector(tree, "SCALE", "lift", (x + 1080.0, y), normal, scale=offset)
+    return {"P": position, "Ng": normal, "offset": offset, "lift": lift}
 
 
 def visibility(tree, obj, light_node, shared, location):
@@ -277,18 +281,17 @@ def visibility(tree, obj, light_node, shared, location):
     ell = light_node.outputs["Light Vector"]
     side = _math(tree, "SIGN", f"{name}:side", (x, y),
                  _vector(tree, "DOT_PRODUCT", f"{name}:ng.l", (x - 180.0, y), shared["Ng"], ell))
-    amount = _math(tree, "MULTIPLY", f"{name}:amount", (x + 180.0, y),
-                   compat.output_socket(side, "Value"), shared["offset"])
-    offset = _vector(tree, "SCALE", f"{name}:offset", (x + 360.0, y), shared["Ng"],
-                     scale=compat.output_socket(amount, "Value"))
-    origin = _vector(tree, "ADD", f"{name}:origin", (x + 540.0, y), shared["P"], offset)
+    # P + sign(Ng·ℓ)·offset·Ng, one node: the light's side of the surface (sign ±1 or 0: the
+    # same origin as P + Ng·(sign·offset))
+    origin = _vector(tree, "MULTIPLY_ADD", f"{name}:origin", (x + 540.0, y), shared["lift"],
+                     compat.output_socket(side, "Value"), c=shared["P"])
     ray = _node(tree, "ShaderNodeRaycast", f"{name}:ray", (x + 900.0, y))
     tree.links.new(origin, compat.input_socket(ray, "Position"))
     if obj.data.type in ("POINT", "SPOT"):  # the segment from the origin to the light
-        reach = _vector(tree, "SCALE", f"{name}:reach", (x + 540.0, y - 160.0), ell,
-                        scale=light_node.outputs["Distance"])
+        light = _vector(tree, "MULTIPLY_ADD", f"{name}:light", (x + 540.0, y - 160.0), ell,
+                        light_node.outputs["Distance"], c=shared["P"])  # P + ℓ·r = S
         direction = _vector(tree, "SUBTRACT", f"{name}:segment", (x + 720.0, y - 160.0),
-                            reach, offset)
+                            light, origin)
         compat.input_socket(ray, "Length").default_value = 1.0
     else:  # a sun: toward it, as far as floats go
         direction = ell
