@@ -68,18 +68,15 @@ def ensure_group(name: str):
 
 
 def refresh_variants() -> list:
-    """Rewrite in place, links kept, each group of the file that has variants
-    (``library.VARIANTS``) and was written for another release or by an earlier version
-    (its fingerprint is not this release's definition's: e.g. Phong Light Terms without 5.3's
-    Switch); returns their names.  Groups of a newer library version are left alone."""
+    """``ensure_group`` for each group of the file that has variants (``library.VARIANTS``):
+    one written for another release or by an earlier version (e.g. Phong Light Terms without
+    5.3's Switch) is rewritten in place, links kept; returns the names rewritten."""
     names = []
     for name in VARIANTS:
         tree = bpy.data.node_groups.get(name)
-        if (tree is None or tree.library is not None or _stamped(tree) != name
-                or int(tree.get(STAMP_VERSION, 0)) > LIBRARY_VERSION):
-            continue
-        if tree.get(STAMP_FINGERPRINT) != definition(name, compat.NODE_FEATURES).fingerprint:
-            ensure_group(name)
+        if tree is None or tree.library is not None or _stamped(tree) != name:
+            continue  # not in the file: nothing to refresh (ensure_group would add it)
+        if ensure_group(name)[1] == UPGRADED:
             names.append(name)
     return names
 

@@ -162,18 +162,21 @@ def _dead_inlined_nodes(material) -> tuple:
                 copy.node_tree.nodes.remove(node)
             else:
                 node.target, node.is_active_output = "ALL", True
+        from phong_nodes.addon.lighting import node_copy  # noqa: PLC0415
+
         inlined = copy.inline_shader_nodes()
         nodes = inlined.node_tree.nodes
         output = next(n for n in nodes if n.bl_idname == "ShaderNodeOutputMaterial")
-        live, todo = set(), [output]
-        while todo:
-            node = todo.pop()
-            if node.name not in live:
-                live.add(node.name)
-                todo += [link.from_node for socket in node.inputs for link in socket.links]
-        return len(nodes), len(nodes) - len(live)
+        return len(nodes), len(nodes) - len(node_copy.upstream(output))
     finally:
         be.import_bpy().data.materials.remove(copy)
+
+
+def _material_of(bpy, tree):
+    """The Phong material whose lights-group node uses *tree*."""
+    return next(m for m in bpy.data.materials
+                if m.node_tree and m.node_tree.nodes.get("phong_lights")
+                and m.node_tree.nodes["phong_lights"].node_tree is tree)
 
 
 def test_a_constant_blinn_leaves_no_dead_highlight_in_cycles(bpy_clean):
@@ -183,12 +186,10 @@ def test_a_constant_blinn_leaves_no_dead_highlight_in_cycles(bpy_clean):
     highlight's nodes: 11 more a light (the node budget: benchmarks/README.md)."""
     import pytest  # noqa: PLC0415
 
-    if "switch" not in be.compat().NODE_FEATURES:
+    if library.SWITCH_FEATURE not in be.compat().NODE_FEATURES:
         pytest.skip("shader trees have no Switch node before Blender 5.3")
     tree = _scene_with_point_lights(bpy_clean, 3)
-    material = next(m for m in bpy_clean.data.materials
-                    if m.node_tree and m.node_tree.nodes.get("phong_lights")
-                    and m.node_tree.nodes["phong_lights"].node_tree is tree)
+    material = _material_of(bpy_clean, tree)
     total, dead = _dead_inlined_nodes(material)
     from phong_nodes.addon import loader  # noqa: PLC0415
 
@@ -207,15 +208,13 @@ def test_a_file_with_the_former_phong_light_terms_gets_the_switch_on_load(bpy_cl
     group's links kept, and Cycles then gets 11 nodes a light fewer."""
     import pytest  # noqa: PLC0415
 
-    if "switch" not in be.compat().NODE_FEATURES:
+    if library.SWITCH_FEATURE not in be.compat().NODE_FEATURES:
         pytest.skip("shader trees have no Switch node before Blender 5.3")
     from phong_nodes.addon import loader  # noqa: PLC0415
 
     bpy = bpy_clean
     tree = _scene_with_point_lights(bpy, 3)
-    material = next(m for m in bpy.data.materials
-                    if m.node_tree and m.node_tree.nodes.get("phong_lights")
-                    and m.node_tree.nodes["phong_lights"].node_tree is tree)
+    material = _material_of(bpy, tree)
     terms = bpy.data.node_groups["Phong Light Terms"]
     loader._write(terms, library.RIG_GROUPS["Phong Light Terms"])
     former, links = _dead_inlined_nodes(material), len(tree.links)
@@ -224,7 +223,7 @@ def test_a_file_with_the_former_phong_light_terms_gets_the_switch_on_load(bpy_cl
     bpy.ops.wm.save_as_mainfile(filepath=path)
     bpy.ops.wm.open_mainfile(filepath=path)
     terms = bpy.data.node_groups["Phong Light Terms"]
-    switched = library.VARIANTS["Phong Light Terms"]["switch"]
+    switched = library.VARIANTS["Phong Light Terms"][library.SWITCH_FEATURE]
     assert terms[loader.STAMP_FINGERPRINT] == switched.fingerprint
     assert len(bpy.data.node_groups[names[1]].links) == links
     total, dead = _dead_inlined_nodes(bpy.data.materials[names[0]])
