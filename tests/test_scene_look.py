@@ -205,3 +205,26 @@ def test_eevee_shows_the_phong_picture_of_blenders_own_lights(bpy_clean, tmp_pat
               f"max {diff.max():.2e}")
     assert cycles.max() > 0.1
     assert within >= 0.995
+
+
+@pytest.mark.eevee
+def test_apply_changes_nothing_outside_the_converted_objects(bpy_clean, tmp_path):
+    """Apply on the ball alone: every Eevee pixel of the Principled floor is what it was
+    (its shadows included: the lights keep their influence distance)."""
+    bpy = bpy_clean
+    scene, (floor, ball), lights = _scene(bpy)
+    for obj in lights.values():
+        obj.data.use_shadow = True
+    others = _passes(bpy, scene, tmp_path, "mask")["index"] == 1  # Cycles' Object Index
+    scene.view_layers[0].use_pass_object_index = False
+    be.configure_engine(scene, "eevee")
+    scene.eevee.use_shadows = True
+    before = _passes(bpy, scene, tmp_path, "before", index=False)
+    be.apply_phong(scene, [ball])
+    assert floor.active_material.name == "Clay", "the floor keeps its Principled material"
+    after = _passes(bpy, scene, tmp_path, "after", index=False)
+    changed = np.abs(after["Combined"] - before["Combined"]).max(axis=2)[others]
+    be.report(f"[untouched] {bpy.app.version_string}: {int(others.sum())} floor pixels, "
+              f"{int((changed > 0).sum())} changed, max {changed.max():.2e}")
+    assert others.sum() > 300
+    assert changed.max() == 0.0, "the floor's pixels changed"
