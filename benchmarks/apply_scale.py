@@ -25,13 +25,17 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 SIZES = (1000, 10000)
 
 
-def worker(n_objects: int) -> dict:
+def worker(n_objects: int, other: int = 0) -> dict:
     """Seconds of one Apply on *n_objects* cubes (run in a process of its own), and of
-    Blender's own slot assignment in the same scene after it (:func:`floor`)."""
+    Blender's own slot assignment in the same scene after it (:func:`floor`); *other*: the
+    file also holds a second scene of that many cubes of their own materials, which Apply
+    does not touch."""
     from . import measure  # noqa: PLC0415  (imports bpy)
 
     bpy = measure.worker_setup()
     scene, objects, _lights = measure.artist_scene("Apply", n_objects, 4)
+    if other:
+        measure.artist_scene("Other", other, 4)
     seconds = measure.apply_phong(bpy, scene, objects)
     return {"seconds": seconds, "floor": floor(objects)}
 
@@ -53,11 +57,19 @@ def floor(objects) -> float:
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--rounds", type=int, default=3)
-    parser.add_argument("--out", default=os.path.join(HERE, "apply_scale_results.json"))
+    parser.add_argument("--out", default=None,
+                        help="results file (default apply_scale_results.json beside this file, "
+                             "apply_scale_two_scenes_results.json with --other-scene)")
+    parser.add_argument("--other-scene", type=int, default=0, metavar="N",
+                        help="the file also holds a second scene of N objects (Apply's time "
+                             "must grow with what it converts, not with the file)")
     parser.add_argument("--worker", type=int, help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
+    if args.out is None:
+        args.out = os.path.join(HERE, "apply_scale_two_scenes_results.json" if args.other_scene
+                                else "apply_scale_results.json")
     if args.worker:
-        print(json.dumps(worker(args.worker)))
+        print(json.dumps(worker(args.worker, args.other_scene)))
         sys.stdout.flush()
         os._exit(0)  # noqa: SLF001  (bpy's exit is slow with 10,000 objects and not measured)
     times = {n: [] for n in SIZES}
@@ -65,8 +77,8 @@ def main(argv=None) -> int:
     for round_index in range(args.rounds):
         for n in SIZES:
             run = subprocess.run([sys.executable, "-m", "phong_nodes.benchmarks.apply_scale",
-                                  "--worker", str(n)], capture_output=True, text=True,
-                                 check=True)
+                                  "--worker", str(n), "--other-scene", str(args.other_scene)],
+                                 capture_output=True, text=True, check=True)
             measured = json.loads(run.stdout.strip().splitlines()[-1])
             times[n].append(measured["seconds"])
             floors[n].append(measured["floor"])
@@ -79,6 +91,7 @@ def main(argv=None) -> int:
     ratio = medians[SIZES[1]] / medians[SIZES[0]]
     beyond = {n: statistics.median(a - f for a, f in zip(times[n], floors[n])) for n in SIZES}
     result = {"bpy": bpy.app.version_string, "rounds": args.rounds,
+              "other_scene_objects": args.other_scene,
               "load_average": os.getloadavg(),
               "seconds": {str(n): v for n, v in times.items()},
               "median_s": {str(n): m for n, m in medians.items()},

@@ -149,6 +149,8 @@ class Sync:
                 material = variant
         group = self.group(key, reach)
         node = material.node_tree.nodes.get(materials.LIGHTS_NODE)
+        if material.name in self.changed and node is not None and node.node_tree is group:
+            return material  # made or wired by this run: nothing to check again
         if (materials.upgrade(material) or node is None or node.node_tree is not group
                 or int(material.get(materials.MATERIAL_TAG, 0)) < materials.LAYOUT):
             materials.wire(material, group)
