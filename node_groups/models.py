@@ -29,6 +29,7 @@ No ``bpy`` here.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 #: How a lights group composes the material's colour (docs/contract.md, "Several lights").
@@ -45,6 +46,29 @@ COMPOSITIONS = {
 #: Light types of Blender that a Phong lights group reads.
 EVERY = ("POINT", "SUN", "SPOT")
 NEAR = ("POINT", "SPOT")
+#: Every light type of Blender that drives Phong materials: an Area light is drawn as the
+#: model's spot light (``drawn_as``), the far field of a Lambertian emitter.
+RENDERED = EVERY + ("AREA",)
+
+#: The i0 of a light that takes it from Blender's Power, per watt (Point, Spot, Area) or per
+#: unit of a Sun's Strength: what Blender's own light gives a Lambertian surface of colour
+#: Kd, measured in Cycles (docs/model.md, "A light's Power"): a point or spot of P watts
+#: Kd·P/(4π²)·cosθ/r², a sun of strength S Kd·S/π·cosθ, a small area light of P watts
+#: Kd·P/π²·cosθ_light·cosθ/r².  Blender's Exposure multiplies the Power by 2^exposure, and
+#: an Area light whose Normalize is off emits P per square metre of its shape.
+POWER_TO_INTENSITY = {"POINT": 1.0 / (4.0 * math.pi ** 2), "SPOT": 1.0 / (4.0 * math.pi ** 2),
+                      "SUN": 1.0 / math.pi, "AREA": 1.0 / math.pi ** 2}
+#: An Area light as a spot: the half angle of its cone (a hemisphere) in radians, and the
+#: edge exponent of the seeds' spot that gives a Lambertian emitter's cosθ_light.
+AREA_HALF_ANGLE = math.pi / 2.0
+AREA_EDGE_EXPONENT = 1.0
+
+
+def drawn_as(light_type: str) -> str:
+    """The light type whose light group draws a Blender light of *light_type*: an Area light
+    is a spot (a 90° cone around its -Z axis, cosθ_light for the seeds' model), every other
+    type itself."""
+    return "SPOT" if light_type == "AREA" else light_type
 
 
 @dataclass(frozen=True)
@@ -61,6 +85,9 @@ class LightingModel:
     composition: str
     spot_note: str | None = None
     loop: str | None = None
+    #: the spot settings an Area light takes (it is drawn as a spot: ``drawn_as``), by
+    #: setting; a spot setting not named here keeps its default
+    area: tuple = ()
 
     @property
     def power_falloff(self) -> bool:
@@ -86,7 +113,8 @@ _TABLE = (
                   ("edge_exponent", ("SPOT",), None, "Edge Exponent"),
                   ("diffuse", EVERY, None, None),
                   ("specular", EVERY, None, None)),
-        composition="phong", loop="Phong Loop Light"),
+        composition="phong", loop="Phong Loop Light",
+        area=(("edge_exponent", AREA_EDGE_EXPONENT),)),
     LightingModel(
         name="threejs", label="three.js",
         description="What three.js r181's MeshPhongMaterial / MeshLambertMaterial show: "
@@ -100,7 +128,8 @@ _TABLE = (
                   ("distance", NEAR, None, "Distance"),
                   ("decay", NEAR, None, "Decay"),
                   ("penumbra", ("SPOT",), None, "Penumbra")),
-        composition="chain", spot_note="Angle: half the spot size", loop="three.js Loop Light"),
+        composition="chain", spot_note="Angle: half the spot size", loop="three.js Loop Light",
+        area=(("penumbra", 0.0),)),
     LightingModel(
         name="x3d", label="X3D / VRML97",
         description="The ISO lighting equation of X3D and VRML97: per-light ambient, "
@@ -119,7 +148,7 @@ _TABLE = (
                   ("radius", NEAR, None, "Radius"),
                   ("beam_width", ("SPOT",), None, "Beam Width")),
         composition="phong_light_ambient", spot_note="Cut-off angle: half the spot size",
-        loop="X3D Loop Light"),
+        loop="X3D Loop Light", area=(("beam_width", AREA_HALF_ANGLE),)),
 )
 
 #: name -> LightingModel, the default (a scene without a model) first.
@@ -148,5 +177,6 @@ def check(table=None) -> list:
     return problems
 
 
-__all__ = ["COMPOSITIONS", "EVERY", "NEAR", "LightingModel", "MODELS", "NAMES", "DEFAULT",
+__all__ = ["COMPOSITIONS", "EVERY", "NEAR", "RENDERED", "POWER_TO_INTENSITY", "AREA_HALF_ANGLE",
+           "AREA_EDGE_EXPONENT", "drawn_as", "LightingModel", "MODELS", "NAMES", "DEFAULT",
            "get", "check"]

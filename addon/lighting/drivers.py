@@ -67,6 +67,50 @@ def world_minus_z(socket, obj):
             for i in range(3)]
 
 
+def _variable(driver, name, id_type, id_block, data_path) -> None:
+    var = driver.variables.new()
+    var.name = name
+    var.type = "SINGLE_PROP"
+    var.targets[0].id_type = id_type
+    var.targets[0].id = id_block
+    var.targets[0].data_path = data_path
+
+
+def light_intensity(socket, light, intensity_path, from_power_path, scale, index=None):
+    """default_value = the light's i0: its own (*intensity_path*) where the int property
+    *from_power_path* is 0, else its Power × 2^Exposure × *scale* (one simple expression,
+    so dragging the Power slider or flipping the switch is live without Python)."""
+    _fcurve, driver = _fresh(socket, index)
+    driver.type = "SCRIPTED"
+    _variable(driver, "i", "LIGHT", light, intensity_path)
+    _variable(driver, "m", "LIGHT", light, from_power_path)
+    _variable(driver, "e", "LIGHT", light, "energy")
+    power = f"e * {float(scale)!r}"
+    if hasattr(light, "exposure"):
+        _variable(driver, "x", "LIGHT", light, "exposure")
+        power = f"e * pow(2.0, x) * {float(scale)!r}"
+    driver.expression = f"i + m * ({power} - i)"
+    return driver
+
+
+def light_color(socket, light):
+    """Colour socket (RGB; alpha left at 1) = the colour *light* emits: its Color, times its
+    Temperature's colour where Use Temperature is on (live, without Python)."""
+    if not hasattr(light, "temperature_color"):
+        return color(socket, "LIGHT", light, "color")
+    socket.default_value[3] = 1.0
+    out = []
+    for i in range(3):
+        _fcurve, driver = _fresh(socket, i)
+        driver.type = "SCRIPTED"
+        _variable(driver, "c", "LIGHT", light, f"color[{i}]")
+        _variable(driver, "t", "LIGHT", light, f"temperature_color[{i}]")
+        _variable(driver, "u", "LIGHT", light, "use_temperature")
+        driver.expression = "c * (u * t + 1.0 - u)"
+        out.append(driver)
+    return out
+
+
 def color(socket, id_type, id_block, data_path):
     """Colour socket (RGB; alpha left at 1) = id_block.<data_path>[0..2]."""
     socket.default_value[3] = 1.0

@@ -24,10 +24,35 @@ def float_getter(key, default):
     return get
 
 
-def float_setter(key):
+def float_setter(key, also=None):
+    """Set the custom property *key*; *also*: (key, value) written with it (a Phong
+    Intensity set becomes the light's own i0: ``properties.FROM_POWER_KEY`` 0)."""
     def set_(self, value):
         self.id_data[key] = float(value)
+        if also is not None:
+            self.id_data[also[0]] = also[1]
         self.id_data.update_tag()  # drivers read the evaluated copy: tag it
+    return set_
+
+
+def bool_getter(key, absent_key):
+    """The custom property *key* as a bool; unset: True unless *absent_key* is set (the
+    rule of ``properties.from_power``)."""
+    def get(self):
+        value = self.id_data.get(key)
+        if value is None:
+            return absent_key not in self.id_data.keys()
+        try:
+            return bool(int(value))
+        except (TypeError, ValueError):
+            return True
+    return get
+
+
+def int_setter(key):
+    def set_(self, value):
+        self.id_data[key] = int(bool(value))
+        self.id_data.update_tag()
     return set_
 
 

@@ -1,8 +1,9 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Which Blender lights drive Phong materials, and which objects each light reaches.
 
-* :func:`scene_lights`: the scene's Point, Sun and Spot lights that render (visible in the
-  view layer, not disabled in renders), and the other lights (Area) that cannot drive Phong.
+* :func:`scene_lights`: the scene's Point, Sun, Spot and Area lights that render (in F12:
+  not disabled in renders, in a collection of the view layer that renders; hidden in the
+  viewport or not), and the other lights that cannot drive Phong.
 * :func:`light_set`: the lights that reach one object under Blender's Light Linking (a
   light's ``light_linking.receiver_collection``): with no collection the light reaches
   every object; otherwise only the included objects if there are any, minus the excluded
@@ -15,10 +16,11 @@
 from __future__ import annotations
 
 from ...node_groups import models
+from . import properties
 
-#: The light types that drive Phong materials (each model has a light group for each:
-#: ``node_groups/models.py``).
-SUPPORTED = models.EVERY
+#: The light types that drive Phong materials (each model has a light group for each, an Area
+#: light drawn as a spot: ``node_groups/models.py``).
+SUPPORTED = models.RENDERED
 
 
 def light_objects(scene) -> list:
@@ -27,24 +29,44 @@ def light_objects(scene) -> list:
 
 
 def scene_lights(scene, view_layer=None, candidates=None):
-    """(supported, unsupported) light objects of *scene* that render, sorted by name;
-    *candidates*: its light objects when the caller already has them."""
+    """(supported, unsupported) light objects of *scene* that render (F12: hidden in the
+    viewport or not), sorted by name; *candidates*: its light objects when the caller already
+    has them."""
     view_layer = view_layer or scene.view_layers[0]
     supported, unsupported = [], []
     candidates = light_objects(scene) if candidates is None else candidates
+    collections = render_collections(view_layer)
     for obj in sorted(candidates, key=lambda o: o.name):
-        if obj.hide_render or not visible(obj, view_layer):
+        if not visible(obj, view_layer, collections):
             continue
         (supported if obj.data.type in SUPPORTED else unsupported).append(obj)
     return supported, unsupported
 
 
-def visible(obj, view_layer) -> bool:
-    """Whether *obj* is visible in *view_layer*."""
-    try:
-        return obj.visible_get(view_layer=view_layer)
-    except (TypeError, RuntimeError):
-        return not obj.hide_get()
+def render_collections(view_layer) -> frozenset:
+    """The pointers of the collections of *view_layer* whose objects render: neither the
+    collection nor one above it excluded from the layer or disabled in renders.  The
+    viewport's switches (the eye, the monitor) do not matter: a render shows what they hide."""
+    found = set()
+    stack = [view_layer.layer_collection]
+    while stack:
+        layer = stack.pop()
+        if layer.exclude or layer.collection.hide_render:
+            continue
+        found.add(layer.collection.as_pointer())
+        stack.extend(layer.children)
+    return frozenset(found)
+
+
+def visible(obj, view_layer, collections=None) -> bool:
+    """Whether *obj* renders in *view_layer* (what F12 shows): not disabled in renders, and in
+    a collection that renders (*collections*: ``render_collections(view_layer)`` when the
+    caller already has them)."""
+    if obj.hide_render:
+        return False
+    if collections is None:
+        collections = render_collections(view_layer)
+    return any(c.as_pointer() in collections for c in obj.users_collection)
 
 
 def receivers(light_obj):
@@ -88,7 +110,9 @@ def signature(scene, view_layer=None, candidates=None) -> tuple:
     parts = []
     for obj in supported:
         rule = receivers(obj)
+        # power_scale: the constant of the i0 driver (an Area light's Normalize and shape)
         parts.append((obj.name, obj.data.name, obj.data.type, obj.data.get("phong_falloff"),
+                      properties.power_scale(obj.data),
                       None if rule is None else (tuple(sorted(rule[0])), tuple(sorted(rule[1])))))
     return (tuple(parts), tuple(o.name for o in unsupported),
             scene.world.name if scene.world else None)

@@ -74,15 +74,9 @@ def has_loop(tree) -> bool:
 # -- the light's packed settings ------------------------------------------------------------
 
 def light_values(light) -> dict:
-    """The plain values of a light (its data) that ``library.loop_parameters`` packs."""
-    settings = {attr: light.get(key, default)
-                for attr, (key, default) in properties.LIGHT_KEYS.items()}
-    return {"type": light.type, "color": tuple(light.color),
-            "spot_size": getattr(light, "spot_size", math.pi),
-            "diffuse_factor": getattr(light, "diffuse_factor", 1.0),
-            "specular_factor": getattr(light, "specular_factor", 1.0),
-            "transmission_factor": getattr(light, "transmission_factor", 1.0),
-            "falloff": properties.falloff_of(light), "settings": settings}
+    """The plain values of a light (its data) that ``library.loop_parameters`` packs: what
+    every Phong model reads of it (``properties.light_values``)."""
+    return properties.light_values(light)
 
 
 def write_parameters(light) -> bool:
@@ -112,7 +106,7 @@ def write_parameters(light) -> bool:
             else:
                 light[key] = list(value)
                 changed = True
-    if light.type in ("POINT", "SPOT"):
+    if light.type in ("POINT", "SPOT", "AREA"):
         if not light.use_custom_distance:
             light.use_custom_distance = True
             changed = True

@@ -202,6 +202,34 @@ def base_color(material):
     return tuple(material.diffuse_color)
 
 
+def _unlinked(node, name, default):
+    """The value of *node*'s input *name* where nothing feeds it, else *default*."""
+    socket = node.inputs.get(name)
+    if socket is None or socket.is_linked:
+        return default
+    return socket.default_value
+
+
+def source_controls(material) -> dict:
+    """{control: value} that a source material gives its Phong version besides the Object
+    Color: a Principled BSDF's highlight as the Specular Color (white × 2·Specular IOR
+    Level, at most 1, × its Specular Tint: 0 gives a diffuse Phong material, Blender's
+    default 0.5 white) and its emission as the Irradiant Color (Emission Color × Strength);
+    the defaults for any other material."""
+    specular = CONTROLS["phong_specular_color"][2]
+    irradiant = CONTROLS["phong_irradiant_color"][2]
+    node = _principled(material) if material is not None else None
+    if node is not None:
+        level = min(1.0, 2.0 * float(_unlinked(node, "Specular IOR Level", 0.5)))
+        tint = _unlinked(node, "Specular Tint", (1.0, 1.0, 1.0, 1.0))
+        tint = tuple(tint)[:3] if hasattr(tint, "__len__") else (1.0, 1.0, 1.0)
+        specular = (*(level * float(t) for t in tint), 1.0)
+        strength = float(_unlinked(node, "Emission Strength", 0.0))
+        color = tuple(_unlinked(node, "Emission Color", (0.0, 0.0, 0.0, 1.0)))[:3]
+        irradiant = (*(max(0.0, strength * float(c)) for c in color), 1.0)
+    return {"phong_specular_color": specular, "phong_irradiant_color": irradiant}
+
+
 def base_color_link(material):
     """The output socket that feeds the Principled Base Color (a texture), or None."""
     node = _principled(material)
@@ -641,6 +669,11 @@ def from_source(source, name, lights_group, template=None):
                     default if value is None else (*value[:3], 1.0))
     else:
         material = new_material(name, lights_group, base_color(source))
+    nodes = material.node_tree.nodes
+    for control, value in source_controls(source).items():
+        node = nodes.get(control)
+        if node is not None and tuple(compat.value_output(node).default_value) != value:
+            set_quietly(compat.value_output(node), value)
     for key in list(material.keys()):
         if key.startswith("phong_") and key != MATERIAL_TAG:
             del material[key]

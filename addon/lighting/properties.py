@@ -10,17 +10,21 @@ named, typed, range-checked properties with the documented defaults.  Their gett
 setters live in ``forwarding``, a module that holds no ``bpy`` (see there why).
 """
 
+import math
+
 import bpy
-from bpy.props import FloatProperty, FloatVectorProperty, PointerProperty
+from bpy.props import BoolProperty, FloatProperty, FloatVectorProperty, PointerProperty
 
 from ...node_groups import models
 from ...node_groups.library import FALLOFF_DEFAULTS, X3D_BEAM_WIDTH, X3D_RADIUS
+from .. import compat
 from . import forwarding
 
 #: (attribute, custom property key, label, default, min, soft max, description)
 LIGHT_SETTINGS = (
     ("intensity", "phong_intensity", "Phong Intensity", 1.0, 0.0, 100.0,
-     "Phong intensity i0 of the light (dimensionless, independent of the light's watts)"),
+     "Phong intensity i0 of the light (dimensionless), used when the light does not take "
+     "its i0 from its Power"),
     ("quadratic", "phong_quadratic", "Quadratic", FALLOFF_DEFAULTS["quadratic"], 0.0, 10.0,
      "α in i0/(αr²+βr+γ): 1 gives the physical i0/r² (Point and Spot)"),
     ("linear", "phong_linear", "Linear", FALLOFF_DEFAULTS["linear"], 0.0, 10.0,
@@ -52,6 +56,11 @@ LIGHT_SETTINGS = (
      "X3D beamWidth: full intensity within this angle of the axis, fading linearly to 0 at "
      "the cut-off angle (half the Spot Size) (Spot)"),
 )
+#: Whether a light takes its i0 from Blender's Power (1) or from its Phong Intensity (0): an
+#: int custom property that the lights group's driver reads, so flipping it is live.  A light
+#: without it reads as 1 unless it has a Phong Intensity of its own (a file of an earlier
+#: version, an imported light, the seeds' scenes: ``write_light`` sets 0).
+FROM_POWER_KEY = "phong_intensity_from_power"
 #: Settings shown as angles (radians inside, degrees in the panel).
 ANGLE_SETTINGS = ("beam_width",)
 #: The seeds' distance falloff of a Point or Spot light: ``light["phong_falloff"]`` (a
@@ -80,16 +89,102 @@ def falloff_of(light) -> str:
 
 def model_settings(model: str, light) -> list:
     """(setting, light-group input or None) of what *model* reads of *light*, by its type and
-    falloff, in the panel's order."""
-    falloff = falloff_of(light) if light.type in models.NEAR else None
-    return [(attr, target) for attr, types, when, target in models.MODELS[model].settings
-            if light.type in types and when in (None, falloff)]
+    falloff, in the panel's order.  An Area light reads what a spot reads but the spot
+    settings that the model's ``area`` fixes."""
+    kind = models.drawn_as(light.type)
+    falloff = falloff_of(light) if kind in models.NEAR else None
+    spec = models.MODELS[model]
+    fixed = dict(spec.area) if light.type == "AREA" else {}
+    return [(attr, target) for attr, types, when, target in spec.settings
+            if kind in types and when in (None, falloff) and attr not in fixed]
 
 
 def read_settings(light_type: str) -> set:
-    """Every setting some model reads of a light of *light_type* (its falloff aside)."""
+    """Every setting some model reads of a light of *light_type* (its falloff aside; an Area
+    light reads what a spot reads)."""
+    light_type = models.drawn_as(light_type)
     return {attr for model in models.MODELS.values() for attr, types, _when, _target
             in model.settings if light_type in types and attr != "falloff"}
+
+
+# -- the one reader of a light's values ------------------------------------------------------
+
+def from_power(light) -> bool:
+    """Whether *light* takes its i0 from its Power (``FROM_POWER_KEY``)."""
+    value = light.get(FROM_POWER_KEY)
+    if value is None:
+        return LIGHT_KEYS["intensity"][0] not in light.keys()
+    try:
+        return bool(int(value))
+    except (TypeError, ValueError):
+        return True
+
+
+def emitting_area(light) -> float:
+    """The area of an Area light's shape in square metres (1 for any other light)."""
+    if light.type != "AREA":
+        return 1.0
+    size = float(light.size)
+    size_y = float(light.size_y) if light.shape in ("RECTANGLE", "ELLIPSE") else size
+    return size * size_y * (math.pi / 4.0 if light.shape in ("DISK", "ELLIPSE") else 1.0)
+
+
+def power_scale(light) -> float:
+    """i0 per unit of *light*'s Power (``models.POWER_TO_INTENSITY``; an Area light whose
+    Normalize is off emits its Power per square metre); 0 for a light type without one."""
+    scale = models.POWER_TO_INTENSITY.get(light.type, 0.0)
+    if light.type == "AREA" and not getattr(light, "normalize", True):
+        scale *= emitting_area(light)
+    return scale
+
+
+def power_intensity(light) -> float:
+    """The i0 that *light*'s Power gives (Blender's Exposure included)."""
+    return float(light.energy) * 2.0 ** float(getattr(light, "exposure", 0.0)) * power_scale(light)
+
+
+def intensity(light) -> float:
+    """*light*'s i0: from its Power, or its Phong Intensity (``from_power``)."""
+    if from_power(light):
+        return power_intensity(light)
+    key, default = LIGHT_KEYS["intensity"]
+    return float(light.get(key, default))
+
+
+def light_color(light) -> tuple:
+    """The colour *light* emits: its Color, times its Temperature's where it uses one."""
+    color = tuple(float(c) for c in light.color)
+    if getattr(light, "use_temperature", False):
+        color = tuple(c * float(t) for c, t in zip(color, light.temperature_color))
+    return color
+
+
+def settings_of(light) -> dict:
+    """{setting of ``LIGHT_SETTINGS``: value} of *light* as it lights Phong materials: i0 as
+    ``intensity`` says, and for an Area light the spot settings of every model's ``area``."""
+    values = {attr: float(light.get(key, default)) for attr, (key, default) in LIGHT_KEYS.items()}
+    values["intensity"] = intensity(light)
+    if light.type == "AREA":
+        for model in models.MODELS.values():
+            values.update(model.area)
+    return values
+
+
+def light_values(light) -> dict:
+    """Everything the Phong models read of *light* (a Light), as plain values: "type" (the
+    type of the light group that draws it, ``models.drawn_as``), "blender_type", "color"
+    (``light_color``), "spot_size" (radians; a hemisphere for an Area light), Blender's
+    "diffuse_factor", "specular_factor" and "transmission_factor", "falloff" and "settings"
+    (``settings_of``)."""
+    kind = models.drawn_as(light.type)
+    spot_size = (2.0 * models.AREA_HALF_ANGLE if light.type == "AREA"
+                 else float(getattr(light, "spot_size", math.pi)))
+    return {"type": kind, "blender_type": light.type, "color": light_color(light),
+            "spot_size": spot_size,
+            "diffuse_factor": getattr(light, "diffuse_factor", 1.0),
+            "specular_factor": getattr(light, "specular_factor", 1.0),
+            "transmission_factor": getattr(light, "transmission_factor", 1.0),
+            "falloff": falloff_of(light), "settings": settings_of(light)}
 
 
 AMBIENT_INTENSITY = ("phong_ambient_intensity", 0.1)
@@ -104,7 +199,8 @@ def _light_annotations():
         angle = {"subtype": "ANGLE"} if attr in ANGLE_SETTINGS else {}
         ann[attr] = FloatProperty(
             name=label, description=desc, default=default, min=vmin, soft_max=soft_max,
-            get=forwarding.float_getter(key, default), set=forwarding.float_setter(key),
+            get=forwarding.float_getter(key, default),
+            set=forwarding.float_setter(key, (FROM_POWER_KEY, 0) if attr == "intensity" else None),
             **angle)
     ann["falloff"] = bpy.props.EnumProperty(
         name="Falloff", items=FALLOFF_ITEMS,
@@ -112,6 +208,12 @@ def _light_annotations():
                     "it relinks the scene's Phong materials)",
         get=forwarding.enum_getter(FALLOFF_KEY, FALLOFFS),
         set=forwarding.string_setter(FALLOFF_KEY, FALLOFFS))
+    ann["from_power"] = BoolProperty(
+        name="Intensity from Power",
+        description="The light's i0 follows its Power (and Exposure) as Blender's own "
+                    "light lights a diffuse surface; off: the Phong Intensity below",
+        get=forwarding.bool_getter(FROM_POWER_KEY, LIGHT_KEYS["intensity"][0]),
+        set=forwarding.int_setter(FROM_POWER_KEY))
     return ann
 
 
@@ -155,8 +257,16 @@ class PhongSceneSettings(bpy.types.PropertyGroup):
 
 
 def ensure_light_props(light) -> None:
-    """Write every missing Phong custom property of *light* (drivers need them to exist)."""
+    """Write every missing Phong custom property of *light* (drivers need them to exist).  A
+    light met for the first time takes its i0 from its Power (``from_power``); its Phong
+    Intensity starts at the i0 its Power gives, so that turning Power off keeps the look."""
     missing = False
+    if FROM_POWER_KEY not in light.keys():
+        power = from_power(light)
+        light[FROM_POWER_KEY] = int(power)
+        if power:
+            light[LIGHT_KEYS["intensity"][0]] = power_intensity(light)
+        missing = True
     for _attr, key, _label, default, vmin, soft_max, desc in LIGHT_SETTINGS:
         if key not in light.keys():
             light[key] = float(default)
@@ -172,7 +282,10 @@ def ensure_light_props(light) -> None:
 
 def write_light(light, values: dict) -> None:
     """Set Phong settings of *light*: {attribute of LIGHT_SETTINGS, or "falloff": value}
-    ("falloff": "QUADRATIC" or "POWER", any case; ValueError for anything else)."""
+    ("falloff": "QUADRATIC" or "POWER", any case; ValueError for anything else).  An
+    "intensity" given here is the light's own i0 (it no longer follows the Power)."""
+    if "intensity" in values:
+        light[FROM_POWER_KEY] = 0
     for attr, value in values.items():
         if attr == "falloff":
             name = value.upper() if isinstance(value, str) else value
@@ -194,14 +307,17 @@ def write_world(world, intensity: float, color) -> None:
 
 
 def ensure_world_props(world) -> None:
-    """Write the world's missing Phong ambient custom properties."""
+    """Write the world's missing Phong ambient custom properties: a world met for the first
+    time takes the light it gives Blender's own render (``world_light``)."""
     key, default = AMBIENT_INTENSITY
-    missing = key not in world.keys() or AMBIENT_COLOR[0] not in world.keys()
-    if key not in world.keys():
-        world[key] = float(default)
     key_c, default_c = AMBIENT_COLOR
-    if key_c not in world.keys():
-        world[key_c] = list(default_c)
+    missing = key not in world.keys() or key_c not in world.keys()
+    if missing:
+        intensity, color, _note = world_light(world)
+        if key not in world.keys():
+            world[key] = float(intensity)
+        if key_c not in world.keys():
+            world[key_c] = [float(c) for c in color]
     try:
         world.id_properties_ui(key).update(min=0.0, soft_min=0.0, soft_max=1.0, default=default,
                                            description="Phong ambient intensity")
@@ -212,6 +328,70 @@ def ensure_world_props(world) -> None:
         pass
     if missing:
         world.update_tag()
+
+
+def world_light(world) -> tuple:
+    """(intensity, colour, note) of the ambient light that stands for *world*'s own light:
+    its Background's Strength and Color (an unlit diffuse surface open to a uniform world
+    of radiance L shows Kd·L in Blender, Ka·i·Cl in Phong).  An image on the Color: its mean
+    radiance over the sphere, with a note saying so; any other node there: the World's
+    viewport colour, with a note.  The note is None where the value is exact."""
+    background = None
+    if compat.uses_nodes(world) and world.node_tree is not None:
+        output = next((n for n in world.node_tree.nodes
+                       if n.bl_idname == "ShaderNodeOutputWorld" and n.is_active_output), None)
+        surface = output.inputs["Surface"] if output is not None else None
+        if surface is not None and surface.is_linked:
+            node = surface.links[0].from_node
+            background = node if node.bl_idname == "ShaderNodeBackground" else None
+            if background is None:
+                return 1.0, tuple(world.color), (
+                    f"World '{world.name}': its surface is a {node.bl_label} node, not a "
+                    "Background: the Phong ambient light is its viewport colour")
+        elif output is not None:
+            return 0.0, (1.0, 1.0, 1.0), None  # nothing on the output: no world light
+    if background is None:
+        return 1.0, tuple(world.color), None
+    strength_socket = background.inputs["Strength"]
+    strength = 1.0 if strength_socket.is_linked else float(strength_socket.default_value)
+    color_socket = background.inputs["Color"]
+    if not color_socket.is_linked:
+        return strength, tuple(color_socket.default_value)[:3], None
+    source = color_socket.links[0].from_node
+    image = getattr(source, "image", None)
+    mean = _image_mean(image) if image is not None else None
+    if mean is not None:
+        return strength, mean, (f"World '{world.name}': the Phong ambient light is the mean "
+                                f"of its image '{image.name}' (Phong's ambient light is "
+                                "uniform)")
+    return strength, tuple(world.color), (
+        f"World '{world.name}': its colour comes from a {source.bl_label} node: the Phong "
+        "ambient light is its viewport colour")
+
+
+def _image_mean(image):
+    """The mean colour of an equirectangular *image* over the sphere (rows weighted by the
+    solid angle they cover), from a 64 x 32 copy; None when it has no pixels."""
+    import numpy as np  # noqa: PLC0415
+
+    try:
+        if not image.has_data and image.source in ("FILE", "SEQUENCE", "TILED"):
+            image.reload()
+        small = image.copy()
+    except (RuntimeError, ReferenceError):
+        return None
+    try:
+        small.scale(64, 32)
+        pixels = np.empty(64 * 32 * small.channels, np.float32)
+        small.pixels.foreach_get(pixels)
+    except (RuntimeError, ValueError):
+        return None
+    finally:
+        bpy.data.images.remove(small)
+    rgb = pixels.reshape(32, 64, -1)[..., :3].astype(np.float64)
+    weight = np.sin((np.arange(32) + 0.5) / 32 * np.pi)[:, None, None]
+    mean = (rgb * weight).sum(axis=(0, 1)) / (weight.sum() * 64)
+    return tuple(float(c) for c in mean) if np.all(np.isfinite(mean)) else None
 
 
 classes = (PhongLightSettings, PhongWorldSettings, PhongSceneSettings)

@@ -260,7 +260,7 @@ def _build_phong(tree, lights, world, budget, model, loop=False, shadows=False) 
         tree.links.new(_power_falloff(tree, obj, light_node, model)
                        or light_node.outputs["Intensity"],
                        shading.inputs["Light Intensity"])
-        drivers.color(shading.inputs["Light Color"], "LIGHT", obj.data, "color")
+        drivers.light_color(shading.inputs["Light Color"], obj.data)
         for attr, socket in (("diffuse", "Diffuse Strength"), ("specular", "Specular Strength")):
             drivers.prop(shading.inputs[socket], None, "LIGHT", obj.data,
                          f'["{properties.LIGHT_KEYS[attr][0]}"]')
@@ -367,7 +367,7 @@ def _build_chain(tree, lights, world, budget, model, loop=False, shadows=False) 
             tree.links.new(group_in.outputs[source], shading.inputs[target])
         tree.links.new(light_node.outputs["Light Vector"], shading.inputs["Light Vector"])
         tree.links.new(light_node.outputs["Intensity"], shading.inputs["Intensity"])
-        drivers.color(shading.inputs["Light Color"], "LIGHT", obj.data, "color")
+        drivers.light_color(shading.inputs["Light Color"], obj.data)
         shadings.append(shading)
         lit.append(_lit(tree, obj, light_node, shading, shared, (-1500.0, y)))
     ambient = _group_node(tree, "three.js Ambient", "ambient", (-300.0, 520.0))
@@ -407,7 +407,7 @@ def _build_light_ambient(tree, lights, world, budget, model, loop=False,
         for source, target in (("Light Vector", "Light Vector"), ("Intensity", "Intensity"),
                                ("Ambient", "Ambient")):
             tree.links.new(light_node.outputs[source], shading.inputs[target])
-        drivers.color(shading.inputs["Light Color"], "LIGHT", obj.data, "color")
+        drivers.light_color(shading.inputs["Light Color"], obj.data)
         terms.append(shading)
         lit.append(_lit(tree, obj, light_node, shading, shared, (-1500.0, y)))
     world_ambient = _group_node(tree, "Phong Ambient", "ambient", (-300.0, 520.0))
@@ -515,16 +515,19 @@ def _group_node(tree, group_name, name, location):
 def _light_node(tree, obj, location, model, budget=(None, 0, 0)):
     """The light group of *obj* in *model*, driven by the light; its transform from the
     World (*budget*: [world, View Layer lookups left, those of them Eevee may compile left],
-    spent here) or by drivers."""
+    spent here) or by drivers.  An Area light is drawn by the model's spot group
+    (``models.drawn_as``): a hemisphere around its -Z axis with the model's ``area``
+    settings."""
     light = obj.data
+    kind = models.drawn_as(light.type)
     properties.ensure_light_props(light)
     light_loop.write_parameters(light)  # what the light loop reads of it (5.3+; else nothing)
     spec = models.MODELS[model]
-    node = _group_node(tree, spec.light_groups[light.type], f"light:{obj.name}", location)
+    node = _group_node(tree, spec.light_groups[kind], f"light:{obj.name}", location)
     inputs = node.inputs
     keys = {attr: f'["{key}"]' for attr, (key, _default) in properties.LIGHT_KEYS.items()}
-    kinds = [kind for kind, types in (("LOCATION", ("POINT", "SPOT")), ("AXIS", ("SUN", "SPOT")))
-             if light.type in types]
+    kinds = [name for name, types in (("LOCATION", ("POINT", "SPOT")), ("AXIS", ("SUN", "SPOT")))
+             if kind in types]
     world = budget[0]
     from_world = world is not None and world.library is None and budget[1] >= len(kinds)
     if from_world:
@@ -532,23 +535,35 @@ def _light_node(tree, obj, location, model, budget=(None, 0, 0)):
         eevee = len(budget) < 3 or budget[2] >= len(kinds)
         if len(budget) >= 3 and eevee:
             budget[2] -= len(kinds)
-        for row, kind in enumerate(kinds):
-            socket = inputs[world_copies.TRANSFORM_SOCKETS[kind]]
+        for row, name in enumerate(kinds):
+            socket = inputs[world_copies.TRANSFORM_SOCKETS[name]]
             listed = world_copies.WORLD_KEYS if eevee else world_copies.LOOP_WORLD_KEYS
-            world_copies.read(tree, world, obj, kind, socket,
+            world_copies.read(tree, world, obj, name, socket,
                               (location[0] - 300.0, location[1] - 160.0 * row), listed)
-    if light.type in ("POINT", "SPOT"):
+    if kind in ("POINT", "SPOT"):
         if not from_world:
             drivers.world_location(inputs["Position"], obj)
         if _is_power(light, model):  # i0 here; _power_falloff divides by d^k
             for name, value in (("Quadratic", 0.0), ("Linear", 0.0), ("Constant", 1.0)):
                 inputs[name].default_value = value
-    if light.type in ("SUN", "SPOT") and not from_world:
+    if kind in ("SUN", "SPOT") and not from_world:
         drivers.world_minus_z(inputs["Direction"], obj)
     if light.type == "SPOT":
         drivers.prop(inputs[spec.spot_angle], None, "LIGHT", light, "spot_size", scale=0.5)
+    elif light.type == "AREA":
+        inputs[spec.spot_angle].default_value = models.AREA_HALF_ANGLE
+        targets = {attr: target for attr, _types, _when, target in spec.settings}
+        for attr, value in spec.area:
+            if targets.get(attr) is not None:
+                inputs[targets[attr]].default_value = value
     for attr, target in properties.model_settings(model, light):
-        if target is not None:
+        if target is None:
+            continue
+        if attr == "intensity":  # its own i0, or its Power's: one live driver
+            drivers.light_intensity(inputs[target], light, keys[attr],
+                                    f'["{properties.FROM_POWER_KEY}"]',
+                                    properties.power_scale(light))
+        else:
             drivers.prop(inputs[target], None, "LIGHT", light, keys[attr])
     return node
 
@@ -556,7 +571,8 @@ def _light_node(tree, obj, location, model, budget=(None, 0, 0)):
 def _is_power(light, model) -> bool:
     """Whether *light* falls off as i0/d^k in its lights group (Point and Spot of a model
     that reads the falloff: the seeds')."""
-    return (models.MODELS[model].power_falloff and light.type in ("POINT", "SPOT")
+    return (models.MODELS[model].power_falloff
+            and models.drawn_as(light.type) in ("POINT", "SPOT")
             and properties.falloff_of(light) == "POWER")
 
 

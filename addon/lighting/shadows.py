@@ -287,7 +287,7 @@ def visibility(tree, obj, light_node, shared, location):
                      compat.output_socket(side, "Value"), c=shared["P"])
     ray = _node(tree, "ShaderNodeRaycast", f"{name}:ray", (x + 900.0, y))
     tree.links.new(origin, compat.input_socket(ray, "Position"))
-    if obj.data.type in ("POINT", "SPOT"):  # the segment from the origin to the light
+    if obj.data.type in ("POINT", "SPOT", "AREA"):  # the segment from the origin to the light
         light = _vector(tree, "MULTIPLY_ADD", f"{name}:light", (x + 540.0, y - 160.0), ell,
                         light_node.outputs["Distance"], c=shared["P"])  # P + ℓ·r = S
         direction = _vector(tree, "SUBTRACT", f"{name}:segment", (x + 720.0, y - 160.0),

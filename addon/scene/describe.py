@@ -181,19 +181,19 @@ def _ambient(world) -> dict:
 
 
 def _light(obj) -> dict:
-    """One evaluated light object as the reference's light."""
+    """One evaluated light object as the reference's light (``properties.light_values``: an
+    Area light is the spot that draws it)."""
     light = obj.data
-    values = {attr: float(light.get(key, default))
-              for attr, (key, default) in properties.LIGHT_KEYS.items()}
+    read = properties.light_values(light)
+    kind = read["type"]
     matrix = obj.matrix_world
-    out = {"name": obj.name, "type": LIGHT_TYPES[light.type],
-           "color": [float(c) for c in light.color]}
-    out.update({attr: values[attr] for attr in properties.read_settings(light.type)})
-    if light.type in ("POINT", "SPOT"):
+    out = {"name": obj.name, "type": LIGHT_TYPES[kind], "color": list(read["color"])}
+    out.update({attr: read["settings"][attr] for attr in properties.read_settings(light.type)})
+    if kind in ("POINT", "SPOT"):
         out["position"] = [float(c) for c in matrix.translation]
-        out["falloff"] = properties.falloff_of(light).lower()  # "quadratic" or "power"
-    if light.type in ("SUN", "SPOT"):
+        out["falloff"] = read["falloff"].lower()  # "quadratic" or "power"
+    if kind in ("SUN", "SPOT"):
         out["direction"] = [-float(matrix[i][2]) for i in range(3)]  # the world -Z axis
-    if light.type == "SPOT":
-        out["half_angle"] = math.degrees(light.spot_size / 2.0)
+    if kind == "SPOT":
+        out["half_angle"] = math.degrees(read["spot_size"] / 2.0)
     return out

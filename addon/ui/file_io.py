@@ -20,9 +20,9 @@ def lights_report(op, sync) -> None:
     if sync.unsupported:
         names = ", ".join(f"{o.name} ({o.data.type.title()})" for o in sync.unsupported)
         op.report({"WARNING"}, f"Phong: unsupported light type ignored: {names}; only Point, "
-                               "Sun and Spot lights drive Phong materials")
+                               "Sun, Spot and Area lights drive Phong materials")
     if not sync.lights:
-        op.report({"WARNING"}, "Phong: the scene has no Point, Sun or Spot light; the "
+        op.report({"WARNING"}, "Phong: the scene has no light that renders; the "
                                "materials show ambient and irradiant only")
     for light, rule in zip(sync.lights, sync.rules):
         if rule is None or not rule[0]:

@@ -18,7 +18,7 @@ from .. import loader
 from ..comparison import engine
 from ..demos import builder
 from ..scene import describe
-from ..lighting import loop, materials, rig, shadows
+from ..lighting import convert, loop, materials, rig, shadows
 from ..lighting import sync as sync_mod
 from . import file_io
 
@@ -105,7 +105,8 @@ _lights_report = file_io.lights_report
 
 
 def _selected_meshes(op, context, action):
-    """The editable selected meshes, or None after an error report."""
+    """The editable selected meshes, or None after an error report (baking works on
+    meshes)."""
     selected = list(context.selected_objects or [])
     meshes, others = [], []  # one pass: `o not in meshes` made Apply quadratic (1.3 s at 10,000)
     for obj in selected:
@@ -122,10 +123,27 @@ def _selected_meshes(op, context, action):
     return meshes
 
 
+def _selected_objects(op, context, action):
+    """The selected objects that take Phong materials (with the objects of the collections
+    their Empties instance), or None after an error report; those that cannot are named in
+    a warning."""
+    selected = list(context.selected_objects or [])
+    objects, skipped = convert.expand(selected)
+    if not objects:
+        what = (f"no object with materials among the selected objects "
+                f"({', '.join(o.name for o in selected)})" if selected else "nothing is selected")
+        op.report({"ERROR"}, f"{action}: {what}; select meshes, curves, text or surfaces")
+        return None
+    if skipped:
+        op.report({"WARNING"}, f"{action}: not converted: "
+                  + "; ".join(f"{name} ({why})" for name, why in skipped))
+    return objects
+
+
 class PHONG_OT_apply_material(bpy.types.Operator):
-    """Convert the materials of the selected meshes to Phong materials driven by the scene's \
-Point, Sun and Spot lights (objects that shared a material share its Phong version; the \
-originals are kept)"""
+    """Convert the materials of the selected objects (meshes, curves, text, surfaces, and the \
+objects of instanced collections) to Phong materials driven by the scene's lights (objects \
+that shared a material share its Phong version; the originals are kept)"""
 
     bl_idname = "phong.apply_material"
     bl_label = "Apply Phong Material"
@@ -144,22 +162,20 @@ originals are kept)"""
                     "lights are shared)")
 
     def execute(self, context):
-        meshes = _selected_meshes(self, context, "Apply Phong Material")
-        if meshes is None:
+        objects = _selected_objects(self, context, "Apply Phong Material")
+        if objects is None:
             return {"CANCELLED"}
         if self.model != "SCENE":
             context.scene[rig.MODEL_KEY] = self.model.lower()
-        done = {}
-        with sync_mod.session(context.scene, context.view_layer) as sync:
-            sync.prepare(meshes)
-            for obj in meshes:
-                for material in sync.apply(obj):
-                    done[material.name] = None
-        _lights_report(self, sync)
-        names = list(done)
+        report = convert.apply(context.scene, objects, context.view_layer)
+        _lights_report(self, report.sync)
+        for note in report.notes:
+            self.report({"WARNING"}, f"Phong: {note}")
+        names = report.materials
         shown = ", ".join(names[:8]) + (f" and {len(names) - 8} more" if len(names) > 8 else "")
-        self.report({"INFO"}, f"Phong materials: {shown} ({len(sync.lights)} light"
-                              f"{'s' if len(sync.lights) != 1 else ''})")
+        lights = len(report.lights)
+        self.report({"INFO"}, f"Phong materials: {shown} ({lights} light"
+                              f"{'s' if lights != 1 else ''})")
         return {"FINISHED"}
 
 
@@ -189,11 +205,11 @@ in the file until unused)"""
     bl_options = {"REGISTER", "UNDO"}
 
     def execute(self, context):
-        meshes = _selected_meshes(self, context, "Restore Original Materials")
-        if meshes is None:
+        objects = _selected_objects(self, context, "Restore Original Materials")
+        if objects is None:
             return {"CANCELLED"}
         names = {m.name: m for m in bpy.data.materials}  # one look-up table for all slots
-        slots = sum(materials.restore(obj, names) for obj in meshes)
+        slots = sum(convert.restore(obj, names) for obj in objects)
         scene = context.scene
         if not any(materials.is_phong_material(slot.material) for obj in scene.objects
                    for slot in getattr(obj, "material_slots", ())):

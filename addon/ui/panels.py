@@ -35,8 +35,18 @@ class DATA_PT_phong_light(bpy.types.Panel):
         layout.prop(scene.phong, "model")
         model = scene.phong.model
         col = layout.column(align=True)
+        power = properties.from_power(light)
         for attr, _target in properties.model_settings(model, light):  # one list of them
+            if attr == "intensity":
+                col.prop(settings, "from_power")
+                if power:
+                    col.label(text=f"i0 {properties.power_intensity(light):.4g} from the "
+                                   "light's Power", icon="LIGHT")
+                    continue
             col.prop(settings, attr)
+        if light.type == "AREA":
+            layout.label(text="Area light: a Lambertian emitter's far field (a 180° spot)",
+                         icon="INFO")
         note = models.get(model).spot_note  # docs/threejs.md, docs/x3d.md
         if note and light.type == "SPOT":
             layout.label(text=note, icon="INFO")
