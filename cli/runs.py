@@ -95,6 +95,8 @@ class Registered:
 
 
 def _run(args, state, registered) -> int:
+    from .apply import ApplyFailed  # noqa: PLC0415  (apply imports this module)
+
     comparing = args.command == "compare"
     try:
         if comparing:
@@ -108,6 +110,9 @@ def _run(args, state, registered) -> int:
     except (scenes.SceneError, BadInput) as error:
         print(f"phong: {error}", file=sys.stderr)
         return 2
+    except ApplyFailed as error:   # compare --apply: a conversion raised
+        print(f"phong: {error}", file=sys.stderr)
+        return 1
     state["total"] = len(jobs)
     out = os.path.abspath(args.out)
     problem = outputs.output_problem(out, refuse_package=False)
@@ -179,6 +184,15 @@ def _file_jobs(args):
     from ..addon.scene import describe  # noqa: PLC0415
 
     names, named = open_scene_file(args.file, args.scenes)
+    applied = {}
+    if getattr(args, "apply", False):
+        from .apply import convert_scenes, report_lines  # noqa: PLC0415
+
+        # every scene, in every shard alike (so that each names the same folders)
+        for name, report in convert_scenes(named or names, args.file):
+            print(report_lines(name, report))
+            applied[name] = (f"applied: {len(report.converted)} object(s) given Phong "
+                             f"materials first (--apply; the file is not written)")
     wanted = named
     if wanted is None:
         wanted = [n for n in names
@@ -209,7 +223,8 @@ def _file_jobs(args):
     jobs = []
     for name, folder in mine:
         scene = bpy.data.scenes[name]
-        job = Job(folder, None, notes=[scene[FRAMED_KEY]] if scene.get(FRAMED_KEY) else ())
+        job = Job(folder, None, notes=([scene[FRAMED_KEY]] if scene.get(FRAMED_KEY) else [])
+                  + ([applied[name]] if name in applied else []))
         job.make = lambda n=name, j=job: _file_scene(args.file, bpy.data.scenes[n], j)
         jobs.append(job)
     return jobs, folders
