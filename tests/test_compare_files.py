@@ -104,11 +104,14 @@ def test_every_scene_of_a_file_is_compared_framed_and_with_svm(bpy_clean, tmp_pa
 @pytest.mark.slow
 @pytest.mark.cycles
 def test_a_scene_whose_camera_sees_nothing_fails_beside_one_that_passes(bpy_clean, tmp_path):
-    """A file with a good scene and one whose camera looks away from its sphere: each gets
-    its own verdict, the run exits 1 saying which scene sees nothing."""
+    """A file with a good scene, one whose camera looks away from its sphere and one of Per
+    Vertex materials: the first two get their own verdicts, the run exits 1 saying which
+    scene sees nothing; the third is left out, saying why."""
     bpy = bpy_clean
     good = _phong_scene(bpy, "Good")
     _phong_scene(bpy, "Away", look_at=(0.0, -12.0, 1.0))
+    _phong_scene(bpy, "Gouraud")
+    bpy.data.materials["Phong Gouraud paint"].phong.shading = "VERTEX"
     path = tmp_path / "away.blend"
     _save(bpy, path, good)
     out = tmp_path / "out"
@@ -116,6 +119,10 @@ def test_a_scene_whose_camera_sees_nothing_fails_beside_one_that_passes(bpy_clea
                      "--out", str(out))
     assert result.returncode == 1, result.stdout[-3000:] + result.stderr[-3000:]
     assert "Traceback" not in result.stderr
+    # a scene of Per Vertex materials only is left out, saying why
+    assert "away.blend: left out: scene 'Gouraud': its Phong materials shade Per Vertex or " \
+        "Per Face" in result.stderr and not (out / "Gouraud").exists()
+    assert "2 scene(s) of 2" in result.stdout
     assert "FAIL: the camera sees 0 of" in result.stdout
     assert "NOTHING TO COMPARE (Away: the camera sees no Phong surface)" in result.stdout
     assert _metrics(out, "Good")["ok"]

@@ -53,11 +53,16 @@ def check(scene, view_layer=None, camera=True):
     """(view layer, Phong objects) of *scene*, or ComparisonError saying why it cannot be
     compared; without *camera* a scene without camera passes (the caller frames one)."""
     layer = describe.view_layer_of(scene, view_layer)
+    phong = describe.phong_objects(scene, layer)
     # Per Vertex / Per Face materials are not the per-pixel model: shown, not compared
-    objects = [obj for obj in describe.phong_objects(scene, layer)
+    objects = [obj for obj in phong
                if any(materials.is_phong_material(slot.material)
                       and shading_modes.mode_of(slot.material) == shading_modes.PIXEL
                       for slot in obj.material_slots)]
+    if phong and not objects:
+        raise ComparisonError(f"scene {scene.name!r}: its Phong materials shade Per Vertex or "
+                              "Per Face, and the comparison checks Per Pixel shading only "
+                              "(set a material's Shading to Per Pixel to compare it)")
     if not objects:
         raise ComparisonError(f"scene {scene.name!r} has no object with a Phong material in view "
                         f"layer {layer.name!r} (Apply Phong Material first)")
