@@ -173,6 +173,20 @@ def _demo_jobs(mine, args) -> list:
 
 
 def _file_jobs(args):
+    """``_scene_jobs`` of args.file; whatever else a file Blender opens makes go wrong while
+    its scenes are chosen (exit 2) is one line, never a traceback."""
+    from .apply import ApplyFailed  # noqa: PLC0415  (apply imports this module)
+
+    try:
+        return _scene_jobs(args)
+    except (BadInput, ApplyFailed, scenes.SceneError):
+        raise
+    except Exception as error:  # noqa: BLE001
+        raise BadInput(f"{args.file}: its scenes cannot be compared: "
+                       f"{type(error).__name__}: {error}") from None
+
+
+def _scene_jobs(args):
     """The jobs of the scenes of args.file with Phong materials (BadInput: exit 2).  Every
     scene of a multi-scene file is compared, not only the window's; a scene without a camera
     gets one that frames its Phong objects (``framing.add_camera``), said in its notes.

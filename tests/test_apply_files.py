@@ -5,6 +5,7 @@ what was converted and what not; OUT.blend written whole, never the input; bad i
 with one line."""
 
 import hashlib
+import os
 
 import pytest
 
@@ -47,6 +48,16 @@ def plain_file(bpy_clean, tmp_path):
     bpy.context.window.scene = bpy.data.scenes["Alpha"]
     bpy.data.scenes.remove(bpy.data.scenes["Scene"])
     path = tmp_path / "plain.blend"
+    # Beta's colour from an image beside the file, by a relative path
+    image = bpy.data.images.new("paint", 4, 4)
+    image.filepath_raw = str(tmp_path / "paint.png")
+    image.file_format = "PNG"
+    image.save()
+    image.filepath = "//paint.png"
+    tree = bpy.data.materials["Beta paint"].node_tree
+    texture = tree.nodes.new("ShaderNodeTexImage")
+    texture.image = image
+    tree.links.new(texture.outputs["Color"], tree.nodes["Principled BSDF"].inputs["Base Color"])
     bpy.ops.wm.save_as_mainfile(filepath=str(path), copy=True)
     return path, hashlib.sha256(path.read_bytes()).hexdigest()
 
@@ -74,6 +85,10 @@ def test_apply_converts_every_scene_into_a_new_file_that_compares_ok(bpy_clean, 
     for name in SCENES:
         ball = bpy.data.objects[f"{name} ball"]
         assert materials.is_phong_material(ball.material_slots[0].material), name
+    # relative paths remapped to OUT.blend's folder: the image is still found
+    image = bpy.data.images["paint"]
+    assert image.filepath == "//../paint.png"
+    assert os.path.samefile(bpy.path.abspath(image.filepath), tmp_path / "paint.png")
     result = run_cli(tmp_path, "compare", str(out), "--engines", "cycles", "--resolution", "24",
                      "--out", str(tmp_path / "check"))
     assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]

@@ -128,3 +128,26 @@ def test_a_scene_whose_camera_sees_nothing_fails_beside_one_that_passes(bpy_clea
     assert _metrics(out, "Good")["ok"]
     away = _metrics(out, "Away")
     assert not away["ok"] and not away["coverage"]["ok"]
+
+
+@pytest.mark.slow
+@pytest.mark.cycles
+def test_a_scene_linked_from_a_library_is_left_out_saying_why(bpy_clean, tmp_path):
+    """A file whose second scene is linked from another .blend: its own scene is compared,
+    the linked one (whose settings cannot be changed here) left out with a line."""
+    bpy = bpy_clean
+    library = tmp_path / "library.blend"
+    _save(bpy, library, _phong_scene(bpy, "Shared"))
+    be.reset_empty_file()
+    local = _phong_scene(bpy, "Local")
+    with bpy.data.libraries.load(str(library), link=True) as (_source, target):
+        target.scenes = ["Shared"]
+    path = tmp_path / "with link.blend"
+    _save(bpy, path, local)
+    out = tmp_path / "out"
+    result = run_cli(tmp_path, "compare", str(path), "--engines", "cycles", "--resolution", "24",
+                     "--out", str(out))
+    assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
+    assert "Traceback" not in result.stderr
+    assert "left out: scene 'Shared' is linked from the library" in result.stderr
+    assert _metrics(out, "Local")["ok"] and not (out / "Shared").exists()

@@ -52,6 +52,9 @@ class ComparisonError(ValueError):
 def check(scene, view_layer=None, camera=True):
     """(view layer, Phong objects) of *scene*, or ComparisonError saying why it cannot be
     compared; without *camera* a scene without camera passes (the caller frames one)."""
+    if scene.library is not None:   # its settings cannot be changed for the renders here
+        raise ComparisonError(f"scene {scene.name!r} is linked from the library "
+                              f"{scene.library.filepath!r}: compare it in that file")
     layer = describe.view_layer_of(scene, view_layer)
     phong = describe.phong_objects(scene, layer)
     # Per Vertex / Per Face materials are not the per-pixel model: shown, not compared
