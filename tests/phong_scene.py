@@ -147,25 +147,43 @@ def _controls(material):
             "Blinn": float(nodes["phong_blinn"].outputs[0].default_value)}
 
 
+#: i0 per watt (per unit of a sun's strength) of a light that takes it from its Power: what
+#: Blender's own light gives a diffuse surface, measured in Cycles (docs/model.md).
+POWER_I0 = {"POINT": 1.0 / (4.0 * math.pi ** 2), "SPOT": 1.0 / (4.0 * math.pi ** 2),
+            "SUN": 1.0 / math.pi, "AREA": 1.0 / math.pi ** 2}
+
+
+def intensity(light):
+    """The light's i0: its Phong Intensity, or from its Power where it follows it."""
+    if not light.phong.from_power:
+        return light.phong.intensity
+    return light.energy * 2.0 ** getattr(light, "exposure", 0.0) * POWER_I0[light.type]
+
+
 def light_inputs(obj):
-    """The light-model group's inputs from the light itself (matrix_world, data, settings)."""
+    """The light-model group's inputs from the light itself (matrix_world, data, settings);
+    an Area light is a spot of half angle 90° and edge exponent 1."""
     light = obj.data
+    kind = "SPOT" if light.type == "AREA" else light.type
     mw = np.array(obj.matrix_world, dtype=np.float64)
     s = light.phong
-    inputs = {"Intensity": s.intensity}
-    if light.type in ("POINT", "SPOT"):
+    inputs = {"Intensity": intensity(light)}
+    if kind in ("POINT", "SPOT"):
         inputs.update({"Position": mw[:3, 3], "Quadratic": s.quadratic, "Linear": s.linear,
                        "Constant": s.constant})
         if s.falloff == "POWER":  # i0/d^k: the group without falloff (see _power)
             inputs.update({"Quadratic": 0.0, "Linear": 0.0, "Constant": 1.0})
-    if light.type in ("SUN", "SPOT"):
+    if kind in ("SUN", "SPOT"):
         inputs["Direction"] = -mw[:3, 2]
     if light.type == "SPOT":
         inputs.update({"Half Angle": light.spot_size / 2.0, "Edge Exponent": s.edge_exponent})
+    elif light.type == "AREA":
+        inputs.update({"Half Angle": math.pi / 2.0, "Edge Exponent": 1.0})
     return inputs
 
 
-GROUP = {"POINT": "Phong Point Light", "SUN": "Phong Directional Light", "SPOT": "Phong Spot Light"}
+GROUP = {"POINT": "Phong Point Light", "SUN": "Phong Directional Light",
+         "SPOT": "Phong Spot Light", "AREA": "Phong Spot Light"}
 
 
 def reference_color(world, lights, controls, P, N, I, terms=None):
@@ -179,7 +197,7 @@ def reference_color(world, lights, controls, P, N, I, terms=None):
         terms.update({t: np.zeros(P.shape) for t in TERMS})
     for index, obj in enumerate(lights):
         out = dict(ref.GROUPS[GROUP[obj.data.type]](light_inputs(obj), geo))
-        if obj.data.type in ("POINT", "SPOT") and obj.data.phong.falloff == "POWER":
+        if obj.data.type in ("POINT", "SPOT", "AREA") and obj.data.phong.falloff == "POWER":
             out["Intensity"] = ref.power_falloff(out["Distance"], out["Intensity"],
                                                  obj.data.phong.power_k)["Intensity"]
         if obj.data.type == "SPOT":

@@ -198,9 +198,12 @@ def test_lights_follow_without_a_click(bpy_clean, blender_tmp):
     bpy.data.objects.remove(extra)
     bpy.context.view_layer.update()
     assert list(tree()["phong_lights"]) == ["Spot", "Sun"]
-    area = _light(bpy, scene, "Area", "AREA", (0.0, 0.0, 3.0))
-    bpy.context.view_layer.update()
-    assert "Area" not in tree()["phong_lights"] and area.name in bpy.data.objects
+    area = _light(bpy, scene, "Area", "AREA", (0.3, -0.2, 3.0), (0.2, 0.1, 0.0))
+    area.data.energy = 25.0
+    bpy.context.view_layer.update()  # an Area light drives Phong as a Lambertian emitter
+    assert list(tree()["phong_lights"]) == ["Area", "Spot", "Sun"]
+    passes, _seconds = render(bpy, scene, str(blender_tmp / "area.exr"))
+    compare(bpy, scene, passes, [area, lights[2], lights[1]], "area light added")
 
 
 def test_file_of_the_previous_version_upgrades(bpy_clean):

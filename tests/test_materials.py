@@ -37,7 +37,9 @@ def test_lights_drive_phong_materials_cycles(bpy_clean, blender_tmp):
     bpy = bpy_clean
     scene, plane, sphere, lights = build_scene(bpy)
     point, sun, spot = lights
-    _light(bpy, scene, "Area", "AREA", (0.0, 0.0, 4.0))
+    area = _light(bpy, scene, "Area", "AREA", (0.0, 0.0, 4.0))
+    area.data.energy = 4.0  # its i0 from its Power: 4/π²
+    lights = (point, sun, spot, area)
     assert bpy.ops.phong.apply_material() == {"FINISHED"}
     assert plane.active_material.name == PLANE
     assert sphere.active_material.name == SPHERE
@@ -45,7 +47,7 @@ def test_lights_drive_phong_materials_cycles(bpy_clean, blender_tmp):
     assert tuple(got) == pytest.approx(SPHERE_COLOR), "Object Color from the Principled base colour"
     tree = lights_tree(sphere.active_material)
     assert tree is lights_tree(plane.active_material), "one lights group for the scene"
-    assert list(tree["phong_lights"]) == ["Point", "Spot", "Sun"], "Area left out"
+    assert list(tree["phong_lights"]) == ["Area", "Point", "Spot", "Sun"], "Area lights drive"
     _finish_materials(bpy, plane, sphere)
     n_drivers = _assert_drivers_ok(tree)
     assert not be_drivers(sphere.active_material.node_tree), "no driver in the materials"
@@ -182,12 +184,12 @@ def test_apply_is_idempotent_and_relink_follows_lights(bpy_clean):
     assert n > first[1]
     _assert_drivers_ok(tree)
 
-    extra.hide_set(True)              # hidden in the viewport / view layer
+    extra.hide_set(True)              # hidden in the viewport: F12 renders it, it drives
     lights[1].hide_render = True      # disabled in renders
     assert bpy.ops.phong.relink_lights() == {"FINISHED"}
     tree = lights_tree(plane.active_material)
-    assert list(tree["phong_lights"]) == ["Point", "Spot"]
-    assert _counts(tree)[0]["Phong Light Terms"] == 2
+    assert list(tree["phong_lights"]) == ["Extra", "Point", "Spot"]
+    assert _counts(tree)[0]["Phong Light Terms"] == 3
 
     bpy.data.objects.remove(extra)
     for obj in lights:
@@ -209,7 +211,7 @@ def test_apply_errors_and_slots(bpy_clean):
     with pytest.raises(RuntimeError, match="nothing is selected"):
         bpy.ops.phong.apply_material()
     lights[0].select_set(True)
-    with pytest.raises(RuntimeError, match="no mesh"):
+    with pytest.raises(RuntimeError, match="no object with materials"):
         bpy.ops.phong.apply_material()
     assert len(bpy.data.materials) == before and not bpy.data.node_groups, "nothing built"
 

@@ -48,7 +48,16 @@ def render_collections(view_layer) -> frozenset:
     collection nor one above it excluded from the layer or disabled in renders.  The
     viewport's switches (the eye, the monitor) do not matter: a render shows what they hide."""
     found = set()
-    stack = [view_layer.layer_collection]
+    root = view_layer.layer_collection
+    if root is None:  # a view layer Blender has not synced yet: the scene's collections
+        stack = [view_layer.id_data.collection]
+        while stack:
+            collection = stack.pop()
+            if not collection.hide_render:
+                found.add(collection.as_pointer())
+                stack.extend(collection.children)
+        return frozenset(found)
+    stack = [root]
     while stack:
         layer = stack.pop()
         if layer.exclude or layer.collection.hide_render:

@@ -308,16 +308,21 @@ def write_world(world, intensity: float, color) -> None:
 
 def ensure_world_props(world) -> None:
     """Write the world's missing Phong ambient custom properties: a world met for the first
-    time takes the light it gives Blender's own render (``world_light``)."""
+    time (neither set) takes the light it gives Blender's own render (``world_light``); one
+    where a script set one of them, the other's default."""
     key, default = AMBIENT_INTENSITY
     key_c, default_c = AMBIENT_COLOR
-    missing = key not in world.keys() or key_c not in world.keys()
-    if missing:
+    have = world.keys()
+    missing = key not in have or key_c not in have
+    if key not in have and key_c not in have:  # no Phong ambient yet: the World's own light
         intensity, color, _note = world_light(world)
-        if key not in world.keys():
-            world[key] = float(intensity)
-        if key_c not in world.keys():
-            world[key_c] = [float(c) for c in color]
+        world[key] = float(intensity)
+        world[key_c] = [float(c) for c in color]
+    elif missing:  # one of them set (by a script): the other's default
+        if key not in have:
+            world[key] = float(default)
+        if key_c not in have:
+            world[key_c] = list(default_c)
     try:
         world.id_properties_ui(key).update(min=0.0, soft_min=0.0, soft_max=1.0, default=default,
                                            description="Phong ambient intensity")
