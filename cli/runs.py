@@ -249,18 +249,25 @@ FRAMED_SCENE = "framed: the scene has no camera"
 
 
 def _file_scene(file, scene, job):
-    """*scene* of a .blend, ready to compare: a scene without a camera gets one that frames
-    its Phong objects (said on stderr and in *job*'s notes); the file itself is never
-    written."""
+    """*scene* of a .blend, ready to compare: a scene without a scene camera takes its
+    camera object (the first by name) where it has one, else a new camera that frames its
+    Phong objects (said on stderr and in *job*'s notes); the file itself is never written."""
     from ..addon.comparison import engine  # noqa: PLC0415
     from ..addon.scene import framing  # noqa: PLC0415
 
-    if scene.camera is None:
+    if scene.camera is not None:
+        return scene
+    cameras = sorted((o for o in scene.objects if o.type == "CAMERA"), key=lambda o: o.name)
+    if cameras:   # the artist's own view, though not set as the scene's camera
+        scene.camera = cameras[0]
+        said = f"has no scene camera: used its camera object {cameras[0].name!r}"
+        job.notes.append(f"camera: the scene sets none; its camera object {cameras[0].name!r}")
+    else:
         _layer, objects = engine.check(scene, camera=False)
         framing.add_camera(scene, objects)
-        print(f"\nphong: {os.path.basename(file)}: scene {scene.name!r} has no camera: added "
-              "one that frames its Phong objects", file=sys.stderr)
+        said = "has no camera: added one that frames its Phong objects"
         job.notes.append(FRAMED_SCENE)
+    print(f"\nphong: {os.path.basename(file)}: scene {scene.name!r} {said}", file=sys.stderr)
     return scene
 
 

@@ -104,14 +104,16 @@ def test_every_scene_of_a_file_is_compared_framed_and_with_svm(bpy_clean, tmp_pa
 @pytest.mark.slow
 @pytest.mark.cycles
 def test_a_scene_whose_camera_sees_nothing_fails_beside_one_that_passes(bpy_clean, tmp_path):
-    """A file with a good scene, one whose camera looks away from its sphere and one of Per
-    Vertex materials: the first two get their own verdicts, the run exits 1 saying which
-    scene sees nothing; the third is left out, saying why."""
+    """A file with a good scene, one whose camera looks away from its sphere, one whose
+    camera object is not set as its camera, and one of Per Vertex materials: the first three
+    get their own verdicts, the run exits 1 saying which scene sees nothing; the last is
+    left out, saying why."""
     bpy = bpy_clean
     good = _phong_scene(bpy, "Good")
     _phong_scene(bpy, "Away", look_at=(0.0, -12.0, 1.0))
     _phong_scene(bpy, "Gouraud")
     bpy.data.materials["Phong Gouraud paint"].phong.shading = "VERTEX"
+    _phong_scene(bpy, "Unset").camera = None   # a camera object, not the scene's camera
     path = tmp_path / "away.blend"
     _save(bpy, path, good)
     out = tmp_path / "out"
@@ -122,12 +124,18 @@ def test_a_scene_whose_camera_sees_nothing_fails_beside_one_that_passes(bpy_clea
     # a scene of Per Vertex materials only is left out, saying why
     assert "away.blend: left out: scene 'Gouraud': its Phong materials shade Per Vertex or " \
         "Per Face" in result.stderr and not (out / "Gouraud").exists()
-    assert "2 scene(s) of 2" in result.stdout
+    assert "3 scene(s) of 3" in result.stdout
     assert "FAIL: the camera sees 0 of" in result.stdout
     assert "NOTHING TO COMPARE (Away: the camera sees no Phong surface)" in result.stdout
     assert _metrics(out, "Good")["ok"]
     away = _metrics(out, "Away")
     assert not away["ok"] and not away["coverage"]["ok"]
+    # its own camera object, where the scene sets none
+    assert "scene 'Unset' has no scene camera: used its camera object 'Unset pcam'" in \
+        result.stderr
+    unset = _metrics(out, "Unset")
+    assert unset["ok"] and unset["notes"] == ["camera: the scene sets none; its camera object "
+                                              "'Unset pcam'"]
 
 
 @pytest.mark.slow
