@@ -240,6 +240,9 @@ def parse_slurm(argv) -> argparse.Namespace:
         if flag.split("=")[0] in SLURM_SET_BY_US:
             raise SubmitError(f"{flag}: set by phong slurm itself (--tasks N gives the array)")
     farm = argv[cut + 1:]
+    if farm and farm[0] == "apply":
+        raise SubmitError("apply writes one .blend, which an array's tasks cannot share: run "
+                          "phong apply itself (compare --apply runs as an array)")
     if farm and farm[0] == "report":
         raise SubmitError("the command is demo, compare or bake; the check job runs report "
                           "itself")
