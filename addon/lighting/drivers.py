@@ -93,22 +93,26 @@ def light_intensity(socket, light, intensity_path, from_power_path, scale, index
     return driver
 
 
-def light_color(socket, light):
-    """Colour socket (RGB; alpha left at 1) = the colour *light* emits: its Color, times its
-    Temperature's colour where Use Temperature is on (live, without Python)."""
+def light_color_channel(socket, index, light, channel):
+    """default_value[index] (or the scalar: *index* None) = channel *channel* of the colour
+    *light* emits: its Color, times its Temperature's colour where Use Temperature is on
+    (live, without Python)."""
     if not hasattr(light, "temperature_color"):
-        return color(socket, "LIGHT", light, "color")
+        return prop(socket, index, "LIGHT", light, f"color[{channel}]")
+    _fcurve, driver = _fresh(socket, index)
+    driver.type = "SCRIPTED"
+    _variable(driver, "c", "LIGHT", light, f"color[{channel}]")
+    _variable(driver, "t", "LIGHT", light, f"temperature_color[{channel}]")
+    _variable(driver, "u", "LIGHT", light, "use_temperature")
+    driver.expression = "c * (u * t + 1.0 - u)"
+    return driver
+
+
+def light_color(socket, light):
+    """Colour socket (RGB; alpha left at 1) = the colour *light* emits
+    (``light_color_channel``)."""
     socket.default_value[3] = 1.0
-    out = []
-    for i in range(3):
-        _fcurve, driver = _fresh(socket, i)
-        driver.type = "SCRIPTED"
-        _variable(driver, "c", "LIGHT", light, f"color[{i}]")
-        _variable(driver, "t", "LIGHT", light, f"temperature_color[{i}]")
-        _variable(driver, "u", "LIGHT", light, "use_temperature")
-        driver.expression = "c * (u * t + 1.0 - u)"
-        out.append(driver)
-    return out
+    return [light_color_channel(socket, i, light, i) for i in range(3)]
 
 
 def color(socket, id_type, id_block, data_path):

@@ -250,7 +250,8 @@ def build_shading_group(tree, mode, lights, world, light_model, world_keys, scen
         sockets[f"N{k}"] = b.normal_to_world(b.attribute(n_name))
     power = {index for index, obj in enumerate(lights)
              if properties.falloff_of(obj.data) == "POWER"}  # i0/d^k (rig.py alike)
-    expression = model.model_color([o.data.type for o in lights], light_model, power)
+    expression = model.model_color([models.drawn_as(o.data.type) for o in lights], light_model,
+                                   power)
     colors = [model.substitute(expression, {"P": input_(f"P{k}", VECTOR),
                                             "N": input_(f"N{k}", VECTOR),
                                             "Camera": input_(f"Camera{k}", VECTOR)})
@@ -346,18 +347,42 @@ def _light_sockets(b, index, obj, world_keys) -> dict:
             compat.input_socket(node, "Vector"), obj)
         return compat.output_socket(node, "Vector")
 
+    def color():
+        node = b.node("ShaderNodeCombineXYZ", prefix + "Color")
+        for index, axis in enumerate("XYZ"):
+            drivers.light_color_channel(compat.input_socket(node, axis), None, light, index)
+        return compat.output_socket(node, "Vector")
+
+    def intensity(name):  # its own i0 or its Power's (rig.py alike)
+        node = b.node("ShaderNodeValue", name)
+        drivers.light_intensity(compat.value_output(node), light, keys["intensity"],
+                                f'["{properties.FROM_POWER_KEY}"]', properties.power_scale(light))
+        return compat.value_output(node)
+
     factories = {prefix + "Position": lambda: transform("LOCATION"),
                  prefix + "Direction": lambda: transform("AXIS"),
-                 prefix + "Color": lambda: b.vector(prefix + "Color", "LIGHT", light, "color")}
+                 prefix + "Color": color}
     # the light groups' inputs that a setting drives (every model's, node_groups/models.py)
-    # and the leaves of the Phong Shading / Power Falloff that the composition "phong" reads
+    # and the leaves of the Phong Shading / Power Falloff that the composition "phong" reads;
+    # an Area light's spot settings are the models' constants (models.drawn_as)
     driven = {target: attr for spec in models.MODELS.values()
               for attr, _types, _when, target in spec.settings if target is not None}
     driven.update({"Diffuse": "diffuse", "Specular": "specular", "Power K": "power_k"})
+    fixed = properties.settings_of(light) if light.type == "AREA" else {}
+    area = {attr for spec in models.MODELS.values() for attr, _value in spec.area}
     for target, attr in driven.items():
         name = prefix + target
-        factories[name] = lambda n=name, a=attr: b.value(n, "LIGHT", light, keys[a])
+        if attr == "intensity":
+            factories[name] = lambda n=name: intensity(n)
+        elif attr in area and light.type == "AREA":
+            factories[name] = lambda n=name, a=attr: b.constant(n, fixed[a])
+        else:
+            factories[name] = lambda n=name, a=attr: b.value(n, "LIGHT", light, keys[a])
     for target in {spec.spot_angle for spec in models.MODELS.values()}:
-        factories[prefix + target] = (lambda n=prefix + target:
-                                      b.value(n, "LIGHT", light, "spot_size", scale=0.5))
+        if light.type == "AREA":
+            factories[prefix + target] = (lambda n=prefix + target:
+                                          b.constant(n, models.AREA_HALF_ANGLE))
+        else:
+            factories[prefix + target] = (lambda n=prefix + target:
+                                          b.value(n, "LIGHT", light, "spot_size", scale=0.5))
     return factories

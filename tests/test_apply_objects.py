@@ -1,0 +1,133 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Apply Phong Material converts every object that renders with materials, as an artist's
+file holds them: text, curves, meta balls, the objects of an instanced collection, an object
+whose mesh is linked from a library (its slots take the Phong material on the object; the
+library file is never written); an object linked from a library is named in the report, not
+skipped silently; Restore gives back exactly what was there."""
+
+from __future__ import annotations
+
+import os
+
+import numpy as np
+
+import blender_env as be
+
+
+def _principled(bpy, name, color):
+    material = bpy.data.materials.new(name)
+    be.compat().new_material_tree(material)
+    material.node_tree.nodes["Principled BSDF"].inputs["Base Color"].default_value = (*color, 1)
+    return material
+
+
+def _library(bpy, path):
+    """A library file: collection "Props" holding mesh "Crate" (material "Wood") and the
+    mesh data "Slab" (material "Stone")."""
+    be.reset_empty_file()
+    collection = bpy.data.collections.new("Props")
+    bpy.context.scene.collection.children.link(collection)
+    crate = be.add_quad(bpy.context.scene, "Crate", -0.5, -0.5, 0.5, 0.5, 0.1)
+    bpy.context.scene.collection.objects.unlink(crate)
+    collection.objects.link(crate)
+    crate.data.materials.append(_principled(bpy, "Wood", (0.5, 0.3, 0.1)))
+    slab = bpy.data.meshes.new("Slab")
+    slab.from_pydata([(-1, -1, 0), (1, -1, 0), (1, 1, 0), (-1, 1, 0)], [], [(0, 1, 2, 3)])
+    slab.materials.append(_principled(bpy, "Stone", (0.35, 0.4, 0.45)))
+    slab.use_fake_user = True
+    bpy.data.libraries.write(path, {collection, slab}, fake_user=True)
+    be.reset_empty_file()
+
+
+def test_apply_converts_every_object_that_renders(bpy_clean, tmp_path):
+    bpy = bpy_clean
+    library = str(tmp_path / "library.blend")
+    _library(bpy, library)
+    before_library = os.path.getmtime(library), os.path.getsize(library)
+    scene = be.new_scene("Objects", 48, 16)
+    bpy.context.window.scene = scene
+    scene.world.phong.ambient_intensity = 1.0  # no light: Phong Color = Object Color
+    scene.world.phong.ambient_color = (1.0, 1.0, 1.0)
+    be.add_ortho_camera(scene, (0.0, 0.0), 12.0, 4.0)
+
+    text = bpy.data.curves.new("Title", "FONT")
+    text.body = "W"
+    text.size = 3.0
+    text.materials.append(_principled(bpy, "Ink", (0.8, 0.1, 0.1)))
+    title = bpy.data.objects.new("Title", text)
+    title.location = (-5.5, -1.0, 0.0)
+    scene.collection.objects.link(title)
+
+    curve = bpy.data.curves.new("Rail", "CURVE")
+    curve.dimensions = "3D"
+    curve.bevel_depth = 0.5
+    spline = curve.splines.new("POLY")
+    spline.points.add(1)
+    spline.points[0].co, spline.points[1].co = (-1.0, 0.0, 0.0, 1.0), (1.0, 0.0, 0.0, 1.0)
+    curve.materials.append(_principled(bpy, "Brass", (0.7, 0.6, 0.2)))
+    rail = bpy.data.objects.new("Rail", curve)
+    rail.location = (-0.5, 0.0, 0.0)
+    scene.collection.objects.link(rail)
+
+    ball = bpy.data.metaballs.new("Blob")
+    ball.elements.new().radius = 1.0
+    ball.materials.append(_principled(bpy, "Gel", (0.1, 0.7, 0.3)))
+    blob = bpy.data.objects.new("Blob", ball)
+    blob.location = (2.5, 0.0, 0.0)
+    scene.collection.objects.link(blob)
+
+    props = bpy.data.collections.new("Local props")  # not in the scene: instanced only
+    box = be.add_quad(scene, "Box", -0.5, -0.5, 0.5, 0.5)
+    scene.collection.objects.unlink(box)
+    props.objects.link(box)
+    box.data.materials.append(_principled(bpy, "Card", (0.2, 0.2, 0.9)))
+    instance = bpy.data.objects.new("Props here", None)
+    instance.instance_type, instance.instance_collection = "COLLECTION", props
+    instance.location = (5.0, 0.0, 0.0)
+    scene.collection.objects.link(instance)
+
+    with bpy.data.libraries.load(library, link=True) as (data_from, data_to):
+        data_to.collections = ["Props"]
+        data_to.meshes = ["Slab"]
+    linked = bpy.data.objects.new("Linked props", None)
+    linked.instance_type, linked.instance_collection = "COLLECTION", data_to.collections[0]
+    linked.location = (0.0, 30.0, 0.0)  # out of the picture
+    scene.collection.objects.link(linked)
+    floor = bpy.data.objects.new("Floor", data_to.meshes[0])  # local object, linked mesh
+    floor.location = (0.0, 0.0, -3.0)
+    scene.collection.objects.link(floor)
+
+    selected = [title, rail, blob, instance, linked, floor]
+    be.apply_phong(scene, selected)
+    for obj in (title, rail, blob, box, floor):
+        names = [slot.material.name for slot in obj.material_slots]
+        assert all(name.startswith("Phong ") for name in names), f"{obj.name}: {names}"
+    assert floor.material_slots[0].link == "OBJECT", "the library's mesh is left as it is"
+    assert data_to.meshes[0].materials[0].name == "Stone"
+    crate = bpy.data.objects["Crate"]
+    assert crate.library is not None and crate.material_slots[0].material.name == "Wood"
+
+    from phong_nodes.addon.lighting import convert  # noqa: PLC0415  (needs bpy)
+
+    report = convert.apply(scene, [linked])
+    assert [name for name, _why in report.skipped] == ["Crate"]
+    assert "library" in report.skipped[0][1]
+
+    path = str(tmp_path / "objects.exr")
+    be.render_exr(scene, path)
+    combined = be.read_multilayer_exr(path)["Combined"][..., :3]
+    for name, colour in (("Title", (0.8, 0.1, 0.1)), ("Rail", (0.7, 0.6, 0.2)),
+                         ("Blob", (0.1, 0.7, 0.3)), ("Card", (0.2, 0.2, 0.9))):
+        found = np.abs(combined - np.array(colour)).max(axis=2) <= 1e-5
+        assert found.sum() >= 3, f"{name}: its base colour is in the Phong picture"
+
+    be.apply_phong(scene, selected)  # again: nothing new
+    for obj in scene.objects:
+        obj.select_set(obj in selected)
+    assert bpy.ops.phong.restore_materials() == {"FINISHED"}
+    assert [s.material.name for s in title.material_slots] == ["Ink"]
+    assert [s.material.name for s in box.material_slots] == ["Card"]
+    assert floor.material_slots[0].link == "DATA" and floor.material_slots[0].material.name == \
+        "Stone"
+    assert "phong_object_slots" not in floor.keys()
+    assert (os.path.getmtime(library), os.path.getsize(library)) == before_library
