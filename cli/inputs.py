@@ -61,10 +61,12 @@ NO_DEFAULT_LIGHT = "phong_x3d_no_headlight"
 FRAMED_KEY = "phong_framed"
 
 
-def open_scene_file(file: str, scenes_arg, importers: bool = True) -> tuple:
+def open_scene_file(file: str, scenes_arg, importers: bool = True,
+                    load_ui: bool = False) -> tuple:
     """Open *file*: (its scene names, the names *scenes_arg* ("a,b") gives, or None without
     it); BadInput (exit 2) for a missing or unreadable file or an unknown scene.  Without
-    *importers* only .blend files are read."""
+    *importers* only .blend files are read; *load_ui*: with the file's own workspaces and
+    screens (for a file that is saved again)."""
     import bpy  # noqa: PLC0415
 
     path = os.path.abspath(file)
@@ -79,7 +81,7 @@ def open_scene_file(file: str, scenes_arg, importers: bool = True) -> tuple:
             known = ", ".join([".blend", *readers])
             raise BadInput(f"{file}: not a file this command reads ({known})")
         try:
-            bpy.ops.wm.open_mainfile(filepath=path, load_ui=False)
+            bpy.ops.wm.open_mainfile(filepath=path, load_ui=load_ui)
         except RuntimeError as error:
             reason = str(error).strip().splitlines()[-1] if str(error).strip() else "unreadable"
             raise BadInput(f"{file}: cannot open as a .blend file ({reason})") from None
@@ -119,19 +121,12 @@ def _frame(scene) -> tuple | None:
     is seen edge-on) where there is no camera, X3D's default Viewpoint moved along its own
     direction where the file has no Viewpoint.  Returns (what was done, the comparison's
     note), or None."""
-    import bpy  # noqa: PLC0415
-    from mathutils import Vector  # noqa: PLC0415
-
     from ..addon.interchange import x3d_import  # noqa: PLC0415
     from ..addon.scene import framing  # noqa: PLC0415
 
     objects = framing.visible_meshes(scene)
     if scene.camera is None:
-        camera = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
-        scene.collection.objects.link(camera)
-        camera.rotation_euler = (-Vector((1.0, -1.0, 1.0))).to_track_quat("-Z", "Y").to_euler()
-        scene.camera = camera
-        framing.frame(scene, camera, objects)
+        framing.add_camera(scene, objects)
         return ("has no camera: added one that frames its objects",
                 "framed: the file has no camera")
     if scene.camera.get(x3d_import.DEFAULT_VIEWPOINT_KEY) and framing.frame(scene, scene.camera,
