@@ -101,6 +101,7 @@ def rendered_objects(scene, view_layer=None) -> list:
     """The objects of *scene* that render in *view_layer* (default its first that renders)."""
     view_layer = view_layer or next((v for v in scene.view_layers if v.use),
                                     scene.view_layers[0])
+    view_layer = lights_mod.synced(scene, view_layer)
     collections = lights_mod.render_collections(view_layer)
     return [obj for obj in view_layer.objects if lights_mod.visible(obj, view_layer, collections)]
 

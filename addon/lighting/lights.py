@@ -15,6 +15,8 @@
 
 from __future__ import annotations
 
+import bpy
+
 from ...node_groups import models
 from . import properties
 
@@ -41,6 +43,16 @@ def scene_lights(scene, view_layer=None, candidates=None):
             continue
         (supported if obj.data.type in SUPPORTED else unsupported).append(obj)
     return supported, unsupported
+
+
+def synced(scene, view_layer):
+    """*view_layer* of *scene* with its objects and layer collections: Blender fills them
+    lazily, and a scene just made (a demo scene, a scene of a file no window shows) has none
+    until something evaluates its depsgraph, which this does."""
+    if view_layer.layer_collection is None:
+        with bpy.context.temp_override(scene=scene, view_layer=view_layer):
+            bpy.context.evaluated_depsgraph_get().update()
+    return view_layer
 
 
 def render_collections(view_layer) -> frozenset:

@@ -70,9 +70,7 @@ def synced(scene, view_layer):
     """*view_layer* of *scene* with its objects: Blender fills a view layer's objects and
     layer collections lazily, and a scene just made (a demo scene built from its file)
     has none until something syncs it; its depsgraph does."""
-    if view_layer.layer_collection is None:
-        evaluated(scene, view_layer)
-    return view_layer
+    return lights_mod.synced(scene, view_layer)
 
 
 def phong_objects(scene, view_layer) -> list:
