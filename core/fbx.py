@@ -390,7 +390,9 @@ def read_material(mat, base="", textures=None, blender=False) -> Material:
     # Blender's exporter writes its alpha texture on TransparencyFactor (with the factor
     # 1 − alpha, 0 for an opaque one: by the SDK's rule the map would change nothing), and
     # Blender's importer reads a map there as the opacity's alpha texture: read it so
-    out.alpha_map = blender and any(key in out.textures for key in OPACITY_MAPS)
+    # (Phong Nodes' export marks maps that follow the SDK's rule: ``TransparencyMaps``)
+    out.alpha_map = blender and any(key in out.textures for key in OPACITY_MAPS) and \
+        not out.user.get("TransparencyMaps")
     return out
 
 

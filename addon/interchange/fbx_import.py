@@ -276,7 +276,8 @@ def _opacity_maps(material, source, images, warnings, where) -> None:
     opacity map (``native.opacity_map``).  A factor of 0 makes the maps change nothing."""
     maps = {key: source.textures.get(key) for key in fbx.OPACITY_MAPS}
     if source.alpha_map:   # Blender's exporter's alpha texture, read as Blender's importer does
-        _alpha_map(material, maps, images, warnings, where)
+        _alpha_map(material, maps, images, warnings, where,
+                   source.user.get("OpacityAlphaScale", 1.0))
         return
     if not any(maps.values()) or source.transparency_factor == 0.0:
         return
@@ -314,7 +315,7 @@ def _opacity_maps(material, source, images, warnings, where) -> None:
                                               "SUBTRACT", 1.0, transparency, (-500.0, 650.0)))
 
 
-def _alpha_map(material, maps, images, warnings, where) -> None:
+def _alpha_map(material, maps, images, warnings, where, scale=1.0) -> None:
     """The opacity of a file of Blender's exporter: the alpha channel of its map on
     TransparencyFactor (else on TransparentColor), as Blender's importer reads it (the
     image's Alpha output feeds the Principled BSDF's Alpha), as the opacity map."""
@@ -322,8 +323,13 @@ def _alpha_map(material, maps, images, warnings, where) -> None:
     image = _image(texture, images, warnings, where)
     if image is None:
         return
-    node = native.image_node(material.node_tree, "alpha", image, (-1450.0, 650.0))
-    native.opacity_map(material, compat.output_socket(node, "Alpha"))
+    tree = material.node_tree
+    node = native.image_node(tree, "alpha", image, (-1450.0, 650.0))
+    alpha = compat.output_socket(node, "Alpha")
+    if scale != 1.0:   # Phong Nodes' export: alpha × k (X3D's alpha × Opacity)
+        alpha = native.math(tree, native.MAP_NODE + "alpha x k", "MULTIPLY", alpha, scale,
+                            (-1150.0, 650.0))
+    native.opacity_map(material, alpha)
 
 
 # -- lights -------------------------------------------------------------------------------------
