@@ -359,3 +359,90 @@ def test_gzipped_export_is_gzip(bpy_clean, tmp_path):
         assert doc.encoding == ("vrml97" if "wr" in name else "x3d-xml" if name == "a.x3dz"
                                 else "x3d-classic")
         assert len(doc.instances) == 5 and doc.headlight is False
+
+
+PIXEL_FILE = """#X3D V3.3 utf8
+PROFILE Interchange
+Shape {
+  appearance Appearance {
+    material DEF Label Material { diffuseColor 0.5 0.25 1 }
+    texture DEF Checker PixelTexture { image 2 2 2 0xFF80 0x0040 0x80FF 0x40C0 repeatS FALSE repeatT FALSE }
+  }
+  geometry IndexedFaceSet { coord Coordinate { point [ 0 0 0, 1 0 0, 1 1 0, 0 1 0 ] }
+    coordIndex [ 0 1 2 3 -1 ] texCoord TextureCoordinate { point [ 0 0, 1 0, 1 1, 0 1 ] }
+    texCoordIndex [ 0 1 2 3 -1 ] }
+}
+Transform { translation 2 0 0 children Shape {
+  appearance Appearance {
+    material DEF Paint Material { diffuseColor 0.1 0.2 0.3 }
+    texture DEF Stripes PixelTexture { image 3 1 3 0xFF0000 0x00FF00 0x102030 }
+  }
+  geometry IndexedFaceSet { coord Coordinate { point [ 0 0 0, 1 0 0, 1 1 0, 0 1 0 ] }
+    coordIndex [ 0 1 2 3 -1 ] texCoord TextureCoordinate { point [ 0 0, 1 0, 1 1, 0 1 ] }
+    texCoordIndex [ 0 1 2 3 -1 ] }
+} }
+"""
+
+
+def _pixel_textures(path):
+    """{DEF: (width, height, components, [texels], repeatS)} of the PixelTextures in the
+    written file *path*, read from its text here (XML attributes, or the classic encodings'
+    ``DEF name PixelTexture { image w h c texel ... }``), not by the importer."""
+    import gzip
+    import re
+    import xml.etree.ElementTree as ET
+    raw = open(path, "rb").read()
+    text = (gzip.decompress(raw) if raw[:2] == b"\x1f\x8b" else raw).decode("utf-8")
+    out = {}
+    if path.endswith(".x3d"):
+        for node in ET.fromstring(text).iter("PixelTexture"):
+            numbers = [int(v, 0) for v in node.get("image").replace(",", " ").split()]
+            out[node.get("DEF")] = (*numbers[:3], numbers[3:],
+                                    node.get("repeatS", "true").lower() == "true")
+        return out
+    for match in re.finditer(r"DEF\s+(\S+)\s+PixelTexture\s*\{([^}]*)\}", text):
+        body = match.group(2)
+        image = re.search(r"image\s+([-0-9xXa-fA-F\s,]+)", body).group(1)
+        numbers = [int(v, 0) for v in image.replace(",", " ").split()]
+        repeat = re.search(r"repeatS\s+(TRUE|FALSE)", body)
+        out[match.group(1)] = (*numbers[:3], numbers[3:], repeat is None or
+                               repeat.group(1) == "TRUE")
+    return out
+
+
+@pytest.mark.parametrize("suffix", [".x3d", ".x3dv", ".wrl", ".wrz"])
+def test_an_inline_image_is_written_as_a_pixel_texture(bpy_clean, tmp_path, suffix):
+    """An image without a file (an imported PixelTexture, packed; an image generated in
+    Blender) is written as a PixelTexture with its texels, in every encoding: the file's
+    texels and components exactly (read from the written text here), the image generated
+    in Blender with the components its texels need; import → export → import keeps them."""
+    bpy = bpy_clean
+    source = tmp_path / "pixels.x3dv"
+    source.write_text(PIXEL_FILE)
+    assert bpy.ops.phong.import_x3d(filepath=str(source)) == {"FINISHED"}
+    from phong_nodes.addon.lighting import materials
+    paint = bpy.data.materials["Paint"]
+    generated = bpy.data.images.new("Made", 2, 1, alpha=True)
+    generated.colorspace_settings.name = "Non-Color"
+    generated.pixels[:] = [0.2, 0.2, 0.2, 1.0, 0.6, 0.6, 0.6, 0.5]
+    feeds = materials.feeds(paint)
+    node = feeds["Object Color"].texture
+    assert node is not None and node.image.name == "Stripes"
+    out = str(tmp_path / f"out{suffix}")
+    assert bpy.ops.phong.export_x3d(filepath=out) == {"FINISHED"}
+    written = _pixel_textures(out)
+    assert written["Checker"] == (2, 2, 2, [0xFF80, 0x0040, 0x80FF, 0x40C0], False)
+    assert written["Stripes"] == (3, 1, 3, [0xFF0000, 0x00FF00, 0x102030], True)
+    # an image made in Blender, without a file: grey with alpha, 2 components
+    node.image = generated
+    assert bpy.ops.phong.export_x3d(filepath=out) == {"FINISHED"}
+    written = _pixel_textures(out)
+    assert written["Made"] == (2, 1, 2, [0x33FF, 0x9980], True)
+    node.image = bpy.data.images["Stripes"]
+    assert bpy.ops.phong.export_x3d(filepath=out) == {"FINISHED"}
+    be.reset_empty_file()
+    assert bpy.ops.phong.import_x3d(filepath=out) == {"FINISHED"}
+    again = str(tmp_path / f"again{suffix}")
+    assert bpy.ops.phong.export_x3d(filepath=again) == {"FINISHED"}
+    assert _pixel_textures(again) == _pixel_textures(out)
+    assert set(_pixel_textures(again)) == {"Checker", "Stripes"}

@@ -38,6 +38,8 @@ X3D_SHININESS = "phong_x3d_shininess"
 X3D_TRANSFORM = "phong_x3d_texture_transform"
 #: material: made for a shape without Material.
 X3D_UNLIT = "phong_x3d_unlit"
+#: image: the components of the PixelTexture it was made from (1 grey ... 4 RGBA).
+X3D_COMPONENTS = "phong_x3d_components"
 #: spot light: the file's cutOffAngle.
 X3D_CUT_OFF = "phong_x3d_cut_off_angle"
 #: light object: a scoped light whose scope holds no shape.

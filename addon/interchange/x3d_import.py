@@ -875,6 +875,7 @@ class _Builder:
             image.pixels.foreach_set(rgba.reshape(-1))
             image.update()
             image.pack()
+            image[keys.X3D_COMPONENTS] = comps   # (the export writes it back as it was)
             components = comps
         elif texture.path is not None:   # its own image (renamed below), as data
             image = native.load_image(texture.path, non_color=True, existing=False)
