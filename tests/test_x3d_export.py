@@ -446,3 +446,105 @@ def test_an_inline_image_is_written_as_a_pixel_texture(bpy_clean, tmp_path, suff
     assert bpy.ops.phong.export_x3d(filepath=again) == {"FINISHED"}
     assert _pixel_textures(again) == _pixel_textures(out)
     assert set(_pixel_textures(again)) == {"Checker", "Stripes"}
+
+
+REUSED = """#VRML V2.0 utf8
+NavigationInfo { headlight FALSE }
+PROTO Pin [ field SFColor col 1 0 0 field SFVec3f at 0 0 0 ] {
+  Transform { translation IS at children Shape {
+    appearance Appearance { material DEF Mat Material { diffuseColor IS col } }
+    geometry Box { } } }
+}
+Pin { col 0 1 0 at 0 -3 0 }
+Pin { col 0 0 1 at 3 -3 0 }
+Transform { children [
+  DEF Sun DirectionalLight { direction 0 0 -1 intensity 0.7 ambientIntensity 0.4 color 1 0.5 0.25 }
+  Shape { appearance Appearance { material DEF PIN-01 Material { diffuseColor 0.8 0.8 0.1 } }
+          geometry Box { } } ] }
+Transform { translation 3 0 0 children Shape {
+  appearance Appearance { material USE PIN-01 } geometry Box { } } }
+Transform { translation 6 0 0 rotation 0 1 0 1.5708 children [
+  USE Sun
+  Shape { appearance Appearance { material DEF PIN-01 Material {
+            diffuseColor 0.1 0.2 0.9 shininess 0.5 } } geometry Sphere { } } ] }
+Transform { translation 9 0 0 children [
+  USE Sun
+  Shape { appearance Appearance { material USE PIN-01 } geometry Box { } } ] }
+"""
+
+
+def _written_materials(path):
+    """[(exact name, diffuseColor)] of the Materials DEF'd in the written file *path*, read
+    from its text here: the DEF names, mapped back through WorldInfo's exact names."""
+    import re
+    import xml.etree.ElementTree as ET
+    text = open(path, encoding="utf-8").read()
+    if path.endswith(".x3d"):
+        root = ET.fromstring(text)
+        found = [(m.get("DEF"), m.get("diffuseColor")) for m in root.iter("Material")
+                 if m.get("DEF")]
+        info = [v for w in root.iter("WorldInfo") for v in re.findall(r'"([^"]*)"',
+                                                                       w.get("info", ""))]
+    else:
+        found = re.findall(r"DEF\s+(\S+)\s+Material\s*\{[^}]*?diffuseColor\s+([-0-9.e ]+)",
+                           text)
+        block = re.search(r"WorldInfo\s*\{[^}]*\}", text)
+        info = re.findall(r'"([^"]*)"', block.group(0)) if block else []
+    exact = dict(line[len(x3d.NAME_PREFIX):].split("=", 1) for line in info
+                 if line.startswith(x3d.NAME_PREFIX))
+    return sorted((exact.get(name, name), tuple(round(float(v), 6) for v in colour.split()))
+                  for name, colour in found)
+
+
+@pytest.mark.parametrize("suffix", [".x3d", ".x3dv", ".wrl"])
+def test_reused_def_names_and_proto_materials_keep_each_material(bpy_clean, tmp_path,
+                                                                 suffix):
+    """A file that defines PIN-01 twice (each USE'd after it) and instantiates a PROTO with
+    its own Material twice: every Material is its own Phong material with its own values,
+    under the file's name and Blender's .001 (PIN-01, PIN-01.001, Mat, Mat.001), each on the
+    shapes that use it; the export writes each as its own Material whose exact name
+    (WorldInfo) is that name (read from the written text here), and import → export →
+    import gives the same materials on the same objects.  The DirectionalLight DEF'd in one
+    group and USE'd in two others is one light per direction, each reaching its groups."""
+    bpy = bpy_clean
+    from phong_nodes.addon.lighting import materials
+    source = tmp_path / "reused.wrl"
+    source.write_text(REUSED)
+    assert bpy.ops.phong.import_x3d(filepath=str(source)) == {"FINISHED"}
+
+    def state():
+        out = {}
+        for m in bpy.data.materials:
+            if materials.is_phong_material(m):
+                users = sorted(o.name for o in bpy.data.objects if o.type == "MESH"
+                               and o.material_slots[0].material is m)
+                out[m.name] = (tuple(round(v, 6) for v in
+                                     materials.feeds(m)["Object Color"].value), users)
+        lights = []
+        for o in bpy.data.objects:
+            if o.type == "LIGHT":
+                receivers = o.light_linking.receiver_collection
+                lights.append(sorted(round(x.matrix_world.translation.x) for x in
+                                     receivers.all_objects) if receivers else None)
+        return out, sorted(lights)
+
+    first, lights = state()
+    # what the file says: the DEF'd Materials in order, with the PROTO
+    # instances' colours for the PROTO's; a Material whose shapes differ in their light set
+    # has a variant named after its own Phong material (PIN-01.001 [Sun], not PIN-01 [Sun])
+    assert {n: v[0] for n, v in first.items()} == {
+        "Mat": (0.0, 1.0, 0.0), "Mat.001": (0.0, 0.0, 1.0),
+        "PIN-01": (0.8, 0.8, 0.1), "PIN-01 [no light]": (0.8, 0.8, 0.1),
+        "PIN-01.001": (0.1, 0.2, 0.9), "PIN-01.001 [Sun]": (0.1, 0.2, 0.9)}
+    x = {o.name: round(o.matrix_world.translation.x) for o in bpy.data.objects}
+    assert {n: [x[o] for o in v[1]] for n, v in first.items()} == {
+        "Mat": [0], "Mat.001": [3], "PIN-01": [0], "PIN-01 [no light]": [3],
+        "PIN-01.001": [6], "PIN-01.001 [Sun]": [9]}
+    # the Sun of the groups at x = 0 and 9 (one direction), and of the turned one at x = 6
+    assert lights == [[0, 9], [6]]
+    out = str(tmp_path / f"out{suffix}")
+    assert bpy.ops.phong.export_x3d(filepath=out) == {"FINISHED"}
+    assert _written_materials(out) == sorted((n, v[0]) for n, v in first.items())
+    be.reset_empty_file()
+    assert bpy.ops.phong.import_x3d(filepath=out) == {"FINISHED"}
+    assert state() == (first, lights)

@@ -674,11 +674,17 @@ class _Builder:
 
     def name_of(self, material, variant, texture, reach, key) -> str:
         """The file's name for the first variant of a material; for the others (another
-        texture, colours, light set or ``solid``) the name and what differs, in brackets."""
+        texture, colours, light set or ``solid``) the first variant's Blender name and what
+        differs, in brackets: a file that defines a name twice (two ``DEF PIN-01``, a PROTO's
+        Material in each instance) gives ``PIN-01 [...]`` and ``PIN-01.001 [...]``, each
+        variant named after its own material."""
         base = material.name if material is not None else "Unlit"
         first = self.first.setdefault(variant[0], variant)
         if first == variant:
             return base
+        made = self.materials.get(first)
+        if made is not None:
+            base = made.name
         parts = []
         if variant[1:3] != first[1:3]:
             parts.append(texture.name or os.path.basename(texture.path or "") if texture
