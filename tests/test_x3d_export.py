@@ -548,3 +548,47 @@ def test_reused_def_names_and_proto_materials_keep_each_material(bpy_clean, tmp_
     be.reset_empty_file()
     assert bpy.ops.phong.import_x3d(filepath=out) == {"FINISHED"}
     assert state() == (first, lights)
+
+
+@pytest.mark.parametrize("suffix", [".x3d", ".x3dv", ".wrl"])
+def test_the_worlds_ambient_light_comes_back_to_the_world(bpy_clean, tmp_path, suffix):
+    """The World's Phong ambient light (which X3D lacks) is written as the DirectionalLight
+    WorldAmbient of intensity 0 whose ambientIntensity and colour are the World's (read from
+    the written text here), and read back into the World (intensity and colour as float32),
+    not as a light; a file's own lights keep their ambientIntensity as lights and leave the
+    World's ambient at 0."""
+    import re
+    bpy = bpy_clean
+    _seeds_scene(bpy)
+    out = str(tmp_path / f"out{suffix}")
+    assert bpy.ops.phong.export_x3d(filepath=out) == {"FINISHED"}
+    text = open(out, encoding="utf-8").read()
+    if suffix == ".x3d":
+        block = re.search(r'<DirectionalLight[^>]*DEF="WorldAmbient"[^>]*>', text).group(0)
+        fields = dict(re.findall(r'(\w+)="([^"]*)"', block))
+    else:
+        block = re.search(r"DEF WorldAmbient DirectionalLight\s*\{([^}]*)\}", text).group(1)
+        fields = dict(re.findall(r"(\w+)\s+([-0-9.e ]+?)\s*(?=\n|$)", block))
+    assert float(fields["intensity"]) == 0.0
+    assert float(fields["ambientIntensity"]) == pytest.approx(0.1)
+    assert [float(v) for v in fields["color"].split()] == [1.0, 0.5, 0.25]
+    be.reset_empty_file()
+    assert bpy.ops.phong.import_x3d(filepath=out) == {"FINISHED"}
+    world = bpy.context.scene.world
+    assert world.phong.ambient_intensity == F32(0.1)
+    assert tuple(world.phong.ambient_color) == (1.0, 0.5, 0.25)
+    assert "WorldAmbient" not in bpy.data.objects
+    names = sorted(o.name for o in bpy.data.objects if o.type == "LIGHT")
+    assert [n for n in names if n != "Headlight"] == ["Beam", "Bulb", "Local", "Sky"]
+    # a file whose lights carry ambientIntensity: lights, and the World's ambient 0
+    be.reset_empty_file()
+    source = tmp_path / "lamps.wrl"
+    source.write_text("#VRML V2.0 utf8\nNavigationInfo { headlight FALSE }\n"
+                      "DEF Lamp PointLight { intensity 0 ambientIntensity 0.4 }\n"
+                      "DEF Key DirectionalLight { intensity 0.5 ambientIntensity 0.25 }\n"
+                      "Shape { geometry Box { } }\n")
+    assert bpy.ops.phong.import_x3d(filepath=str(source)) == {"FINISHED"}
+    assert bpy.context.scene.world.phong.ambient_intensity == 0.0
+    lights = {o.name: o.data for o in bpy.data.objects if o.type == "LIGHT"}
+    assert sorted(lights) == ["Key", "Lamp"]
+    assert lights["Lamp"].phong.ambient == F32(0.4) and lights["Key"].phong.ambient == F32(0.25)

@@ -40,6 +40,9 @@ X3D_TRANSFORM = "phong_x3d_texture_transform"
 X3D_UNLIT = "phong_x3d_unlit"
 #: image: the components of the PixelTexture it was made from (1 grey ... 4 RGBA).
 X3D_COMPONENTS = "phong_x3d_components"
+#: the DEF of the DirectionalLight (intensity 0, global) that carries the World's Phong ambient
+#: light, which X3D lacks: written by the export, read back into the World by the import.
+X3D_WORLD_AMBIENT = "WorldAmbient"
 #: spot light: the file's cutOffAngle.
 X3D_CUT_OFF = "phong_x3d_cut_off_angle"
 #: light object: a scoped light whose scope holds no shape.

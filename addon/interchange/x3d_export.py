@@ -656,7 +656,7 @@ class _Writer:
                                              properties.AMBIENT_COLOR[1])][:3]
         if intensity <= 0.0 or not any(color):
             return
-        root.insert(0, x3d.Light(kind="directional", name="WorldAmbient", intensity=0.0,
+        root.insert(0, x3d.Light(kind="directional", name=keys.X3D_WORLD_AMBIENT, intensity=0.0,
                                  ambient_intensity=f32(intensity), color=_colour(color),
                                  is_global=True))
 

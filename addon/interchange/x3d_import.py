@@ -96,6 +96,15 @@ SPOT_SIZE = (math.radians(1.0), math.pi)
 CAMERA_ANGLE = (0.00640536, 3.01675)
 
 
+
+def _world_ambient(light) -> bool:
+    """Whether *light* is the light the export writes for the World's Phong ambient light:
+    a DirectionalLight DEF'd ``WorldAmbient`` of intensity 0, on, without shadows (reached
+    by the whole file: checked by the caller).  Its ambient term is the World's, exactly."""
+    return (light.kind == "directional" and light.name == keys.X3D_WORLD_AMBIENT
+            and float(light.intensity) == 0.0 and bool(light.on)
+            and not light.shadows)
+
 class X3DImportError(native.InterchangeError):
     """The import failed; nothing was added to the file."""
 
@@ -291,6 +300,7 @@ class _Builder:
         self.camera_before = self.scene.camera
         self.model_before = self.scene.get(rig.MODEL_KEY)
         self.world_before = None    # (world, {key: value or None})
+        self.world_ambient = None   # (intensity, colour) of the export's WorldAmbient light
         self.scene_keys = {HEADLIGHT_OFF_KEY: self.scene.get(HEADLIGHT_OFF_KEY)}
         self.retargeted = []        # (a scene's own headlight, the camera it followed)
         self.font_notes = {}        # what the Text nodes asked of the font: {kind: {value}}
@@ -482,8 +492,13 @@ class _Builder:
         out = []
         total = len(self.doc.instances)
         for inst, location, direction, scope, is_global in merged.values():
-            out.append(self.light(inst, location, direction,
-                                  None if is_global or len(scope) >= total else scope))
+            scope = None if is_global or len(scope) >= total else scope
+            if self.world_ambient is None and scope is None and _world_ambient(inst.light):
+                values = x3d.light_values(self.doc, inst.light)
+                self.world_ambient = (max(float(values["ambient_intensity"]), 0.0),
+                                      tuple(max(float(c), 0.0) for c in values["color"]))
+                continue
+            out.append(self.light(inst, location, direction, scope))
         return out
 
     def light(self, inst, location, direction, scope):
@@ -627,7 +642,10 @@ class _Builder:
         self.world_before = (world, {k: (world[k] if k in world.keys() else None)
                                      for k in keys})
         color = world.get(keys[1], properties.AMBIENT_COLOR[1])
-        properties.write_world(world, 0.0, tuple(color))
+        if self.world_ambient is not None:   # the export's World ambient, read back
+            properties.write_world(world, *self.world_ambient)
+        else:
+            properties.write_world(world, 0.0, tuple(color))
 
     # -- materials ------------------------------------------------------------------------
     def bind(self, obj, inst):
