@@ -754,8 +754,8 @@ def test_every_map_is_written_and_read_back(bpy_clean, tmp_path):
     Exponent; an opacity map of a texel's alpha × k (X3D's texture alpha × Opacity) a texture
     on TransparencyFactor as Blender's exporter writes its alpha, k kept; an opacity map of
     the FBX SDK's rule 1 − TF × mean(t) (COLLADA's RGB_ZERO) a texture on TransparencyFactor
-    with that factor; a colour map whose file is missing keeps its path; a packed image is
-    written beside the FBX file.  ufbx reads each texture on its property with its file;
+    with that factor; a colour map whose file is missing keeps its path, also through the
+    project's import and a second export; a packed image is written beside the FBX file.  ufbx reads each texture on its property with its file;
     the project's importer gives every map back (the same chain's values); Blender's own
     importer reads the alpha texture and the exponent one (as roughness)."""
     bpy = bpy_clean
@@ -831,6 +831,16 @@ def test_every_map_is_written_and_read_back(bpy_clean, tmp_path):
     form = fbx_export._walk(compat.output_socket(feeds["Opacity"].other, "Value"))
     assert form[:2] == ("one_minus", pytest.approx(0.8)) and form[2][0][0] == "mean"
     assert bpy.path.basename(form[2][0][1].image.filepath) == "mask.png"
+    # the missing colour map: left out of the picture, its reference kept for the export
+    assert materials.feeds(shiny)["Object Color"].texture is None
+    assert not [i.name for i in bpy.data.images if i.filepath.endswith("lost.png")]
+    again = tmp_path / "again"
+    again.mkdir()
+    fbx_export.export(bpy.context, str(again / "again.fbx"), **NO_LIGHTS)
+    read = _ufbx_textures(str(again / "again.fbx"))
+    lost = os.path.join(folder, "lost.png")
+    assert read["Shiny"]["maps"]["DiffuseColor"] == [os.path.relpath(lost, str(again)), lost]
+    assert "lost.png" not in str(read["Leaf"]) + str(read["Veil"])
     # Blender's own importer: the alpha texture and the exponent's (its roughness)
     be.reset_empty_file()
     assert bpy.ops.import_scene.fbx(filepath=path) == {"FINISHED"}

@@ -46,7 +46,7 @@ from ...core import fbx_write, outputs
 from .. import compat
 from ..lighting import materials as recipe
 from ..lighting import properties, rig
-from . import native
+from . import keys, native
 from .native import ensure_fbx_addon
 
 #: The importer's reading of a material's user properties: key -> lights-group input.
@@ -310,6 +310,23 @@ def material_of(material, warnings: list, folder: str = "", textures=None) -> fb
                         "the control's value written")
     if feeds["Opacity"].other is not None:
         _opacity_map(feeds["Opacity"].other, textures, out, warnings, where)
+    kept = []
+    for prop, entry in (material.get(keys.FBX_MISSING_MAPS) or {}).items():
+        if prop in out.textures or (lambert and prop in ("SpecularColor", "ShininessExponent")):
+            continue   # the material has its own map there now
+        path, near = str(entry.get("path", "")), str(entry.get("near", ""))
+        if not path and not near:
+            continue
+        try:
+            relative = os.path.relpath(near or path, textures.folder)
+        except ValueError:   # another drive (Windows)
+            relative = near or path
+        out.textures[prop] = fbx_write.Texture(path or near, relative,
+                                               os.path.basename(path or near))
+        kept.append(prop)
+    if kept:
+        warnings.append(f"{where}: the file's references kept for the maps whose files were "
+                        f"not there at import: {', '.join(kept)}")
     blinn = feeds["Blinn"].value
     if blinn != 0.0:
         out.user["Blinn"] = blinn

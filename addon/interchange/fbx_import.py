@@ -46,7 +46,7 @@ from .. import compat
 from ..lighting import materials as recipe
 from ..lighting import properties
 from ..lighting import sync as sync_mod
-from . import native, obj_import
+from . import keys, native, obj_import
 from .native import ensure_fbx_addon
 
 FbxError = fbx.FbxError
@@ -199,6 +199,9 @@ def _load(texture, images, warnings, where, non_color):
     base = _safe_name(texture.name)
     made = next((i for i in images.get("", ()) if i.name == base or _safe_name(
         bpy.path.basename(i.filepath)) == base), None)  # Blender's importer read it already
+    if made is not None and made.packed_file is None and not os.path.isfile(
+            bpy.path.abspath(made.filepath, library=made.library)):
+        made = None   # its file is not there (Blender's importer names it anyway): not found
     if made is not None:
         other = images.get((texture.name, texture.content is not None, not non_color))
         image = made.copy() if other is made else made
@@ -264,9 +267,29 @@ def apply_material(material, source: fbx.Material, warnings: list, images: dict,
     if image is not None:
         native.exponent_map(material, image)
     _opacity_maps(material, source, images, warnings, where)
+    _missing_references(material, source, path)
     material[SOURCE_KEY] = path
     if source.unsupported:
         warnings.append(f"{where}: not representable, left out: " + ", ".join(source.unsupported))
+
+
+def _missing_references(material, source, path) -> None:
+    """The maps whose file is not there (and not embedded) kept on *material*
+    (``keys.FBX_MISSING_MAPS``): a file received without its textures keeps its references
+    through import → export, as Blender's exporter writes a path whether or not it exists."""
+    folder = os.path.dirname(path)
+    kept = {}
+    for slot, texture in source.textures.items():
+        prop = keys.FBX_SLOT_PROPS.get(slot)
+        if prop is None or texture.content is not None or texture.resolved is not None:
+            continue
+        name = texture.name.replace("\\", "/")
+        absolute = next((c for c in texture.candidates if os.path.isabs(c)), "") or \
+            os.path.join(folder, name)
+        near = os.path.normpath(name if os.path.isabs(name) else os.path.join(folder, name))
+        kept[prop] = {"path": absolute, "near": near}
+    if kept:
+        material[keys.FBX_MISSING_MAPS] = kept
 
 
 def _opacity_maps(material, source, images, warnings, where) -> None:

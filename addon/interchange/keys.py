@@ -29,6 +29,17 @@ COLLADA_INPUTS = {"Irradiant Color": ("emission", "phong_irradiant_color"),
                   "Object Color": ("diffuse", "phong_object_color"),
                   "Specular Color": ("specular", "phong_specular_color")}
 
+# -- FBX (fbx_import → fbx_export) -------------------------------------------------------------
+#: material: the maps of the file whose image was not there ({FBX property: {"path": the
+#: file's absolute name, "near": its relative name resolved beside the file read}}): the
+#: export writes the references back, as the file had them.
+FBX_MISSING_MAPS = "phong_fbx_missing_maps"
+#: core.fbx's texture slot -> the FBX property the export writes it on.
+FBX_SLOT_PROPS = {"Object Color": "DiffuseColor", recipe.AMBIENT_INPUT: "AmbientColor",
+                  "Specular Color": "SpecularColor", "Irradiant Color": "EmissiveColor",
+                  "Exponent": "ShininessExponent", "TransparentColor": "TransparentColor",
+                  "TransparencyFactor": "TransparencyFactor"}
+
 # -- X3D / VRML97 (x3d_import → x3d_export) ----------------------------------------------------
 #: material: the file's ambientIntensity.
 X3D_AMBIENT = "phong_x3d_ambient_intensity"
