@@ -27,7 +27,9 @@ Principled materials are replaced, the materials and images nothing uses are rem
 Materials of other shading models (PBR, Arnold, ShaderFX) are made as Apply Phong Material
 makes them from Blender's import (default values on the ufbx path), named in one warning.
 Maps on TransparentColor / TransparencyFactor give the opacity, a map on ShininessExponent
-the exponent (``native.opacity_map``, ``native.exponent_map``).  Any failure raises
+the exponent (``native.opacity_map``, ``native.exponent_map``); a map whose file is not
+there is left out and its reference kept for the export (``keys.FBX_MISSING_MAPS``).  Any
+failure raises
 :class:`core.fbx.FbxError` and removes what the import had added.
 """
 
@@ -341,7 +343,8 @@ def _opacity_maps(material, source, images, warnings, where) -> None:
 def _alpha_map(material, maps, images, warnings, where, scale=1.0) -> None:
     """The opacity of a file of Blender's exporter: the alpha channel of its map on
     TransparencyFactor (else on TransparentColor), as Blender's importer reads it (the
-    image's Alpha output feeds the Principled BSDF's Alpha), as the opacity map."""
+    image's Alpha output feeds the Principled BSDF's Alpha), times *scale* (Phong Nodes'
+    export's ``OpacityAlphaScale``: X3D's alpha × Opacity), as the opacity map."""
     texture = maps["TransparencyFactor"] or maps["TransparentColor"]
     image = _image(texture, images, warnings, where)
     if image is None:
