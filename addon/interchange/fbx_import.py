@@ -29,8 +29,7 @@ makes them from Blender's import (default values on the ufbx path), named in one
 Maps on TransparentColor / TransparencyFactor give the opacity, a map on ShininessExponent
 the exponent (``native.opacity_map``, ``native.exponent_map``); a map whose file is not
 there is left out and its reference kept for the export (``keys.FBX_MISSING_MAPS``).  Any
-failure raises
-:class:`core.fbx.FbxError` and removes what the import had added.
+failure raises :class:`core.fbx.FbxError` and removes what the import had added.
 """
 
 from __future__ import annotations
