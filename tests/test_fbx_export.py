@@ -696,7 +696,8 @@ for i in range(len(scene.materials)):
         t = textures[link.texture.typed_id]
         maps[link.material_prop] = [t.relative_filename, t.filename]
     props = {}
-    for name in ("TransparencyFactor", "TransparentColor", "ShininessExponent", "Opacity"):
+    for name in ("TransparencyFactor", "TransparentColor", "ShininessExponent", "Opacity",
+                 "DiffuseColor", "AmbientColor"):
         p = m.props.find_prop(name)
         if p is not None:
             props[name] = [p.value_vec4.x, p.value_vec4.y, p.value_vec4.z]
@@ -855,3 +856,33 @@ def test_every_map_is_written_and_read_back(bpy_clean, tmp_path):
     while rough_node.bl_idname != "ShaderNodeTexImage":
         rough_node = next(i for i in rough_node.inputs if i.is_linked).links[0].from_node
     assert bpy.path.basename(rough_node.image.filepath) == "rough.png"
+
+
+def test_an_x3d_files_pixel_textures_are_fbx_maps(bpy_clean, tmp_path):
+    """An X3D file's PixelTextures (packed images, no file) on its chains (a grey texture ×
+    diffuseColor, ambientIntensity × texel × diffuseColor, the texel's alpha × Opacity) are
+    FBX maps: each image written beside the FBX file once, on DiffuseColor and AmbientColor
+    with the chain's colour (ufbx reads colour and file) and its alpha on TransparencyFactor;
+    no warning that a chain was left out."""
+    bpy = bpy_clean
+    from test_x3d_export import PIXEL_FILE  # noqa: PLC0415
+    from phong_nodes.addon.interchange import fbx_export
+    source = tmp_path / "pixels.x3dv"
+    source.write_text(PIXEL_FILE)
+    assert bpy.ops.phong.import_x3d(filepath=str(source)) == {"FINISHED"}
+    out = tmp_path / "out"
+    out.mkdir()
+    path = str(out / "pixels.fbx")
+    warnings = fbx_export.export(bpy.context, path, **NO_LIGHTS)
+    assert not [w for w in warnings if "fed by nodes" in w or "left out" in w], warnings
+    assert sorted(os.listdir(out)) == ["Checker.png", "Stripes.png", "pixels.fbx"]
+    read = _ufbx_textures(path)
+    checker = ["Checker.png", str(out / "Checker.png")]
+    assert read["Label"]["maps"] == {"DiffuseColor": checker, "AmbientColor": checker,
+                                     "TransparencyFactor": checker}
+    assert read["Label"]["props"]["DiffuseColor"] == [0.5, 0.25, 1.0]
+    np.testing.assert_allclose(read["Label"]["props"]["AmbientColor"],
+                               _f32([0.1, 0.05, 0.2]), rtol=1e-7)
+    stripes = ["Stripes.png", str(out / "Stripes.png")]
+    assert read["Paint"]["maps"] == {"DiffuseColor": stripes, "AmbientColor": stripes}
+    assert read["Paint"]["props"]["DiffuseColor"] == [1.0, 1.0, 1.0]   # an RGB texture replaces

@@ -282,17 +282,28 @@ def material_of(material, warnings: list, folder: str = "", textures=None) -> fb
     feeds = recipe.feeds(material)
     name = material.name
     where = f"material {name}"
-    maps, values = {}, {}
+    maps, values, mapped = {}, {}, set()
     for key, prop in TEXTURE_PROPS.items():
         feed = feeds[key]
         values[key] = feed.value
-        if feed.texture is None:
+        node, colour, chain = feed.texture, None, feed.chain
+        if node is None and chain is not None and chain.texture is not None and \
+                not chain.unknown and chain.attribute is None:
+            # another chain of products: colours × a scale × the texel (X3D's texture ×
+            # diffuseColor, ambientIntensity × texel ...): the product of the numbers
+            node = chain.texture
+            scale = 1.0 if chain.scale is None else chain.scale
+            colour = tuple(c * scale for c in (chain.colour or WHITE))
+        if node is None:
             continue
-        texture = textures(feed.texture, warnings, where)
+        mapped.add(key)
+        texture = textures(node, warnings, where)
         if texture is None:
             continue
         maps[prop] = texture
-        if feed.other is feed.texture:   # the texture alone: white × texture
+        if colour is not None:
+            values[key] = colour
+        elif feed.other is feed.texture:   # the texture alone: white × texture
             values[key] = WHITE
     specular = values["Specular Color"]
     lambert = all(c == 0.0 for c in specular) and "SpecularColor" not in maps
@@ -303,7 +314,7 @@ def material_of(material, warnings: list, folder: str = "", textures=None) -> fb
         opacity=min(max(feeds["Opacity"].value, 0.0), 1.0), textures=maps)
     exponent_mapped = not lambert and _exponent_map(feeds["Exponent"], textures, out,
                                                     warnings, where)
-    fed = [k for k, f in feeds.items() if f.other is not None and f.texture is None
+    fed = [k for k, f in feeds.items() if f.other is not None and k not in mapped
            and k != "Opacity" and not (k == "Exponent" and exponent_mapped)]
     if fed:
         warnings.append(f"{where}: {', '.join(fed)} fed by nodes FBX cannot say; "
