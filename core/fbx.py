@@ -313,6 +313,9 @@ def _texture(prop_name, index, textures, base) -> Texture:
 #: Properties that only a Phong surface has: a material of a shading model ufbx does not
 #: know ("Blinn" of 3ds Max, "Anisotropic" ...) that holds one is read as FbxSurfacePhong.
 PHONG_ONLY = ("SpecularColor", "SpecularFactor", "ShininessExponent", "Shininess")
+#: The user property (+ the FBX property) Phong Nodes' export writes for a colour map whose
+#: image is data (Non-Color), read back in that colour space.
+NON_COLOR_USER = "NonColor"
 #: The start of the Creator of a file of Blender's own FBX exporter.
 BLENDER_CREATOR = "Blender (stable FBX IO)"
 

@@ -59,6 +59,7 @@ class Texture:
     path: str                 # absolute
     relative: str             # relative to the FBX file's folder
     name: str
+    data: bool = False        # the image is read as data (Non-Color), not as a colour
 
 
 @dataclass

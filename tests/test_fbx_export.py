@@ -863,7 +863,8 @@ def test_an_x3d_files_pixel_textures_are_fbx_maps(bpy_clean, tmp_path):
     diffuseColor, ambientIntensity × texel × diffuseColor, the texel's alpha × Opacity) are
     FBX maps: each image written beside the FBX file once, on DiffuseColor and AmbientColor
     with the chain's colour (ufbx reads colour and file) and its alpha on TransparencyFactor;
-    no warning that a chain was left out."""
+    no warning that a chain was left out.  The project's importer reads the maps back as
+    data (Non-Color, as X3D's texels are), each image once."""
     bpy = bpy_clean
     from test_x3d_export import PIXEL_FILE  # noqa: PLC0415
     from phong_nodes.addon.interchange import fbx_export
@@ -886,3 +887,15 @@ def test_an_x3d_files_pixel_textures_are_fbx_maps(bpy_clean, tmp_path):
     stripes = ["Stripes.png", str(out / "Stripes.png")]
     assert read["Paint"]["maps"] == {"DiffuseColor": stripes, "AmbientColor": stripes}
     assert read["Paint"]["props"]["DiffuseColor"] == [1.0, 1.0, 1.0]   # an RGB texture replaces
+    # the project's importer: X3D's texels are data (Non-Color), and stay so (NonColor<prop>)
+    be.reset_empty_file()
+    assert bpy.ops.phong.import_fbx(filepath=path) == {"FINISHED"}
+    from phong_nodes.addon.lighting import materials
+    for name, image in (("Label", "Checker.png"), ("Paint", "Stripes.png")):
+        feeds = materials.feeds(bpy.data.materials[name])
+        for key in ("Object Color", "Ambient Object Color"):
+            node = feeds[key].chain.texture if feeds[key].texture is None else \
+                feeds[key].texture
+            assert node.image.name == image, (name, key)
+            assert node.image.colorspace_settings.name == "Non-Color", (name, key)
+    assert sorted(i.name for i in bpy.data.images) == ["Checker.png", "Stripes.png"]

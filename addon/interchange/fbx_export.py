@@ -26,7 +26,8 @@ written FBX values do not give back (coefficients of a mixed falloff, the power 
 other models' settings ...); the World's ambient intensity.  An image texture feeding a
 colour (alone, or times a colour control as the importers make it) is an FBX Texture (and
 Video) on its property, the colour white or that control's (the importer reads colour ×
-texture back); an exponent map (Exponent × mean(texel)) on ShininessExponent; an opacity map
+texture back; a colour map read as data marked ``NonColor<property>``); an exponent map
+(Exponent × mean(texel)) on ShininessExponent; an opacity map
 on TransparencyFactor / TransparentColor (a texel's alpha as Blender's exporter writes it,
 else the FBX SDK's rule: ``_opacity_map``).  An image file's path is written whether or not
 the file is there; a packed image is written beside the FBX file.  Principled and other
@@ -66,6 +67,12 @@ SUFFIXES = {"PNG": ".png", "JPEG": ".jpg", "TARGA": ".tga", "TARGA_RAW": ".tga",
             "TIFF": ".tif", "OPEN_EXR": ".exr", "OPEN_EXR_MULTILAYER": ".exr", "HDR": ".hdr",
             "WEBP": ".webp", "JPEG2000": ".jp2", "CINEON": ".cin", "DPX": ".dpx"}
 WHITE = (1.0, 1.0, 1.0)
+#: The FBX properties whose maps are colours (read in the image's colour space, sRGB for
+#: 8-bit files); a map of one of them whose image is data (Non-Color: X3D's texels, which
+#: enter the equation as numbers) is marked ``NonColor<property>`` for the importer.
+COLOUR_MAPS = ("DiffuseColor", "AmbientColor", "SpecularColor", "EmissiveColor",
+               "TransparentColor")
+NON_COLOR_USER = fbx_read.NON_COLOR_USER
 MEAN = 1.0 / 3.0
 
 
@@ -101,7 +108,8 @@ class Textures:
             relative = os.path.relpath(path, self.folder)
         except ValueError:   # another drive (Windows)
             relative = path
-        texture = fbx_write.Texture(path, relative, os.path.basename(path) or image.name)
+        texture = fbx_write.Texture(path, relative, os.path.basename(path) or image.name,
+                                    data=image.colorspace_settings.name == native.NON_COLOR)
         self.made[image.name] = texture
         return texture
 
@@ -321,6 +329,9 @@ def material_of(material, warnings: list, folder: str = "", textures=None) -> fb
                         "the control's value written")
     if feeds["Opacity"].other is not None:
         _opacity_map(feeds["Opacity"].other, textures, out, warnings, where)
+    for prop, texture in out.textures.items():
+        if prop in COLOUR_MAPS and texture.data:   # a colour map read as data (X3D's texels)
+            out.user[NON_COLOR_USER + prop] = 1.0
     kept = []
     for prop, entry in (material.get(keys.FBX_MISSING_MAPS) or {}).items():
         if prop in out.textures or (lambert and prop in ("SpecularColor", "ShininessExponent")):

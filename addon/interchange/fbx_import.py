@@ -247,7 +247,8 @@ def apply_material(material, source: fbx.Material, warnings: list, images: dict,
         keep.add(control)
         socket = compat.value_output(node)
         texture = source.textures.get(name)
-        image = _image(texture, images, warnings, where) if texture is not None else None
+        image = _image(texture, images, warnings, where, _data(source, texture)) \
+            if texture is not None else None
         if image is not None:
             socket = obj_import._multiplied(tree, name, socket, image, index)
             keep |= {obj_import.MAP_NODE + name, obj_import.MULTIPLY_NODE + name}
@@ -272,6 +273,13 @@ def apply_material(material, source: fbx.Material, warnings: list, images: dict,
     material[SOURCE_KEY] = path
     if source.unsupported:
         warnings.append(f"{where}: not representable, left out: " + ", ".join(source.unsupported))
+
+
+def _data(source, texture) -> bool:
+    """Whether the colour map *texture* is read as data (Non-Color): Phong Nodes' export
+    marks a map whose image was data (X3D's texels) ``NonColor<property>``."""
+    return texture is not None and \
+        bool(source.user.get(fbx.NON_COLOR_USER + texture.prop, 0.0))
 
 
 def _missing_references(material, source, path) -> None:
@@ -307,7 +315,8 @@ def _opacity_maps(material, source, images, warnings, where) -> None:
         return
     tree = material.node_tree
     color = maps["TransparentColor"]
-    color = _image(color, images, warnings, where) if color is not None else None
+    color = _image(color, images, warnings, where, _data(source, color)) \
+        if color is not None else None
     factor = maps["TransparencyFactor"]
     factor = _image(factor, images, warnings, where, non_color=True) \
         if factor is not None else None
@@ -345,7 +354,10 @@ def _alpha_map(material, maps, images, warnings, where, scale=1.0) -> None:
     image's Alpha output feeds the Principled BSDF's Alpha), times *scale* (Phong Nodes'
     export's ``OpacityAlphaScale``: X3D's alpha × Opacity), as the opacity map."""
     texture = maps["TransparencyFactor"] or maps["TransparentColor"]
-    image = _image(texture, images, warnings, where)
+    # (the alpha is the same in either colour space: an image the colour maps read as data
+    # is used again rather than loaded a second time)
+    data = images.get((texture.name, texture.content is not None, True))
+    image = data if data is not None else _image(texture, images, warnings, where)
     if image is None:
         return
     tree = material.node_tree
