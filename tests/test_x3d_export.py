@@ -592,3 +592,45 @@ def test_the_worlds_ambient_light_comes_back_to_the_world(bpy_clean, tmp_path, s
     lights = {o.name: o.data for o in bpy.data.objects if o.type == "LIGHT"}
     assert sorted(lights) == ["Key", "Lamp"]
     assert lights["Lamp"].phong.ambient == F32(0.4) and lights["Key"].phong.ambient == F32(0.25)
+
+
+@pytest.mark.parametrize("suffix", [".x3d", ".x3dv", ".wrl"])
+def test_a_missing_texture_keeps_its_reference(bpy_clean, tmp_path, suffix):
+    """A file received without its texture: the import leaves the texture out of the picture
+    (the diffuse colour, as X3D browsers show a texture they cannot load) and keeps its
+    reference; the export writes the ImageTexture again with its url relative to the written
+    file (read from the text here), and a shape of the same Material without a texture stays
+    without one (its own material, "[no texture]")."""
+    import re
+    bpy = bpy_clean
+    from phong_nodes.addon.lighting import materials
+    source = tmp_path / "received" / "part.wrl"
+    source.parent.mkdir()
+    source.write_text("""#VRML V2.0 utf8
+Shape { appearance Appearance { material DEF Label Material { diffuseColor 0.5 0.25 1 }
+          texture DEF Print ImageTexture { url "maps/print.png" repeatS FALSE repeatT FALSE } }
+        geometry Box { } }
+Transform { translation 3 0 0 children Shape { appearance Appearance { material USE Label }
+                                                geometry Box { } } }
+""")
+    assert bpy.ops.phong.import_x3d(filepath=str(source)) == {"FINISHED"}
+    names = sorted(m.name for m in bpy.data.materials if materials.is_phong_material(m))
+    assert names == ["Label", "Label [no texture]"]
+    label = bpy.data.materials["Label"]
+    assert materials.feeds(label)["Object Color"].value == (0.5, 0.25, 1.0)
+    assert materials.feeds(label)["Object Color"].other is None   # not in the picture
+    out = tmp_path / "elsewhere" / f"out{suffix}"
+    out.parent.mkdir()
+    assert bpy.ops.phong.export_x3d(filepath=str(out)) == {"FINISHED"}
+    text = out.read_text()
+    found = re.findall(r'<ImageTexture[^>]*url="&quot;([^&]+)&quot;', text) if \
+        suffix == ".x3d" else re.findall(r'ImageTexture\s*\{[^}]*?url\s*\[?\s*"([^"]+)"', text)
+    assert found == ["../received/maps/print.png"], text
+    be.reset_empty_file()
+    assert bpy.ops.phong.import_x3d(filepath=str(out)) == {"FINISHED"}
+    assert sorted(m.name for m in bpy.data.materials if materials.is_phong_material(m)) == \
+        names
+    again = bpy.data.materials["Label"]
+    assert materials.feeds(again)["Object Color"].value == (0.5, 0.25, 1.0)
+    assert str(tmp_path / "received" / "maps" / "print.png") in \
+        list(again["phong_x3d_missing_texture"]["paths"])

@@ -51,6 +51,9 @@ X3D_TRANSFORM = "phong_x3d_texture_transform"
 X3D_UNLIT = "phong_x3d_unlit"
 #: image: the components of the PixelTexture it was made from (1 grey ... 4 RGBA).
 X3D_COMPONENTS = "phong_x3d_components"
+#: material: the ImageTexture whose file was not there at import ({"name", "paths": the
+#: absolute files its urls name, "repeat_s", "repeat_t"}): the export writes the reference.
+X3D_MISSING_TEXTURE = "phong_x3d_missing_texture"
 #: the DEF of the DirectionalLight (intensity 0, global) that carries the World's Phong ambient
 #: light, which X3D lacks: written by the export, read back into the World by the import.
 X3D_WORLD_AMBIENT = "WorldAmbient"

@@ -395,6 +395,8 @@ class _Writer:
                           control if (kd_feed.texture is not None or kd_feed.colours) else
                           kd_feed.constant)
         texture = self.texture(kd_feed.texture, material, kd_feed.control is not None)
+        if texture is None and kd_feed.texture is None and not kd_feed.colours:
+            texture = self.missing_texture(material)
         if texture is not None and kd_feed.control is None and not kd_feed.colours and \
                 _grey(texture):
             diffuse = (1.0, 1.0, 1.0)   # a grey texture alone: X3D multiplies diffuseColor
@@ -500,6 +502,30 @@ class _Writer:
             self.warnings.add(f"material {material.name}: an RGB texture times a colour: X3D's "
                               "RGB textures replace the diffuse colour; the texture written")
         return texture
+
+    def missing_texture(self, material):
+        """The ImageTexture whose file was not there when *material* was imported
+        (``keys.X3D_MISSING_TEXTURE``): its reference written again, relative to the written
+        file (X3D browsers show the diffuse colour while the file is missing, as the
+        import did), or None."""
+        entry = material.get(keys.X3D_MISSING_TEXTURE)
+        paths = [str(p) for p in (entry or {}).get("paths", ())]
+        if not paths:
+            return None
+        urls = []
+        for path in paths:
+            try:
+                url = os.path.relpath(path, self.folder)
+            except ValueError:   # another drive
+                url = path
+            url = url.replace(os.sep, "/")
+            if url not in urls:
+                urls.append(url)
+        self.warnings.add(f"texture files that were not there at import: their references "
+                          f"written: {os.path.basename(paths[0])}")
+        return x3d.Texture(name=str(entry.get("name", "")), urls=urls, paths=paths,
+                           repeat_s=bool(entry.get("repeat_s", True)),
+                           repeat_t=bool(entry.get("repeat_t", True)))
 
     def pixel_texture(self, image):
         """A PixelTexture of *image*'s texels (bottom row first, as both hold them): the

@@ -661,9 +661,12 @@ class _Builder:
         # once; lines and points (which have no back) take any variant of the rest
         faces = geometry.edges is None and geometry.kind != "PointSet"
         solid = bool(geometry.solid) if faces else None
+        missing = texture is not None and image is None and texture.image is None and \
+            bool(texture.paths)   # an ImageTexture whose file is not there: its reference
         variant = (id(material) if material is not None else None,
                    (image.name, texture.repeat_s, texture.repeat_t) if image is not None
-                   else None,
+                   else ("missing", tuple(texture.paths), texture.repeat_s, texture.repeat_t)
+                   if missing else None,
                    (tuple(transform.center), transform.rotation, tuple(transform.scale),
                     tuple(transform.translation)) if transform is not None else None,
                    colors, key, solid)
@@ -672,14 +675,18 @@ class _Builder:
             made = next((m for v, m in self.materials.items() if v[:5] == variant[:5]), None)
         if made is None:
             group = self.sync.group(key, reach)
-            name = self.name_of(material, variant, texture if image is not None else None,
-                                reach, key)
+            name = self.name_of(material, variant,
+                                texture if image is not None or missing else None, reach, key)
             made = self.material(name, group, material, image, components, colors,
                                  shape.texture_transform if image is not None else None,
                                  texture)
             # solid TRUE: the back of a face is not drawn (Eevee, Workbench; Cycles draws
             # both sides whatever the setting: docs/x3d.md)
             made.use_backface_culling = bool(solid)
+            if missing:   # left out of the picture, its reference kept for the export
+                made[keys.X3D_MISSING_TEXTURE] = {
+                    "name": texture.name, "paths": list(texture.paths),
+                    "repeat_s": bool(texture.repeat_s), "repeat_t": bool(texture.repeat_t)}
             self.materials[variant] = made
             self.made.append(made)
         mesh = obj.data
@@ -705,8 +712,9 @@ class _Builder:
             base = made.name
         parts = []
         if variant[1:3] != first[1:3]:
-            parts.append(texture.name or os.path.basename(texture.path or "") if texture
-                         else "no texture")
+            parts.append(texture.name or os.path.basename(
+                texture.path or (texture.paths[0] if texture.paths else "")) if texture
+                else "no texture")
         if variant[3] != first[3]:
             parts.append("colours" if variant[3] else "no colours")
         if variant[4] != first[4]:
