@@ -756,9 +756,10 @@ def test_every_map_is_written_and_read_back(bpy_clean, tmp_path):
     on TransparencyFactor as Blender's exporter writes its alpha, k kept; an opacity map of
     the FBX SDK's rule 1 − TF × mean(t) (COLLADA's RGB_ZERO) a texture on TransparencyFactor
     with that factor; a colour map whose file is missing keeps its path, also through the
-    project's import and a second export; a packed image is written beside the FBX file.  ufbx reads each texture on its property with its file;
-    the project's importer gives every map back (the same chain's values); Blender's own
-    importer reads the alpha texture and the exponent one (as roughness)."""
+    project's import and a second export; a packed image is written beside the FBX file.
+    ufbx reads each texture on its property with its file; the project's importer gives
+    every map back (the same chain's values); Blender's own importer reads the alpha texture
+    and the exponent one (as roughness)."""
     bpy = bpy_clean
     from phong_nodes.addon import compat
     from phong_nodes.addon.interchange import fbx_export, native

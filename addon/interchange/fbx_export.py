@@ -24,8 +24,9 @@ back, so that import ∘ export gives every control again, each kind named in on
 material's Blinn, Specular Strength and a Lambert's Exponent; a light's settings that the
 written FBX values do not give back (coefficients of a mixed falloff, the power falloff, the
 other models' settings ...); the World's ambient intensity.  An image texture feeding a
-colour (alone, or times a colour control as the importers make it) is an FBX Texture (and
-Video) on its property, the colour white or that control's (the importer reads colour ×
+colour (alone, times a colour control as the importers make it, or in another chain of
+products such as X3D's texture × diffuseColor) is an FBX Texture (and Video) on its
+property, the colour white, that control's or the chain's numbers (the importer reads colour ×
 texture back; a colour map read as data marked ``NonColor<property>``); an exponent map
 (Exponent × mean(texel)) on ShininessExponent; an opacity map
 on TransparencyFactor / TransparentColor (a texel's alpha as Blender's exporter writes it,
@@ -80,7 +81,8 @@ class Textures:
     """The image files of one export: a file image's own path (whether or not the file is
     there: a scene received without its textures keeps its references, as Blender's
     exporter writes them), a packed image's bytes written beside the FBX file once
-    (:attr:`pending`, written after the FBX file is complete)."""
+    (:attr:`pending`: written once the rewrite has succeeded, just before the FBX file is
+    put in place; each file atomically)."""
 
     def __init__(self, folder: str):
         self.folder = folder
