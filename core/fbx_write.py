@@ -14,7 +14,8 @@ material's ``ShadingModel``) replaced:
   1 − o, TransparentColor white (with a map on either: the factor and colour of the SDK's
   rule, 1 − TransparencyFactor·t_f × mean(TransparentColor ⊗ t_c));
 * a material's maps: a Texture and a Video object each (the image file's absolute and
-  relative paths, whether or not the file is there), connected to the property it maps
+  relative paths, whether or not the file is there; its bytes as the Video's Content where
+  the export embeds them), connected to the property it maps
   (DiffuseColor ... ShininessExponent, TransparencyFactor, TransparentColor) as Blender's
   exporter connects them;
 * a light: LightType, Color, Intensity, DecayType, CastShadows, and a spot's OuterAngle and
@@ -60,6 +61,7 @@ class Texture:
     relative: str             # relative to the FBX file's folder
     name: str
     data: bool = False        # the image is read as data (Non-Color), not as a colour
+    content: bytes | None = None   # the file's bytes embedded in the Video (Content)
 
 
 @dataclass
@@ -183,6 +185,9 @@ _SCALARS = {"Y": "<h", "C": "<?", "I": "<i", "F": "<f", "D": "<d", "L": "<q"}
 
 
 def _prop(kind, value) -> bytes:
+    if kind == "R":
+        raw = bytes(value)
+        return b"R" + struct.pack("<I", len(raw)) + raw
     if kind == "S":
         raw = value.encode("utf-8") if isinstance(value, str) else bytes(value)
         return b"S" + struct.pack("<I", len(raw)) + raw
@@ -377,7 +382,8 @@ def _add_textures(reader, top, links) -> None:
                                                        (texture.path,), "S")]),
                 _made(b"UseMipMap", (0,), "I"),
                 _made(b"Filename", (texture.path,), "S"),
-                _made(b"RelativeFilename", (texture.relative,), "S")])
+                _made(b"RelativeFilename", (texture.relative,), "S")]
+                + ([_made(b"Content", (texture.content,), "R")] if texture.content else []))
             tex = _made(b"Texture", (texture_id, f"{name}\x00\x01Texture", ""), "LSS", [
                 _made(b"Type", ("TextureVideoClip",), "S"),
                 _made(b"Version", (202,), "I"),

@@ -865,7 +865,7 @@ def test_an_x3d_files_pixel_textures_are_fbx_maps(bpy_clean, tmp_path):
     FBX maps: each image written beside the FBX file once, on DiffuseColor and AmbientColor
     with the chain's colour (ufbx reads colour and file) and its alpha on TransparencyFactor;
     no warning that a chain was left out.  The project's importer reads the maps back as
-    data (Non-Color, as X3D's texels are), each image once."""
+    data (Non-Color, as X3D's texels are), each image once; embedded, the same texels."""
     bpy = bpy_clean
     from test_x3d_export import PIXEL_FILE  # noqa: PLC0415
     from phong_nodes.addon.interchange import fbx_export
@@ -900,3 +900,20 @@ def test_an_x3d_files_pixel_textures_are_fbx_maps(bpy_clean, tmp_path):
             assert node.image.name == image, (name, key)
             assert node.image.colorspace_settings.name == "Non-Color", (name, key)
     assert sorted(i.name for i in bpy.data.images) == ["Checker.png", "Stripes.png"]
+    # embedded (Blender's embed_textures with path_mode COPY): no file beside, the bytes in
+    # the Video's Content, read back as packed images of the same texels
+    be.reset_empty_file()
+    assert bpy.ops.phong.import_x3d(filepath=str(source)) == {"FINISHED"}
+    texels = {n: list(bpy.data.images[n].pixels) for n in ("Checker", "Stripes")}
+    inside = tmp_path / "inside"
+    inside.mkdir()
+    warnings = fbx_export.export(bpy.context, str(inside / "pixels.fbx"), embed_textures=True,
+                                 path_mode="COPY", **NO_LIGHTS)
+    assert not [w for w in warnings if "beside" in w], warnings
+    assert os.listdir(inside) == ["pixels.fbx"]
+    be.reset_empty_file()
+    assert bpy.ops.phong.import_fbx(filepath=str(inside / "pixels.fbx")) == {"FINISHED"}
+    for name in ("Checker", "Stripes"):
+        image = bpy.data.images[name + ".png"]
+        assert image.packed_file is not None
+        assert list(image.pixels) == pytest.approx(texels[name], abs=0.5 / 255)

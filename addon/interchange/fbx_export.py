@@ -84,8 +84,9 @@ class Textures:
     (:attr:`pending`: written once the rewrite has succeeded, just before the FBX file is
     put in place; each file atomically)."""
 
-    def __init__(self, folder: str):
+    def __init__(self, folder: str, embed: bool = False):
         self.folder = folder
+        self.embed = embed    # Blender's embed_textures (with path_mode COPY): Video Content
         self.made = {}        # image name -> fbx_write.Texture
         self.pending = {}     # path beside the FBX -> bytes
         self.taken = set()
@@ -95,13 +96,22 @@ class Textures:
         image = node.image
         if image.name in self.made:
             return self.made[image.name]
+        content = None
         if image.packed_file is not None:
             path = self._beside(image)
-            self.pending[path] = bytes(image.packed_file.data)
-            warnings.append(f"{where}: packed image {image.name!r} written beside the FBX "
-                            f"file as {os.path.basename(path)}")
+            content = bytes(image.packed_file.data)
+            if not self.embed:
+                self.pending[path] = content
+                warnings.append(f"{where}: packed image {image.name!r} written beside the FBX "
+                                f"file as {os.path.basename(path)}")
         elif image.source == "FILE" and image.filepath:
             path = os.path.abspath(bpy.path.abspath(image.filepath, library=image.library))
+            if self.embed and os.path.isfile(path):
+                try:
+                    with open(path, "rb") as handle:
+                        content = handle.read()
+                except OSError:
+                    content = None
         else:
             warnings.append(f"{where}: image {image.name!r} has no file (generated): left "
                             "out")
@@ -111,7 +121,8 @@ class Textures:
         except ValueError:   # another drive (Windows)
             relative = path
         texture = fbx_write.Texture(path, relative, os.path.basename(path) or image.name,
-                                    data=image.colorspace_settings.name == native.NON_COLOR)
+                                    data=image.colorspace_settings.name == native.NON_COLOR,
+                                    content=content if self.embed else None)
         self.made[image.name] = texture
         return texture
 
@@ -470,7 +481,8 @@ def export(context, filepath, use_selection=False, **options) -> list:
         if obj.type == "LIGHT" and obj.data.type in fbx_write.LIGHT_TYPES and \
                 obj.data.name not in lights:
             lights[obj.data.name] = obj.data
-    textures = Textures(os.path.dirname(path))
+    textures = Textures(os.path.dirname(path), embed=bool(options.get("embed_textures"))
+                        and options.get("path_mode") == "COPY")
     values = {n: material_of(m, warnings, textures=textures) for n, m in phong.items()}
     light_values = {n: light_of(l, scene, warnings) for n, l in lights.items()}
     ambient, ambient_user = _ambient(scene)
