@@ -843,6 +843,16 @@ def test_every_map_is_written_and_read_back(bpy_clean, tmp_path):
     lost = os.path.join(folder, "lost.png")
     assert read["Shiny"]["maps"]["DiffuseColor"] == [os.path.relpath(lost, str(again)), lost]
     assert "lost.png" not in str(read["Leaf"]) + str(read["Veil"])
+    # Blender's path_mode COPY: the image files that are there copied beside the FBX file
+    be.reset_empty_file()
+    copied = tmp_path / "copied"
+    copied.mkdir()
+    assert bpy.ops.phong.import_fbx(filepath=path) == {"FINISHED"}
+    fbx_export.export(bpy.context, str(copied / "copy.fbx"), path_mode="COPY", **NO_LIGHTS)
+    assert sorted(os.listdir(copied)) == ["copy.fbx", "label.png", "mask.png", "rough.png"]
+    read = _ufbx_textures(str(copied / "copy.fbx"))
+    assert read["Veil"]["maps"]["TransparencyFactor"] == ["mask.png", str(copied / "mask.png")]
+    assert read["Shiny"]["maps"]["DiffuseColor"][1] == os.path.join(folder, "lost.png")
     # Blender's own importer: the alpha texture and the exponent's (its roughness)
     be.reset_empty_file()
     assert bpy.ops.import_scene.fbx(filepath=path) == {"FINISHED"}

@@ -84,9 +84,10 @@ class Textures:
     (:attr:`pending`: written once the rewrite has succeeded, just before the FBX file is
     put in place; each file atomically)."""
 
-    def __init__(self, folder: str, embed: bool = False):
+    def __init__(self, folder: str, embed: bool = False, copy: bool = False):
         self.folder = folder
         self.embed = embed    # Blender's embed_textures (with path_mode COPY): Video Content
+        self.copy = copy      # Blender's path_mode COPY: image files copied beside the FBX
         self.made = {}        # image name -> fbx_write.Texture
         self.pending = {}     # path beside the FBX -> bytes
         self.taken = set()
@@ -98,20 +99,24 @@ class Textures:
             return self.made[image.name]
         content = None
         if image.packed_file is not None:
-            path = self._beside(image)
             content = bytes(image.packed_file.data)
+            path = self._beside(image, content)
             if not self.embed:
                 self.pending[path] = content
                 warnings.append(f"{where}: packed image {image.name!r} written beside the FBX "
                                 f"file as {os.path.basename(path)}")
         elif image.source == "FILE" and image.filepath:
             path = os.path.abspath(bpy.path.abspath(image.filepath, library=image.library))
-            if self.embed and os.path.isfile(path):
+            if (self.embed or self.copy) and os.path.isfile(path):
                 try:
                     with open(path, "rb") as handle:
                         content = handle.read()
                 except OSError:
                     content = None
+            if self.copy and not self.embed and content is not None and \
+                    os.path.dirname(path) != self.folder:   # Blender's COPY: beside the FBX
+                path = self._beside(image, content)
+                self.pending[path] = content
         else:
             warnings.append(f"{where}: image {image.name!r} has no file (generated): left "
                             "out")
@@ -126,17 +131,16 @@ class Textures:
         self.made[image.name] = texture
         return texture
 
-    def _beside(self, image) -> str:
-        """A file name beside the FBX for the packed *image* (its own file's name, else its
-        name with the suffix of its format), one not taken by another image of the export
-        nor by a different file already there."""
+    def _beside(self, image, data: bytes) -> str:
+        """A file name beside the FBX for the bytes *data* of *image* (its own file's name,
+        else its name with the suffix of its format), one not taken by another image of the
+        export nor by a different file already there."""
         base = bpy.path.basename(image.filepath) or image.name
         base = "".join(c if c.isalnum() or c in "._- " else "_" for c in base).strip(". ") \
             or "texture"
         stem, suffix = os.path.splitext(base)
         if not suffix:
             suffix = SUFFIXES.get(image.file_format, ".png")
-        data = bytes(image.packed_file.data)
         for n in range(1000):
             name = stem + ("" if n == 0 else f"_{n}") + suffix
             path = os.path.join(self.folder, name)
@@ -482,7 +486,8 @@ def export(context, filepath, use_selection=False, **options) -> list:
                 obj.data.name not in lights:
             lights[obj.data.name] = obj.data
     textures = Textures(os.path.dirname(path), embed=bool(options.get("embed_textures"))
-                        and options.get("path_mode") == "COPY")
+                        and options.get("path_mode") == "COPY",
+                        copy=options.get("path_mode") == "COPY")
     values = {n: material_of(m, warnings, textures=textures) for n, m in phong.items()}
     light_values = {n: light_of(l, scene, warnings) for n, l in lights.items()}
     ambient, ambient_user = _ambient(scene)
