@@ -313,6 +313,9 @@ def _texture(prop_name, index, textures, base) -> Texture:
 #: Properties that only a Phong surface has: a material of a shading model ufbx does not
 #: know ("Blinn" of 3ds Max, "Anisotropic" ...) that holds one is read as FbxSurfacePhong.
 PHONG_ONLY = ("SpecularColor", "SpecularFactor", "ShininessExponent", "Shininess")
+#: The user property (+ the FBX property) Phong Nodes' export writes for a colour map whose
+#: image is data (Non-Color), read back in that colour space.
+NON_COLOR_USER = "NonColor"
 #: The start of the Creator of a file of Blender's own FBX exporter.
 BLENDER_CREATOR = "Blender (stable FBX IO)"
 
@@ -390,7 +393,9 @@ def read_material(mat, base="", textures=None, blender=False) -> Material:
     # Blender's exporter writes its alpha texture on TransparencyFactor (with the factor
     # 1 − alpha, 0 for an opaque one: by the SDK's rule the map would change nothing), and
     # Blender's importer reads a map there as the opacity's alpha texture: read it so
-    out.alpha_map = blender and any(key in out.textures for key in OPACITY_MAPS)
+    # (Phong Nodes' export marks maps that follow the SDK's rule: ``TransparencyMaps``)
+    out.alpha_map = blender and any(key in out.textures for key in OPACITY_MAPS) and \
+        not out.user.get("TransparencyMaps")
     return out
 
 

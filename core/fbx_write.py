@@ -11,7 +11,13 @@ material's ``ShadingModel``) replaced:
   EmissiveColor, ShininessExponent and Shininess, every factor 1 (ReflectionFactor 0: the
   Phong model has no mirror term, and Blender's importer makes a material with
   ReflectionFactor 1 fully metallic), the opacity triple Opacity o, TransparencyFactor
-  1 − o, TransparentColor white;
+  1 − o, TransparentColor white (with a map on either: the factor and colour of the SDK's
+  rule, 1 − TransparencyFactor·t_f × mean(TransparentColor ⊗ t_c));
+* a material's maps: a Texture and a Video object each (the image file's absolute and
+  relative paths, whether or not the file is there; its bytes as the Video's Content where
+  the export embeds them), connected to the property it maps
+  (DiffuseColor ... ShininessExponent, TransparencyFactor, TransparentColor) as Blender's
+  exporter connects them;
 * a light: LightType, Color, Intensity, DecayType, CastShadows, and a spot's OuterAngle and
   InnerAngle;
 * GlobalSettings' AmbientColor;
@@ -54,6 +60,8 @@ class Texture:
     path: str                 # absolute
     relative: str             # relative to the FBX file's folder
     name: str
+    data: bool = False        # the image is read as data (Non-Color), not as a colour
+    content: bytes | None = None   # the file's bytes embedded in the Video (Content)
 
 
 @dataclass
@@ -68,6 +76,10 @@ class Material:
     opacity: float
     user: dict = field(default_factory=dict)   # key (without USER) -> float
     textures: dict = field(default_factory=dict)   # FBX property (DiffuseColor ...) -> Texture
+    #: the SDK's opacity rule 1 − TransparencyFactor × mean(TransparentColor) where a map on
+    #: either gives the opacity (None: 1 − opacity and white, the rule for the Opacity alone)
+    transparency_factor: float | None = None
+    transparent_color: tuple | None = None
 
 
 @dataclass
@@ -173,6 +185,9 @@ _SCALARS = {"Y": "<h", "C": "<?", "I": "<i", "F": "<f", "D": "<d", "L": "<q"}
 
 
 def _prop(kind, value) -> bytes:
+    if kind == "R":
+        raw = bytes(value)
+        return b"R" + struct.pack("<I", len(raw)) + raw
     if kind == "S":
         raw = value.encode("utf-8") if isinstance(value, str) else bytes(value)
         return b"S" + struct.pack("<I", len(raw)) + raw
@@ -229,8 +244,10 @@ def material_props(m: Material) -> list:
            number("SpecularFactor", 1.0),
            number("ShininessExponent", m.exponent), number("Shininess", m.exponent),
            color("ReflectionColor", zero), number("ReflectionFactor", 0.0),
-           color("TransparentColor", (1.0, 1.0, 1.0)),
-           number("TransparencyFactor", 1.0 - m.opacity), number("Opacity", m.opacity)]
+           color("TransparentColor", m.transparent_color or (1.0, 1.0, 1.0)),
+           number("TransparencyFactor", 1.0 - m.opacity if m.transparency_factor is None
+                  else m.transparency_factor),
+           number("Opacity", m.opacity)]
     return out + [user(k, v) for k, v in sorted(m.user.items())]
 
 
@@ -365,7 +382,8 @@ def _add_textures(reader, top, links) -> None:
                                                        (texture.path,), "S")]),
                 _made(b"UseMipMap", (0,), "I"),
                 _made(b"Filename", (texture.path,), "S"),
-                _made(b"RelativeFilename", (texture.relative,), "S")])
+                _made(b"RelativeFilename", (texture.relative,), "S")]
+                + ([_made(b"Content", (texture.content,), "R")] if texture.content else []))
             tex = _made(b"Texture", (texture_id, f"{name}\x00\x01Texture", ""), "LSS", [
                 _made(b"Type", ("TextureVideoClip",), "S"),
                 _made(b"Version", (202,), "I"),

@@ -678,3 +678,252 @@ def test_image_textures_are_written_and_read_back(bpy_clean, tmp_path):
                       if n.bl_idname == "ShaderNodeBsdfPrincipled")
     base = principled.inputs["Base Color"].links[0].from_node
     assert bpy.path.basename(base.image.filepath) == "diffuse.png"
+
+
+UFBX_TEXTURES = r"""
+import gc, json, sys
+gc.disable()   # ufbx 0.0.5's objects crash the collector (core/fbx.py)
+import ufbx
+scene = ufbx.load_file(sys.argv[1], ignore_geometry=True)
+hold, out = [], {}
+textures = [scene.textures[i] for i in range(len(scene.textures))]
+for i in range(len(scene.materials)):
+    m = scene.materials[i]
+    links = [m.textures[j] for j in range(len(m.textures))]
+    hold += links
+    maps = {}
+    for link in links:
+        t = textures[link.texture.typed_id]
+        maps[link.material_prop] = [t.relative_filename, t.filename]
+    props = {}
+    for name in ("TransparencyFactor", "TransparentColor", "ShininessExponent", "Opacity",
+                 "DiffuseColor", "AmbientColor"):
+        p = m.props.find_prop(name)
+        if p is not None:
+            props[name] = [p.value_vec4.x, p.value_vec4.y, p.value_vec4.z]
+    out[m.name] = {"maps": maps, "props": props}
+print(json.dumps(out))
+sys.stdout.flush()
+import os
+os._exit(0)
+"""
+
+
+def _ufbx_textures(path):
+    """{material: {"maps": {property: [relative, file name]}, "props": {...}}} as ufbx reads
+    the file (in a child process, as :func:`_ufbx_materials`)."""
+    import json
+    import subprocess
+    import sys
+    done = subprocess.run([sys.executable, "-c", UFBX_TEXTURES, path], capture_output=True,
+                          text=True, timeout=120, check=True)
+    return json.loads(done.stdout.strip().splitlines()[-1])
+
+
+def _tile(bpy, name):
+    from phong_nodes.addon.lighting import materials
+    mesh = bpy.data.meshes.new(name)
+    mesh.from_pydata([(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0)], [], [(0, 1, 2, 3)])
+    mesh.uv_layers.new(name="UVMap")
+    mesh.materials.append(bpy.data.materials.new(name + " source"))
+    obj = bpy.data.objects.new(name, mesh)
+    bpy.context.scene.collection.objects.link(obj)
+    for other in bpy.context.view_layer.objects:
+        other.select_set(False)
+    obj.select_set(True)
+    bpy.context.view_layer.objects.active = obj
+    assert bpy.ops.phong.apply_material() == {"FINISHED"}
+    material = obj.material_slots[0].material
+    materials.set_opacity(material, 1.0)
+    material.name = name
+    return material
+
+
+def _png(bpy, folder, name, rgba, keep=True):
+    image = bpy.data.images.new(name, 2, 2, alpha=True)
+    image.pixels[:] = list(rgba) * 4
+    image.filepath_raw = os.path.join(folder, f"{name}.png")
+    image.file_format = "PNG"
+    image.save()
+    if not keep:
+        os.remove(image.filepath_raw)
+    return image
+
+
+def test_every_map_is_written_and_read_back(bpy_clean, tmp_path):
+    """The exponent map (Exponent × mean(texel)) is a texture on ShininessExponent with the
+    Exponent; an opacity map of a texel's alpha × k (X3D's texture alpha × Opacity) a texture
+    on TransparencyFactor as Blender's exporter writes its alpha, k kept; an opacity map of
+    the FBX SDK's rule 1 − TF × mean(t) (COLLADA's RGB_ZERO) a texture on TransparencyFactor
+    with that factor; a colour map whose file is missing keeps its path, also through the
+    project's import and a second export; a packed image is written beside the FBX file.
+    ufbx reads each texture on its property with its file; the project's importer gives
+    every map back (the same chain's values); Blender's own importer reads the alpha texture
+    and the exponent one (as roughness)."""
+    bpy = bpy_clean
+    from phong_nodes.addon import compat
+    from phong_nodes.addon.interchange import fbx_export, native
+    from phong_nodes.addon.lighting import materials
+    folder = str(tmp_path / "textures")
+    os.makedirs(folder)
+    shiny = _tile(bpy, "Shiny")
+    tree = shiny.node_tree
+    compat.value_output(tree.nodes["phong_exponent"]).default_value = 64.0
+    compat.value_output(tree.nodes["phong_specular_color"]).default_value = (0.5, 0.5, 0.5, 1)
+    rough = _png(bpy, folder, "rough", (0.25, 0.5, 0.75, 1.0))
+    rough.colorspace_settings.name = native.NON_COLOR
+    native.exponent_map(shiny, rough)
+    lost = _png(bpy, folder, "lost", (0.9, 0.1, 0.1, 1.0), keep=False)   # file not there
+    node = native.image_node(tree, "lost", lost, (-1400.0, 0.0))
+    tree.links.new(node.outputs["Color"], tree.nodes[materials.LIGHTS_NODE].inputs[
+        "Object Color"])
+    # X3D's texture alpha × Opacity, the image packed (an imported PixelTexture)
+    leaf = _tile(bpy, "Leaf")
+    materials.set_opacity(leaf, 0.75)
+    label = _png(bpy, folder, "label", (1.0, 1.0, 1.0, 0.5))
+    label.pack()
+    os.remove(label.filepath_raw)
+    tree = leaf.node_tree
+    alpha = native.image_node(tree, "alpha", label, (-1400.0, 600.0))
+    native.opacity_map(leaf, native.math(
+        tree, native.MAP_NODE + "alpha x o", "MULTIPLY", alpha.outputs["Alpha"],
+        compat.value_output(tree.nodes[materials.OPACITY]), (-900.0, 600.0)))
+    # COLLADA's RGB_ZERO: 1 − t × mean(texel), a data map
+    veil = _tile(bpy, "Veil")
+    mask = _png(bpy, folder, "mask", (0.2, 0.4, 0.6, 1.0))
+    mask.colorspace_settings.name = native.NON_COLOR
+    tree = veil.node_tree
+    texel = native.image_node(tree, "mask", mask, (-1400.0, 600.0))
+    mean = native.mean_rgb(tree, "mask mean", texel.outputs["Color"], (-1100.0, 600.0))
+    scaled = native.math(tree, native.MAP_NODE + "x t", "MULTIPLY", mean, 0.8, (-900.0, 600.0))
+    native.opacity_map(veil, native.math(tree, native.MAP_NODE + "1 -", "SUBTRACT", 1.0,
+                                         scaled, (-700.0, 600.0)))
+    out = tmp_path / "out"
+    out.mkdir()
+    path = str(out / "maps.fbx")
+    warnings = fbx_export.export(bpy.context, path, **NO_LIGHTS)
+    assert any("label" in w and "beside" in w for w in warnings), warnings
+    assert (out / "label.png").is_file() and not (out / "lost.png").exists()
+    read = _ufbx_textures(path)
+    rel = os.path.relpath(folder, str(out))
+    assert read["Shiny"]["maps"] == {
+        "DiffuseColor": [os.path.join(rel, "lost.png"), os.path.join(folder, "lost.png")],
+        "ShininessExponent": [os.path.join(rel, "rough.png"), os.path.join(folder, "rough.png")]}
+    assert read["Shiny"]["props"]["ShininessExponent"][0] == 64.0
+    assert read["Leaf"]["maps"] == {"TransparencyFactor": ["label.png", str(out / "label.png")]}
+    assert read["Veil"]["maps"] == {"TransparencyFactor": [os.path.join(rel, "mask.png"),
+                                                           os.path.join(folder, "mask.png")]}
+    assert read["Veil"]["props"]["TransparencyFactor"][0] == pytest.approx(0.8, abs=1e-7)
+    assert read["Veil"]["props"]["TransparentColor"] == [1.0, 1.0, 1.0]
+    # the project's importer
+    be.reset_empty_file()
+    assert bpy.ops.phong.import_fbx(filepath=path) == {"FINISHED"}
+    shiny, leaf, veil = (bpy.data.materials[n] for n in ("Shiny", "Leaf", "Veil"))
+    feeds = materials.feeds(shiny)
+    assert feeds["Exponent"].value == 64.0
+    form = fbx_export._walk(feeds["Exponent"].socket)
+    assert form[0] == "prod" and form[1] == 64.0 and \
+        form[2][0][1].image.filepath.endswith("rough.png")
+    feeds = materials.feeds(leaf)
+    assert feeds["Opacity"].value == pytest.approx(0.75)
+    form = fbx_export._walk(compat.output_socket(feeds["Opacity"].other, "Value"))
+    assert form[:2] == ("prod", pytest.approx(0.75)) and form[2][0][0] == "alpha"
+    assert bpy.path.basename(form[2][0][1].image.filepath) == "label.png"
+    feeds = materials.feeds(veil)
+    form = fbx_export._walk(compat.output_socket(feeds["Opacity"].other, "Value"))
+    assert form[:2] == ("one_minus", pytest.approx(0.8)) and form[2][0][0] == "mean"
+    assert bpy.path.basename(form[2][0][1].image.filepath) == "mask.png"
+    # the missing colour map: left out of the picture, its reference kept for the export
+    assert materials.feeds(shiny)["Object Color"].texture is None
+    assert not [i.name for i in bpy.data.images if i.filepath.endswith("lost.png")]
+    again = tmp_path / "again"
+    again.mkdir()
+    fbx_export.export(bpy.context, str(again / "again.fbx"), **NO_LIGHTS)
+    read = _ufbx_textures(str(again / "again.fbx"))
+    lost = os.path.join(folder, "lost.png")
+    assert read["Shiny"]["maps"]["DiffuseColor"] == [os.path.relpath(lost, str(again)), lost]
+    assert "lost.png" not in str(read["Leaf"]) + str(read["Veil"])
+    # Blender's path_mode COPY: the image files that are there copied beside the FBX file
+    be.reset_empty_file()
+    copied = tmp_path / "copied"
+    copied.mkdir()
+    assert bpy.ops.phong.import_fbx(filepath=path) == {"FINISHED"}
+    fbx_export.export(bpy.context, str(copied / "copy.fbx"), path_mode="COPY", **NO_LIGHTS)
+    assert sorted(os.listdir(copied)) == ["copy.fbx", "label.png", "mask.png", "rough.png"]
+    read = _ufbx_textures(str(copied / "copy.fbx"))
+    assert read["Veil"]["maps"]["TransparencyFactor"] == ["mask.png", str(copied / "mask.png")]
+    assert read["Shiny"]["maps"]["DiffuseColor"][1] == os.path.join(folder, "lost.png")
+    # Blender's own importer: the alpha texture and the exponent's (its roughness)
+    be.reset_empty_file()
+    assert bpy.ops.import_scene.fbx(filepath=path) == {"FINISHED"}
+
+    def principled(name):
+        return next(n for n in bpy.data.materials[name].node_tree.nodes
+                    if n.bl_idname == "ShaderNodeBsdfPrincipled")
+
+    alpha = principled("Leaf").inputs["Alpha"].links[0].from_node
+    assert bpy.path.basename(alpha.image.filepath) == "label.png"
+    rough_node = principled("Shiny").inputs["Roughness"].links[0].from_node
+    while rough_node.bl_idname != "ShaderNodeTexImage":
+        rough_node = next(i for i in rough_node.inputs if i.is_linked).links[0].from_node
+    assert bpy.path.basename(rough_node.image.filepath) == "rough.png"
+
+
+def test_an_x3d_files_pixel_textures_are_fbx_maps(bpy_clean, tmp_path):
+    """An X3D file's PixelTextures (packed images, no file) on its chains (a grey texture ×
+    diffuseColor, ambientIntensity × texel × diffuseColor, the texel's alpha × Opacity) are
+    FBX maps: each image written beside the FBX file once, on DiffuseColor and AmbientColor
+    with the chain's colour (ufbx reads colour and file) and its alpha on TransparencyFactor;
+    no warning that a chain was left out.  The project's importer reads the maps back as
+    data (Non-Color, as X3D's texels are), each image once; embedded, the same texels."""
+    bpy = bpy_clean
+    from test_x3d_export import PIXEL_FILE  # noqa: PLC0415
+    from phong_nodes.addon.interchange import fbx_export
+    source = tmp_path / "pixels.x3dv"
+    source.write_text(PIXEL_FILE)
+    assert bpy.ops.phong.import_x3d(filepath=str(source)) == {"FINISHED"}
+    out = tmp_path / "out"
+    out.mkdir()
+    path = str(out / "pixels.fbx")
+    warnings = fbx_export.export(bpy.context, path, **NO_LIGHTS)
+    assert not [w for w in warnings if "fed by nodes" in w or "left out" in w], warnings
+    assert sorted(os.listdir(out)) == ["Checker.png", "Stripes.png", "pixels.fbx"]
+    read = _ufbx_textures(path)
+    checker = ["Checker.png", str(out / "Checker.png")]
+    assert read["Label"]["maps"] == {"DiffuseColor": checker, "AmbientColor": checker,
+                                     "TransparencyFactor": checker}
+    assert read["Label"]["props"]["DiffuseColor"] == [0.5, 0.25, 1.0]
+    np.testing.assert_allclose(read["Label"]["props"]["AmbientColor"],
+                               _f32([0.1, 0.05, 0.2]), rtol=1e-7)
+    stripes = ["Stripes.png", str(out / "Stripes.png")]
+    assert read["Paint"]["maps"] == {"DiffuseColor": stripes, "AmbientColor": stripes}
+    assert read["Paint"]["props"]["DiffuseColor"] == [1.0, 1.0, 1.0]   # an RGB texture replaces
+    # the project's importer: X3D's texels are data (Non-Color), and stay so (NonColor<prop>)
+    be.reset_empty_file()
+    assert bpy.ops.phong.import_fbx(filepath=path) == {"FINISHED"}
+    from phong_nodes.addon.lighting import materials
+    for name, image in (("Label", "Checker.png"), ("Paint", "Stripes.png")):
+        feeds = materials.feeds(bpy.data.materials[name])
+        for key in ("Object Color", "Ambient Object Color"):
+            node = feeds[key].chain.texture if feeds[key].texture is None else \
+                feeds[key].texture
+            assert node.image.name == image, (name, key)
+            assert node.image.colorspace_settings.name == "Non-Color", (name, key)
+    assert sorted(i.name for i in bpy.data.images) == ["Checker.png", "Stripes.png"]
+    # embedded (Blender's embed_textures with path_mode COPY): no file beside, the bytes in
+    # the Video's Content, read back as packed images of the same texels
+    be.reset_empty_file()
+    assert bpy.ops.phong.import_x3d(filepath=str(source)) == {"FINISHED"}
+    texels = {n: list(bpy.data.images[n].pixels) for n in ("Checker", "Stripes")}
+    inside = tmp_path / "inside"
+    inside.mkdir()
+    warnings = fbx_export.export(bpy.context, str(inside / "pixels.fbx"), embed_textures=True,
+                                 path_mode="COPY", **NO_LIGHTS)
+    assert not [w for w in warnings if "beside" in w], warnings
+    assert os.listdir(inside) == ["pixels.fbx"]
+    be.reset_empty_file()
+    assert bpy.ops.phong.import_fbx(filepath=str(inside / "pixels.fbx")) == {"FINISHED"}
+    for name in ("Checker", "Stripes"):
+        image = bpy.data.images[name + ".png"]
+        assert image.packed_file is not None
+        assert list(image.pixels) == pytest.approx(texels[name], abs=0.5 / 255)

@@ -359,3 +359,278 @@ def test_gzipped_export_is_gzip(bpy_clean, tmp_path):
         assert doc.encoding == ("vrml97" if "wr" in name else "x3d-xml" if name == "a.x3dz"
                                 else "x3d-classic")
         assert len(doc.instances) == 5 and doc.headlight is False
+
+
+PIXEL_FILE = """#X3D V3.3 utf8
+PROFILE Interchange
+Shape {
+  appearance Appearance {
+    material DEF Label Material { diffuseColor 0.5 0.25 1 }
+    texture DEF Checker PixelTexture { image 2 2 2 0xFF80 0x0040 0x80FF 0x40C0 repeatS FALSE repeatT FALSE }
+  }
+  geometry IndexedFaceSet { coord Coordinate { point [ 0 0 0, 1 0 0, 1 1 0, 0 1 0 ] }
+    coordIndex [ 0 1 2 3 -1 ] texCoord TextureCoordinate { point [ 0 0, 1 0, 1 1, 0 1 ] }
+    texCoordIndex [ 0 1 2 3 -1 ] }
+}
+Transform { translation 2 0 0 children Shape {
+  appearance Appearance {
+    material DEF Paint Material { diffuseColor 0.1 0.2 0.3 }
+    texture DEF Stripes PixelTexture { image 3 1 3 0xFF0000 0x00FF00 0x102030 }
+  }
+  geometry IndexedFaceSet { coord Coordinate { point [ 0 0 0, 1 0 0, 1 1 0, 0 1 0 ] }
+    coordIndex [ 0 1 2 3 -1 ] texCoord TextureCoordinate { point [ 0 0, 1 0, 1 1, 0 1 ] }
+    texCoordIndex [ 0 1 2 3 -1 ] }
+} }
+"""
+
+
+def _pixel_textures(path):
+    """{DEF: (width, height, components, [texels], repeatS)} of the PixelTextures in the
+    written file *path*, read from its text here (XML attributes, or the classic encodings'
+    ``DEF name PixelTexture { image w h c texel ... }``), not by the importer."""
+    import gzip
+    import re
+    import xml.etree.ElementTree as ET
+    raw = open(path, "rb").read()
+    text = (gzip.decompress(raw) if raw[:2] == b"\x1f\x8b" else raw).decode("utf-8")
+    out = {}
+    if path.endswith(".x3d"):
+        for node in ET.fromstring(text).iter("PixelTexture"):
+            numbers = [int(v, 0) for v in node.get("image").replace(",", " ").split()]
+            out[node.get("DEF")] = (*numbers[:3], numbers[3:],
+                                    node.get("repeatS", "true").lower() == "true")
+        return out
+    for match in re.finditer(r"DEF\s+(\S+)\s+PixelTexture\s*\{([^}]*)\}", text):
+        body = match.group(2)
+        image = re.search(r"image\s+([-0-9xXa-fA-F\s,]+)", body).group(1)
+        numbers = [int(v, 0) for v in image.replace(",", " ").split()]
+        repeat = re.search(r"repeatS\s+(TRUE|FALSE)", body)
+        out[match.group(1)] = (*numbers[:3], numbers[3:], repeat is None or
+                               repeat.group(1) == "TRUE")
+    return out
+
+
+@pytest.mark.parametrize("suffix", [".x3d", ".x3dv", ".wrl", ".wrz"])
+def test_an_inline_image_is_written_as_a_pixel_texture(bpy_clean, tmp_path, suffix):
+    """An image without a file (an imported PixelTexture, packed; an image generated in
+    Blender) is written as a PixelTexture with its texels, in every encoding: the file's
+    texels and components exactly (read from the written text here), the image generated
+    in Blender with the components its texels need; import → export → import keeps them."""
+    bpy = bpy_clean
+    source = tmp_path / "pixels.x3dv"
+    source.write_text(PIXEL_FILE)
+    assert bpy.ops.phong.import_x3d(filepath=str(source)) == {"FINISHED"}
+    from phong_nodes.addon.lighting import materials
+    paint = bpy.data.materials["Paint"]
+    generated = bpy.data.images.new("Made", 2, 1, alpha=True)
+    generated.colorspace_settings.name = "Non-Color"
+    generated.pixels[:] = [0.2, 0.2, 0.2, 1.0, 0.6, 0.6, 0.6, 0.5]
+    feeds = materials.feeds(paint)
+    node = feeds["Object Color"].texture
+    assert node is not None and node.image.name == "Stripes"
+    out = str(tmp_path / f"out{suffix}")
+    assert bpy.ops.phong.export_x3d(filepath=out) == {"FINISHED"}
+    written = _pixel_textures(out)
+    assert written["Checker"] == (2, 2, 2, [0xFF80, 0x0040, 0x80FF, 0x40C0], False)
+    assert written["Stripes"] == (3, 1, 3, [0xFF0000, 0x00FF00, 0x102030], True)
+    # an image made in Blender, without a file: grey with alpha, 2 components
+    node.image = generated
+    assert bpy.ops.phong.export_x3d(filepath=out) == {"FINISHED"}
+    written = _pixel_textures(out)
+    assert written["Made"] == (2, 1, 2, [0x33FF, 0x9980], True)
+    node.image = bpy.data.images["Stripes"]
+    assert bpy.ops.phong.export_x3d(filepath=out) == {"FINISHED"}
+    be.reset_empty_file()
+    assert bpy.ops.phong.import_x3d(filepath=out) == {"FINISHED"}
+    again = str(tmp_path / f"again{suffix}")
+    assert bpy.ops.phong.export_x3d(filepath=again) == {"FINISHED"}
+    assert _pixel_textures(again) == _pixel_textures(out)
+    assert set(_pixel_textures(again)) == {"Checker", "Stripes"}
+
+
+REUSED = """#VRML V2.0 utf8
+NavigationInfo { headlight FALSE }
+PROTO Pin [ field SFColor col 1 0 0 field SFVec3f at 0 0 0 ] {
+  Transform { translation IS at children Shape {
+    appearance Appearance { material DEF Mat Material { diffuseColor IS col } }
+    geometry Box { } } }
+}
+Pin { col 0 1 0 at 0 -3 0 }
+Pin { col 0 0 1 at 3 -3 0 }
+Transform { children [
+  DEF Sun DirectionalLight { direction 0 0 -1 intensity 0.7 ambientIntensity 0.4 color 1 0.5 0.25 }
+  Shape { appearance Appearance { material DEF PIN-01 Material { diffuseColor 0.8 0.8 0.1 } }
+          geometry Box { } } ] }
+Transform { translation 3 0 0 children Shape {
+  appearance Appearance { material USE PIN-01 } geometry Box { } } }
+Transform { translation 6 0 0 rotation 0 1 0 1.5708 children [
+  USE Sun
+  Shape { appearance Appearance { material DEF PIN-01 Material {
+            diffuseColor 0.1 0.2 0.9 shininess 0.5 } } geometry Sphere { } } ] }
+Transform { translation 9 0 0 children [
+  USE Sun
+  Shape { appearance Appearance { material USE PIN-01 } geometry Box { } } ] }
+"""
+
+
+def _written_materials(path):
+    """[(exact name, diffuseColor)] of the Materials DEF'd in the written file *path*, read
+    from its text here: the DEF names, mapped back through WorldInfo's exact names."""
+    import re
+    import xml.etree.ElementTree as ET
+    text = open(path, encoding="utf-8").read()
+    if path.endswith(".x3d"):
+        root = ET.fromstring(text)
+        found = [(m.get("DEF"), m.get("diffuseColor")) for m in root.iter("Material")
+                 if m.get("DEF")]
+        info = [v for w in root.iter("WorldInfo") for v in re.findall(r'"([^"]*)"',
+                                                                       w.get("info", ""))]
+    else:
+        found = re.findall(r"DEF\s+(\S+)\s+Material\s*\{[^}]*?diffuseColor\s+([-0-9.e ]+)",
+                           text)
+        block = re.search(r"WorldInfo\s*\{[^}]*\}", text)
+        info = re.findall(r'"([^"]*)"', block.group(0)) if block else []
+    exact = dict(line[len(x3d.NAME_PREFIX):].split("=", 1) for line in info
+                 if line.startswith(x3d.NAME_PREFIX))
+    return sorted((exact.get(name, name), tuple(round(float(v), 6) for v in colour.split()))
+                  for name, colour in found)
+
+
+@pytest.mark.parametrize("suffix", [".x3d", ".x3dv", ".wrl"])
+def test_reused_def_names_and_proto_materials_keep_each_material(bpy_clean, tmp_path,
+                                                                 suffix):
+    """A file that defines PIN-01 twice (each USE'd after it) and instantiates a PROTO with
+    its own Material twice: every Material is its own Phong material with its own values,
+    under the file's name and Blender's .001 (PIN-01, PIN-01.001, Mat, Mat.001), each on the
+    shapes that use it; the export writes each as its own Material whose exact name
+    (WorldInfo) is that name (read from the written text here), and import → export →
+    import gives the same materials on the same objects.  The DirectionalLight DEF'd in one
+    group and USE'd in two others is one light per direction, each reaching its groups."""
+    bpy = bpy_clean
+    from phong_nodes.addon.lighting import materials
+    source = tmp_path / "reused.wrl"
+    source.write_text(REUSED)
+    assert bpy.ops.phong.import_x3d(filepath=str(source)) == {"FINISHED"}
+
+    def state():
+        out = {}
+        for m in bpy.data.materials:
+            if materials.is_phong_material(m):
+                users = sorted(o.name for o in bpy.data.objects if o.type == "MESH"
+                               and o.material_slots[0].material is m)
+                out[m.name] = (tuple(round(v, 6) for v in
+                                     materials.feeds(m)["Object Color"].value), users)
+        lights = []
+        for o in bpy.data.objects:
+            if o.type == "LIGHT":
+                receivers = o.light_linking.receiver_collection
+                lights.append(sorted(round(x.matrix_world.translation.x) for x in
+                                     receivers.all_objects) if receivers else None)
+        return out, sorted(lights)
+
+    first, lights = state()
+    # what the file says: the DEF'd Materials in order, with the PROTO
+    # instances' colours for the PROTO's; a Material whose shapes differ in their light set
+    # has a variant named after its own Phong material (PIN-01.001 [Sun], not PIN-01 [Sun])
+    assert {n: v[0] for n, v in first.items()} == {
+        "Mat": (0.0, 1.0, 0.0), "Mat.001": (0.0, 0.0, 1.0),
+        "PIN-01": (0.8, 0.8, 0.1), "PIN-01 [no light]": (0.8, 0.8, 0.1),
+        "PIN-01.001": (0.1, 0.2, 0.9), "PIN-01.001 [Sun]": (0.1, 0.2, 0.9)}
+    x = {o.name: round(o.matrix_world.translation.x) for o in bpy.data.objects}
+    assert {n: [x[o] for o in v[1]] for n, v in first.items()} == {
+        "Mat": [0], "Mat.001": [3], "PIN-01": [0], "PIN-01 [no light]": [3],
+        "PIN-01.001": [6], "PIN-01.001 [Sun]": [9]}
+    # the Sun of the groups at x = 0 and 9 (one direction), and of the turned one at x = 6
+    assert lights == [[0, 9], [6]]
+    out = str(tmp_path / f"out{suffix}")
+    assert bpy.ops.phong.export_x3d(filepath=out) == {"FINISHED"}
+    assert _written_materials(out) == sorted((n, v[0]) for n, v in first.items())
+    be.reset_empty_file()
+    assert bpy.ops.phong.import_x3d(filepath=out) == {"FINISHED"}
+    assert state() == (first, lights)
+
+
+@pytest.mark.parametrize("suffix", [".x3d", ".x3dv", ".wrl"])
+def test_the_worlds_ambient_light_comes_back_to_the_world(bpy_clean, tmp_path, suffix):
+    """The World's Phong ambient light (which X3D lacks) is written as the DirectionalLight
+    WorldAmbient of intensity 0 whose ambientIntensity and colour are the World's (read from
+    the written text here), and read back into the World (intensity and colour as float32),
+    not as a light; a file's own lights keep their ambientIntensity as lights and leave the
+    World's ambient at 0."""
+    import re
+    bpy = bpy_clean
+    _seeds_scene(bpy)
+    out = str(tmp_path / f"out{suffix}")
+    assert bpy.ops.phong.export_x3d(filepath=out) == {"FINISHED"}
+    text = open(out, encoding="utf-8").read()
+    if suffix == ".x3d":
+        block = re.search(r'<DirectionalLight[^>]*DEF="WorldAmbient"[^>]*>', text).group(0)
+        fields = dict(re.findall(r'(\w+)="([^"]*)"', block))
+    else:
+        block = re.search(r"DEF WorldAmbient DirectionalLight\s*\{([^}]*)\}", text).group(1)
+        fields = dict(re.findall(r"(\w+)\s+([-0-9.e ]+?)\s*(?=\n|$)", block))
+    assert float(fields["intensity"]) == 0.0
+    assert float(fields["ambientIntensity"]) == pytest.approx(0.1)
+    assert [float(v) for v in fields["color"].split()] == [1.0, 0.5, 0.25]
+    be.reset_empty_file()
+    assert bpy.ops.phong.import_x3d(filepath=out) == {"FINISHED"}
+    world = bpy.context.scene.world
+    assert world.phong.ambient_intensity == F32(0.1)
+    assert tuple(world.phong.ambient_color) == (1.0, 0.5, 0.25)
+    assert "WorldAmbient" not in bpy.data.objects
+    names = sorted(o.name for o in bpy.data.objects if o.type == "LIGHT")
+    assert [n for n in names if n != "Headlight"] == ["Beam", "Bulb", "Local", "Sky"]
+    # a file whose lights carry ambientIntensity: lights, and the World's ambient 0
+    be.reset_empty_file()
+    source = tmp_path / "lamps.wrl"
+    source.write_text("#VRML V2.0 utf8\nNavigationInfo { headlight FALSE }\n"
+                      "DEF Lamp PointLight { intensity 0 ambientIntensity 0.4 }\n"
+                      "DEF Key DirectionalLight { intensity 0.5 ambientIntensity 0.25 }\n"
+                      "Shape { geometry Box { } }\n")
+    assert bpy.ops.phong.import_x3d(filepath=str(source)) == {"FINISHED"}
+    assert bpy.context.scene.world.phong.ambient_intensity == 0.0
+    lights = {o.name: o.data for o in bpy.data.objects if o.type == "LIGHT"}
+    assert sorted(lights) == ["Key", "Lamp"]
+    assert lights["Lamp"].phong.ambient == F32(0.4) and lights["Key"].phong.ambient == F32(0.25)
+
+
+@pytest.mark.parametrize("suffix", [".x3d", ".x3dv", ".wrl"])
+def test_a_missing_texture_keeps_its_reference(bpy_clean, tmp_path, suffix):
+    """A file received without its texture: the import leaves the texture out of the picture
+    (the diffuse colour, as X3D browsers show a texture they cannot load) and keeps its
+    reference; the export writes the ImageTexture again with its url relative to the written
+    file (read from the text here), and a shape of the same Material without a texture stays
+    without one (its own material, "[no texture]")."""
+    import re
+    bpy = bpy_clean
+    from phong_nodes.addon.lighting import materials
+    source = tmp_path / "received" / "part.wrl"
+    source.parent.mkdir()
+    source.write_text("""#VRML V2.0 utf8
+Shape { appearance Appearance { material DEF Label Material { diffuseColor 0.5 0.25 1 }
+          texture DEF Print ImageTexture { url "maps/print.png" repeatS FALSE repeatT FALSE } }
+        geometry Box { } }
+Transform { translation 3 0 0 children Shape { appearance Appearance { material USE Label }
+                                                geometry Box { } } }
+""")
+    assert bpy.ops.phong.import_x3d(filepath=str(source)) == {"FINISHED"}
+    names = sorted(m.name for m in bpy.data.materials if materials.is_phong_material(m))
+    assert names == ["Label", "Label [no texture]"]
+    label = bpy.data.materials["Label"]
+    assert materials.feeds(label)["Object Color"].value == (0.5, 0.25, 1.0)
+    assert materials.feeds(label)["Object Color"].other is None   # not in the picture
+    out = tmp_path / "elsewhere" / f"out{suffix}"
+    out.parent.mkdir()
+    assert bpy.ops.phong.export_x3d(filepath=str(out)) == {"FINISHED"}
+    text = out.read_text()
+    found = re.findall(r'<ImageTexture[^>]*url="&quot;([^&]+)&quot;', text) if \
+        suffix == ".x3d" else re.findall(r'ImageTexture\s*\{[^}]*?url\s*\[?\s*"([^"]+)"', text)
+    assert found == ["../received/maps/print.png"], text
+    be.reset_empty_file()
+    assert bpy.ops.phong.import_x3d(filepath=str(out)) == {"FINISHED"}
+    assert sorted(m.name for m in bpy.data.materials if materials.is_phong_material(m)) == \
+        names
+    again = bpy.data.materials["Label"]
+    assert materials.feeds(again)["Object Color"].value == (0.5, 0.25, 1.0)
+    assert str(tmp_path / "received" / "maps" / "print.png") in \
+        list(again["phong_x3d_missing_texture"]["paths"])

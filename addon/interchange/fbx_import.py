@@ -27,8 +27,9 @@ Principled materials are replaced, the materials and images nothing uses are rem
 Materials of other shading models (PBR, Arnold, ShaderFX) are made as Apply Phong Material
 makes them from Blender's import (default values on the ufbx path), named in one warning.
 Maps on TransparentColor / TransparencyFactor give the opacity, a map on ShininessExponent
-the exponent (``native.opacity_map``, ``native.exponent_map``).  Any failure raises
-:class:`core.fbx.FbxError` and removes what the import had added.
+the exponent (``native.opacity_map``, ``native.exponent_map``); a map whose file is not
+there is left out and its reference kept for the export (``keys.FBX_MISSING_MAPS``).  Any
+failure raises :class:`core.fbx.FbxError` and removes what the import had added.
 """
 
 from __future__ import annotations
@@ -46,7 +47,7 @@ from .. import compat
 from ..lighting import materials as recipe
 from ..lighting import properties
 from ..lighting import sync as sync_mod
-from . import native, obj_import
+from . import keys, native, obj_import
 from .native import ensure_fbx_addon
 
 FbxError = fbx.FbxError
@@ -199,6 +200,9 @@ def _load(texture, images, warnings, where, non_color):
     base = _safe_name(texture.name)
     made = next((i for i in images.get("", ()) if i.name == base or _safe_name(
         bpy.path.basename(i.filepath)) == base), None)  # Blender's importer read it already
+    if made is not None and made.packed_file is None and not os.path.isfile(
+            bpy.path.abspath(made.filepath, library=made.library)):
+        made = None   # its file is not there (Blender's importer names it anyway): not found
     if made is not None:
         other = images.get((texture.name, texture.content is not None, not non_color))
         image = made.copy() if other is made else made
@@ -243,7 +247,8 @@ def apply_material(material, source: fbx.Material, warnings: list, images: dict,
         keep.add(control)
         socket = compat.value_output(node)
         texture = source.textures.get(name)
-        image = _image(texture, images, warnings, where) if texture is not None else None
+        image = _image(texture, images, warnings, where, _data(source, texture)) \
+            if texture is not None else None
         if image is not None:
             socket = obj_import._multiplied(tree, name, socket, image, index)
             keep |= {obj_import.MAP_NODE + name, obj_import.MULTIPLY_NODE + name}
@@ -264,9 +269,36 @@ def apply_material(material, source: fbx.Material, warnings: list, images: dict,
     if image is not None:
         native.exponent_map(material, image)
     _opacity_maps(material, source, images, warnings, where)
+    _missing_references(material, source, path)
     material[SOURCE_KEY] = path
     if source.unsupported:
         warnings.append(f"{where}: not representable, left out: " + ", ".join(source.unsupported))
+
+
+def _data(source, texture) -> bool:
+    """Whether the colour map *texture* is read as data (Non-Color): Phong Nodes' export
+    marks a map whose image was data (X3D's texels) ``NonColor<property>``."""
+    return texture is not None and \
+        bool(source.user.get(fbx.NON_COLOR_USER + texture.prop, 0.0))
+
+
+def _missing_references(material, source, path) -> None:
+    """The maps whose file is not there (and not embedded) kept on *material*
+    (``keys.FBX_MISSING_MAPS``): a file received without its textures keeps its references
+    through import → export, as Blender's exporter writes a path whether or not it exists."""
+    folder = os.path.dirname(path)
+    kept = {}
+    for slot, texture in source.textures.items():
+        prop = keys.FBX_SLOT_PROPS.get(slot)
+        if prop is None or texture.content is not None or texture.resolved is not None:
+            continue
+        name = texture.name.replace("\\", "/")
+        absolute = next((c for c in texture.candidates if os.path.isabs(c)), "") or \
+            os.path.join(folder, name)
+        near = os.path.normpath(name if os.path.isabs(name) else os.path.join(folder, name))
+        kept[prop] = {"path": absolute, "near": near}
+    if kept:
+        material[keys.FBX_MISSING_MAPS] = kept
 
 
 def _opacity_maps(material, source, images, warnings, where) -> None:
@@ -276,13 +308,15 @@ def _opacity_maps(material, source, images, warnings, where) -> None:
     opacity map (``native.opacity_map``).  A factor of 0 makes the maps change nothing."""
     maps = {key: source.textures.get(key) for key in fbx.OPACITY_MAPS}
     if source.alpha_map:   # Blender's exporter's alpha texture, read as Blender's importer does
-        _alpha_map(material, maps, images, warnings, where)
+        _alpha_map(material, maps, images, warnings, where,
+                   source.user.get("OpacityAlphaScale", 1.0))
         return
     if not any(maps.values()) or source.transparency_factor == 0.0:
         return
     tree = material.node_tree
     color = maps["TransparentColor"]
-    color = _image(color, images, warnings, where) if color is not None else None
+    color = _image(color, images, warnings, where, _data(source, color)) \
+        if color is not None else None
     factor = maps["TransparencyFactor"]
     factor = _image(factor, images, warnings, where, non_color=True) \
         if factor is not None else None
@@ -314,16 +348,25 @@ def _opacity_maps(material, source, images, warnings, where) -> None:
                                               "SUBTRACT", 1.0, transparency, (-500.0, 650.0)))
 
 
-def _alpha_map(material, maps, images, warnings, where) -> None:
+def _alpha_map(material, maps, images, warnings, where, scale=1.0) -> None:
     """The opacity of a file of Blender's exporter: the alpha channel of its map on
     TransparencyFactor (else on TransparentColor), as Blender's importer reads it (the
-    image's Alpha output feeds the Principled BSDF's Alpha), as the opacity map."""
+    image's Alpha output feeds the Principled BSDF's Alpha), times *scale* (Phong Nodes'
+    export's ``OpacityAlphaScale``: X3D's alpha × Opacity), as the opacity map."""
     texture = maps["TransparencyFactor"] or maps["TransparentColor"]
-    image = _image(texture, images, warnings, where)
+    # (the alpha is the same in either colour space: an image the colour maps read as data
+    # is used again rather than loaded a second time)
+    data = images.get((texture.name, texture.content is not None, True))
+    image = data if data is not None else _image(texture, images, warnings, where)
     if image is None:
         return
-    node = native.image_node(material.node_tree, "alpha", image, (-1450.0, 650.0))
-    native.opacity_map(material, compat.output_socket(node, "Alpha"))
+    tree = material.node_tree
+    node = native.image_node(tree, "alpha", image, (-1450.0, 650.0))
+    alpha = compat.output_socket(node, "Alpha")
+    if scale != 1.0:   # Phong Nodes' export: alpha × k (X3D's alpha × Opacity)
+        alpha = native.math(tree, native.MAP_NODE + "alpha x k", "MULTIPLY", alpha, scale,
+                            (-1150.0, 650.0))
+    native.opacity_map(material, alpha)
 
 
 # -- lights -------------------------------------------------------------------------------------

@@ -29,6 +29,17 @@ COLLADA_INPUTS = {"Irradiant Color": ("emission", "phong_irradiant_color"),
                   "Object Color": ("diffuse", "phong_object_color"),
                   "Specular Color": ("specular", "phong_specular_color")}
 
+# -- FBX (fbx_import → fbx_export) -------------------------------------------------------------
+#: material: the maps of the file whose image was not there ({FBX property: {"path": the
+#: file's absolute name, "near": its relative name resolved beside the file read}}): the
+#: export writes the references back, as the file had them.
+FBX_MISSING_MAPS = "phong_fbx_missing_maps"
+#: core.fbx's texture slot -> the FBX property the export writes it on.
+FBX_SLOT_PROPS = {"Object Color": "DiffuseColor", recipe.AMBIENT_INPUT: "AmbientColor",
+                  "Specular Color": "SpecularColor", "Irradiant Color": "EmissiveColor",
+                  "Exponent": "ShininessExponent", "TransparentColor": "TransparentColor",
+                  "TransparencyFactor": "TransparencyFactor"}
+
 # -- X3D / VRML97 (x3d_import → x3d_export) ----------------------------------------------------
 #: material: the file's ambientIntensity.
 X3D_AMBIENT = "phong_x3d_ambient_intensity"
@@ -38,6 +49,14 @@ X3D_SHININESS = "phong_x3d_shininess"
 X3D_TRANSFORM = "phong_x3d_texture_transform"
 #: material: made for a shape without Material.
 X3D_UNLIT = "phong_x3d_unlit"
+#: image: the components of the PixelTexture it was made from (1 grey ... 4 RGBA).
+X3D_COMPONENTS = "phong_x3d_components"
+#: material: the ImageTexture whose file was not there at import ({"name", "paths": the
+#: absolute files its urls name, "repeat_s", "repeat_t"}): the export writes the reference.
+X3D_MISSING_TEXTURE = "phong_x3d_missing_texture"
+#: the DEF of the DirectionalLight (intensity 0, global) that carries the World's Phong ambient
+#: light, which X3D lacks: written by the export, read back into the World by the import.
+X3D_WORLD_AMBIENT = "WorldAmbient"
 #: spot light: the file's cutOffAngle.
 X3D_CUT_OFF = "phong_x3d_cut_off_angle"
 #: light object: a scoped light whose scope holds no shape.

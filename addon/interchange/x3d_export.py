@@ -15,7 +15,9 @@ The inverse of ``x3d_import`` (docs/interchange.md, "X3D / VRML97"):
   [0, 1], with a warning above 128), ambientIntensity = Ka / Kd where the Ambient Object Color
   is a multiple of the Object Color (else the best multiple, with a warning), transparency = 1
   − Opacity; an Image Texture feeding Object Color an ImageTexture (with its TextureTransform;
-  its alpha × Opacity as the opacity map is what X3D says with the texture's alpha),
+  its alpha × Opacity as the opacity map is what X3D says with the texture's alpha), or a
+  PixelTexture of its texels where the image has no file (packed or generated: an imported
+  PixelTexture comes back as one),
   a colour attribute a Color node; a material imported from a shape without Material (Kd, Ka,
   Ks black) a Shape without Material again;
 * lights with their X3D values: ``on`` (hidden from render: FALSE), intensity, ambient
@@ -54,6 +56,9 @@ from . import keys, native
 Z_UP_TO_Y_UP = x3d.Y_UP_TO_Z_UP.T.copy()
 #: A light's radius where the scene's model has none (written for a scene in another model).
 NO_RADIUS = 1.0e6
+#: The largest image without a file written as a PixelTexture (texels: 1024 × 1024, about
+#: 10 MB of text); a larger one is left out with a warning.
+MAX_PIXELS = 1 << 20
 
 
 def f32(value) -> float:
@@ -120,6 +125,7 @@ class _Writer:
         self.folder = os.path.dirname(self.path)
         self.selection = use_selection
         self.warnings = warnings
+        self.pixel_textures = {}    # (image name, extension) -> x3d.Texture, written once
         self.encoding = encoding_of(filepath)
         self.model = rig.model_of(self.scene)
         self.appearances = {}     # material name -> (Appearance or None, uses colours, attr)
@@ -389,6 +395,8 @@ class _Writer:
                           control if (kd_feed.texture is not None or kd_feed.colours) else
                           kd_feed.constant)
         texture = self.texture(kd_feed.texture, material, kd_feed.control is not None)
+        if texture is None and kd_feed.texture is None and not kd_feed.colours:
+            texture = self.missing_texture(material)
         if texture is not None and kd_feed.control is None and not kd_feed.colours and \
                 _grey(texture):
             diffuse = (1.0, 1.0, 1.0)   # a grey texture alone: X3D multiplies diffuseColor
@@ -462,29 +470,99 @@ class _Writer:
         return f32(max(ratio, 0.0))
 
     def texture(self, node, material, multiplied):
-        """The x3d.Texture of an Image Texture node (its file relative to the written
-        file), or None."""
+        """The x3d.Texture of an Image Texture node: an ImageTexture of its file (relative to
+        the written file), or a PixelTexture of its texels where the image has no file of its
+        own (packed, or generated: an image imported from a PixelTexture), or None."""
         if node is None:
             return None
         image = node.image
         path = bpy.path.abspath(image.filepath, library=image.library) if image.filepath else ""
-        if not path or not os.path.isfile(path):
+        inline = not path or not os.path.isfile(path)
+        if inline and (image.packed_file is not None or image.source == "GENERATED"):
+            key = (image.name, node.extension)
+            if key not in self.pixel_textures:   # one PixelTexture, USE'd by the others
+                self.pixel_textures[key] = self.pixel_texture(image)
+            texture = self.pixel_textures[key]
+        elif inline:
             self.warnings.add(f"textures without an image file left out (pack or save them "
                               f"first): {image.name}")
             return None
-        try:
-            url = os.path.relpath(path, self.folder)
-        except ValueError:   # another drive
-            url = path
-        url = url.replace(os.sep, "/")
-        texture = x3d.Texture(name=image.name, urls=[url], paths=[path], path=path,
-                              repeat_s=node.extension == "REPEAT",
-                              repeat_t=node.extension == "REPEAT")
-        texture.components = native.image_components(path)
+        else:
+            try:
+                url = os.path.relpath(path, self.folder)
+            except ValueError:   # another drive
+                url = path
+            url = url.replace(os.sep, "/")
+            texture = x3d.Texture(name=image.name, urls=[url], paths=[path], path=path)
+            texture.components = native.image_components(path)
+        if texture is None:
+            return None
+        texture.repeat_s = texture.repeat_t = node.extension == "REPEAT"
         if multiplied and not _grey(texture):
             self.warnings.add(f"material {material.name}: an RGB texture times a colour: X3D's "
                               "RGB textures replace the diffuse colour; the texture written")
         return texture
+
+    def missing_texture(self, material):
+        """The ImageTexture whose file was not there when *material* was imported
+        (``keys.X3D_MISSING_TEXTURE``): its reference written again, relative to the written
+        file (X3D browsers show the diffuse colour while the file is missing, as the
+        import did), or None."""
+        entry = material.get(keys.X3D_MISSING_TEXTURE)
+        paths = [str(p) for p in (entry or {}).get("paths", ())]
+        if not paths:
+            return None
+        urls = []
+        for path in paths:
+            try:
+                url = os.path.relpath(path, self.folder)
+            except ValueError:   # another drive
+                url = path
+            url = url.replace(os.sep, "/")
+            if url not in urls:
+                urls.append(url)
+        self.warnings.add(f"texture files that were not there at import: their references "
+                          f"written: {os.path.basename(paths[0])}")
+        return x3d.Texture(name=str(entry.get("name", "")), urls=urls, paths=paths,
+                           repeat_s=bool(entry.get("repeat_s", True)),
+                           repeat_t=bool(entry.get("repeat_t", True)))
+
+    def pixel_texture(self, image):
+        """A PixelTexture of *image*'s texels (bottom row first, as both hold them): the
+        bytes round(255 × value) of its channels as the image holds them (an imported
+        PixelTexture's exactly), its components those it was imported with, else grey where
+        every texel is, with alpha where any is not opaque.  None, with a warning, for an
+        image larger than :data:`MAX_PIXELS` texels or without pixels."""
+        width, height = image.size
+        if width * height > MAX_PIXELS:
+            self.warnings.add(f"images without a file larger than {MAX_PIXELS:,} texels left "
+                              f"out (save them as files first): {image.name}")
+            return None
+        channels = image.channels
+        values = np.empty(width * height * channels, dtype=np.float32)
+        try:
+            image.pixels.foreach_get(values)
+        except (RuntimeError, ValueError):
+            values = np.zeros(0, dtype=np.float32)
+        if width * height == 0 or values.size != width * height * channels or channels < 1:
+            self.warnings.add(f"images without a file or pixels left out: {image.name}")
+            return None
+        rgba = np.ones((height, width, 4), dtype=np.float32)
+        texels = values.reshape(height, width, channels)
+        rgba[..., :3] = texels[..., :1] if channels < 3 else texels[..., :3]
+        if channels in (2, 4):
+            rgba[..., 3] = texels[..., -1]
+        data = np.clip(np.rint(rgba * 255.0), 0, 255).astype(np.uint8)
+        comps = image.get(keys.X3D_COMPONENTS)
+        if comps not in (1, 2, 3, 4):
+            grey = bool((data[..., 0] == data[..., 1]).all() and
+                        (data[..., 0] == data[..., 2]).all())
+            alpha = bool((data[..., 3] < 255).any())
+            comps = (1 if grey else 3) + (1 if alpha else 0)
+        comps = int(comps)
+        pick = {1: [0], 2: [0, 3], 3: [0, 1, 2], 4: [0, 1, 2, 3]}[comps]
+        return x3d.Texture(name=image.name, kind="PixelTexture", image=data[..., pick],
+                           components=comps)
 
     @staticmethod
     def texture_transform(material):
@@ -604,7 +682,7 @@ class _Writer:
                                              properties.AMBIENT_COLOR[1])][:3]
         if intensity <= 0.0 or not any(color):
             return
-        root.insert(0, x3d.Light(kind="directional", name="WorldAmbient", intensity=0.0,
+        root.insert(0, x3d.Light(kind="directional", name=keys.X3D_WORLD_AMBIENT, intensity=0.0,
                                  ambient_intensity=f32(intensity), color=_colour(color),
                                  is_global=True))
 

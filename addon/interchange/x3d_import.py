@@ -96,6 +96,15 @@ SPOT_SIZE = (math.radians(1.0), math.pi)
 CAMERA_ANGLE = (0.00640536, 3.01675)
 
 
+
+def _world_ambient(light) -> bool:
+    """Whether *light* is the light the export writes for the World's Phong ambient light:
+    a DirectionalLight DEF'd ``WorldAmbient`` of intensity 0, on, without shadows (reached
+    by the whole file: checked by the caller).  Its ambient term is the World's, exactly."""
+    return (light.kind == "directional" and light.name == keys.X3D_WORLD_AMBIENT
+            and float(light.intensity) == 0.0 and bool(light.on)
+            and not light.shadows)
+
 class X3DImportError(native.InterchangeError):
     """The import failed; nothing was added to the file."""
 
@@ -291,6 +300,7 @@ class _Builder:
         self.camera_before = self.scene.camera
         self.model_before = self.scene.get(rig.MODEL_KEY)
         self.world_before = None    # (world, {key: value or None})
+        self.world_ambient = None   # (intensity, colour) of the export's WorldAmbient light
         self.scene_keys = {HEADLIGHT_OFF_KEY: self.scene.get(HEADLIGHT_OFF_KEY)}
         self.retargeted = []        # (a scene's own headlight, the camera it followed)
         self.font_notes = {}        # what the Text nodes asked of the font: {kind: {value}}
@@ -482,8 +492,13 @@ class _Builder:
         out = []
         total = len(self.doc.instances)
         for inst, location, direction, scope, is_global in merged.values():
-            out.append(self.light(inst, location, direction,
-                                  None if is_global or len(scope) >= total else scope))
+            scope = None if is_global or len(scope) >= total else scope
+            if self.world_ambient is None and scope is None and _world_ambient(inst.light):
+                values = x3d.light_values(self.doc, inst.light)
+                self.world_ambient = (max(float(values["ambient_intensity"]), 0.0),
+                                      tuple(max(float(c), 0.0) for c in values["color"]))
+                continue
+            out.append(self.light(inst, location, direction, scope))
         return out
 
     def light(self, inst, location, direction, scope):
@@ -627,7 +642,10 @@ class _Builder:
         self.world_before = (world, {k: (world[k] if k in world.keys() else None)
                                      for k in keys})
         color = world.get(keys[1], properties.AMBIENT_COLOR[1])
-        properties.write_world(world, 0.0, tuple(color))
+        if self.world_ambient is not None:   # the export's World ambient, read back
+            properties.write_world(world, *self.world_ambient)
+        else:
+            properties.write_world(world, 0.0, tuple(color))
 
     # -- materials ------------------------------------------------------------------------
     def bind(self, obj, inst):
@@ -643,9 +661,12 @@ class _Builder:
         # once; lines and points (which have no back) take any variant of the rest
         faces = geometry.edges is None and geometry.kind != "PointSet"
         solid = bool(geometry.solid) if faces else None
+        missing = texture is not None and image is None and texture.image is None and \
+            bool(texture.paths)   # an ImageTexture whose file is not there: its reference
         variant = (id(material) if material is not None else None,
                    (image.name, texture.repeat_s, texture.repeat_t) if image is not None
-                   else None,
+                   else ("missing", tuple(texture.paths), texture.repeat_s, texture.repeat_t)
+                   if missing else None,
                    (tuple(transform.center), transform.rotation, tuple(transform.scale),
                     tuple(transform.translation)) if transform is not None else None,
                    colors, key, solid)
@@ -654,14 +675,18 @@ class _Builder:
             made = next((m for v, m in self.materials.items() if v[:5] == variant[:5]), None)
         if made is None:
             group = self.sync.group(key, reach)
-            name = self.name_of(material, variant, texture if image is not None else None,
-                                reach, key)
+            name = self.name_of(material, variant,
+                                texture if image is not None or missing else None, reach, key)
             made = self.material(name, group, material, image, components, colors,
                                  shape.texture_transform if image is not None else None,
                                  texture)
             # solid TRUE: the back of a face is not drawn (Eevee, Workbench; Cycles draws
             # both sides whatever the setting: docs/x3d.md)
             made.use_backface_culling = bool(solid)
+            if missing:   # left out of the picture, its reference kept for the export
+                made[keys.X3D_MISSING_TEXTURE] = {
+                    "name": texture.name, "paths": list(texture.paths),
+                    "repeat_s": bool(texture.repeat_s), "repeat_t": bool(texture.repeat_t)}
             self.materials[variant] = made
             self.made.append(made)
         mesh = obj.data
@@ -674,15 +699,22 @@ class _Builder:
 
     def name_of(self, material, variant, texture, reach, key) -> str:
         """The file's name for the first variant of a material; for the others (another
-        texture, colours, light set or ``solid``) the name and what differs, in brackets."""
+        texture, colours, light set or ``solid``) the first variant's Blender name and what
+        differs, in brackets: a file that defines a name twice (two ``DEF PIN-01``, a PROTO's
+        Material in each instance) gives ``PIN-01 [...]`` and ``PIN-01.001 [...]``, each
+        variant named after its own material."""
         base = material.name if material is not None else "Unlit"
         first = self.first.setdefault(variant[0], variant)
         if first == variant:
             return base
+        made = self.materials.get(first)
+        if made is not None:
+            base = made.name
         parts = []
         if variant[1:3] != first[1:3]:
-            parts.append(texture.name or os.path.basename(texture.path or "") if texture
-                         else "no texture")
+            parts.append(texture.name or os.path.basename(
+                texture.path or (texture.paths[0] if texture.paths else "")) if texture
+                else "no texture")
         if variant[3] != first[3]:
             parts.append("colours" if variant[3] else "no colours")
         if variant[4] != first[4]:
@@ -875,6 +907,7 @@ class _Builder:
             image.pixels.foreach_set(rgba.reshape(-1))
             image.update()
             image.pack()
+            image[keys.X3D_COMPONENTS] = comps   # (the export writes it back as it was)
             components = comps
         elif texture.path is not None:   # its own image (renamed below), as data
             image = native.load_image(texture.path, non_color=True, existing=False)
