@@ -38,6 +38,10 @@ light loop (the lights groups of 5.2, at most ``compat.VIEW_LAYER_LOOKUPS`` tran
 the World).  A process's own speed varies by up to 2.7x from one process to the next on
 this machine (the same file, medians of 2.1 to 5.5 ms), hence the rounds.
 
+``--power``: the update after a drag step of each light's Power slider (up or down a tenth),
+Principled, then Phong with every light's i0 following its Power, then Principled again, in
+one process (``run_power``); ratios to the lower Principled median per light.
+
 ``--eevee``: Eevee's first render (shader compile included, after the engine's warm-up) of
 3x3 spheres with 4, 8 and 16 point lights, this version against the previous rig, each in a
 process of its own with empty shader caches.
@@ -198,6 +202,49 @@ def run_each(objects: int, n_lights: int, moves: int) -> dict:
         design: [t / b for t, b in zip(out["update_s"][design], base)] for design in designs}
     out["worst_ratio"] = {design: max(ratios)
                           for design, ratios in out["ratio_to_principled"].items()}
+    out["load_average"] = [load_before, os.getloadavg()]
+    return out
+
+
+def _power_step(light, index) -> None:
+    """A drag step of *light*'s Power slider: up and down by a tenth."""
+    light.data.energy *= 1.1 if index % 2 == 0 else 1.0 / 1.1
+
+
+def run_power(objects: int, n_lights: int, moves: int) -> dict:
+    """The update after a drag step of each light's Power slider, Principled against Phong
+    (every light's i0 following its Power: ``properties.FROM_POWER_KEY``), then Principled
+    again (the drift), in one process; ratios to Principled per light."""
+    bpy = worker_setup()
+    from phong_nodes.addon.lighting import properties  # noqa: PLC0415
+
+    load_before = os.getloadavg()
+    scene, meshes, lights, view_layer = _artist(bpy, "light_power", objects, n_lights)
+    for light in lights:
+        light.data[properties.FROM_POWER_KEY] = 1
+
+    def each():
+        return [_updates(None, view_layer, functools.partial(_power_step, light), moves)
+                for light in lights]
+
+    out = {"objects": objects, "lights": n_lights, "moves": moves,
+           "bpy": bpy.app.version_string, "kinds": [o.data.type for o in lights],
+           "update_s": {"principled": each()}}
+    originals = [[slot.material for slot in obj.material_slots] for obj in meshes]
+    apply_phong(bpy, scene, meshes)
+    view_layer.update()
+    assert all(properties.from_power(o.data) for o in lights)
+    out["update_s"]["phong"] = each()
+    for obj, slots in zip(meshes, originals):
+        for slot, material in zip(obj.material_slots, slots):
+            slot.material = material
+    view_layer.update()
+    out["update_s"]["principled_again"] = each()
+    base = [min(a, b) for a, b in zip(out["update_s"]["principled"],
+                                      out["update_s"]["principled_again"])]
+    out["ratio_to_principled"] = [t / b for t, b in zip(out["update_s"]["phong"], base)]
+    out["worst_ratio"] = max(out["ratio_to_principled"])
+    out["goal"] = 1.3
     out["load_average"] = [load_before, os.getloadavg()]
     return out
 
@@ -460,7 +507,9 @@ def main(argv=None) -> int:
     parser.add_argument("--passes", type=int, default=4,
                         help="--files: each light's block of --moves updates, PASSES times "
                              "per process")
-    parser.add_argument("--out", help="--parts, --files: also write the JSON here")
+    parser.add_argument("--power", action="store_true",
+                        help="the update after a drag step of each light's Power slider")
+    parser.add_argument("--out", help="--parts, --files, --power: also write the JSON here")
     parser.add_argument("--files-build", nargs=3, help=argparse.SUPPRESS)
     parser.add_argument("--files-worker", nargs=4, help=argparse.SUPPRESS)
     parser.add_argument("--eevee-worker", nargs=2, help=argparse.SUPPRESS)
@@ -489,6 +538,14 @@ def main(argv=None) -> int:
         return 0
     if args.parts:
         result = run_parts(args.objects, args.lights, args.moves, args.parts)
+        if args.out:
+            with open(args.out, "w", encoding="utf-8") as handle:
+                json.dump(result, handle, indent=1)
+        print(json.dumps(result, indent=1), flush=True)
+        sys.stderr.flush()
+        os._exit(0)
+    if args.power:
+        result = run_power(args.objects, args.lights, args.moves)
         if args.out:
             with open(args.out, "w", encoding="utf-8") as handle:
                 json.dump(result, handle, indent=1)

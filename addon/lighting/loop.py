@@ -81,8 +81,7 @@ def light_values(light) -> dict:
 
 def write_parameters(light) -> bool:
     """Write the loop's packed settings of *light* (a Light) for every model, and give a
-    point, spot or area light whose i0 is its own (not its Power's) the influence distance of
-    a Phong light (Eevee leaves out a light
+    point or spot light the influence distance of a Phong light (Eevee leaves out a light
     beyond it, and drops every material's shadows of a light whose distance is much more:
     ``compat.LOOP_LIGHT_DISTANCE``, set exactly, lowered too); only what differs is written
     (arrays in place: no ID property freed, which is safe inside a depsgraph handler).
@@ -107,10 +106,7 @@ def write_parameters(light) -> bool:
             else:
                 light[key] = list(value)
                 changed = True
-    # a light that follows its Power reaches as far as Blender's own (Eevee's influence
-    # distance comes from its watts, as the Phong light's i0 does): it keeps its distance, so
-    # the Principled surfaces around the converted ones keep their shadows
-    if light.type in ("POINT", "SPOT", "AREA") and not properties.from_power(light):
+    if light.type in ("POINT", "SPOT", "AREA"):
         if not light.use_custom_distance:
             light.use_custom_distance = True
             changed = True

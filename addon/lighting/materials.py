@@ -628,6 +628,11 @@ def wire(material, lights_group, object_color=None) -> None:
     tree.links.new(node.outputs["Shader"], _output(tree).inputs["Surface"])
     _term_aovs(tree, node, relink=True)
     apply_opacity(material)
+    # the emission that shows the Phong colour is no light for Cycles: the Principled
+    # surfaces around a Phong object are lit as they were
+    cycles = getattr(material, "cycles", None)
+    if getattr(cycles, "emission_sampling", "NONE") != "NONE":
+        cycles.emission_sampling = "NONE"
     material[MATERIAL_TAG] = LAYOUT
 
 
