@@ -245,7 +245,7 @@ def keeping_links(tree, fresh=None):
     Blender keeps a group node's links by socket identifier, and identifiers are not stable
     across a rebuilt interface (a new group numbers its sockets from 0; a cleared one goes on
     counting): a file of 5.2 whose lights group gained 5.3's Eevee Shader output had every
-    material control on the wrong input (issue 42).  Used by every rewrite of a lights or
+    material control on the wrong input.  Used by every rewrite of a lights or
     shading group (``lighting.rig.rewrite``) and by the merge of a library group's copies.
     The users are looked up only where an identifier can move: a group in use changed in
     place, or a remap to *fresh* where a socket of the same name has another identifier."""

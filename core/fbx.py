@@ -1,6 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""FBX Phong and Lambert materials, lights and the scene ambient, read without ``bpy``
-(issue 27).
+"""FBX Phong and Lambert materials, lights and the scene ambient, read without ``bpy``.
 
 The file is read by ufbx (PyPI ``ufbx``, bundled with the extension as wheels); this module
 turns what it reads into plain data, by the FBX SDK's rules:
@@ -82,7 +81,7 @@ TEXTURE_SLOTS = {"DiffuseColor": "Object Color", "AmbientColor": "Ambient Object
                  # the legacy names some older files connect textures to
                  "Diffuse": "Object Color", "Ambient": "Ambient Object Color",
                  "Specular": "Specular Color", "Emissive": "Irradiant Color",
-                 # scalar and opacity slots (issue 35): the map multiplies its property
+                 # scalar and opacity slots: the map multiplies its property
                  "TransparentColor": "TransparentColor", "TransparencyFactor": "TransparencyFactor",
                  "ShininessExponent": "Exponent", "Shininess": "Exponent"}
 #: The keys of ``Material.textures`` that are not colour inputs of the lights group: the two

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""The Phong parts of a binary FBX file rewritten in place (issue 45): no ``bpy``.
+"""The Phong parts of a binary FBX file rewritten in place: no ``bpy``.
 
 Blender's own FBX exporter writes the scene (meshes, armatures, animation, units, axes ...);
 its materials are Principled guesses and its lights physical.  :func:`rewrite` takes the

@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """The X_ITE peer renderer: an X3D / VRML97 file rendered by X_ITE, a complete X3D browser, in
-headless Chromium, and its pixels read back (issue 36 item 4).  No ``bpy`` here.
+headless Chromium, and its pixels read back.  No ``bpy`` here.
 
 X_ITE (npm ``x_ite``, MIT, by Holger Seelig) implements the standards' lighting equation in its
 own shaders (``src/assets/shaders/webgl2/common/Material2.glsl.js`` and ``Lighting2.glsl.js``

@@ -415,7 +415,7 @@ def _shading(g):
 #
 # A lights group computes what one Phong Shading per light, summed with Phong Color Add,
 # computes (docs/contract.md, "Several lights"), with fewer nodes: every Eevee pass of every
-# material expands them again (issue 30: about 40 µs per node per material per render).  So
+# material expands them again (measured: about 40 µs per node per material per render).  So
 # the normal and the view vector are resolved once for all lights (Phong Surface), each light
 # adds only its diffuse and specular light (Phong Light Terms), and the material colours, the
 # ambient, the irradiant and the clamp are taken once, in the lights group.  The products of
@@ -727,7 +727,7 @@ def _x3d_light_terms(g):
 # Glossy Light ⊗ Glossy Color (+ Transmission) of every light, each Light clamped at 0 from
 # below, each Color at [0, 1], and each light's part multiplied by Blender's own Diffuse /
 # Specular factor of that light.  A material then has the same few nodes whatever the number
-# of lights (issue 38).  Per light, a model's loop group below turns what Light Evaluation
+# of lights.  Per light, a model's loop group below turns what Light Evaluation
 # gives (ℓ, the distance, the light's axis) and the light's own Phong settings, packed into a
 # few numeric custom properties of the light (``loop_parameters``: Attribute nodes of type
 # Light read them), into the Light and Color inputs of Light Accumulation.  What Light

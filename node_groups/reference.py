@@ -573,7 +573,7 @@ def x3d_light_terms(light_vector=_ZERO3, intensity=1.0, ambient=0.0, light_color
 
 
 # ---------------------------------------------------------------------------
-# shadows: a light's visibility against the scene's triangles (issue 43)
+# shadows: a light's visibility against the scene's triangles
 # ---------------------------------------------------------------------------
 
 #: A blocker nearer to the shaded point than this, times 1 + max |P|, is the surface itself

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""X_ITE as a peer of the comparison (issue 36 item 4): the scene exported as X3D by the
+"""X_ITE as a peer of the comparison: the scene exported as X3D by the
 extension's own exporter (``interchange/x3d_export.py``, the code of *File ▸ Export ▸ X3D /
 VRML97 (Phong)*), that file rendered by the X3D browser X_ITE in headless Chromium
 (``core/x_ite.py``) at the comparison's size.  The file and the page stay in the report folder

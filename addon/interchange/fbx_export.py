@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""FBX with Phong materials (issue 45): Blender's own exporter writes the file, then the Phong
+"""FBX with Phong materials: Blender's own exporter writes the file, then the Phong
 parts are rewritten (``core/fbx_write.py``) and the file is put in place atomically.
 
 Each Phong material (read by ``materials.feeds``, the one reader of a Phong material) becomes

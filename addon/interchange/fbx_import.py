@@ -1,6 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""FBX imported with its Phong and Lambert materials and its lights as exact Phong values
-(issue 27).
+"""FBX imported with its Phong and Lambert materials and its lights as exact Phong values.
 
 The scene comes from Blender's own FBX importer where it reads the file (binary FBX 7100 and
 later); ASCII files and FBX 6.1 are built from ufbx (meshes with normals, UVs and vertex

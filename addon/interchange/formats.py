@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""The formats Phong Nodes reads and writes, in one table (issue 44).
+"""The formats Phong Nodes reads and writes, in one table.
 
 Each :class:`Format` holds its file name suffixes, its labels, its importer and its exporter;
 the File ▸ Import / Export menu entries and the file browser's filters (``ui/``), the drop

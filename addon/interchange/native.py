@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""What every importer leaves behind, as Blender's own importers leave it (issue 35).
+"""What every importer leaves behind, as Blender's own importers leave it.
 
 An import adds exactly the file's materials, under the file's names (Blender's ``.001``
 only where the file already holds the name), each a Phong material from birth, and nothing
@@ -143,7 +143,7 @@ def remove_unused(before: dict) -> list:
     return gone
 
 
-# -- maps on the opacity and the exponent (issue 35, item 2) -----------------------------------
+# -- maps on the opacity and the exponent ------------------------------------------------------
 
 #: Node names of the map chains (+ a suffix per chain); the chain of the opacity ends in
 #: ``materials.OPACITY_MAP``.

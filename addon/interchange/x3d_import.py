@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """VRML97 / X3D (.wrl, .x3dv, .x3d, gzipped too) imported as exact Phong materials in the
-X3D / VRML97 lighting model (issue 36; docs/x3d.md, docs/interchange.md).
+X3D / VRML97 lighting model (docs/x3d.md, docs/interchange.md).
 
 ``core/x3d.py`` reads the whole file first (nothing is added when it cannot be read); this
 module builds the Blender side:

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""The Eevee side of Phong materials on Blender 5.3+: Eevee's light loop (issue 38).
+"""The Eevee side of Phong materials on Blender 5.3+: Eevee's light loop.
 
 Blender 5.3's Eevee runs the nodes upstream of a Light Accumulation node that read the
 current light (Light Evaluation, Attribute of type Light, Vector Transform's Light space) once

@@ -31,8 +31,8 @@ material is kept with a fake user (so it is not purged on save) and named by its
 version: ``material["phong_source"]`` its name, ``material["phong_source_key"]`` a token the
 source carries too (``source["phong_source_key"]``: the source is found again after a rename);
 ``restore`` puts it back.  Not an ID pointer: the depsgraph follows those, and each Phong
-material would bring its source material and node tree into every update (issue 30; layout
-4 and earlier held a pointer, ``upgrade`` turns it into the name and token).
+material would bring its source material and node tree into every update (layout 4
+and earlier held a pointer, ``upgrade`` turns it into the name and token).
 """
 
 from __future__ import annotations
@@ -91,7 +91,7 @@ OPACITY_MIX_EEVEE = "phong_opacity_mix_eevee"
 #: The Emission node of Per Vertex / Per Face shading (``shading/modes.py``).
 SHADING_EMISSION = "phong_shading_emission"
 OPACITY_TRANSPARENT = "phong_opacity_transparent"
-#: An opacity map (issue 35): the Math node that ends an importer's chain of an opacity texture
+#: An opacity map: the Math node that ends an importer's chain of an opacity texture
 #: (COLLADA ``<transparent><texture>``, FBX TransparentColor / TransparencyFactor maps).  Its
 #: Value output feeds the Mix Shader's Fac in place of the Opacity control, and the material
 #: blends whatever the control's value (the value the file states, kept for export).

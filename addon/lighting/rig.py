@@ -22,7 +22,7 @@ without Python (``drivers.py``).  Diffuse and Specular are the sums of the light
 times the Object Color and the Specular Color; Color is min(irradiant + ambient + Diffuse +
 Specular, 1), what a Phong Shading per light chained with Phong Color Add gives (min taken
 once over non-negative terms) with fewer nodes: Eevee expands every node of a material
-again for each of its passes (issue 30).  With no light: ambient + irradiant (black when
+again for each of its passes.  With no light: ambient + irradiant (black when
 both are zero: docs/model.md §No light at all).
 
 Each model's light groups, spot angle input, name prefix, the settings it reads of a light
@@ -121,7 +121,8 @@ def wants_term_passes(scene) -> bool:
 def wants_loop(scene) -> bool:
     """Whether *scene*'s lights groups get the loop part: Blender 5.3+, a model the loop
     runs, and no Phong term pass on its view layers (the AOVs would make Eevee evaluate the
-    per-light part anyway, at the cost of 5.2: issue 38)."""
+    per-light part anyway, at the cost of 5.2's lights group: docs/benchmarks.md, "Eevee's
+    light loop")."""
     return light_loop.supports(model_of(scene)) and not wants_term_passes(scene)
 
 

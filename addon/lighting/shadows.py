@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""Shadows: each light's visibility at the shaded point, per engine and release (issue 43).
+"""Shadows: each light's visibility at the shaded point, per engine and release.
 
 The model with shadows is "Phong plus shadow rays": each light's diffuse and specular terms
 times its visibility V, 1 unless the segment from the shaded point P to a point or spot

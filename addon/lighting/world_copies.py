@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """The World's copies of the lights' transforms, the whole concept: their keys, which groups
-read them, their drivers, and their being live only where something reads them (issue 38).
+read them, their drivers, and their being live only where something reads them.
 
 A lights group (``rig.py``) or a Per Vertex / Per Face group (``shading/groups.py``) reads
 each light's world location and axis from a World custom property (:func:`world_key`,
@@ -53,7 +53,7 @@ _KINDS = ("LOCATION", "AXIS")
 #: A light's world location (Point, Spot) and world -Z axis (Sun, Spot) reach its lights
 #: group as World custom properties of 4 floats (``world_key``), written by drivers on the
 #: World and read by Attribute nodes of type View Layer: moving a light then updates the
-#: World, not the node trees of the materials (issue 30).  Each such Attribute node is a
+#: World, not the node trees of the materials.  Each such Attribute node is a
 #: search loop in Eevee's shader, whose compile time grows steeply with their number (and
 #: with the term AOVs on the view layer: ``compat.py``), so a group reads at most
 #: ``compat.VIEW_LAYER_LOOKUPS``; the lights beyond (and a scene without a World) keep

@@ -15,7 +15,7 @@ and removes what no material needs any more.
 
 Moving a light or the camera evaluates no Geometry Nodes and, where the lights group reads the
 lights' transforms from the World, re-evaluates no material either: a light drag costs what it
-costs Per Pixel (issue 28).  Everything is data of the file: a saved file renders the same
+costs Per Pixel.  Everything is data of the file: a saved file renders the same
 without the extension.
 """
 

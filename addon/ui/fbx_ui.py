@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""The operators of File ▸ Import ▸ FBX (Phong) (issue 35) and File ▸ Export ▸ FBX (.fbx) with
-Phong Materials (issue 45), and the drop handler of .fbx files (their entries and suffixes
+"""The operators of File ▸ Import ▸ FBX (Phong) and File ▸ Export ▸ FBX (.fbx) with Phong
+Materials, and the drop handler of .fbx files (their entries and suffixes
 from ``interchange/formats.py``)."""
 
 import bpy

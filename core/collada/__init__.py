@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""COLLADA (.dae) files read and written without ``bpy`` (issue 26).
+"""COLLADA (.dae) files read and written without ``bpy``.
 
 COLLADA's ``profile_COMMON`` is the Phong model written down: ``<constant>``, ``<lambert>``,
 ``<phong>`` and ``<blinn>`` give emission + ambient·Ka + diffuse·max(N·L, 0) +

@@ -96,7 +96,7 @@ class Material:
     transparent: tuple | None = None  # (r, g, b, a), None when absent
     transparency: float | None = None
     effect_id: str = ""
-    transparent_texture: Texture | None = None   # <transparent><texture> (issue 35)
+    transparent_texture: Texture | None = None   # <transparent><texture>: an opacity map
 
     def color(self, element) -> tuple:
         """The colour of *element* (RGB) as the technique uses it: black when the effect

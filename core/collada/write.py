@@ -171,7 +171,7 @@ def dumps(doc: Document) -> str:
                     _sub(shininess, "float", fmt(mat.shininess or 0.0), sid="shininess")
             if mat.transparent is not None or "transparent" in mat.textures:
                 holder = _sub(shading, "transparent", opaque=mat.opaque)
-                if "transparent" in mat.textures:   # an opacity map (issue 35)
+                if "transparent" in mat.textures:   # an opacity map
                     _sub(holder, "texture", texture="transparent-sampler",
                          texcoord=mat.textures["transparent"].texcoord or "UVMap")
                 else:

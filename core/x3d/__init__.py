@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""VRML97 and X3D files read and written without ``bpy`` (issue 36).
+"""VRML97 and X3D files read and written without ``bpy``.
 
 VRML97 (ISO/IEC 14772-1) and X3D (ISO/IEC 19775-1) shade with a Phong model: ``Material {
 diffuseColor ambientIntensity specularColor emissiveColor shininess transparency }`` lit by
