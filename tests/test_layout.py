@@ -324,3 +324,35 @@ def test_no_socket_is_reached_by_position():
                     found += _positional_socket_access(open(path, encoding="utf-8").read(),
                                                        os.path.relpath(path, ROOT))
     assert not found, "sockets reached by position:\n" + "\n".join(found)
+
+
+# -- product text explains itself: no tracker numbers ----------------------------------------
+
+#: A tracker reference: "issue 43", "Issues 5-38", "issue #30", also broken across two lines.
+TRACKER_NUMBER = re.compile(r"\bissues?\s*#?\d+", re.I)
+
+
+def _product_text_files():
+    """The files a user or a reader of the code gets: the package's Python outside tests/ and
+    benchmarks/, the demo scenes, the docs and the README."""
+    for path in _python_files():
+        if os.path.relpath(path, ROOT).split(os.sep)[0] not in ("tests", "benchmarks"):
+            yield path
+    for folder, suffix in (("scenes", ".toml"), ("docs", ".md")):
+        yield from sorted(os.path.join(ROOT, folder, f)
+                          for f in os.listdir(os.path.join(ROOT, folder)) if f.endswith(suffix))
+    yield os.path.join(ROOT, "README.md")
+
+
+def test_no_product_text_cites_an_issue_number():
+    """Code, scenes and docs state the reason or the measurement, not the tracker's number
+    for it (a reader has no tracker; a demo sheet's subtitle is read by users)."""
+    found = []
+    for path in _product_text_files():
+        with open(path, encoding="utf-8") as handle:
+            text = handle.read()
+        lines = text.splitlines()
+        for match in TRACKER_NUMBER.finditer(text):
+            number = text.count("\n", 0, match.start()) + 1
+            found.append(f"{os.path.relpath(path, ROOT)}:{number}: {lines[number - 1].strip()}")
+    assert not found, "issue numbers in product text:\n" + "\n".join(found)
