@@ -4,6 +4,7 @@
 
 * ``args``      every subcommand and option (one argparse parser);
 * ``runs``      demo, compare and report; ``bake``: Bake Phong Lighting and glTF;
+  ``apply``: Apply Phong Material on every scene of a .blend, written as a new file;
 * ``slurm``     a run as a Slurm job array; ``cluster``: a one-node cluster to try it;
 * ``inputs``    scene files (.blend, or imported by the extension's importers), peers;
 * ``terminal``  interrupts, our own lines beside Blender's log, exit without a crash;
@@ -51,6 +52,10 @@ def main(argv=None) -> int:
         from . import bake  # noqa: PLC0415
 
         return run_interruptible(lambda: bake.run(args, state), state)
+    if command == "apply":
+        from . import apply  # noqa: PLC0415
+
+        return run_interruptible(lambda: apply.run(args, state), state)
     from . import runs  # noqa: PLC0415
 
     return run_interruptible(lambda: runs.run(args, state), state)

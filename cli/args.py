@@ -4,7 +4,8 @@
     phong demo    [--scenes a,b|all] [--engines cycles,eevee] [--resolution N] [--out DIR]
                   [--shard i/n|auto] [--peers threejs,x_ite] [--save-blend]
     phong compare FILE.blend|.obj|.dae|.fbx [--scenes a,b] [--engines ...] [--resolution N] [--out DIR]
-                  [--shard i/n|auto] [--peers threejs,x_ite]
+                  [--shard i/n|auto] [--peers threejs,x_ite] [--apply]
+    phong apply   FILE.blend -o OUT.blend [--scenes a,b]
     phong bake    FILE.blend --target image|vertex [--term T] [--view camera|none] [--scenes a,b]
                   [--resolution N] [--format png|exr] [--smart-uv] [--out DIR] [--shard i/n]
                   [--peers threejs] [--check-height N]
@@ -110,6 +111,23 @@ def parser() -> argparse.ArgumentParser:
                               "with Phong materials)")
     _comparison_options(compare, None, "picture height in pixels (default: each scene's own "
                         "size)", "out/compare")
+    compare.add_argument("--apply", action="store_true",
+                         help="first give every object that renders with materials Phong "
+                              "materials (as phong apply does; in memory, the file is not "
+                              "written), then compare")
+
+    apply = sub.add_parser(
+        "apply", help="give every object of a .blend that renders with materials Phong "
+        "materials, written as a new .blend",
+        description="Apply Phong Material on every scene of a .blend (or those named): every "
+        "object that renders with materials gets Phong materials driven by the scene's "
+        "lights; a report says what was converted and what not. OUT.blend is written whole "
+        "or not at all; the input file is never written.")
+    apply.add_argument("file", help="the .blend file")
+    apply.add_argument("-o", "--output", required=True, metavar="OUT.blend",
+                       help="the .blend to write (not the input file)")
+    apply.add_argument("--scenes", default=None,
+                       help="comma-separated scene names of the file (default: every scene)")
 
     bake = sub.add_parser(
         "bake", help="bake Phong lighting of a .blend into textures or vertex colours, write glTF",
@@ -222,6 +240,9 @@ def parse_slurm(argv) -> argparse.Namespace:
         if flag.split("=")[0] in SLURM_SET_BY_US:
             raise SubmitError(f"{flag}: set by phong slurm itself (--tasks N gives the array)")
     farm = argv[cut + 1:]
+    if farm and farm[0] == "apply":
+        raise SubmitError("apply writes one .blend, which an array's tasks cannot share: run "
+                          "phong apply itself (compare --apply runs as an array)")
     if farm and farm[0] == "report":
         raise SubmitError("the command is demo, compare or bake; the check job runs report "
                           "itself")

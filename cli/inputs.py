@@ -119,19 +119,12 @@ def _frame(scene) -> tuple | None:
     is seen edge-on) where there is no camera, X3D's default Viewpoint moved along its own
     direction where the file has no Viewpoint.  Returns (what was done, the comparison's
     note), or None."""
-    import bpy  # noqa: PLC0415
-    from mathutils import Vector  # noqa: PLC0415
-
     from ..addon.interchange import x3d_import  # noqa: PLC0415
     from ..addon.scene import framing  # noqa: PLC0415
 
     objects = framing.visible_meshes(scene)
     if scene.camera is None:
-        camera = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
-        scene.collection.objects.link(camera)
-        camera.rotation_euler = (-Vector((1.0, -1.0, 1.0))).to_track_quat("-Z", "Y").to_euler()
-        scene.camera = camera
-        framing.frame(scene, camera, objects)
+        framing.add_camera(scene, objects)
         return ("has no camera: added one that frames its objects",
                 "framed: the file has no camera")
     if scene.camera.get(x3d_import.DEFAULT_VIEWPOINT_KEY) and framing.frame(scene, scene.camera,

@@ -16,7 +16,8 @@ see ``core.scenes.resolve_shard``).  Each run records the scene folders of the w
 those are missing or failed (exit 0 when the run is whole, 1 otherwise).
 
 An imported file without a camera or Viewpoint is framed (``inputs``: "framed: the file has
-no camera", a line of the scene's report); a comparison whose camera sees Phong surfaces on
+no camera", a line of the scene's report), and so is a scene of a .blend without a camera
+("framed: the scene has no camera"); every scene of a multi-scene .blend is compared; a comparison whose camera sees Phong surfaces on
 fewer than 1% of the pixels fails, saying so (``core.compare.coverage``).
 
 Exit codes: 0 every engine matches the reference (Cycles max |error| <= 1e-4, Eevee within
@@ -94,6 +95,8 @@ class Registered:
 
 
 def _run(args, state, registered) -> int:
+    from .apply import ApplyFailed  # noqa: PLC0415  (apply imports this module)
+
     comparing = args.command == "compare"
     try:
         if comparing:
@@ -107,6 +110,9 @@ def _run(args, state, registered) -> int:
     except (scenes.SceneError, BadInput) as error:
         print(f"phong: {error}", file=sys.stderr)
         return 2
+    except ApplyFailed as error:   # compare --apply: a conversion raised
+        print(f"phong: {error}", file=sys.stderr)
+        return 1
     state["total"] = len(jobs)
     out = os.path.abspath(args.out)
     problem = outputs.output_problem(out, refuse_package=False)
@@ -167,13 +173,41 @@ def _demo_jobs(mine, args) -> list:
 
 
 def _file_jobs(args):
-    """The jobs of the scenes of args.file with Phong materials (BadInput: exit 2)."""
+    """``_scene_jobs`` of args.file; whatever else a file Blender opens makes go wrong while
+    its scenes are chosen (exit 2) is one line, never a traceback."""
+    from .apply import ApplyFailed  # noqa: PLC0415  (apply imports this module)
+
+    try:
+        return _scene_jobs(args)
+    except (BadInput, ApplyFailed, scenes.SceneError):
+        raise
+    except Exception as error:  # noqa: BLE001
+        raise BadInput(f"{args.file}: its scenes cannot be compared: "
+                       f"{type(error).__name__}: {error}") from None
+
+
+def _scene_jobs(args):
+    """The jobs of the scenes of args.file with Phong materials (BadInput: exit 2).  Every
+    scene of a multi-scene file is compared, not only the window's; a scene without a camera
+    gets one that frames its Phong objects (``framing.add_camera``), said in its notes.
+    Without --scenes a scene whose Phong objects cannot be compared (Per Vertex / Per Face
+    only) is left out with a line on stderr; a scene named by --scenes must be comparable."""
     import bpy  # noqa: PLC0415
 
     from ..addon.comparison import engine  # noqa: PLC0415
     from ..addon.scene import describe  # noqa: PLC0415
 
-    names, wanted = open_scene_file(args.file, args.scenes)
+    names, named = open_scene_file(args.file, args.scenes)
+    applied = {}
+    if getattr(args, "apply", False):
+        from .apply import convert_scenes, report_lines  # noqa: PLC0415
+
+        # every scene, in every shard alike (so that each names the same folders)
+        for name, report in convert_scenes(named or names, args.file):
+            print(report_lines(name, report))
+            applied[name] = (f"applied: {len(report.converted)} object(s) given Phong "
+                             f"materials first (--apply; the file is not written)")
+    wanted = named
     if wanted is None:
         wanted = [n for n in names
                   if describe.phong_objects(bpy.data.scenes[n],
@@ -181,22 +215,60 @@ def _file_jobs(args):
         if not wanted:
             raise BadInput(f"{args.file}: no scene has an object with a Phong material "
                            "(Apply Phong Material first)")
+    comparable, problems = [], []
     for name in wanted:
         try:
-            engine.check(bpy.data.scenes[name])
+            engine.check(bpy.data.scenes[name], camera=False)  # framed below where it has none
         except engine.ComparisonError as error:
-            raise BadInput(f"{args.file}: {error}") from None
+            problems.append(str(error))
+            continue
+        comparable.append(name)
+    if named is not None and problems or not comparable:
+        raise BadInput(f"{args.file}: {problems[0]}")
+    for problem in problems:
+        print(f"phong: {os.path.basename(args.file)}: left out: {problem}", file=sys.stderr)
+    wanted = comparable
     # of every scene, so that each shard names the same folder for a scene
     folders = outputs.distinct(describe.folder_name(bpy.data.scenes[name]) for name in wanted)
     try:
         mine = scenes.shard(list(zip(wanted, folders)), args.shard)
     except scenes.SceneError as error:
         raise BadInput(str(error)) from None
-    jobs = [Job(folder, lambda n=name: bpy.data.scenes[n],
-                notes=[bpy.data.scenes[name][FRAMED_KEY]]
-                if bpy.data.scenes[name].get(FRAMED_KEY) else ())
-            for name, folder in mine]
+    jobs = []
+    for name, folder in mine:
+        scene = bpy.data.scenes[name]
+        job = Job(folder, None, notes=([scene[FRAMED_KEY]] if scene.get(FRAMED_KEY) else [])
+                  + ([applied[name]] if name in applied else []))
+        job.make = lambda n=name, j=job: _file_scene(args.file, bpy.data.scenes[n], j)
+        jobs.append(job)
     return jobs, folders
+
+
+#: The note of a scene of a .blend that had no camera (``_file_scene``).
+FRAMED_SCENE = "framed: the scene has no camera"
+
+
+def _file_scene(file, scene, job):
+    """*scene* of a .blend, ready to compare: a scene without a scene camera takes its
+    camera object (the first by name) where it has one, else a new camera that frames its
+    Phong objects (said on stderr and in *job*'s notes); the file itself is never written."""
+    from ..addon.comparison import engine  # noqa: PLC0415
+    from ..addon.scene import framing  # noqa: PLC0415
+
+    if scene.camera is not None:
+        return scene
+    cameras = sorted((o for o in scene.objects if o.type == "CAMERA"), key=lambda o: o.name)
+    if cameras:   # the artist's own view, though not set as the scene's camera
+        scene.camera = cameras[0]
+        said = f"has no scene camera: used its camera object {cameras[0].name!r}"
+        job.notes.append(f"camera: the scene sets none; its camera object {cameras[0].name!r}")
+    else:
+        _layer, objects = engine.check(scene, camera=False)
+        framing.add_camera(scene, objects)
+        said = "has no camera: added one that frames its Phong objects"
+        job.notes.append(FRAMED_SCENE)
+    print(f"\nphong: {os.path.basename(file)}: scene {scene.name!r} {said}", file=sys.stderr)
+    return scene
 
 
 def _compare_scenes(jobs, args, out, say, state):
@@ -228,7 +300,7 @@ def _compare_scenes(jobs, args, out, say, state):
             print(f"\nphong: {job.name}: the comparison failed: {error}", file=sys.stderr)
             failed.append(job.name)
             continue
-        for note in job.notes:
+        for note in metrics.get("notes", []):  # the job's and the comparison's own
             print(f"\n      {note}", end="", file=say)
         print(f"\n      {compare.summary_text(metrics)}", file=say)
         results.append(metrics)

@@ -197,6 +197,7 @@ def test_report_of_a_folder_that_is_no_run_exits_2(tmp_path, case):
     (["--", "bake", "missing.blend", "--target", "vertex"], "missing.blend: no such file"),
     (["--", "bake", "missing.blend"], "the following arguments are required: --target"),
     (["--", "bake", "x.blend", "--target", "vertex", "--shard", "auto"], "leave out --shard"),
+    (["--", "apply", "x.blend", "-o", "y.blend"], "apply writes one .blend"),
 ])
 def test_slurm_refuses_bad_commands_before_submitting(tmp_path, args, message):
     result = run(tmp_path, "slurm", *args, env={"PATH": "/nonexistent"})

@@ -73,3 +73,24 @@ def test_nothing_to_frame_moves_nothing(bpy_clean):
     camera.location = (1.0, 2.0, 3.0)
     assert not framing.frame(scene, camera, [])
     assert tuple(camera.location) == (1.0, 2.0, 3.0)
+
+
+def test_a_camera_added_to_a_scene_no_window_shows_frames_it(bpy_clean):
+    """A scene of a multi-scene file that no window shows has no depsgraph of its own: the
+    new camera's world matrix still turns to the three-quarter view and frames the box."""
+    bpy = bpy_clean
+    from bpy_extras.object_utils import world_to_camera_view  # noqa: PLC0415
+    from mathutils import Vector  # noqa: PLC0415
+
+    from phong_nodes.addon.scene import framing  # noqa: PLC0415
+    other = bpy.data.scenes.new("Other")
+    assert bpy.context.scene != other and other.view_layers[0].depsgraph is None
+    box = _box(bpy, other)
+    camera = framing.add_camera(other, [box])
+    assert other.camera == camera
+    forward = camera.matrix_world.to_3x3() @ Vector((0.0, 0.0, -1.0))
+    assert list(forward.normalized()) == pytest.approx(
+        list(Vector((-1.0, 1.0, -1.0)).normalized()), abs=1e-6)
+    for corner in box.bound_box:
+        x, y, _ = world_to_camera_view(other, camera, box.matrix_world @ Vector(corner))
+        assert 0.0 < x < 1.0 and 0.0 < y < 1.0

@@ -49,7 +49,7 @@ import bpy
 
 from ...core import outputs
 from .. import compat
-from ..scene import render
+from ..scene import describe, render
 from ..scene.render import Overrides
 from ..lighting import materials
 from ..shading import modes as shading_modes
@@ -203,9 +203,8 @@ def camera_matrix(scene, camera):
     scene is evaluated, while Cycles' bake reads the evaluated camera."""
     if bpy.context.scene == scene and bpy.context.view_layer is not None:
         depsgraph = bpy.context.evaluated_depsgraph_get()
-    else:
-        depsgraph = scene.view_layers[0].depsgraph
-        depsgraph.update()
+    else:  # a scene no window shows may have no depsgraph yet
+        depsgraph = describe.evaluated(scene, scene.view_layers[0])
     return camera.evaluated_get(depsgraph).matrix_world.copy()
 
 

@@ -7,7 +7,8 @@ materials (a demo scene, an artist's scene, a production file).
   also writes, as AOVs, what it sees per pixel (``core.compare.PROBES``: position, normal,
   incoming, the material's inputs, and the object's number).  Eevee never compiles them
   (each AOV costs Eevee shader compile time).  1 sample at the pixel centres, box filter
-  0.01.
+  0.01, SVM (Open Shading Language writes no AOVs: a scene with it on is rendered without,
+  saying so in the notes).
 * Eevee renders the picture: 1 TAA sample, filter size 0: its first sample sits at the
   pixel centre too.
 * ``describe.describe`` reads the lights, Light Linking and World ambient as Blender
@@ -48,18 +49,27 @@ class ComparisonError(ValueError):
 
 # -- what is compared ----------------------------------------------------------------
 
-def check(scene, view_layer=None):
-    """(view layer, Phong objects) of *scene*, or ComparisonError saying why it cannot be compared."""
+def check(scene, view_layer=None, camera=True):
+    """(view layer, Phong objects) of *scene*, or ComparisonError saying why it cannot be
+    compared; without *camera* a scene without camera passes (the caller frames one)."""
+    if scene.library is not None:   # its settings cannot be changed for the renders here
+        raise ComparisonError(f"scene {scene.name!r} is linked from the library "
+                              f"{scene.library.filepath!r}: compare it in that file")
     layer = describe.view_layer_of(scene, view_layer)
+    phong = describe.phong_objects(scene, layer)
     # Per Vertex / Per Face materials are not the per-pixel model: shown, not compared
-    objects = [obj for obj in describe.phong_objects(scene, layer)
+    objects = [obj for obj in phong
                if any(materials.is_phong_material(slot.material)
                       and shading_modes.mode_of(slot.material) == shading_modes.PIXEL
                       for slot in obj.material_slots)]
+    if phong and not objects:
+        raise ComparisonError(f"scene {scene.name!r}: its Phong materials shade Per Vertex or "
+                              "Per Face, and the comparison checks Per Pixel shading only "
+                              "(set a material's Shading to Per Pixel to compare it)")
     if not objects:
         raise ComparisonError(f"scene {scene.name!r} has no object with a Phong material in view "
                         f"layer {layer.name!r} (Apply Phong Material first)")
-    if scene.camera is None:
+    if camera and scene.camera is None:
         raise ComparisonError(f"scene {scene.name!r} has no camera")
     return layer, objects
 
@@ -254,6 +264,7 @@ def run(scene, out_dir: str, engines=compare.ENGINES, progress=None, view_layer=
     """
     layer, objects = check(scene, view_layer)
     check_peers(peers)
+    notes = list(notes) + ([render.OSL_NOTE] if render.uses_osl(scene) else [])
     engines = [e for e in compare.ENGINES if e in engines]
     progress = progress or (lambda f, t: None)
     parent = os.path.dirname(os.path.abspath(out_dir)) or "."

@@ -150,7 +150,7 @@ def scene_dict(scene, view_layer, width: int, height: int, objects=None,
     if not objects:
         raise ValueError(f"scene {scene.name!r} has no object with a Phong material in view "
                          f"layer {view_layer.name!r} (Apply Phong Material first)")
-    depsgraph = view_layer.depsgraph
+    depsgraph = describe.evaluated(scene, view_layer)  # None for a scene no window shows
     data = described or describe.describe(scene, view_layer, objects)
     warnings = []
     if data["model"] != "threejs":

@@ -17,6 +17,7 @@ from __future__ import annotations
 import json
 import math
 
+import bpy
 import numpy as np
 
 from ...core import outputs
@@ -50,8 +51,33 @@ def view_layer_of(scene, name: str | None = None):
     return next((layer for layer in scene.view_layers if layer.use), scene.view_layers[0])
 
 
+def evaluated(scene, view_layer=None):
+    """The depsgraph of *view_layer* (default: the first that renders) of *scene*, evaluated
+    now.  Blender keeps one only for the scenes a window shows (or rendered): a scene of a
+    multi-scene file that no window shows has ``view_layer.depsgraph`` None, so one is made
+    for it as the context's scene (headless or not; the window's scene stays).  It is the
+    active one: the world matrices of the objects follow."""
+    layer = view_layer or view_layer_of(scene)
+    depsgraph = layer.depsgraph
+    if depsgraph is None:
+        with bpy.context.temp_override(scene=scene, view_layer=layer):
+            depsgraph = bpy.context.evaluated_depsgraph_get()
+    depsgraph.update()
+    return depsgraph
+
+
+def synced(scene, view_layer):
+    """*view_layer* of *scene* with its objects: Blender fills a view layer's objects and
+    layer collections lazily, and a scene just made (a demo scene built from its file)
+    has none until something syncs it; its depsgraph does."""
+    if view_layer.layer_collection is None:
+        evaluated(scene, view_layer)
+    return view_layer
+
+
 def phong_objects(scene, view_layer) -> list:
     """The objects of *view_layer* that render with a Phong material in some slot."""
+    view_layer = synced(scene, view_layer)
     return [obj for obj in view_layer.objects
             if not obj.hide_render and hasattr(obj.data, "materials")
             and lights_mod.visible(obj, view_layer)
@@ -70,8 +96,7 @@ def folder_name(scene) -> str:
 def describe(scene, view_layer, objects) -> dict:
     """The plain-data scene of the reference: name, title, lights, ambient, and *objects*
     (in order: object number k is objects[k - 1]) with the lights that reach each."""
-    depsgraph = view_layer.depsgraph
-    depsgraph.update()
+    depsgraph = evaluated(scene, view_layer)
     lights, _unsupported = lights_mod.scene_lights(scene, view_layer)
     rules = [lights_mod.receivers(obj) for obj in lights]
     data = scene_file(scene) or {}

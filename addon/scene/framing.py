@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """A camera moved to see what a scene holds, as a viewer's View All does (``phong compare``
-on a file without a camera or Viewpoint).
+on a file or a scene without a camera or Viewpoint).
 
 The camera keeps its direction (the file's default view): it moves sideways until the
 bounding box of the objects is centred in the picture, then along its axis until every
@@ -14,6 +14,8 @@ from __future__ import annotations
 
 import bpy
 from mathutils import Vector
+
+from . import describe
 
 #: The box fills at most this share of the picture's limiting side.
 FILL = 0.9
@@ -30,10 +32,22 @@ def box(objects) -> list:
     return [obj.matrix_world @ Vector(corner) for obj in objects for corner in obj.bound_box]
 
 
+def add_camera(scene, objects):
+    """A new camera of *scene*, its scene camera, looking from the front, right and above (a
+    three-quarter view, so that no plane of the axes is seen edge-on) and framed on
+    *objects*; returns it."""
+    camera = bpy.data.objects.new("Camera", bpy.data.cameras.new("Camera"))
+    scene.collection.objects.link(camera)
+    camera.rotation_euler = (-Vector((1.0, -1.0, 1.0))).to_track_quat("-Z", "Y").to_euler()
+    scene.camera = camera
+    frame(scene, camera, objects)
+    return camera
+
+
 def frame(scene, camera, objects) -> bool:
     """Move *camera* (an object with camera data, unparented or not) so that *objects* fill
     the picture of *scene*; False (nothing moved) when there is nothing to frame."""
-    bpy.context.view_layer.update()   # world matrices of what was just added
+    describe.evaluated(scene)   # world matrices of what was just added (in *scene*'s own layer)
     points = box(objects)
     if not points:
         return False
@@ -71,5 +85,5 @@ def frame(scene, camera, objects) -> bool:
     near, far = distance - near_z, distance - far_z
     data.clip_start = max(near * 0.5, 1e-6)
     data.clip_end = max(far * 2.0, data.clip_start * 10.0)
-    bpy.context.view_layer.update()   # the camera's world matrix, which headlights follow
+    describe.evaluated(scene)   # the camera's world matrix, which headlights follow
     return True

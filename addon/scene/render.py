@@ -2,7 +2,7 @@
 """Render settings under which Eevee and Cycles shade exactly the pixel centres.
 
 Cycles: one sample, no denoiser, a box filter narrower than a pixel, so each pixel is
-the shader evaluated at its centre.  Eevee: one TAA sample (its first sample sits at
+the shader evaluated at its centre; SVM, not Open Shading Language (OSL writes no AOVs).  Eevee: one TAA sample (its first sample sits at
 the pixel centre), no filter, nothing that adds light, and high-quality GPU normals
 (with the default ones narrow highlights differ from Cycles by up to 1e-2).
 :class:`Overrides` changes settings for a while and puts them back (the comparison,
@@ -90,7 +90,9 @@ def exact(scene, engine: str, set_=setattr) -> None:
             "device": "CPU", "samples": 1, "use_denoising": False,
             "use_adaptive_sampling": False, "pixel_filter_type": "BOX", "filter_width": 0.01,
             "max_bounces": 0, "seed": 0, "use_animated_seed": False, "film_exposure": 1.0,
-            "use_light_tree": False}, set_)
+            "use_light_tree": False,
+            # Open Shading Language writes no AOVs (the term passes, the probes): SVM
+            "shading_system": False}, set_)
     elif engine == "eevee":
         set_(scene.render, "engine", compat.eevee_engine())
         set_(scene.eevee, "taa_render_samples", 1)
@@ -101,6 +103,16 @@ def exact(scene, engine: str, set_=setattr) -> None:
                                    "shadow_ray_count": 1, "shadow_step_count": 16}, set_)
     else:
         raise ValueError(f"unknown engine {engine!r}: expected 'cycles' or 'eevee'")
+
+
+#: The note of a comparison (or bake) of a scene whose Cycles uses Open Shading Language.
+OSL_NOTE = ("Cycles rendered with SVM: the scene's Open Shading Language writes no AOVs "
+            "(its setting is put back afterwards)")
+
+
+def uses_osl(scene) -> bool:
+    """Whether *scene*'s Cycles shades with Open Shading Language (``exact`` turns it off)."""
+    return bool(getattr(getattr(scene, "cycles", None), "shading_system", False))
 
 
 def eevee_shadows(scene) -> bool:
