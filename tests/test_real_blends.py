@@ -165,17 +165,36 @@ def test_compare_after_apply(extension, name, tmp_path):
         if metrics.get("notes"):
             line += f"; notes: {metrics['notes']}"
         be.report(line)
+        assert metrics["coverage"]["ok"], (name, scene.name, metrics["coverage"])
         expected = EXPECTED_FAILURES.get((name, scene.name), set())
         for engine_name, verdict in metrics["verdict"].items():
             if engine_name in expected:
                 assert not verdict["ok"], (f"{name} {scene.name!r}: {engine_name} passes now "
-                                           "({verdict['value']}): take it off "
+                                           f"({verdict['value']}): take it off "
                                            "EXPECTED_FAILURES")
             else:
                 assert verdict["ok"], (name, scene.name, engine_name, verdict)
     assert compared, f"{name}: no scene was compared"
 
 
-#: (file, scene): the engines whose verdict fails on that scene today, for a reason the
-#: test's report line and tests/data/README.md give (an open bug of Apply or compare).
-EXPECTED_FAILURES: dict = {}
+#: (file, scene): the engines whose verdict fails on that scene today (measured with bpy
+#: 5.3.0 at 32 pixels high; tests/data/README.md "What the files show"), each an open bug of
+#: the comparison or of Eevee's picture, not of the file:
+#: * godot_player.blend: its body has a Subdivision Surface of 3 levels in the viewport and 2
+#:   in renders; the reference's shadow rays meet the viewport's (finer) triangles while the
+#:   renders shade the render level's surface, so the reference puts most of the body in its
+#:   own shadow (Cycles max |Δ| 1.69, Eevee 3.3% within 1/255).  With the viewport levels set
+#:   to the render levels Cycles passes (3.7e-06) and Eevee reaches 99.15%.
+#: * godot_mob.blend: Cycles' picture shows the eye's ambient colour (0.0311, the eye's
+#:   0.612 red x ambient 0.0509) on pixels of the black pupil that its own probes and term
+#:   passes, Eevee and the reference give as the pupil (0): max |Δ| 3.11e-02 on 7% of the
+#:   pixels; Eevee passes (99.66%).
+#: * tetra3d_lighting.blend: Eevee differs from Cycles and the reference (which agree to
+#:   1.6e-06) by up to 0.46 on 16% of the pixels (83.8% within 1/255), in rings around the
+#:   2000-8000 W point lights over the large ground; 41.3% within 1/255 with every light's
+#:   shadow off.
+EXPECTED_FAILURES: dict = {
+    ("godot_player.blend", "Scene"): {"cycles", "eevee"},
+    ("godot_mob.blend", "Scene"): {"cycles"},
+    ("tetra3d_lighting.blend", "Scene"): {"eevee"},
+}
