@@ -36,7 +36,9 @@ def run(args, state) -> int:
         try:
             target = _target(args.file, args.output)
             registered.ensure()
-            names, wanted = open_scene_file(args.file, args.scenes, importers=False)
+            # with its workspaces and screens: OUT.blend keeps the artist's layout
+            names, wanted = open_scene_file(args.file, args.scenes, importers=False,
+                                            load_ui=True)
         except BadInput as error:
             print(f"phong: {error}", file=sys.stderr)
             return 2

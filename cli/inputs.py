@@ -61,10 +61,12 @@ NO_DEFAULT_LIGHT = "phong_x3d_no_headlight"
 FRAMED_KEY = "phong_framed"
 
 
-def open_scene_file(file: str, scenes_arg, importers: bool = True) -> tuple:
+def open_scene_file(file: str, scenes_arg, importers: bool = True,
+                    load_ui: bool = False) -> tuple:
     """Open *file*: (its scene names, the names *scenes_arg* ("a,b") gives, or None without
     it); BadInput (exit 2) for a missing or unreadable file or an unknown scene.  Without
-    *importers* only .blend files are read."""
+    *importers* only .blend files are read; *load_ui*: with the file's own workspaces and
+    screens (for a file that is saved again)."""
     import bpy  # noqa: PLC0415
 
     path = os.path.abspath(file)
@@ -79,7 +81,7 @@ def open_scene_file(file: str, scenes_arg, importers: bool = True) -> tuple:
             known = ", ".join([".blend", *readers])
             raise BadInput(f"{file}: not a file this command reads ({known})")
         try:
-            bpy.ops.wm.open_mainfile(filepath=path, load_ui=False)
+            bpy.ops.wm.open_mainfile(filepath=path, load_ui=load_ui)
         except RuntimeError as error:
             reason = str(error).strip().splitlines()[-1] if str(error).strip() else "unreadable"
             raise BadInput(f"{file}: cannot open as a .blend file ({reason})") from None

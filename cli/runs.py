@@ -16,9 +16,10 @@ see ``core.scenes.resolve_shard``).  Each run records the scene folders of the w
 those are missing or failed (exit 0 when the run is whole, 1 otherwise).
 
 An imported file without a camera or Viewpoint is framed (``inputs``: "framed: the file has
-no camera", a line of the scene's report), and so is a scene of a .blend without a camera
-("framed: the scene has no camera"); every scene of a multi-scene .blend is compared; a comparison whose camera sees Phong surfaces on
-fewer than 1% of the pixels fails, saying so (``core.compare.coverage``).
+no camera", a line of the scene's report), and so is a scene of a .blend without any camera
+("framed: the scene has no camera"); every scene of a multi-scene .blend is compared; a
+comparison whose camera sees Phong surfaces on fewer than 1% of the pixels fails, saying so
+(``core.compare.coverage``).
 
 Exit codes: 0 every engine matches the reference (Cycles max |error| <= 1e-4, Eevee within
 1/255 on >= 99.5% of pixels) on a picture that shows the scene; 1 some engine does not match,

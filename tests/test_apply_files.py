@@ -47,6 +47,7 @@ def plain_file(bpy_clean, tmp_path):
         _plain_scene(bpy, name)
     bpy.context.window.scene = bpy.data.scenes["Alpha"]
     bpy.data.scenes.remove(bpy.data.scenes["Scene"])
+    bpy.data.workspaces[0].name = "Artist's layout"   # the file's own UI, kept by apply
     path = tmp_path / "plain.blend"
     # Beta's colour from an image beside the file, by a relative path
     image = bpy.data.images.new("paint", 4, 4)
@@ -85,6 +86,7 @@ def test_apply_converts_every_scene_into_a_new_file_that_compares_ok(bpy_clean, 
     for name in SCENES:
         ball = bpy.data.objects[f"{name} ball"]
         assert materials.is_phong_material(ball.material_slots[0].material), name
+    assert "Artist's layout" in bpy.data.workspaces, "the file's own workspaces are kept"
     # relative paths remapped to OUT.blend's folder: the image is still found
     image = bpy.data.images["paint"]
     assert image.filepath == "//../paint.png"

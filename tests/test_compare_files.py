@@ -159,3 +159,18 @@ def test_a_scene_linked_from_a_library_is_left_out_saying_why(bpy_clean, tmp_pat
     assert "Traceback" not in result.stderr
     assert "left out: scene 'Shared' is linked from the library" in result.stderr
     assert _metrics(out, "Local")["ok"] and not (out / "Shared").exists()
+
+
+@pytest.mark.cycles
+def test_osl_is_put_back_after_the_comparison(bpy_clean, tmp_path):
+    """In Blender (Compare Phong Scene's engine): the scene's Open Shading Language is off for
+    the comparison's renders only, and said."""
+    bpy = bpy_clean
+    from phong_nodes.addon.comparison import engine  # noqa: PLC0415
+    scene = _phong_scene(bpy, "Osl")
+    scene.render.engine = "CYCLES"
+    scene.cycles.shading_system = True
+    metrics = engine.run(scene, str(tmp_path / "osl"), engines=("cycles",), resolution=16)
+    assert metrics["ok"] and metrics["pixels"]["compared"] > 20
+    assert any("Open Shading Language" in note for note in metrics["notes"])
+    assert scene.cycles.shading_system is True and scene.render.engine == "CYCLES"

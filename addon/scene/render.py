@@ -2,9 +2,10 @@
 """Render settings under which Eevee and Cycles shade exactly the pixel centres.
 
 Cycles: one sample, no denoiser, a box filter narrower than a pixel, so each pixel is
-the shader evaluated at its centre; SVM, not Open Shading Language (OSL writes no AOVs).  Eevee: one TAA sample (its first sample sits at
-the pixel centre), no filter, nothing that adds light, and high-quality GPU normals
-(with the default ones narrow highlights differ from Cycles by up to 1e-2).
+the shader evaluated at its centre; SVM, not Open Shading Language (OSL writes no AOVs).
+Eevee: one TAA sample (its first sample sits at the pixel centre), no filter, nothing that
+adds light, and high-quality GPU normals (with the default ones narrow highlights differ from
+Cycles by up to 1e-2).
 :class:`Overrides` changes settings for a while and puts them back (the comparison,
 Bake Phong Lighting).
 """
