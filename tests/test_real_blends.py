@@ -188,7 +188,9 @@ def test_compare_after_apply(extension, name, tmp_path):
 #: * godot_mob.blend: Cycles' picture shows the eye's ambient colour (0.0311, the eye's
 #:   0.612 red x ambient 0.0509) on pixels of the black pupil that its own probes and term
 #:   passes, Eevee and the reference give as the pupil (0): max |Δ| 3.11e-02 on 7% of the
-#:   pixels; Eevee passes (99.66%).
+#:   pixels; Eevee passes (99.66%).  The pupil's Phong colour is exactly black (Object
+#:   Color 0, no light, so an Emission of 0): Cycles shows the surface behind it.  With the
+#:   pupil's Object Color at 0.02 grey Cycles passes (2.3e-10).
 #: * tetra3d_lighting.blend: Eevee differs from Cycles and the reference (which agree to
 #:   1.6e-06) by up to 0.46 on 16% of the pixels (83.8% within 1/255), in rings around the
 #:   white 2000 W point light "Point light"; with that light alone 84.6%, with any other of
