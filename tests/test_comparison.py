@@ -359,3 +359,31 @@ def test_bake_refuses_a_scene_without_phong_materials(bpy_clean, tmp_path):
             RuntimeError, match="scene 'Plain' has no object with a Phong material"):
         bpy.ops.phong.compare_scene(directory=str(tmp_path / "out"))
     assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.cycles
+def test_the_operator_compares_a_scene_without_a_camera_and_leaves_it_so(bpy_clean, tmp_path):
+    """Compare Phong Scene on a scene with no camera at all: compared from a camera that
+    frames its Phong objects, which is gone afterwards (no object, no camera data, the scene
+    still without a camera); a scene with a camera object that is not its scene camera is
+    compared from that object and keeps no scene camera either."""
+    bpy = bpy_clean
+    scene = be.new_scene("No camera", 32, 24)
+    bpy.context.window.scene = scene
+    scene.world.phong.ambient_intensity = 1.0
+    material = bpy.data.materials.new("Clay")
+    be.add_uv_sphere(scene, "Ball", (0.0, 0.0, 0.0), 1.0, material, segments=16, rings=8)
+    be.apply_phong(scene, [bpy.data.objects["Ball"]])
+    before = (len(bpy.data.objects), len(bpy.data.cameras))
+    with bpy.context.temp_override(scene=scene):
+        assert bpy.ops.phong.compare_scene(directory=str(tmp_path / "op"),
+                                           engines={"CYCLES"}) == {"FINISHED"}
+    metrics = json.loads((tmp_path / "op" / "No_camera" / "metrics.json").read_text())
+    assert metrics["ok"] and metrics["coverage"]["pixels"] > 0.1 * 768
+    assert scene.camera is None and (len(bpy.data.objects), len(bpy.data.cameras)) == before
+    be.add_ortho_camera(scene, (0.0, 0.0), 3.0, 3.0)
+    camera, scene.camera = scene.camera, None
+    with bpy.context.temp_override(scene=scene):
+        assert bpy.ops.phong.compare_scene(directory=str(tmp_path / "op2"),
+                                           engines={"CYCLES"}) == {"FINISHED"}
+    assert scene.camera is None and camera.name in bpy.data.objects

@@ -65,8 +65,7 @@ def why_not(obj) -> str | None:
     if obj.type in NOT_SURFACES:
         return NOT_SURFACES[obj.type]
     if obj.type not in KINDS or not hasattr(obj.data, "materials"):
-        return None if obj.type in ("EMPTY", "LIGHT", "CAMERA") else \
-            f"a {obj.type.lower()} object has no materials"
+        return None  # no materials to convert (an Empty, a light, an armature ...)
     if obj.library is not None:
         return (f"linked from the library '{obj.library.filepath}': make it local or a "
                 "library override (Object ▸ Library Override) to convert it")

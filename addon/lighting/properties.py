@@ -129,13 +129,35 @@ def emitting_area(light) -> float:
     return size * size_y * (math.pi / 4.0 if light.shape in ("DISK", "ELLIPSE") else 1.0)
 
 
+def node_factor(light) -> float:
+    """What *light*'s own node tree (Use Nodes) makes of its Power: 0 where its active Light
+    Output has no surface (Cycles then gives no light), an Emission's Strength where one
+    feeds it, else 1."""
+    tree = light.node_tree if getattr(light, "use_nodes", False) else None
+    if tree is None:
+        return 1.0
+    output = next((n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputLight"
+                   and n.is_active_output), None)
+    if output is None:
+        return 1.0
+    surface = output.inputs.get("Surface")
+    if surface is None or not surface.is_linked:
+        return 0.0
+    node = surface.links[0].from_node
+    strength = node.inputs.get("Strength") if node.bl_idname == "ShaderNodeEmission" else None
+    if strength is not None and not strength.is_linked:
+        return max(0.0, float(strength.default_value))
+    return 1.0
+
+
 def power_scale(light) -> float:
     """i0 per unit of *light*'s Power (``models.POWER_TO_INTENSITY``; an Area light whose
-    Normalize is off emits its Power per square metre); 0 for a light type without one."""
+    Normalize is off emits its Power per square metre; times ``node_factor``); 0 for a light
+    type without one."""
     scale = models.POWER_TO_INTENSITY.get(light.type, 0.0)
     if light.type == "AREA" and not getattr(light, "normalize", True):
         scale *= emitting_area(light)
-    return scale
+    return scale * node_factor(light)
 
 
 def power_intensity(light) -> float:
@@ -189,6 +211,8 @@ def light_values(light) -> dict:
 
 AMBIENT_INTENSITY = ("phong_ambient_intensity", 0.1)
 AMBIENT_COLOR = ("phong_ambient_color", (1.0, 1.0, 1.0))
+#: The ambient intensity of a scene without a World: Blender renders no world light there.
+NO_WORLD_AMBIENT = 0.0
 
 LIGHT_KEYS = {attr: (key, default) for attr, key, _l, default, *_ in LIGHT_SETTINGS}
 

@@ -607,7 +607,7 @@ def _shading_node(tree, group_in, name, location, first):
 def _drive_ambient(node, world) -> None:
     """The Phong Ambient node's light: the World's Phong ambient intensity and colour."""
     if world is None:
-        node.inputs["Intensity"].default_value = properties.AMBIENT_INTENSITY[1]
+        node.inputs["Intensity"].default_value = properties.NO_WORLD_AMBIENT
         node.inputs["Light Color"].default_value = (*properties.AMBIENT_COLOR[1], 1.0)
         return
     properties.ensure_world_props(world)

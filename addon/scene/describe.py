@@ -14,6 +14,7 @@ reference's visibility (``node_groups/reference.py``).
 
 from __future__ import annotations
 
+import contextlib
 import json
 import math
 
@@ -127,9 +128,34 @@ def describe(scene, view_layer, objects) -> dict:
         "light_names": [obj.name for obj in lights],
     }
     if any(light["shadows"] for light in described):
-        out["triangles"] = triangles(view_layer, depsgraph)
+        with render_geometry(scene):
+            depsgraph.update()
+            out["triangles"] = triangles(view_layer, depsgraph)
+        depsgraph.update()
         out["eevee_shadows"] = render.eevee_shadows(scene)  # else Eevee is compared without
     return out
+
+
+@contextlib.contextmanager
+def render_geometry(scene):
+    """The scene's geometry as a render evaluates it, for a while: each modifier shown as it
+    is in renders, a Subdivision Surface or Multiresolution at its render levels, an object
+    disabled in the viewport but not in renders enabled (the depsgraph that Python reads is
+    the viewport's); everything put back on leaving."""
+    undo = render.Overrides()
+    try:
+        for obj in scene.objects:
+            if obj.library is not None:
+                continue
+            if obj.hide_viewport and not obj.hide_render:
+                undo.set(obj, "hide_viewport", False)
+            for modifier in obj.modifiers:
+                undo.set(modifier, "show_viewport", modifier.show_render)
+                if hasattr(modifier, "render_levels") and hasattr(modifier, "levels"):
+                    undo.set(modifier, "levels", modifier.render_levels)
+        yield
+    finally:
+        undo.restore()
 
 
 def triangles(view_layer, depsgraph) -> np.ndarray:
@@ -182,8 +208,8 @@ def _local_triangles(obj) -> np.ndarray:
 def _ambient(world) -> dict:
     key, default = properties.AMBIENT_INTENSITY
     color_key, default_color = properties.AMBIENT_COLOR
-    if world is None:
-        return {"intensity": default, "color": list(default_color)}
+    if world is None:  # no World: no world light (Blender's own render)
+        return {"intensity": properties.NO_WORLD_AMBIENT, "color": list(default_color)}
     return {"intensity": float(world.get(key, default)),
             "color": [float(c) for c in world.get(color_key, default_color)][:3]}
 

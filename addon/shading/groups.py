@@ -313,7 +313,7 @@ def _orthographic(b, scene):
 def _ambient_sockets(b, world) -> dict:
     if world is None:
         return {"Ambient Intensity": lambda: b.constant("Ambient Intensity",
-                                                        properties.AMBIENT_INTENSITY[1]),
+                                                        properties.NO_WORLD_AMBIENT),
                 "Ambient Color": lambda: b.constant_vector("Ambient Color",
                                                            properties.AMBIENT_COLOR[1])}
     properties.ensure_world_props(world)

@@ -17,7 +17,7 @@ from ...node_groups.library import GROUPS
 from .. import loader
 from ..comparison import engine
 from ..demos import builder
-from ..scene import describe
+from ..scene import describe, framing
 from ..lighting import convert, loop, materials, rig, shadows
 from ..lighting import sync as sync_mod
 from . import file_io
@@ -319,6 +319,41 @@ class _CompareScene:
         return None
 
     def execute(self, context):
+        scene = context.scene
+        if scene is not None and scene.camera is None:
+            return self._with_camera(context)
+        return self._compare(context)
+
+    def _with_camera(self, context):
+        """The comparison of a scene without a scene camera: from its first camera object,
+        else from a camera that frames its Phong objects, added for the comparison and
+        removed after it (the scene is left as it was)."""
+        scene = context.scene
+        cameras = sorted((o for o in scene.objects if o.type == "CAMERA"), key=lambda o: o.name)
+        added = None
+        try:
+            if cameras:
+                scene.camera = cameras[0]
+                self.report({"INFO"}, f"{self.bl_label}: the scene sets no camera: compared "
+                                      f"from its camera object '{cameras[0].name}'")
+            else:
+                try:
+                    _layer, objects = engine.check(scene, self._layer(context), camera=False)
+                except engine.ComparisonError as error:
+                    self.report({"ERROR"}, f"{self.bl_label}: {error}")
+                    return {"CANCELLED"}
+                added = framing.add_camera(scene, objects)
+                self.report({"INFO"}, f"{self.bl_label}: the scene has no camera: compared "
+                                      "from one that frames its Phong objects")
+            return self._compare(context)
+        finally:
+            scene.camera = None
+            if added is not None:
+                data = added.data
+                bpy.data.objects.remove(added)
+                bpy.data.cameras.remove(data)
+
+    def _compare(self, context):
         scene = context.scene
         peers = [p.lower() for p in self.peers]
         try:
