@@ -205,6 +205,7 @@ def _light(scene, light_data):
     if "direction" in light_data:
         obj.rotation_euler = Vector(light_data["direction"]).to_track_quat("-Z", "Y").to_euler()
     values = {key: light_data[key] for key in properties.LIGHT_KEYS if key in light_data}
+    values.setdefault("intensity", 1.0)  # a scene file's light has its own i0, not its watts
     if "falloff" in light_data:  # a falloff_exponent other than 0, 1, 2: i0/d^k
         values["falloff"] = light_data["falloff"]
     if kind == "SPOT":
