@@ -96,7 +96,9 @@ def test_textured_materials_are_copies_of_the_template_with_the_same_picture(bpy
               for i, s in enumerate(sources)]
     light = bpy.data.objects.new("Key", bpy.data.lights.new("Key", "POINT"))
     light.location = (4.0, -1.0, 3.0)
+    light.data.phong.intensity = 1.0  # its own i0, not its watts'
     scene.collection.objects.link(light)
+    scene.world.phong.ambient_intensity = 0.1  # the black World gives no ambient light
     be.apply_phong(scene, planes)
     fast = [p.material_slots[0].material for p in planes]
     assert len(copied) == 4 and None not in copied  # every chain copied into the template
