@@ -115,6 +115,25 @@ if [ "$command" = which ]; then
 fi
 echo "Phong Nodes: $choice" >&2
 
+# How the messages name a path: relative to the repository where it lies inside it.
+shown() {
+  case "$1" in
+    "$root"/*) echo "${1#"$root"/}" ;;
+    *) echo "$1" ;;
+  esac
+}
+
+# pip's own output (its progress, and the build backend's notes on `pip install -e .`) goes to
+# $venv/pip.log, read back to the terminal only when pip fails.
+pip_logged() {
+  local log="$venv/pip.log"
+  if ! "$venv/bin/python" -m pip "$@" >>"$log" 2>&1; then
+    echo "pip install failed ($(shown "$log"), its last lines):" >&2
+    tail -n 40 "$log" >&2
+    exit 1
+  fi
+}
+
 setup() {
   local stamp="$venv/.requirements.sha256"
   local want
@@ -122,14 +141,14 @@ setup() {
   if [ -x "$venv/bin/python" ] && [ "$(cat "$stamp" 2>/dev/null)" = "$want" ]; then
     return 0
   fi
-  echo "Setting up $venv (bpy $bpy_pin and the pins of requirements/python$pyver.txt)..." >&2
+  echo "Setting up $(shown "$venv") (bpy $bpy_pin and the pins of requirements/python$pyver.txt): about a minute..." >&2
   if ! "$python" -m venv --clear "$venv" >&2; then
     echo "Could not create a virtual environment with $python: on Debian/Ubuntu install python$pyver-venv." >&2
     exit 1
   fi
-  "$venv/bin/python" -m pip install --quiet --upgrade pip >&2
+  pip_logged install --upgrade pip
   printf '%s\n' "$pins" > "$venv/requirements.txt"
-  "$venv/bin/python" -m pip install --quiet -r "$venv/requirements.txt" >&2
+  pip_logged install -r "$venv/requirements.txt"
   echo "$want" > "$stamp"
 }
 
@@ -149,7 +168,8 @@ PY
   local site
   site=$("$venv/bin/python" -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])')
   [ -L "$site/phong_nodes" ] && rm -f "$site/phong_nodes"
-  "$venv/bin/python" -m pip install --quiet --no-deps -e "$root" >&2
+  echo "Installing this tree into $(shown "$venv") as the package phong_nodes (pip install -e .)..." >&2
+  pip_logged install --no-deps -e "$root"
 }
 
 build() {
