@@ -2,6 +2,7 @@
 """The headless command (`phong`, cli/): scene CLI, report, exit codes, bad input."""
 
 import json
+import re
 import os
 import subprocess
 import sys
@@ -268,3 +269,24 @@ def test_a_scene_file_light_with_falloff_exponent_3_is_compared_exactly(tmp_path
     assert light["falloff"] == "power" and light["power_k"] == 3.0
     assert metrics["pairs"]["cycles-reference"]["max_abs"] <= 1e-4
     assert metrics["pixels"]["compared"] > 100
+
+
+def test_every_help_names_every_format_the_command_reads():
+    """`phong --help` and `phong compare --help` name every suffix of the table of formats
+    that an importer reads (core/suffixes.py, the table's pure column: the help is generated
+    from it, so it cannot drift), and parsing imports no bpy."""
+    from phong_nodes.core import suffixes as formats  # noqa: PLC0415
+
+    suffixes = formats.importable_suffixes()
+    assert {".obj", ".dae", ".fbx", ".wrl", ".x3d"} <= set(suffixes)
+    for argv in (["--help"], ["compare", "--help"]):
+        result = subprocess.run([*CLI, *argv], capture_output=True, text=True, timeout=60,
+                                env=dict(os.environ, COLUMNS="200"))
+        assert result.returncode == 0, result.stderr
+        named = set(re.findall(r"(?<![\w.])\.\w+", result.stdout))
+        assert set(suffixes) <= named, (argv, sorted(set(suffixes) - named), result.stdout)
+    probe = ("import sys; from phong_nodes.cli import args; args.parse(['compare', 'x.wrl']); "
+             "print('bpy' in sys.modules)")
+    result = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True,
+                            timeout=60)
+    assert result.stdout.strip() == "False", result.stdout + result.stderr
