@@ -2,7 +2,12 @@
 # Phong Nodes: set up the project's environment, then run a command in it.
 #   bash tools/phong.sh demo|compare|bake|report|slurm|cluster ...   the `phong` command of the
 #                                        environment (phong --help; phong demo --help ...)
-#   bash tools/phong.sh test [pytest options]
+#   bash tools/phong.sh test [pytest options]   the quick tests: those not marked slow, on
+#                                        $PHONG_TEST_WORKERS processes (default 2; pytest-xdist,
+#                                        a test file per process); given test paths
+#                                        (tests/..., a ::node id) it runs just those, all of them
+#   bash tools/phong.sh test --all [pytest options]   every test, in one process (CI runs the
+#                                        quick command, then `test --all -m slow`)
 #   bash tools/phong.sh build [DIR]      DIR/<id>-<version>.zip (DIR: dist), validated by Blender's own tool
 #   bash tools/phong.sh setup            only create/refresh the virtual environment
 #   bash tools/phong.sh which            print the bpy release and Python it would use, change nothing
@@ -220,6 +225,24 @@ ensure_x_ite() {
   ensure_npm_package X_ITE x_ite x_ite 15.0.1 PHONG_X_ITE_DIR dist/x_ite.min.js
 }
 
+# The pytest arguments of `test ARGS`: --all: ARGS, every test, in one process; test paths in
+# ARGS (tests/..., a ::node id, a .py file): ARGS, those tests whatever their marks; else the
+# quick tests: -m "not slow" on $PHONG_TEST_WORKERS processes (default 2), each test file in one
+# process (its module fixtures are made once), then ARGS (a later -m or -n of ARGS wins).
+# README.md's "Tests" says what runs where.
+test_arguments() {
+  local arg
+  if [ "${1:-}" = --all ]; then
+    shift; test_args=("$@"); return 0
+  fi
+  for arg in "$@"; do
+    case "$arg" in
+      tests/*|*::*|*.py) test_args=("$@"); return 0 ;;
+    esac
+  done
+  test_args=(-m "not slow" -n "${PHONG_TEST_WORKERS:-2}" --dist loadfile "$@")
+}
+
 setup
 install_package
 ensure_three
@@ -229,7 +252,7 @@ ensure_x_ite
 case "$command" in
   setup) ;;
   demo|compare|bake|report|slurm|cluster) exec "$venv/bin/phong" "$command" "$@" ;;
-  test) cd "$root" && exec "$venv/bin/python" -m pytest "$@" ;;
+  test) test_arguments "$@"; cd "$root" && exec "$venv/bin/python" -m pytest "${test_args[@]}" ;;
   build) build "$@" ;;
   *) echo "unknown command '$command' (expected demo, compare, bake, report, slurm, cluster, test, build, setup or which)" >&2; exit 2 ;;
 esac
