@@ -105,8 +105,9 @@ def plain_blend(tmp_path_factory):
     return path
 
 
-@pytest.mark.parametrize("case", ["missing", "broken", "no-phong", "bad-option",
-                                  "unknown-scene"])
+@pytest.mark.parametrize("case", ["missing", pytest.param("broken", marks=pytest.mark.slow),
+                                  pytest.param("no-phong", marks=pytest.mark.slow), "bad-option",
+                                  pytest.param("unknown-scene", marks=pytest.mark.slow)])
 def test_compare_bad_input_exits_2_with_one_line_and_writes_nothing(tmp_path, plain_blend,
                                                                      case):
     broken = tmp_path / "broken.blend"
@@ -242,6 +243,7 @@ def test_compare_of_a_camera_that_sees_nothing_fails_and_says_why(tmp_path):
     ("broken.fbx", "Kaydara FBX Binary  \x00 truncated", "broken.fbx"),
     ("notes.txt", "hello", "not a file this command reads (.blend, .obj, .dae, .fbx, .wrl"),
 ], ids=["dae", "fbx", "txt"])
+@pytest.mark.slow
 def test_compare_refuses_an_unreadable_file_with_one_line(tmp_path, name, text, message):
     bad = tmp_path / name
     bad.write_text(text)

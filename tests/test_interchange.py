@@ -147,7 +147,8 @@ BAD = {"obj": ("bad.obj", b"mtllib nowhere.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2
        "x3d": ("bad.x3d", b"hello, world\n", "bad.x3d")}   # (a cut file is read leniently)
 
 
-@pytest.mark.parametrize("key", sorted(BAD))
+@pytest.mark.parametrize("key", [pytest.param(k, marks=pytest.mark.slow) if k == "fbx" else k
+                                 for k in sorted(BAD)])   # fbx: Blender's own importer, slow
 def test_a_bad_file_of_each_format_raises_the_one_error_and_leaves_nothing(bpy_clean,
                                                                           tmp_path, key):
     bpy = bpy_clean
