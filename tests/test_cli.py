@@ -32,7 +32,6 @@ def run_cli(tmp_path, *args):
                           env=env, timeout=300)
 
 
-@pytest.mark.slow
 @pytest.mark.eevee
 @pytest.mark.cycles
 def test_one_scene_end_to_end(tmp_path):
