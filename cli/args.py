@@ -3,8 +3,9 @@
 
     phong demo    [--scenes a,b|all] [--engines cycles,eevee] [--resolution N] [--out DIR]
                   [--shard i/n|auto] [--peers threejs,x_ite] [--save-blend]
-    phong compare FILE.blend|.obj|.dae|.fbx [--scenes a,b] [--engines ...] [--resolution N] [--out DIR]
+    phong compare FILE [--scenes a,b] [--engines ...] [--resolution N] [--out DIR]
                   [--shard i/n|auto] [--peers threejs,x_ite] [--apply]
+                  (FILE: a .blend, or a file an importer reads: core/suffixes.py)
     phong apply   FILE.blend -o OUT.blend [--scenes a,b]
     phong bake    FILE.blend --target image|vertex [--term T] [--view camera|none] [--scenes a,b]
                   [--resolution N] [--format png|exr] [--smart-uv] [--out DIR] [--shard i/n]
@@ -21,7 +22,7 @@ from __future__ import annotations
 
 import argparse
 
-from ..core import scenes
+from ..core import scenes, suffixes
 
 DEFAULT_RESOLUTION = 256
 ENGINES = ("cycles", "eevee")
@@ -100,12 +101,14 @@ def parser() -> argparse.ArgumentParser:
                         f"picture height in pixels (default: {DEFAULT_RESOLUTION})", "out/demo")
 
     compare = sub.add_parser(
-        "compare", help="compare the scenes of a .blend (or an imported .obj, .dae, .fbx) with the "
-        "reference",
-        description="Compare every scene of a .blend that has Phong materials (or a Wavefront "
-        ".obj, COLLADA .dae or FBX .fbx file imported as Phong) with the numpy reference of "
-        "the formulas.")
-    compare.add_argument("file", help="the .blend file, or a .obj, .dae or .fbx file")
+        "compare", help="compare the scenes of a .blend (or an imported "
+        f"{', '.join(suffixes.importable_suffixes())} file) with the reference",
+        description="Compare every scene of a .blend that has Phong materials (or a file "
+        f"imported as Phong: {suffixes.importable_text()}) with the numpy reference of the "
+        "formulas.")
+    compare.add_argument("file", help="the .blend file, or a file of another program: "
+                         f"{', '.join(suffixes.importable_suffixes())} (.gz: gzipped X3D or "
+                         "VRML97)")
     compare.add_argument("--scenes", default=None,
                          help="comma-separated scene names of the file (default: every scene "
                               "with Phong materials)")

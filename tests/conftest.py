@@ -68,9 +68,18 @@ def pytest_terminal_summary(terminalreporter, exitstatus, config):
 
 def pytest_sessionfinish(session, exitstatus):
     _STATUS[0] = int(exitstatus)
+    if hasattr(session.config, "workeroutput"):  # an xdist worker: its lines go to the controller
+        session.config.workeroutput["phong_summary"] = list(be.SUMMARY)
     folder = be.user_resources(create=False)
     if folder and os.path.isdir(folder):
         shutil.rmtree(folder, ignore_errors=True)
+
+
+@pytest.hookimpl(optionalhook=True)
+def pytest_testnodedown(node, error):
+    """pytest-xdist (``tools/phong.sh test`` runs the quick tests on two processes): each
+    worker's render summary lines, printed by the controller's summary above."""
+    be.SUMMARY.extend(getattr(node, "workeroutput", {}).get("phong_summary", []))
 
 
 @pytest.hookimpl(trylast=True)

@@ -269,9 +269,10 @@ def _read_image(path):
         inp.close()
 
 
-@pytest.mark.parametrize("name,file_format", [("phong_vs_gouraud", "PNG"),
-                                              ("two_lights", "EXR"),
-                                              ("threejs_phong_lab", "EXR")])
+@pytest.mark.parametrize("name,file_format", [
+    ("phong_vs_gouraud", "PNG"),
+    pytest.param("two_lights", "EXR", marks=pytest.mark.slow),
+    pytest.param("threejs_phong_lab", "EXR", marks=pytest.mark.slow)])
 def test_image_bake_matches_the_reference_at_texel_centres(bpy_clean, tmp_path, name,
                                                            file_format):
     """Light Linking (two_lights), the three.js model, 8-bit sRGB PNG and float EXR."""
@@ -486,6 +487,7 @@ def _cli(tmp_path, *args):
                           capture_output=True, text=True, env=env, timeout=600, check=False)
 
 
+@pytest.mark.slow
 def test_bake_command_writes_glb_per_scene_and_a_line_per_object(bpy_clean, tmp_path):
     bpy = bpy_clean
     scene = _build(bpy, "phong_vs_gouraud")
@@ -511,6 +513,7 @@ def test_bake_command_writes_glb_per_scene_and_a_line_per_object(bpy_clean, tmp_
         assert not (tmp_path / "bad").exists()
 
 
+@pytest.mark.slow
 def test_bake_shards_into_one_folder_and_report_checks_the_run(bpy_clean, tmp_path):
     """Three scenes ("textured copy" and "textured_copy" clean alike) baked by two shards
     into one folder; report says the run is whole, then names the scene whose folder was
@@ -565,6 +568,7 @@ def test_operators_bake_show_restore_and_refuse_bad_input(bpy_clean):
     assert bpy.ops.phong.restore_bake() == {"CANCELLED"}  # nothing shown any more
 
 
+@pytest.mark.slow
 def test_bake_benchmark_runs_and_writes_its_figures(tmp_path):
     """benchmarks/bake_lighting.py at a tiny size (the numbers are the benchmark's, not a
     test's): both cases run, every object is baked, the figures are written."""

@@ -2,6 +2,7 @@
 """The headless command (`phong`, cli/): scene CLI, report, exit codes, bad input."""
 
 import json
+import re
 import os
 import subprocess
 import sys
@@ -31,7 +32,6 @@ def run_cli(tmp_path, *args):
                           env=env, timeout=300)
 
 
-@pytest.mark.slow
 @pytest.mark.eevee
 @pytest.mark.cycles
 def test_one_scene_end_to_end(tmp_path):
@@ -104,8 +104,9 @@ def plain_blend(tmp_path_factory):
     return path
 
 
-@pytest.mark.parametrize("case", ["missing", "broken", "no-phong", "bad-option",
-                                  "unknown-scene"])
+@pytest.mark.parametrize("case", ["missing", pytest.param("broken", marks=pytest.mark.slow),
+                                  pytest.param("no-phong", marks=pytest.mark.slow), "bad-option",
+                                  pytest.param("unknown-scene", marks=pytest.mark.slow)])
 def test_compare_bad_input_exits_2_with_one_line_and_writes_nothing(tmp_path, plain_blend,
                                                                      case):
     broken = tmp_path / "broken.blend"
@@ -241,6 +242,7 @@ def test_compare_of_a_camera_that_sees_nothing_fails_and_says_why(tmp_path):
     ("broken.fbx", "Kaydara FBX Binary  \x00 truncated", "broken.fbx"),
     ("notes.txt", "hello", "not a file this command reads (.blend, .obj, .dae, .fbx, .wrl"),
 ], ids=["dae", "fbx", "txt"])
+@pytest.mark.slow
 def test_compare_refuses_an_unreadable_file_with_one_line(tmp_path, name, text, message):
     bad = tmp_path / name
     bad.write_text(text)
@@ -268,3 +270,24 @@ def test_a_scene_file_light_with_falloff_exponent_3_is_compared_exactly(tmp_path
     assert light["falloff"] == "power" and light["power_k"] == 3.0
     assert metrics["pairs"]["cycles-reference"]["max_abs"] <= 1e-4
     assert metrics["pixels"]["compared"] > 100
+
+
+def test_every_help_names_every_format_the_command_reads():
+    """`phong --help` and `phong compare --help` name every suffix of the table of formats
+    that an importer reads (core/suffixes.py, the table's pure column: the help is generated
+    from it, so it cannot drift), and parsing imports no bpy."""
+    from phong_nodes.core import suffixes as formats  # noqa: PLC0415
+
+    suffixes = formats.importable_suffixes()
+    assert {".obj", ".dae", ".fbx", ".wrl", ".x3d"} <= set(suffixes)
+    for argv in (["--help"], ["compare", "--help"]):
+        result = subprocess.run([*CLI, *argv], capture_output=True, text=True, timeout=60,
+                                env=dict(os.environ, COLUMNS="200"))
+        assert result.returncode == 0, result.stderr
+        named = set(re.findall(r"(?<![\w.])\.\w+", result.stdout))
+        assert set(suffixes) <= named, (argv, sorted(set(suffixes) - named), result.stdout)
+    probe = ("import sys; from phong_nodes.cli import args; args.parse(['compare', 'x.wrl']); "
+             "print('bpy' in sys.modules)")
+    result = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True,
+                            timeout=60)
+    assert result.stdout.strip() == "False", result.stdout + result.stderr

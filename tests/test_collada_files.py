@@ -206,6 +206,7 @@ def test_techniques_and_lights_render_the_spec_formula_cycles(bpy_clean, tmp_pat
     assert err.max() <= 1e-4
 
 
+@pytest.mark.slow
 @pytest.mark.eevee
 @pytest.mark.parametrize("kind", sorted(LIGHTS))
 def test_techniques_and_lights_render_the_spec_formula_eevee(bpy_clean, tmp_path, kind):
@@ -591,7 +592,8 @@ OPACITY = 0.4   # the phong quad's A_ONE: a · t = 1 · 0.4
 
 
 @pytest.mark.parametrize("engine", [pytest.param("cycles", marks=pytest.mark.cycles),
-                                    pytest.param("eevee", marks=pytest.mark.eevee)])
+                                    pytest.param("eevee", marks=(pytest.mark.eevee,
+                                                                 pytest.mark.slow))])
 def test_transparency_renders_opacity_times_the_colour(bpy_clean, tmp_path, engine):
     """The phong quad with <transparent opaque="A_ONE">1 1 1 1</transparent> and
     <transparency>0.4</transparency> over the black world: Combined = 0.4 × the spec's colour

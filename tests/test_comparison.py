@@ -41,6 +41,7 @@ def _reach(light):
     return states
 
 
+@pytest.mark.slow
 def test_every_scene_builds_as_an_artist_scene(bpy_clean):
     bpy = bpy_clean
     from phong_nodes.addon.baking import lighting  # noqa: PLC0415

@@ -138,6 +138,7 @@ def _eevee_share(got, expected, mask):
 
 # -- opacity --------------------------------------------------------------------------
 
+@pytest.mark.slow
 @pytest.mark.parametrize("opacity", [0.5, 0.2])
 def test_opacity_blends_the_phong_colour_over_what_is_behind(bpy_clean, blender_tmp, opacity):
     bpy = bpy_clean
@@ -189,6 +190,7 @@ def test_opacity_is_clamped_and_bad_values_are_refused(bpy_clean):
     assert materials.opacity(material) == 0.0, "a refused value changes nothing"
 
 
+@pytest.mark.slow
 def test_an_opaque_material_renders_as_before(bpy_clean, blender_tmp):
     """Opacity 1 (the default, or set back): the same pixels as a material never touched,
     in Eevee (whose shader the Mix/Transparent nodes would change)."""
@@ -334,6 +336,7 @@ def _set_power(bpy, light, k):
     bpy.context.view_layer.update()  # what Blender's UI does after each change
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("light_type", ["POINT", "SPOT"])
 def test_power_falloff_cycles_and_eevee(bpy_clean, blender_tmp, light_type):
     bpy = bpy_clean

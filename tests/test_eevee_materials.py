@@ -45,6 +45,7 @@ def test_the_eevee_materials_benchmark_runs():
     assert nodes["phong"] < nodes["phong_0_3"]
 
 
+@pytest.mark.slow
 @pytest.mark.cycles
 def test_the_minimal_chain_shows_the_phong_picture():
     """benchmarks/light_floor.py at a tiny size: the hand-minimal chain renders the Phong

@@ -380,7 +380,8 @@ def _formula(name, material_name, lambert):
 
 
 @pytest.mark.parametrize("engine", [pytest.param("cycles", marks=pytest.mark.cycles),
-                                    pytest.param("eevee", marks=pytest.mark.eevee)])
+                                    pytest.param("eevee", marks=(pytest.mark.eevee,
+                                                                 pytest.mark.slow))])
 @pytest.mark.parametrize("name, material_name, lambert", [
     ("maya_phong_properties_7700_ascii.fbx", "phong1", False),  # ufbx's scene (ASCII)
     ("maya_cube_6100_binary.fbx", "lambert1", True),            # ufbx's scene (FBX 6.1)

@@ -251,6 +251,7 @@ def _expected_material(name):
         "Opacity": [o], "TransparencyFactor": [1.0 - o], "TransparentColor": [1.0, 1.0, 1.0]}
 
 
+@pytest.mark.slow
 def test_export_writes_every_phong_value_on_the_object(bpy_clean, tmp_path):
     """Blender's parse_fbx reads the file: each Phong material is an FBX Phong material
     (Lambert for black specular) with every value on the object itself; each light its type,
@@ -297,6 +298,7 @@ def test_export_writes_every_phong_value_on_the_object(bpy_clean, tmp_path):
     np.testing.assert_allclose(ambient, WORLD[0] * _f32(WORLD[1]), atol=1e-7)
 
 
+@pytest.mark.slow
 def test_peers_read_the_export(bpy_clean, tmp_path):
     """ufbx (an FBX SDK-style reader) finds FBX_PHONG / FBX_LAMBERT materials with the
     values; Blender's own importer shows the object colour as Base Color, no metallic
@@ -331,6 +333,7 @@ def _controls(material):
     return {k: f.value for k, f in materials.feeds(material).items()}
 
 
+@pytest.mark.slow
 def test_import_of_the_export_gives_every_control_again(bpy_clean, tmp_path):
     """File ▸ Import ▸ FBX (Phong) of the export: every control of every Phong material,
     every Phong setting of every light, the World's ambient, as they were (float32)."""
@@ -414,9 +417,12 @@ def _scene_controls(bpy):
 
 
 @pytest.mark.parametrize("name", ["maya_phong_properties_7700_ascii.fbx",
-                                  "maya_material_chart_7700_binary.fbx",
-                                  "motionbuilder_lights_7700_ascii.fbx",
-                                  "handmade_phong_lights_7400_ascii.fbx"])
+                                  pytest.param("maya_material_chart_7700_binary.fbx",
+                                               marks=pytest.mark.slow),
+                                  pytest.param("motionbuilder_lights_7700_ascii.fbx",
+                                               marks=pytest.mark.slow),
+                                  pytest.param("handmade_phong_lights_7400_ascii.fbx",
+                                               marks=pytest.mark.slow)])
 def test_real_files_imported_then_exported_import_the_same(bpy_clean, tmp_path, name):
     """Files of other programs (tests/data/fbx) imported, exported, imported again: the same
     Phong materials, lights and ambient (float32)."""

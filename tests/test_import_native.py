@@ -789,6 +789,7 @@ source="#v" offset="0"/><p>2 3 4 0</p></linestrips></mesh></geometry></library_g
 
 # -- instancing bomb ---------------------------------------------------------------------------
 
+@pytest.mark.slow
 def test_an_instancing_bomb_ends_in_seconds_with_one_warning(bpy_clean, tmp_path, capfd):
     """The issue's 4 KB file: 40 library nodes, each instantiating the next one twice, the
     last one a triangle: 2^41 objects asked for.  The import ends within seconds with one

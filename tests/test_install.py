@@ -149,6 +149,7 @@ def test_zip_installs_and_enables_as_a_user_would(built, tmp_path):
     assert [n for n in got["asset_files"] if n.startswith("phong_nodes_") and n.endswith(".blend")]
 
 
+@pytest.mark.slow
 def test_a_users_script_with_the_extension_enabled_exits_0(built, tmp_path):
     """bpy 4.2 crashed (signal 11, exit 139) at interpreter exit after any script that had
     enabled the extension; the script must end with 0 on every supported release."""

@@ -72,6 +72,17 @@ def test_the_ui_the_drop_handlers_and_the_command_line_read_the_one_table(extens
     assert formats.by_suffix("scene.blend") is None
 
 
+def test_the_table_takes_its_suffixes_from_the_pure_column(extension):
+    """core/suffixes.py (what the command line's help reads without bpy) and the table agree:
+    the same keys and suffixes, and its imported formats are the rows with an importer."""
+    formats = _formats()
+    from phong_nodes.core import suffixes as pure  # noqa: PLC0415
+
+    assert {f.key: f.suffixes for f in formats.FORMATS} == pure.SUFFIXES
+    assert [f.key for f in formats.FORMATS if f.importer is not None] == list(pure.IMPORTED)
+    assert formats.importable_suffixes() == pure.importable_suffixes()
+
+
 def test_no_suffix_is_written_outside_the_table():
     """The UI and the command line hold no list of suffixes or filter of a format of their
     own: they read the table (X3D's modules know which encoding a suffix means: that is the
@@ -136,7 +147,8 @@ BAD = {"obj": ("bad.obj", b"mtllib nowhere.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2
        "x3d": ("bad.x3d", b"hello, world\n", "bad.x3d")}   # (a cut file is read leniently)
 
 
-@pytest.mark.parametrize("key", sorted(BAD))
+@pytest.mark.parametrize("key", [pytest.param(k, marks=pytest.mark.slow) if k == "fbx" else k
+                                 for k in sorted(BAD)])   # fbx: Blender's own importer, slow
 def test_a_bad_file_of_each_format_raises_the_one_error_and_leaves_nothing(bpy_clean,
                                                                           tmp_path, key):
     bpy = bpy_clean

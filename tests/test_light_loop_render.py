@@ -161,8 +161,8 @@ def _loop_materials(materials, loop, objects):
 
 @pytest.mark.eevee
 @pytest.mark.cycles
-@pytest.mark.slow
-@pytest.mark.parametrize("n_lights", [1, 4, 16])
+@pytest.mark.parametrize("n_lights", [1, pytest.param(4, marks=pytest.mark.slow),
+                                      pytest.param(16, marks=pytest.mark.slow)])
 def test_the_loop_matches_the_reference_and_cycles(loop_bpy, blender_tmp, n_lights):
     bpy = loop_bpy
     loop, materials, _properties, rig, _sync, copies = _modules()

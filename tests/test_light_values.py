@@ -182,6 +182,7 @@ def test_a_light_moved_turned_and_recoloured_renders_right_cycles(bpy_clean, ble
     assert np.abs(passes["Phong Color"] - passes2["Phong Color"]).max() > 0.05, "it changed"
 
 
+@pytest.mark.slow
 @pytest.mark.eevee
 def test_a_light_moved_turned_and_recoloured_renders_right_eevee(bpy_clean, blender_tmp):
     """Eevee reads the same World values: after the changes, Cycles against the reference
@@ -231,6 +232,7 @@ print("FRESH", json.dumps(sorted(k for k in bpy.context.preferences.addons.keys(
 """
 
 
+@pytest.mark.slow
 @pytest.mark.cycles
 def test_a_saved_file_renders_the_same_without_the_extension(bpy_clean, blender_tmp, tmp_path):
     """No Python at render time: the file, opened by a fresh bpy without the extension,
@@ -378,6 +380,7 @@ def test_a_renamed_source_is_still_found_and_restored(bpy_clean, tmp_path):
     assert not math.isnan(sum(sphere.active_material.diffuse_color))
 
 
+@pytest.mark.slow
 def test_the_light_move_benchmark_runs_and_shows_the_difference(bpy_clean):
     """benchmarks/light_move.py at a tiny size (a fresh process): both designs measured beside
     Principled; on 5.2+ the previous rig's update (every material re-evaluated) is the slower."""
@@ -397,6 +400,7 @@ def test_the_light_move_benchmark_runs_and_shows_the_difference(bpy_clean):
         assert updates["previous"]["move"] > updates["world_attributes"]["move"], updates
 
 
+@pytest.mark.slow
 def test_the_saved_files_drag_benchmark_runs(bpy_clean):
     """light_move --files at a tiny size: the Principled and Phong files, each case in its
     own process; the Phong file's World copies parked on 5.3+ (live before), live where the

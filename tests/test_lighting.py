@@ -156,6 +156,7 @@ def test_light_linking_include_and_exclude_cycles(bpy_clean, blender_tmp):
     assert error <= 1e-4
 
 
+@pytest.mark.slow
 @pytest.mark.eevee
 def test_light_linking_in_eevee_matches_cycles_on_every_release(bpy_clean, blender_tmp):
     """Eevee has Light Linking only from Blender 4.3, but a Phong material's lights group holds

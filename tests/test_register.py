@@ -2,6 +2,9 @@
 """Enabling and disabling the extension leaves nothing behind and raises nothing."""
 
 import sys
+
+import pytest
+
 import blender_env as be
 
 
@@ -23,6 +26,7 @@ def snapshot(bpy):
     }
 
 
+@pytest.mark.slow
 def test_enable_disable_fifty_times_leaves_nothing_behind(extension):
     import addon_utils
     bpy = be.import_bpy()

@@ -378,6 +378,7 @@ def test_modes_are_validated():
 
 # -- in Blender -------------------------------------------------------------------------
 
+@pytest.mark.slow
 def test_power_falloff_lights_per_vertex_and_per_face(bpy_clean):
     """A Point and a Spot whose falloff is i0/d^k (phong_falloff POWER, k = 3 and 1.5) light
     Per Vertex and Per Face materials as the reference's Power Falloff says, and a change of
@@ -439,6 +440,7 @@ def test_per_face_colours_equal_the_reference_at_every_face_centre(bpy_clean):
     assert len(seen) >= 20 and err <= VERTEX_TOL and want[seen].std() > 0.02
 
 
+@pytest.mark.slow
 def test_pixels_interpolate_the_vertex_values_and_follow_light_and_camera(bpy_clean, tmp_path):
     """Two renders with only a light and the camera moved between them (no call of ours);
     then Eevee within 1/255 of Cycles."""
@@ -465,6 +467,7 @@ def test_pixels_interpolate_the_vertex_values_and_follow_light_and_camera(bpy_cl
     assert inner.sum() > 150 and diff <= 1.0 / 255.0
 
 
+@pytest.mark.slow
 def test_a_saved_file_renders_the_same_without_the_extension(bpy_clean, tmp_path):
     bpy = bpy_clean
     scene, sphere, _camera, _lights = _scene(bpy, "VERTEX")
@@ -553,6 +556,7 @@ def test_modifiers_come_first_and_pixel_mode_leaves_nothing_behind(bpy_clean):
         modes.set_mode(material, "SMOOTH")
 
 
+@pytest.mark.slow
 def test_a_light_added_is_followed(bpy_clean):
     bpy = bpy_clean
     scene, sphere, camera, lights = _scene(bpy, "VERTEX", ("POINT",))
@@ -679,6 +683,7 @@ def _x3d_reference(scene, obj, camera, lights, P, N):
     return np.minimum(total, 1.0)
 
 
+@pytest.mark.slow
 def test_per_vertex_in_the_x3d_model_equals_its_reference(bpy_clean):
     bpy = bpy_clean
     scene, sphere, camera, lights = _scene(bpy, "VERTEX", model="x3d")
@@ -700,6 +705,7 @@ def test_per_vertex_in_the_x3d_model_equals_its_reference(bpy_clean):
         "X3D Lights")
 
 
+@pytest.mark.slow
 def test_per_vertex_in_the_threejs_model_equals_its_reference(bpy_clean):
     bpy = bpy_clean
     scene, sphere, camera, lights = _scene(bpy, "VERTEX", model="threejs")
@@ -842,6 +848,7 @@ def _gl_gouraud(bpy, scene, obj, lights):
     return image[..., :3].astype(np.float64), image[..., 3] > 0.5
 
 
+@pytest.mark.slow
 def test_per_vertex_renders_what_opengl_fixed_function_gouraud_renders(bpy_clean, tmp_path):
     """Issue 28's 'done when': a coarse sphere Per Vertex (Blinn: OpenGL's specular) in Cycles
     and Eevee against Mesa's fixed-function pipeline, >= 99% of the pixels both cover within
@@ -886,6 +893,7 @@ def test_a_material_assigned_by_hand_and_a_modifier_added_later_are_followed(bpy
     assert [m.type for m in other.modifiers] == ["SUBSURF", "NODES"]
 
 
+@pytest.mark.slow
 def test_linked_duplicates_are_each_lit_where_they_stand(bpy_clean):
     bpy = bpy_clean
     scene, sphere, camera, lights = _scene(bpy, "VERTEX", ("POINT", "SPOT"))
@@ -977,6 +985,7 @@ def test_a_file_of_the_design_before_is_upgraded(bpy_clean):
     assert np.abs(got - want).max() <= VERTEX_TOL
 
 
+@pytest.mark.slow
 def test_an_orthographic_camera_views_along_its_axis(bpy_clean):
     """Switching the camera to orthographic (no call of ours) makes every vertex's view vector
     the camera's axis, Per Vertex and Per Face."""

@@ -29,6 +29,7 @@ _SCENE = ("from phong_nodes.benchmarks import measure as m; bpy = m.worker_setup
           "for o in objects]}), flush=True)")
 
 
+@pytest.mark.slow
 def test_the_scene_has_shadows_and_a_floor_only_when_asked():
     import os  # noqa: PLC0415
 
@@ -42,6 +43,7 @@ def test_the_scene_has_shadows_and_a_floor_only_when_asked():
     assert shadowed["floor_z"][-1] < min(shadowed["floor_z"][:-1]) - 2.0  # below the cubes
 
 
+@pytest.mark.slow
 @pytest.mark.cycles
 def test_the_shadow_speed_benchmark_runs():
     result = _run("from phong_nodes.benchmarks import shadow_speed as m; "
@@ -67,6 +69,7 @@ _CHAIN = ("from phong_nodes.benchmarks import measure as m, shadow_speed as s; "
           "print('RESULT ' + json.dumps(out), flush=True)")
 
 
+@pytest.mark.slow
 def test_the_node_budget_materials_keep_every_node():
     """The node budget (benchmarks/README.md, ``--variant chain<K>``) holds only if neither
     Blender's inliner nor anything else folds the chain: each of K more Math nodes is one

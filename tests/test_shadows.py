@@ -72,6 +72,7 @@ def _shadowed(lit, unshadowed):
     return lit.sum(axis=-1) < unshadowed.sum(axis=-1) - 0.05
 
 
+@pytest.mark.slow
 @pytest.mark.eevee
 def test_apply_keeps_the_scene_s_eevee_shadows(bpy_clean, blender_tmp):
     """The shadowed pixels of a Principled floor under a ball, lit by a point light and a
@@ -291,6 +292,7 @@ def test_cycles_shows_each_light_s_shadow(bpy_clean, blender_tmp):
     assert err2["max_abs"] <= 1e-4
 
 
+@pytest.mark.slow
 @pytest.mark.eevee
 @pytest.mark.cycles
 def test_eevee_5_3_shows_the_shadows_through_the_loop(bpy_clean, blender_tmp):
@@ -368,6 +370,7 @@ def test_scene_files_say_which_lights_and_objects_cast_shadows(tmp_path):
         scenes.load(str(bad))
 
 
+@pytest.mark.slow
 @pytest.mark.cycles
 @pytest.mark.eevee
 @pytest.mark.parametrize("model", ["threejs", "x3d"])
@@ -409,6 +412,7 @@ def _blocked_by_solve(p, d, reach, start, tri):
     return u >= 0 and v >= 0 and u + v <= 1 and start < t < reach
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("kind", ["point", "directional"])
 def test_visibility_matches_a_plain_solve_on_random_triangles(kind):
     """The cluster pre-test leaves out nothing: on 400 random points and 300 random triangles
@@ -661,6 +665,7 @@ def test_threejs_page_export_casts_where_blender_does(bpy_clean, tmp_path):
 
 # -- Ray Visibility ▸ Shadow in Cycles (5.3) ----------------------------------------------------
 
+@pytest.mark.slow
 @pytest.mark.cycles
 @pytest.mark.eevee
 def test_shadow_visibility_toggled_on_a_caster_shows_in_cycles(bpy_clean, blender_tmp):
@@ -784,6 +789,7 @@ def _labels(panel, **context) -> str:
     return " | ".join(layout.lines)
 
 
+@pytest.mark.slow
 def test_panels_say_where_a_material_or_a_light_gets_no_shadow(bpy_clean):
     """The light panel warns of a light's shadow blockers (Cycles ignores them) where the
     scene casts shadow rays; the material panel says that Per Vertex / Per Face gets no Phong

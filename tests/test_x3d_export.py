@@ -125,9 +125,13 @@ def _state(bpy):
 
 
 REAL = sorted(n for n in os.listdir(DATA) if n.endswith((".wrl", ".x3d", ".x3dv")))
+#: the largest of them, round-tripped in the slow run (CI's `test --all -m slow`) only
+SLOW_REAL = {"hand_rules.x3dv", "hand_scope.wrl", "threejs_camera.wrl",
+             "threejs_meshWithTexture.wrl", "x3dom_Drum55Gallon.x3d"}
 
 
-@pytest.mark.parametrize("name", REAL)
+@pytest.mark.parametrize("name", [pytest.param(n, marks=pytest.mark.slow) if n in SLOW_REAL
+                                  else n for n in REAL])
 def test_import_export_import_keeps_names_and_values(bpy_clean, tmp_path, name):
     bpy = bpy_clean
     scene = bpy.context.scene
@@ -149,6 +153,7 @@ def test_import_export_import_keeps_names_and_values(bpy_clean, tmp_path, name):
             assert again[0][key] == entry, (ending, key)
 
 
+@pytest.mark.slow
 def test_textures_colours_unlit_off_lights_and_shears_survive_a_round_trip(bpy_clean, tmp_path):
     from test_x3d_import import LIGHTS, TEXTURED, png, write  # noqa: PLC0415
 
@@ -253,6 +258,7 @@ def _read(path):
     return doc, lights, shapes
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("ending", [".x3d", ".wrl"])
 def test_a_blender_scene_in_the_seeds_model_is_written_mapped(bpy_clean, tmp_path, capfd,
                                                                ending):

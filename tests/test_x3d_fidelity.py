@@ -440,6 +440,7 @@ def test_solid_is_written_from_backface_culling_and_read_back(bpy_clean, tmp_pat
     assert again == culling
 
 
+@pytest.mark.slow
 @pytest.mark.cycles
 @pytest.mark.eevee
 def test_solid_culls_in_eevee_and_cycles_draws_both_sides(bpy_clean, tmp_path):
@@ -471,6 +472,7 @@ def test_solid_culls_in_eevee_and_cycles_draws_both_sides(bpy_clean, tmp_path):
             assert np.abs(front - want).max() < 1e-5, "Cycles draws both sides"
 
 
+@pytest.mark.slow
 @pytest.mark.cycles
 @pytest.mark.eevee
 def test_the_comparison_judges_both_sides_and_puts_culling_back(bpy_clean, tmp_path):

@@ -355,6 +355,7 @@ def test_the_writers_write_text_back_as_text_and_an_extrusion_as_its_faces(write
     assert back.corners.tolist() == mesh.corners.tolist()
 
 
+@pytest.mark.slow
 def test_large_extrusions_are_quick_and_absurd_ones_left_out():
     """A helix of 1,000 spine points × a 101-point circle (100,000 points, 200,000 faces once
     its quads split) builds with its crease normals within seconds; 100,000 × 200 points are

@@ -495,6 +495,7 @@ DEF Plan OrthoViewpoint { position 0 0 5 fieldOfView -2 -1 4 3 }
     assert camera.data.angle == pytest.approx(0.785398, abs=1e-6)
 
 
+@pytest.mark.slow
 def test_a_second_import_keeps_one_headlight_and_a_model_switch_is_said(bpy_clean, tmp_path,
                                                                          capfd, monkeypatch):
     bpy = bpy_clean

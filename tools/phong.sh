@@ -2,7 +2,12 @@
 # Phong Nodes: set up the project's environment, then run a command in it.
 #   bash tools/phong.sh demo|compare|bake|report|slurm|cluster ...   the `phong` command of the
 #                                        environment (phong --help; phong demo --help ...)
-#   bash tools/phong.sh test [pytest options]
+#   bash tools/phong.sh test [pytest options]   the quick tests: those not marked slow, on
+#                                        $PHONG_TEST_WORKERS processes (default 2; pytest-xdist,
+#                                        a test file per process); given test paths
+#                                        (tests/..., a ::node id) it runs just those, all of them
+#   bash tools/phong.sh test --all [pytest options]   every test, in one process (CI runs the
+#                                        quick command, then `test --all -m slow`)
 #   bash tools/phong.sh build [DIR]      DIR/<id>-<version>.zip (DIR: dist), validated by Blender's own tool
 #   bash tools/phong.sh setup            only create/refresh the virtual environment
 #   bash tools/phong.sh which            print the bpy release and Python it would use, change nothing
@@ -115,6 +120,25 @@ if [ "$command" = which ]; then
 fi
 echo "Phong Nodes: $choice" >&2
 
+# How the messages name a path: relative to the repository where it lies inside it.
+shown() {
+  case "$1" in
+    "$root"/*) echo "${1#"$root"/}" ;;
+    *) echo "$1" ;;
+  esac
+}
+
+# pip's own output (its progress, and the build backend's notes on `pip install -e .`) goes to
+# $venv/pip.log, read back to the terminal only when pip fails.
+pip_logged() {
+  local log="$venv/pip.log"
+  if ! "$venv/bin/python" -m pip "$@" >>"$log" 2>&1; then
+    echo "pip install failed ($(shown "$log"), its last lines):" >&2
+    tail -n 40 "$log" >&2
+    exit 1
+  fi
+}
+
 setup() {
   local stamp="$venv/.requirements.sha256"
   local want
@@ -122,14 +146,14 @@ setup() {
   if [ -x "$venv/bin/python" ] && [ "$(cat "$stamp" 2>/dev/null)" = "$want" ]; then
     return 0
   fi
-  echo "Setting up $venv (bpy $bpy_pin and the pins of requirements/python$pyver.txt)..." >&2
+  echo "Setting up $(shown "$venv") (bpy $bpy_pin and the pins of requirements/python$pyver.txt): about a minute..." >&2
   if ! "$python" -m venv --clear "$venv" >&2; then
     echo "Could not create a virtual environment with $python: on Debian/Ubuntu install python$pyver-venv." >&2
     exit 1
   fi
-  "$venv/bin/python" -m pip install --quiet --upgrade pip >&2
+  pip_logged install --upgrade pip
   printf '%s\n' "$pins" > "$venv/requirements.txt"
-  "$venv/bin/python" -m pip install --quiet -r "$venv/requirements.txt" >&2
+  pip_logged install -r "$venv/requirements.txt"
   echo "$want" > "$stamp"
 }
 
@@ -149,7 +173,8 @@ PY
   local site
   site=$("$venv/bin/python" -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])')
   [ -L "$site/phong_nodes" ] && rm -f "$site/phong_nodes"
-  "$venv/bin/python" -m pip install --quiet --no-deps -e "$root" >&2
+  echo "Installing this tree into $(shown "$venv") as the package phong_nodes (pip install -e .)..." >&2
+  pip_logged install --no-deps -e "$root"
 }
 
 build() {
@@ -200,6 +225,24 @@ ensure_x_ite() {
   ensure_npm_package X_ITE x_ite x_ite 15.0.1 PHONG_X_ITE_DIR dist/x_ite.min.js
 }
 
+# The pytest arguments of `test ARGS`: --all: ARGS, every test, in one process; test paths in
+# ARGS (tests/..., a ::node id, a .py file): ARGS, those tests whatever their marks; else the
+# quick tests: -m "not slow" on $PHONG_TEST_WORKERS processes (default 2), each test file in one
+# process (its module fixtures are made once), then ARGS (a later -m or -n of ARGS wins).
+# README.md's "Tests" says what runs where.
+test_arguments() {
+  local arg
+  if [ "${1:-}" = --all ]; then
+    shift; test_args=("$@"); return 0
+  fi
+  for arg in "$@"; do
+    case "$arg" in
+      tests/*|*::*|*.py) test_args=("$@"); return 0 ;;
+    esac
+  done
+  test_args=(-m "not slow" -n "${PHONG_TEST_WORKERS:-2}" --dist loadfile "$@")
+}
+
 setup
 install_package
 ensure_three
@@ -209,7 +252,7 @@ ensure_x_ite
 case "$command" in
   setup) ;;
   demo|compare|bake|report|slurm|cluster) exec "$venv/bin/phong" "$command" "$@" ;;
-  test) cd "$root" && exec "$venv/bin/python" -m pytest "$@" ;;
+  test) test_arguments "$@"; cd "$root" && exec "$venv/bin/python" -m pytest "${test_args[@]}" ;;
   build) build "$@" ;;
   *) echo "unknown command '$command' (expected demo, compare, bake, report, slurm, cluster, test, build, setup or which)" >&2; exit 2 ;;
 esac

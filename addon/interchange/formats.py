@@ -4,7 +4,8 @@
 Each :class:`Format` holds its file name suffixes, its labels, its importer and its exporter;
 the File ▸ Import / Export menu entries and the file browser's filters (``ui/``), the drop
 handlers of the 3D Viewport (``ui/file_io.py``) and the command line (``phong compare
-FILE``: ``cli/inputs.py``) all read them here, so a suffix is written once.
+FILE``: ``cli/inputs.py``) all read them here, so a suffix is written once (in the pure
+column ``core/suffixes.py``, where the command line's help reads them without ``bpy``).
 
 Every importer has one signature, ``import_file(context, filepath, **options)``, and one
 answer, an :class:`ImportResult` (objects, materials, warnings); a file that cannot be
@@ -22,6 +23,7 @@ import os
 from dataclasses import dataclass
 from typing import Callable, Optional
 
+from ...core.suffixes import SUFFIXES
 from . import (collada_export, collada_import, fbx_export, fbx_import, mtl_export, obj_import,
                threejs_export, x3d_export, x3d_import)
 from .native import ImportResult, InterchangeError
@@ -36,7 +38,8 @@ class Format:
 
     key: str
     #: the file name endings it reads and writes, its default first ("model.wrl.gz" ends in
-    #: ".gz": gzipped X3D and VRML97)
+    #: ".gz": gzipped X3D and VRML97): ``core.suffixes.SUFFIXES`` (the command line's help
+    #: reads them there, without bpy)
     suffixes: tuple
     #: ``import_file(context, filepath, **options)`` -> ImportResult, or None
     importer: Optional[Callable]
@@ -64,34 +67,32 @@ class Format:
         return ";".join(f"*{suffix}" for suffix in self.suffixes)
 
 
-_X3D = (".wrl", ".wrz", ".x3d", ".x3dz", ".x3dv", ".x3dvz", ".gz")
-
 FORMATS = (
-    Format("obj", (".obj",), obj_import.import_file, mtl_export.export_obj,
+    Format("obj", SUFFIXES["obj"], obj_import.import_file, mtl_export.export_obj,
            import_menu="Wavefront (.obj) as Phong",
            export_menu="Wavefront (.obj) with Phong Materials",
            import_operator="phong.import_obj", export_operator="phong.export_obj",
            import_report="Import OBJ as Phong", export_report="Export OBJ with Phong",
            has_lights=False),
-    Format("mtl", (".mtl",), None, mtl_export.export_library,
+    Format("mtl", SUFFIXES["mtl"], None, mtl_export.export_library,
            export_menu="Phong Materials (.mtl)", export_operator="phong.export_mtl",
            export_report="Export Phong MTL"),
-    Format("collada", (".dae",), collada_import.import_file, collada_export.export,
+    Format("collada", SUFFIXES["collada"], collada_import.import_file, collada_export.export,
            import_menu="COLLADA (Phong) (.dae)", export_menu="COLLADA (Phong) (.dae)",
            import_operator="phong.import_collada", export_operator="phong.export_collada",
            import_report="Import COLLADA", export_report="Export COLLADA",
            drop_label="COLLADA (Phong)"),
-    Format("fbx", (".fbx",), fbx_import.import_file, fbx_export.export,
+    Format("fbx", SUFFIXES["fbx"], fbx_import.import_file, fbx_export.export,
            import_menu="FBX (Phong) (.fbx)", export_menu="FBX (.fbx) with Phong Materials",
            import_operator="phong.import_fbx", export_operator="phong.export_fbx",
            import_report="Import FBX (Phong)", export_report="Export FBX (Phong)",
            drop_label="FBX (Phong)"),
-    Format("x3d", _X3D, x3d_import.import_file, x3d_export.export,
+    Format("x3d", SUFFIXES["x3d"], x3d_import.import_file, x3d_export.export,
            import_menu="X3D / VRML97 (Phong)", export_menu="X3D / VRML97 (Phong)",
            import_operator="phong.import_x3d", export_operator="phong.export_x3d",
            import_report="Import X3D", export_report="Export X3D",
            drop_label="X3D / VRML97 (Phong)"),
-    Format("threejs", (".html",), None, threejs_export.export,
+    Format("threejs", SUFFIXES["threejs"], None, threejs_export.export,
            export_menu="three.js Page (.html)", export_operator="phong.export_threejs",
            export_report="Export three.js page"),
 )
