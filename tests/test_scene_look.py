@@ -186,6 +186,7 @@ def test_an_area_light_is_a_lambertian_emitter_in_the_reference(bpy_clean):
     assert math.isclose(described["intensity"], watts * 0.1 / math.pi ** 2, rel_tol=1e-6)  # float32 sizes
 
 
+@pytest.mark.slow
 @pytest.mark.eevee
 def test_eevee_shows_the_phong_picture_of_blenders_own_lights(bpy_clean, tmp_path):
     """The same scene after Apply in Eevee (the light loop on 5.3, the lights group before):
@@ -207,6 +208,7 @@ def test_eevee_shows_the_phong_picture_of_blenders_own_lights(bpy_clean, tmp_pat
     assert within >= 0.995
 
 
+@pytest.mark.slow
 def test_apply_changes_nothing_outside_the_converted_objects(bpy_clean, tmp_path):
     """Apply on the ball alone: the Cycles pixels of the Principled floor are what they were
     but for a few at the edge of the ball's shadow (its Phong emission is no light: emission
