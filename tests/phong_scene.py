@@ -33,6 +33,7 @@ def _ref():
 def _light(bpy, scene, name, kind, location, rotation=(0.0, 0.0, 0.0)):
     data = bpy.data.lights.new(name, kind)
     data.use_shadow = False  # these scenes test the model without shadows (issue 43)
+    data.phong.intensity = 1.0  # the seeds' i0 of its own, not its watts' (tests may set it)
     obj = bpy.data.objects.new(name, data)
     scene.collection.objects.link(obj)
     obj.location = location

@@ -643,6 +643,7 @@ def test_export_of_a_blender_scene_writes_the_controls_and_says_what_it_cannot(b
     scene.collection.objects.link(lamp)
     lamp.location = (0.5, 0.5, 2.0)
     lamp.data.color = (0.25, 0.5, 1.0)
+    lamp.data.phong.intensity = 1.0  # its own i0, not its watts'
     lamp.data["phong_falloff"] = "POWER"
     lamp.data["phong_power_k"] = 1.0
     lamp.data["phong_diffuse"] = 0.5

@@ -397,6 +397,7 @@ def test_imported_cube_renders_the_phong_formula(bpy_clean, blender_tmp, engine,
     scene = be.new_scene(f"fbx {engine}", 24, 24, engine)
     bpy.context.window.scene = scene
     sun = bpy.data.objects.new("Sun", bpy.data.lights.new("Sun", "SUN"))
+    sun.data.phong.intensity = 1.0  # the seeds' i of its own, not its strength's
     scene.collection.objects.link(sun)
     sun.rotation_euler = (0.0, THETA, 0.0)
     assert bpy.ops.phong.import_fbx(filepath=_path(name)) == {"FINISHED"}

@@ -404,6 +404,7 @@ def test_fbx_opacity_and_exponent_maps_render_the_files_formula(bpy_clean, tmp_p
     scene = be.new_scene("fbx maps", pixels, pixels)
     bpy.context.window.scene = scene
     sun = bpy.data.objects.new("Sun", bpy.data.lights.new("Sun", "SUN"))
+    sun.data.phong.intensity = 1.0  # the seeds' i of its own, not its strength's
     scene.collection.objects.link(sun)
     sun.rotation_euler = (0.0, SUN_TILT, 0.0)
     path = _fbx_maps_file(tmp_path)

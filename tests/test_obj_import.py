@@ -266,7 +266,7 @@ def test_a_scene_without_lights_is_named_in_a_warning(bpy_clean, capfd):
     bpy.context.window.scene = scene
     capfd.readouterr()
     assert _import(bpy, os.path.join(DATA, "illum.obj")) == {"FINISHED"}
-    assert "the scene has no Point, Sun or Spot light" in "".join(capfd.readouterr())
+    assert "the scene has no light that renders" in "".join(capfd.readouterr())
 
 
 REAL = os.path.join(DATA, "real")

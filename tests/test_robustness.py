@@ -247,7 +247,8 @@ def test_apply_material_without_selection_or_mesh(bpy_clean):
     scene = bpy.context.scene
     with pytest.raises(RuntimeError) as excinfo:
         bpy.ops.phong.apply_material()
-    assert _error(excinfo) == "Apply Phong Material: nothing is selected; select mesh objects"
+    assert _error(excinfo) == ("Apply Phong Material: nothing is selected; select meshes, "
+                               "curves, text or surfaces")
     cam = bpy.data.objects.new("Cam", bpy.data.cameras.new("Cam"))
     lamp = bpy.data.objects.new("Lamp", bpy.data.lights.new("Lamp", "POINT"))
     for obj in (cam, lamp):
@@ -255,8 +256,9 @@ def test_apply_material_without_selection_or_mesh(bpy_clean):
         obj.select_set(True)
     with pytest.raises(RuntimeError) as excinfo:
         bpy.ops.phong.apply_material()
-    assert _error(excinfo) == ("Apply Phong Material: no mesh among the selected objects "
-                               "(Cam, Lamp); select mesh objects")
+    assert _error(excinfo) == ("Apply Phong Material: no object with materials among the "
+                               "selected objects (Cam, Lamp); select meshes, curves, text or "
+                               "surfaces")
 
 
 def test_add_node_group_outside_the_shader_editor_and_unknown_group(bpy_clean):
