@@ -313,8 +313,11 @@ def input_value(socket, world=None):
         import bpy  # noqa: PLC0415  (tests import this module before bpy)
 
         world = world or bpy.context.scene.world
+        if socket.links[0].from_socket.name == "Alpha":  # a light's i0, the copy's fourth
+            return float(world[node.attribute_name][3])
         return np.array(list(world[node.attribute_name])[:3])
-    return np.array(socket.default_value)
+    value = socket.default_value
+    return np.array(value) if hasattr(value, "__len__") else float(value)
 
 
 def _assert_light_inputs(tree, lights):

@@ -76,20 +76,33 @@ def _variable(driver, name, id_type, id_block, data_path) -> None:
     var.targets[0].data_path = data_path
 
 
-def light_intensity(socket, light, intensity_path, from_power_path, scale, index=None):
-    """default_value = the light's i0: its own (*intensity_path*) where the int property
-    *from_power_path* is 0, else its Power × 2^Exposure × *scale* (one simple expression,
-    so dragging the Power slider or flipping the switch is live without Python)."""
-    _fcurve, driver = _fresh(socket, index)
+def intensity_expression(driver, light, intensity_path, from_power_path, scale) -> str:
+    """Make *driver* (emptied) the light's i0: its own (*intensity_path*) where the int
+    property *from_power_path* is 0, else its Power × 2^Exposure × *scale* (one simple
+    expression, so dragging the Power slider or flipping the switch is live without Python);
+    returns the expression."""
     driver.type = "SCRIPTED"
     _variable(driver, "i", "LIGHT", light, intensity_path)
     _variable(driver, "m", "LIGHT", light, from_power_path)
     _variable(driver, "e", "LIGHT", light, "energy")
-    power = f"e * {float(scale)!r}"
     if hasattr(light, "exposure"):
         _variable(driver, "x", "LIGHT", light, "exposure")
+    driver.expression = power_expression(light, scale)
+    return driver.expression
+
+
+def power_expression(light, scale) -> str:
+    """The expression of ``intensity_expression`` for *light* and *scale*."""
+    power = f"e * {float(scale)!r}"
+    if hasattr(light, "exposure"):
         power = f"e * pow(2.0, x) * {float(scale)!r}"
-    driver.expression = f"i + m * ({power} - i)"
+    return f"i + m * ({power} - i)"
+
+
+def light_intensity(socket, light, intensity_path, from_power_path, scale, index=None):
+    """default_value (or [*index*]) = the light's i0 (``intensity_expression``)."""
+    _fcurve, driver = _fresh(socket, index)
+    intensity_expression(driver, light, intensity_path, from_power_path, scale)
     return driver
 
 

@@ -80,8 +80,9 @@ from . import world_copies
 SCENE_KEY = "phong_lights_scene"
 SET_KEY = "phong_lights_set"
 #: Bump when the layout of the lights group changes.
-RIG_VERSION = 5  # 4: lights' transforms from World custom properties (View Layer attributes);
-# 5: one Phong Surface and a Phong Light Terms per light instead of a Phong Shading per light
+RIG_VERSION = 6  # 4: lights' transforms from World custom properties (View Layer attributes);
+# 5: one Phong Surface and a Phong Light Terms per light instead of a Phong Shading per light;
+# 6: a light's i0 from the fourth component of its World copy (its Power: live)
 VERSION_KEY = "phong_lights_version"
 ALL = "*"
 #: The lighting models (``node_groups/models.py``: docs/model.md, docs/threejs.md,
@@ -531,6 +532,8 @@ def _light_node(tree, obj, location, model, budget=(None, 0, 0)):
              if kind in types]
     world = budget[0]
     from_world = world is not None and world.library is None and budget[1] >= len(kinds)
+    targets = {attr: target for attr, target in properties.model_settings(model, light)}
+    i0_from_world = False
     if from_world:
         budget[1] -= len(kinds)
         eevee = len(budget) < 3 or budget[2] >= len(kinds)
@@ -539,8 +542,11 @@ def _light_node(tree, obj, location, model, budget=(None, 0, 0)):
         for row, name in enumerate(kinds):
             socket = inputs[world_copies.TRANSFORM_SOCKETS[name]]
             listed = world_copies.WORLD_KEYS if eevee else world_copies.LOOP_WORLD_KEYS
+            carries = world_copies.carries_intensity(obj, name) and targets.get("intensity")
             world_copies.read(tree, world, obj, name, socket,
-                              (location[0] - 300.0, location[1] - 160.0 * row), listed)
+                              (location[0] - 300.0, location[1] - 160.0 * row), listed,
+                              intensity=inputs[targets["intensity"]] if carries else None)
+            i0_from_world = i0_from_world or bool(carries)
     if kind in ("POINT", "SPOT"):
         if not from_world:
             drivers.world_location(inputs["Position"], obj)
@@ -553,12 +559,12 @@ def _light_node(tree, obj, location, model, budget=(None, 0, 0)):
         drivers.prop(inputs[spec.spot_angle], None, "LIGHT", light, "spot_size", scale=0.5)
     elif light.type == "AREA":
         inputs[spec.spot_angle].default_value = models.AREA_HALF_ANGLE
-        targets = {attr: target for attr, _types, _when, target in spec.settings}
+        spot_inputs = {attr: target for attr, _types, _when, target in spec.settings}
         for attr, value in spec.area:
-            if targets.get(attr) is not None:
-                inputs[targets[attr]].default_value = value
-    for attr, target in properties.model_settings(model, light):
-        if target is None:
+            if spot_inputs.get(attr) is not None:
+                inputs[spot_inputs[attr]].default_value = value
+    for attr, target in targets.items():
+        if target is None or (attr == "intensity" and i0_from_world):
             continue
         if attr == "intensity":  # its own i0, or its Power's: one live driver
             drivers.light_intensity(inputs[target], light, keys[attr],

@@ -368,6 +368,8 @@ def on_depsgraph_update(scene, depsgraph=None):
         signature = _signature(scene, view_layer, _LIGHTS[key])
     if _SEEN.get(key) == signature and not stale and not passes:
         _NAMES[key] = _names(_LIGHTS[key])  # the light objects may have come or gone
+        if depsgraph is not None and depsgraph.id_type_updated("LIGHT"):
+            world_copies.on_drag(scene)  # a Power or colour dragged: park as a move does
         return
     _BUSY.append(True)
     try:

@@ -42,7 +42,9 @@ import zlib
 import bpy
 from bpy.app.handlers import persistent
 
+from ...node_groups import models
 from .. import compat
+from . import drivers, properties
 from . import loop as light_loop
 
 #: Render engines that read no View Layer attribute of a Phong material whose lights
@@ -68,6 +70,18 @@ TRANSFORM_SOCKETS = {"LOCATION": "Position", "AXIS": "Direction"}
 
 
 # -- the keys and who reads them ---------------------------------------------------------
+
+def carries_intensity(obj, kind: str) -> bool:
+    """Whether *obj*'s copy *kind* carries the light's i0 in its fourth component (read as
+    the Attribute node's Alpha): the location of a point, spot or area light, the axis of a
+    sun; so dragging its Power updates the World too, not the node trees of the materials."""
+    drawn = models.drawn_as(obj.data.type) if obj.type == "LIGHT" else None
+    return drawn is not None and kind == ("AXIS" if drawn == "SUN" else "LOCATION")
+
+
+def _intensity_paths():
+    return (f'["{properties.LIGHT_KEYS["intensity"][0]}"]', f'["{properties.FROM_POWER_KEY}"]')
+
 
 def world_key(obj, kind: str) -> str:
     """The World custom property that carries *obj*'s world location (*kind* "LOCATION") or
@@ -114,10 +128,11 @@ def list_key(tree, key) -> None:
     tree[WORLD_KEYS] = [*tree.get(WORLD_KEYS, ()), key]
 
 
-def read(tree, world, obj, kind, socket, location, into=WORLD_KEYS) -> None:
+def read(tree, world, obj, kind, socket, location, into=WORLD_KEYS, intensity=None) -> None:
     """*socket* of the lights group *tree* fed by an Attribute node (View Layer) of *obj*'s
     copy *kind* on *world* (written, with its drivers); the key is listed in the group's
-    property *into* (``WORLD_KEYS`` or ``LOOP_WORLD_KEYS``)."""
+    property *into* (``WORLD_KEYS`` or ``LOOP_WORLD_KEYS``); *intensity*: a socket fed by
+    the copy's fourth component, the light's i0 (``carries_intensity``)."""
     key = world_key(obj, kind)
     write(world, key, obj, kind)
     attribute = tree.nodes.new("ShaderNodeAttribute")
@@ -126,6 +141,8 @@ def read(tree, world, obj, kind, socket, location, into=WORLD_KEYS) -> None:
     attribute.name = attribute.label = f"{TRANSFORM_SOCKETS[kind].lower()}:{obj.name}"
     attribute.location = location
     tree.links.new(attribute.outputs["Vector"], socket)
+    if intensity is not None:
+        tree.links.new(attribute.outputs["Alpha"], intensity)
     tree[into] = [*tree.get(into, ()), key]
 
 
@@ -149,22 +166,35 @@ def _fresh_prop(id_block, key, index):
 
 def write(world, key, obj, kind) -> None:
     """``world[key]`` (4 floats) = the object's world location (*kind* "LOCATION") or world
-    -Z axis (*kind* "AXIS") in its first three, 0 in the fourth; the drivers live on the
-    World (its animation data), so a moved light updates the World, not the node trees that
-    read it (Attribute nodes of type View Layer: docs/contract.md, "Several lights")."""
+    -Z axis (*kind* "AXIS") in its first three, in the fourth the light's i0 where the copy
+    carries it (``carries_intensity``), else 0; the drivers live on the World (its animation
+    data), so a moved light, or one whose Power is dragged, updates the World, not the node
+    trees that read it (Attribute nodes of type View Layer: docs/contract.md, "Several
+    lights")."""
     matrix = obj.matrix_world
     if kind == "LOCATION":
         value = [float(v) for v in matrix.translation]
     else:
         value = [-float(matrix[i][2]) for i in range(3)]
+    carries = carries_intensity(obj, kind)
+    value.append(properties.intensity(obj.data) if carries else 0.0)
     current = world.get(key)
     if current is not None and len(current) == 4 and not isinstance(current, str):
         for index, v in enumerate(value):  # in place (no ID property freed: handler-safe)
             current[index] = v
     else:
-        world[key] = [*value, 0.0]
+        world[key] = value
     if _drivers_fit(world, key, obj, kind):
         return  # unchanged: nothing freed or re-made (the handler relinks on many edits)
+    path = f'["{bpy.utils.escape_identifier(key)}"]'
+    anim = world.animation_data
+    if anim is not None and not carries:  # a fourth driver of an earlier copy
+        for fcurve in [fc for fc in anim.drivers if fc.data_path == path and fc.array_index == 3]:
+            anim.drivers.remove(fcurve)
+    if carries:
+        properties.ensure_light_props(obj.data)
+        drivers.intensity_expression(_fresh_prop(world, key, 3), obj.data, *_intensity_paths(),
+                                     properties.power_scale(obj.data))
     for index in range(3):
         driver = _fresh_prop(world, key, index)
         var = driver.variables.new()
@@ -192,8 +222,15 @@ def _drivers_fit(world, key, obj, kind) -> bool:
         return False
     path = f'["{bpy.utils.escape_identifier(key)}"]'
     found = {fc.array_index: fc for fc in anim.drivers if fc.data_path == path}
-    if sorted(found) != [0, 1, 2]:
+    carries = carries_intensity(obj, kind)
+    if sorted(found) != ([0, 1, 2, 3] if carries else [0, 1, 2]):
         return False
+    if carries:  # the i0's driver: the expression holds the light's power scale
+        fourth = found.pop(3).driver
+        want = drivers.power_expression(obj.data, properties.power_scale(obj.data))
+        if (fourth.type != "SCRIPTED" or fourth.expression != want
+                or any(v.targets[0].id != obj.data for v in fourth.variables)):
+            return False
     for index, fcurve in found.items():
         driver = fcurve.driver
         if len(driver.variables) != 1 or fcurve.modifiers:
