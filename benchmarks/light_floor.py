@@ -51,6 +51,8 @@ def _light_object(node):
 def _values(material):
     """The values the Phong *material* computes with: per light (position, i0, falloff,
     kd·Cl⊗Cl_obj, ks·Cl⊗Cl_spec), the ambient colour, the exponent."""
+    from phong_nodes.addon.lighting import properties  # noqa: PLC0415  (imports bpy)
+
     tree = material.node_tree
     nodes = tree.nodes
     group = nodes["phong_lights"].node_tree.nodes
@@ -73,7 +75,7 @@ def _values(material):
         lights.append({
             # the light's world location (the Position socket is read from the World)
             "position": tuple(_light_object(light).matrix_world.translation),
-            "i0": float(light.inputs["Intensity"].default_value),
+            "i0": properties.intensity(_light_object(light).data),  # its own or its Power's
             "diffuse": tuple(kd * a * b for a, b in zip(lc, oc)),
             "specular": tuple(ks * a * b for a, b in zip(lc, sc))})
     ambient = group["ambient"]

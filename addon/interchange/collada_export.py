@@ -257,13 +257,14 @@ def _mesh(mesh) -> collada.Mesh:
 def _light(light, warnings) -> collada.Light:
     kind = {"SUN": "directional", "POINT": "point", "SPOT": "spot"}[light.type]
 
+    settings = properties.settings_of(light)  # i0 its own or its Power's
+
     def value(attr):  # the light's Phong setting, its default where it has none
-        key, default = properties.LIGHT_KEYS[attr]
-        return float(light.get(key, default))
+        return float(settings[attr])
 
     intensity = value("intensity")
     out = collada.Light(light.name, light.name, kind,
-                        tuple(intensity * float(c) for c in light.color))
+                        tuple(intensity * float(c) for c in properties.light_color(light)))
     factors = (value("diffuse"), value("specular"))
     if factors != (1.0, 1.0):
         warnings.append(f"light {light.name}: Diffuse {factors[0]:g} / Specular {factors[1]:g} "

@@ -397,9 +397,8 @@ def light_of(light, scene, warnings: list) -> fbx_write.Light:
     """The FBX values of the Blender light *light* (Point, Sun, Spot) and, as user properties,
     its Phong settings that those values do not give back."""
     name = light.name
-    values = {attr: float(light.get(key, default))
-              for attr, (key, default) in properties.LIGHT_KEYS.items()}
-    out = fbx_write.Light(type=light.type, color=tuple(float(c) for c in light.color),
+    values = properties.settings_of(light)  # i0 its own or its Power's
+    out = fbx_write.Light(type=light.type, color=properties.light_color(light),
                           intensity=100.0 * values["intensity"], decay=0,
                           cast_shadows=bool(light.use_shadow))
     power = False

@@ -625,9 +625,10 @@ class _Writer:
         data = obj.data
         kind = {v: k for k, v in keys.X3D_LIGHT_TYPES.items()}[data.type]
 
+        settings = properties.settings_of(data)  # i0 its own or its Power's
+
         def value(attr):
-            key, default = properties.LIGHT_KEYS[attr]
-            return float(data.get(key, default))
+            return float(settings[attr])
 
         nothing = bool(obj.get(keys.X3D_LIGHTS_NOTHING))   # hidden: its scope is empty
         on = (not obj.hide_render or nothing) and lights_mod.visible(obj, self.layer)
@@ -638,7 +639,7 @@ class _Writer:
         direction = direction / length if length > 0 else np.array([0.0, 0.0, -1.0])
         out = x3d.Light(kind=kind, name=name, on=on, intensity=value("intensity"),
                         shadows=bool(data.use_shadow) and compat.HAS_RAYCAST,
-                        ambient_intensity=value("ambient"), color=_colour(data.color),
+                        ambient_intensity=value("ambient"), color=_colour(properties.light_color(data)),
                         location=tuple(f32(v) for v in matrix[:3, 3]),
                         direction=tuple(f32(v) for v in direction))
         if kind != "directional":
