@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Phong Nodes: set up the project's environment, then run a command in it.
-#   bash tools/phong.sh demo|compare|bake|report|slurm|cluster ...   the `phong` command of the
+#   bash tools/phong.sh demo|compare|apply|bake|report|slurm|cluster ...   the `phong` command of the
 #                                        environment (phong --help; phong demo --help ...)
 #   bash tools/phong.sh test [pytest options]   the quick tests: those not marked slow, on
 #                                        $PHONG_TEST_WORKERS processes (default 2; pytest-xdist,
@@ -251,8 +251,8 @@ ensure_x_ite
 
 case "$command" in
   setup) ;;
-  demo|compare|bake|report|slurm|cluster) exec "$venv/bin/phong" "$command" "$@" ;;
+  demo|compare|apply|bake|report|slurm|cluster) exec "$venv/bin/phong" "$command" "$@" ;;
   test) test_arguments "$@"; cd "$root" && exec "$venv/bin/python" -m pytest "${test_args[@]}" ;;
   build) build "$@" ;;
-  *) echo "unknown command '$command' (expected demo, compare, bake, report, slurm, cluster, test, build, setup or which)" >&2; exit 2 ;;
+  *) echo "unknown command '$command' (expected demo, compare, apply, bake, report, slurm, cluster, test, build, setup or which)" >&2; exit 2 ;;
 esac
