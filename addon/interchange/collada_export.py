@@ -187,9 +187,9 @@ def _node(obj, keep, doc, warnings, root):
         node.instances.append(inst)
     elif obj.type == "LIGHT":
         light = obj.data
-        if light.type in ("SUN", "POINT", "SPOT") and light.name not in doc.lights:
+        if light.type in ("SUN", "POINT", "SPOT", "AREA") and light.name not in doc.lights:
             doc.lights[light.name] = _light(light, warnings)
-        if light.type in ("SUN", "POINT", "SPOT"):
+        if light.type in ("SUN", "POINT", "SPOT", "AREA"):
             node.instances.append(collada.Instance("light", light.name))
         else:
             warnings.append(f"light {light.name}: {light.type} lights have no COLLADA kind; "
@@ -255,7 +255,9 @@ def _mesh(mesh) -> collada.Mesh:
 
 
 def _light(light, warnings) -> collada.Light:
-    kind = {"SUN": "directional", "POINT": "point", "SPOT": "spot"}[light.type]
+    # an Area light is the spot that draws it in Phong: a 180° cone, cos^1 (a Lambertian
+    # emitter's far field), which COLLADA's spot (falloff_angle, falloff_exponent) says exactly
+    kind = {"SUN": "directional", "POINT": "point", "SPOT": "spot", "AREA": "spot"}[light.type]
 
     settings = properties.settings_of(light)  # i0 its own or its Power's
 
@@ -281,7 +283,8 @@ def _light(light, warnings) -> collada.Light:
                                 "counterpart; written as 1/d²")
             out.constant, out.linear, out.quadratic = terms.get(k, (0.0, 0.0, 1.0))
     if kind == "spot":
-        out.falloff_angle = math.degrees(light.spot_size)
+        spot_size = properties.light_values(light)["spot_size"]
+        out.falloff_angle = math.degrees(spot_size)
         out.falloff_exponent = value("edge_exponent")
     return out
 

@@ -45,6 +45,7 @@ import bpy
 import numpy as np
 
 from ...core import x3d
+from ...node_groups import models
 from .. import compat
 from ..lighting import headlight as headlight_mod
 from ..lighting import lights as lights_mod
@@ -579,7 +580,7 @@ class _Writer:
         """{"root": lights at the root, "groups": [(Group, its mesh objects)]}."""
         root, scoped = [], []
         for obj in sorted(objects, key=lambda o: o.name):
-            if obj.data.type not in keys.X3D_LIGHT_TYPES.values():
+            if models.drawn_as(obj.data.type) not in keys.X3D_LIGHT_TYPES.values():
                 self.warnings.add(f"lights of a type X3D has not left out: {obj.name} "
                                   f"({obj.data.type})")
                 continue
@@ -623,7 +624,8 @@ class _Writer:
 
     def light(self, obj) -> x3d.Light:
         data = obj.data
-        kind = {v: k for k, v in keys.X3D_LIGHT_TYPES.items()}[data.type]
+        # an Area light is the spot that draws it (a 90° cut-off; the X3D model's beam width)
+        kind = {v: k for k, v in keys.X3D_LIGHT_TYPES.items()}[models.drawn_as(data.type)]
 
         settings = properties.settings_of(data)  # i0 its own or its Power's
 
@@ -655,7 +657,7 @@ class _Writer:
                                           "counterpart; written as 1/d²")
                     out.attenuation = terms.get(k, (0.0, 0.0, 1.0))
         if kind == "spot":
-            size = float(data.spot_size)
+            size = float(properties.light_values(data)["spot_size"])
             kept = data.get(keys.X3D_CUT_OFF)
             cut = kept if isinstance(kept, float) and np.float32(2.0 * kept) == np.float32(size) \
                 else f32(size / 2.0)
