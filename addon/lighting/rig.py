@@ -70,15 +70,15 @@ import bpy
 
 from ...node_groups import models
 from .. import compat, loader
-from . import drivers, properties
+from . import drivers, ownership, properties
 from . import loop as light_loop
 from . import shadows as shadow_rays
 from . import world_copies
 
-#: Custom properties of a lights group: the scene it belongs to (an ID pointer) and its
-#: light set.
-SCENE_KEY = "phong_lights_scene"
-SET_KEY = "phong_lights_set"
+#: Custom properties of a lights group: the scene it belongs to and its light set
+#: (``ownership.py``, with the look-ups ``owner``, ``groups_of`` and ``find``).
+SCENE_KEY, SET_KEY = ownership.SCENE_KEY, ownership.SET_KEY
+owner, groups_of, find = ownership.owner, ownership.groups_of, ownership.find
 #: Bump when the layout of the lights group changes.
 RIG_VERSION = 6  # 4: lights' transforms from World custom properties (View Layer attributes);
 # 5: one Phong Surface and a Phong Light Terms per light instead of a Phong Shading per light;
@@ -143,24 +143,6 @@ def model_of(scene) -> str:
 def set_key(lights, everything: bool) -> str:
     """The key of a light set: "*" when it holds every light of the scene, else the names."""
     return ALL if everything else "\n".join(sorted(o.name for o in lights))
-
-
-def owner(tree):
-    """The scene a lights group belongs to (an ID pointer: it follows a renamed scene), or
-    None (its scene was deleted)."""
-    scene = tree.get(SCENE_KEY)
-    return scene if isinstance(scene, bpy.types.Scene) else None
-
-
-def find(scene, key: str):
-    for tree in groups_of(scene):
-        if tree.get(SET_KEY) == key:
-            return tree
-    return None
-
-
-def groups_of(scene) -> list:
-    return [t for t in bpy.data.node_groups if t.library is None and owner(t) == scene]
 
 
 def group_name(scene, lights, key: str) -> str:

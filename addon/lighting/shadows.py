@@ -45,7 +45,7 @@ from bpy.app.handlers import persistent
 
 from ...node_groups import models
 from .. import compat
-from . import drivers
+from . import drivers, ownership
 
 #: Custom property of a lights group built with shadow rays (1) or without (0).
 KEY = "phong_lights_shadows"
@@ -205,9 +205,7 @@ def follow_on_load(*_args) -> None:
 
 def casts_rays(scene) -> bool:
     """Whether a lights group of *scene* casts shadow rays."""
-    from . import rig  # noqa: PLC0415 (rig imports this module)
-
-    return any(has_shadows(tree) for tree in rig.groups_of(scene))
+    return any(has_shadows(tree) for tree in ownership.groups_of(scene))
 
 
 def has_shadows(tree) -> bool:

@@ -1,0 +1,37 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Which scene a lights group belongs to, and which light set it stands for: the two custom
+properties every lights group carries, and the look-ups on them.  Apart from ``rig.py`` (which
+writes the groups) so that the modules ``rig`` imports (``shadows``) can find a scene's
+groups without importing it back."""
+
+from __future__ import annotations
+
+import bpy
+
+#: Custom properties of a lights group: the scene it belongs to (an ID pointer) and its
+#: light set.
+SCENE_KEY = "phong_lights_scene"
+SET_KEY = "phong_lights_set"
+
+
+def owner(tree):
+    """The scene a lights group belongs to (an ID pointer: it follows a renamed scene), or
+    None (its scene was deleted)."""
+    scene = tree.get(SCENE_KEY)
+    return scene if isinstance(scene, bpy.types.Scene) else None
+
+
+def groups_of(scene) -> list:
+    """The lights groups of *scene* (local ones)."""
+    return [t for t in bpy.data.node_groups if t.library is None and owner(t) == scene]
+
+
+def find(scene, key: str):
+    """The lights group of *scene* for the light set *key*, or None."""
+    for tree in groups_of(scene):
+        if tree.get(SET_KEY) == key:
+            return tree
+    return None
+
+
+__all__ = ["SCENE_KEY", "SET_KEY", "find", "groups_of", "owner"]
