@@ -279,8 +279,11 @@ def test_a_stale_lights_group_is_a_mismatch(bpy_clean, tmp_path):
     bpy.ops.phong.build_demo_scene(name="lambert_vs_phong", resolution=16)
     scene = bpy.data.scenes["lambert_vs_phong"]
     (group,) = [g for g in rig.groups_of(scene)]
-    fcurve = next(f for f in group.animation_data.drivers
-                  if f.data_path.startswith('nodes["light:')
+    # a light's i0 is driven in the group, or in its World copy's fourth component (5.2+)
+    drivers = [*group.animation_data.drivers,
+               *(scene.world.animation_data.drivers if scene.world.animation_data else ())]
+    fcurve = next(f for f in drivers
+                  if f.data_path.startswith(('nodes["light:', '["phong_light_'))
                   and f.driver.variables[0].targets[0].data_path == '["phong_intensity"]')
     light = fcurve.driver.variables[0].targets[0].id
     fcurve.mute = True
