@@ -25,8 +25,16 @@ RESOLUTION = 32
 
 
 def _open(path):
+    """Open *path*; a file saved by Blender 5 is skipped on a release before 5, which cannot
+    read its format (it says "not a blend file")."""
     bpy = be.import_bpy()
-    bpy.ops.wm.open_mainfile(filepath=path, load_ui=False)
+    try:
+        bpy.ops.wm.open_mainfile(filepath=path, load_ui=False)
+    except RuntimeError as error:
+        if bpy.app.version < (5, 0, 0) and "not a blend file" in str(error):
+            pytest.skip(f"{os.path.basename(path)}: saved by a newer Blender than "
+                        f"{bpy.app.version_string} reads")
+        raise
     return bpy
 
 
@@ -166,8 +174,12 @@ def test_compare_after_apply(extension, name, tmp_path):
             line += f"; notes: {metrics['notes']}"
         be.report(line)
         assert metrics["coverage"]["ok"], (name, scene.name, metrics["coverage"])
+        # measured on the default release; elsewhere those verdicts are reported, not held
+        measured = be.bpy_release() == EXPECTED_ON
         expected = EXPECTED_FAILURES.get((name, scene.name), set())
         for engine_name, verdict in metrics["verdict"].items():
+            if engine_name in expected and not measured:
+                continue
             if engine_name in expected:
                 assert not verdict["ok"], (f"{name} {scene.name!r}: {engine_name} passes now "
                                            f"({verdict['value']}): take it off "
@@ -196,6 +208,7 @@ def test_compare_after_apply(extension, name, tmp_path):
 #:   the four alone 100%; its animation, its node tree, soft falloff and the cube parented
 #:   to it are not the cause (each taken away: 83.8%).  Eevee's picture is above 1 on 1,399
 #:   pixels (max 2.60, metrics["eevee_above_1"]) where the model clamps the colour at 1.
+EXPECTED_ON = "5.3.0"
 EXPECTED_FAILURES: dict = {
     ("godot_player.blend", "Scene"): {"eevee"},
     ("godot_mob.blend", "Scene"): {"cycles"},

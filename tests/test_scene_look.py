@@ -6,7 +6,8 @@ Blender's units (docs/model.md, "A light's Power"): a diffuse Principled surface
 1, Specular IOR Level 0) of colour Kd lit by a point or spot of P watts shows
 Kd·P/(4π²)·cosθ/r², by a sun of strength S Kd·S/π·cosθ, by a small area light of P watts
 Kd·P/π²·cosθ_light·cosθ/r².  Apply gives each light the i0 of its Power, so the Phong
-picture is Blender's to 1e-3 (the far field of the area light: 10 times its size on); the
+picture is Blender's to 1e-3 (the far field of the area light: 10 times its size on; Cycles'
+Light Threshold off, which leaves out faint light); the
 light's colour temperature and exposure included; a light hidden in the viewport still
 lights the picture, as it does in F12; and dragging the Power changes the picture live."""
 
@@ -44,6 +45,8 @@ def _light(bpy, scene, name, kind, location, rotation=(0.0, 0.0, 0.0), **values)
     if hasattr(data, "use_soft_falloff"):
         data.use_soft_falloff = False
     data.use_shadow = False
+    if hasattr(getattr(data, "cycles", None), "cast_shadow"):  # Cycles' own switch (4.x)
+        data.cycles.cast_shadow = False
     obj = bpy.data.objects.new(name, data)
     obj.location, obj.rotation_euler = location, rotation
     scene.collection.objects.link(obj)
@@ -53,6 +56,7 @@ def _light(bpy, scene, name, kind, location, rotation=(0.0, 0.0, 0.0), **values)
 def _scene(bpy):
     scene = be.new_scene("Artist", SIZE, SIZE, "cycles")
     bpy.context.window.scene = scene
+    scene.cycles.light_sampling_threshold = 0.0  # Blender's own picture: no light left out
     be.add_ortho_camera(scene, (0.0, 0.0), 6.0, 6.0)
     plane = be.add_quad(scene, "Floor", -3, -3, 3, 3)
     plane.data.materials.append(_principled(bpy, "Clay", (0.6, 0.5, 0.4)))
@@ -111,8 +115,9 @@ def _passes(bpy, scene, tmp, name, index=True):
     be.render_exr(scene, path)
     passes = be.read_multilayer_exr(path)
     out = {"Combined": passes["Combined"][..., :3].astype(np.float64)}
-    if index:
-        out["index"] = np.rint(passes["Object Index"][..., 0]).astype(int)
+    if index:  # the pass's name in the file: Blender 4.2 writes "IndexOB"
+        name = "Object Index" if "Object Index" in passes else "IndexOB"
+        out["index"] = np.rint(passes[name][..., 0]).astype(int)
     return out
 
 
@@ -123,7 +128,7 @@ def _render(bpy, scene, tmp, name):
 def test_apply_keeps_the_look_of_blenders_own_lights(bpy_clean, tmp_path):
     """Point (colour temperature, exposure), spot, sun hidden in the viewport and a small
     area light, all at once: Phong after Apply is Blender's own Principled picture (the
-    median brightness to 1e-4, 99% of the pixels to 1e-3), and the Power drags the Phong
+    median brightness to 1e-4, every pixel to 1e-3), and the Power drags the Phong
     picture live (twice the watts, twice the light)."""
     bpy = bpy_clean
     scene, objects, lights = _scene(bpy)
@@ -137,17 +142,19 @@ def test_apply_keeps_the_look_of_blenders_own_lights(bpy_clean, tmp_path):
     lit = (before.max(axis=2) > 0.02) & _inner(index)
     assert lit.mean() > 0.5, "the floor and the ball are lit"
     assert set(np.unique(index[lit])) == {1, 2}, "the floor and the ball are compared"
-    diff = np.abs(after - before).max(axis=2)[lit]
-    error, within = float(diff.max()), float((diff <= TOL).mean())
+    diff = np.abs(after - before).max(axis=2)
+    floor, ball = lit & (index == 1), lit & (index == 2)
+    floor_error = float(diff[floor].max())
+    within = float((diff[ball] <= TOL).mean())
     ratio = float(np.median(after[lit].sum(axis=1) / before[lit].sum(axis=1)))
-    be.report(f"[look] pixels={int(lit.sum())} within {TOL:g}: {within:.2%} "
-              f"max|Phong-Principled|={error:.2e} median ratio={ratio:.6f} "
-              f"mean={before[lit].mean():.3f}")
+    be.report(f"[look] {bpy.app.version_string}: floor {int(floor.sum())} pixels, "
+              f"max|Phong-Principled| {floor_error:.2e}; ball {int(ball.sum())} pixels, "
+              f"{within:.2%} within {TOL:g}, max {float(diff[ball].max()):.2e}; "
+              f"median ratio {ratio:.6f}")
     assert abs(ratio - 1.0) <= 1e-4, f"the median brightness changed by {ratio:.6f}x"
-    # measured on 5.3: 99.5% within 1e-3, the rest (a few facets of the ball lit at a
-    # grazing angle) within 6e-3
-    assert within >= 0.99, f"only {within:.2%} of the pixels within {TOL:g} of Blender's own"
-    assert error <= 1e-2, f"Phong differs from Blender's own picture by {error:.2e}"
+    # measured on 5.3.0 and 4.2.23: the floor 1.8e-5, the ball 7.8e-5
+    assert floor_error <= TOL, f"the floor differs from Blender's own by {floor_error:.2e}"
+    assert within == 1.0, f"only {within:.2%} of the ball's pixels within {TOL:g}"
 
     # the Power slider: every light twice as strong, the picture twice as bright, no relink
     for obj in lights.values():
@@ -179,6 +186,8 @@ def test_an_area_light_is_a_lambertian_emitter_in_the_reference(bpy_clean):
     assert described["edge_exponent"] == 1.0
     watts = area.data.energy
     assert math.isclose(described["intensity"], watts / math.pi ** 2, rel_tol=1e-12)
+    if not hasattr(area.data, "normalize"):  # before 4.? an Area light's Power is its total
+        return
     area.data.normalize = False
     area.data.shape = "RECTANGLE"
     area.data.size, area.data.size_y = 0.5, 0.2
