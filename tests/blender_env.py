@@ -9,6 +9,7 @@ pointed ``BLENDER_USER_RESOURCES`` at a throw-away folder (conftest.py does that
 
 from __future__ import annotations
 
+import contextlib
 import os
 import subprocess
 import sys
@@ -254,6 +255,25 @@ def apply_phong(scene, objects, active=None) -> None:
         obj.select_set(obj in objects)
     bpy.context.view_layer.objects.active = objects[0] if active is None else active
     assert bpy.ops.phong.apply_material() == {"FINISHED"}
+
+
+@contextlib.contextmanager
+def inlined_cycles_tree(material):
+    """The node tree of *material*'s Cycles output once Blender has inlined its groups
+    (``Material.inline_shader_nodes``, Blender 5+), of a copy whose EEVEE outputs are removed
+    and whose Cycles output is the active one for every engine; the copy is removed after."""
+    bpy = import_bpy()
+    copy = material.copy()
+    try:
+        for node in [n for n in copy.node_tree.nodes if n.bl_idname == "ShaderNodeOutputMaterial"]:
+            if node.target == "EEVEE":
+                copy.node_tree.nodes.remove(node)
+            else:
+                node.target, node.is_active_output = "ALL", True
+        inlined = copy.inline_shader_nodes()  # held: its tree lives as long as it does
+        yield inlined.node_tree
+    finally:
+        bpy.data.materials.remove(copy)
 
 
 def float_image(name: str, data: np.ndarray):

@@ -155,21 +155,12 @@ def _dead_inlined_nodes(material) -> tuple:
     """(nodes, dead nodes) of *material*'s Cycles output once Blender has inlined its groups
     (``Material.inline_shader_nodes``): a dead node reaches no Material Output, yet Cycles
     converts and optimises it, once per material."""
-    copy = material.copy()
-    try:
-        for node in [n for n in copy.node_tree.nodes if n.bl_idname == "ShaderNodeOutputMaterial"]:
-            if node.target == "EEVEE":
-                copy.node_tree.nodes.remove(node)
-            else:
-                node.target, node.is_active_output = "ALL", True
-        from phong_nodes.addon.lighting import node_copy  # noqa: PLC0415
+    from phong_nodes.addon.lighting import node_copy  # noqa: PLC0415
 
-        inlined = copy.inline_shader_nodes()
-        nodes = inlined.node_tree.nodes
+    with be.inlined_cycles_tree(material) as tree:
+        nodes = tree.nodes
         output = next(n for n in nodes if n.bl_idname == "ShaderNodeOutputMaterial")
         return len(nodes), len(nodes) - len(node_copy.upstream(output))
-    finally:
-        be.import_bpy().data.materials.remove(copy)
 
 
 def _material_of(bpy, tree):

@@ -21,19 +21,10 @@ MODELS = ("seeds", "threejs", "x3d")
 KINDS = ("POINT", "SPOT", "SUN", "AREA")
 
 
-def _inlined(bpy, material) -> int:
+def _inlined(material) -> int:
     """The nodes of *material*'s Cycles output, its groups inlined."""
-    copy = material.copy()
-    try:
-        for node in [n for n in copy.node_tree.nodes if n.bl_idname == "ShaderNodeOutputMaterial"]:
-            if node.target == "EEVEE":
-                copy.node_tree.nodes.remove(node)
-            else:
-                node.target, node.is_active_output = "ALL", True
-        inlined = copy.inline_shader_nodes()  # held: its tree lives as long as it does
-        return len(inlined.node_tree.nodes)
-    finally:
-        bpy.data.materials.remove(copy)
+    with be.inlined_cycles_tree(material) as tree:
+        return len(tree.nodes)
 
 
 def _count(bpy, model, kind, lights=1) -> int:
@@ -52,7 +43,7 @@ def _count(bpy, model, kind, lights=1) -> int:
         light.location = (0.5 + index, 0.3, 3.0)
         scene.collection.objects.link(light)
     be.apply_phong(scene, [ball])
-    return _inlined(bpy, ball.active_material)
+    return _inlined(ball.active_material)
 
 
 def _measured(bpy) -> dict:
