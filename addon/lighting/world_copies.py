@@ -192,7 +192,9 @@ def write(world, key, obj, kind) -> None:
         for fcurve in [fc for fc in anim.drivers if fc.data_path == path and fc.array_index == 3]:
             anim.drivers.remove(fcurve)
     if carries:
-        properties.ensure_light_props(obj.data)
+        if any(k not in obj.data.keys() for k in (properties.FROM_POWER_KEY,
+                                                   properties.LIGHT_KEYS["intensity"][0])):
+            properties.ensure_light_props(obj.data)  # the driver's variables must exist
         drivers.intensity_expression(_fresh_prop(world, key, 3), obj.data, *_intensity_paths(),
                                      properties.power_scale(obj.data))
     for index in range(3):
