@@ -73,12 +73,6 @@ def has_loop(tree) -> bool:
 
 # -- the light's packed settings ------------------------------------------------------------
 
-def light_values(light) -> dict:
-    """The plain values of a light (its data) that ``library.loop_parameters`` packs: what
-    every Phong model reads of it (``properties.light_values``)."""
-    return properties.light_values(light)
-
-
 def write_parameters(light) -> bool:
     """Write the loop's packed settings of *light* (a Light) for every model, and give a
     point or spot light the influence distance of a Phong light (Eevee leaves out a light
@@ -88,7 +82,7 @@ def write_parameters(light) -> bool:
     Returns whether anything changed."""
     if not compat.HAS_LIGHT_LOOP or light.library is not None:
         return False
-    values = light_values(light)
+    values = properties.light_values(light)
     changed = False
     for model in LOOP_MODELS:
         for key, value in loop_parameters(model, values).items():
@@ -253,4 +247,4 @@ def _write(tree, group, sources, group_in, origin) -> dict:
 
 
 __all__ = ["EEVEE_SHADER", "LOOP_KEY", "LOOP_PREFIX", "build", "follow_lights", "has_loop",
-           "light_values", "supports", "write_parameters"]
+           "supports", "write_parameters"]

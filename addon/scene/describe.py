@@ -67,16 +67,9 @@ def evaluated(scene, view_layer=None):
     return depsgraph
 
 
-def synced(scene, view_layer):
-    """*view_layer* of *scene* with its objects: Blender fills a view layer's objects and
-    layer collections lazily, and a scene just made (a demo scene built from its file)
-    has none until something syncs it; its depsgraph does."""
-    return lights_mod.synced(scene, view_layer)
-
-
 def phong_objects(scene, view_layer) -> list:
     """The objects of *view_layer* that render with a Phong material in some slot."""
-    view_layer = synced(scene, view_layer)
+    view_layer = lights_mod.synced(scene, view_layer)  # a scene just made has no objects yet
     return [obj for obj in view_layer.objects
             if not obj.hide_render and hasattr(obj.data, "materials")
             and lights_mod.visible(obj, view_layer)
