@@ -35,17 +35,22 @@ def float_setter(key, also=None):
     return set_
 
 
+def flag(id_block, key, absent_key) -> bool:
+    """The int custom property *key* of *id_block* as a bool; unset: True unless *absent_key*
+    is set (``properties.from_power``: a light follows its Power unless it has an i0)."""
+    value = id_block.get(key)
+    if value is None:
+        return absent_key not in id_block.keys()
+    try:
+        return bool(int(value))
+    except (TypeError, ValueError):
+        return True
+
+
 def bool_getter(key, absent_key):
-    """The custom property *key* as a bool; unset: True unless *absent_key* is set (the
-    rule of ``properties.from_power``)."""
+    """The getter of ``flag``."""
     def get(self):
-        value = self.id_data.get(key)
-        if value is None:
-            return absent_key not in self.id_data.keys()
-        try:
-            return bool(int(value))
-        except (TypeError, ValueError):
-            return True
+        return flag(self.id_data, key, absent_key)
     return get
 
 

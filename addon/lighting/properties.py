@@ -110,14 +110,9 @@ def read_settings(light_type: str) -> set:
 # -- the one reader of a light's values ------------------------------------------------------
 
 def from_power(light) -> bool:
-    """Whether *light* takes its i0 from its Power (``FROM_POWER_KEY``)."""
-    value = light.get(FROM_POWER_KEY)
-    if value is None:
-        return LIGHT_KEYS["intensity"][0] not in light.keys()
-    try:
-        return bool(int(value))
-    except (TypeError, ValueError):
-        return True
+    """Whether *light* takes its i0 from its Power (``FROM_POWER_KEY``; unset: unless it has
+    a Phong Intensity of its own)."""
+    return forwarding.flag(light, FROM_POWER_KEY, LIGHT_KEYS["intensity"][0])
 
 
 def emitting_area(light) -> float:
