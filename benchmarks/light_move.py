@@ -536,16 +536,9 @@ def main(argv=None) -> int:
                 json.dump(result, handle, indent=1)
         print(json.dumps(result, indent=1), flush=True)
         return 0
-    if args.parts:
-        result = run_parts(args.objects, args.lights, args.moves, args.parts)
-        if args.out:
-            with open(args.out, "w", encoding="utf-8") as handle:
-                json.dump(result, handle, indent=1)
-        print(json.dumps(result, indent=1), flush=True)
-        sys.stderr.flush()
-        os._exit(0)
-    if args.power:
-        result = run_power(args.objects, args.lights, args.moves)
+    if args.parts or args.power:
+        result = (run_parts(args.objects, args.lights, args.moves, args.parts) if args.parts
+                  else run_power(args.objects, args.lights, args.moves))
         if args.out:
             with open(args.out, "w", encoding="utf-8") as handle:
                 json.dump(result, handle, indent=1)
