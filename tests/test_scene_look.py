@@ -244,49 +244,44 @@ def test_apply_changes_nothing_outside_the_converted_objects(bpy_clean, tmp_path
     assert (changed > 0).mean() <= 0.05, "the Phong ball lights or darkens the floor"
 
 
+def _exported(bpy, tmp_path, module, name):
+    """The test scene after Apply, written by the exporter *module* (of
+    ``phong_nodes.addon.interchange``) to *name*: (its XML root, tags without namespace; the
+    area light's i0, P/π²)."""
+    import importlib  # noqa: PLC0415
+    import xml.etree.ElementTree as ET  # noqa: PLC0415
+
+    scene, objects, lights = _scene(bpy)
+    be.apply_phong(scene, objects)
+    exporter = importlib.import_module(f"phong_nodes.addon.interchange.{module}")
+    out = tmp_path / name
+    with bpy.context.temp_override(scene=scene):
+        exporter.export(bpy.context, str(out))
+    root = ET.fromstring(out.read_text())
+    for element in root.iter():
+        element.tag = element.tag.rsplit("}", 1)[-1]
+    return root, lights["area"].data.energy / math.pi ** 2
+
+
 def test_an_area_light_exports_to_collada_as_the_spot_that_draws_it(bpy_clean, tmp_path):
     """COLLADA's spot is the seeds' spot (falloff_angle the full cone, cos^falloff_exponent):
     an Area light is written as a 180° spot of exponent 1 whose colour is its i0 (P/π²) times
     its colour, read back from the file's text."""
-    import xml.etree.ElementTree as ET  # noqa: PLC0415
-
-    bpy = bpy_clean
-    scene, objects, lights = _scene(bpy)
-    be.apply_phong(scene, objects)
-    from phong_nodes.addon.interchange import collada_export  # noqa: PLC0415
-
-    out = tmp_path / "area.dae"
-    with bpy.context.temp_override(scene=scene):
-        collada_export.export(bpy.context, str(out))
-    root = ET.fromstring(out.read_text())
-    for element in root.iter():
-        element.tag = element.tag.rsplit("}", 1)[-1]
+    root, i0 = _exported(bpy_clean, tmp_path, "collada_export", "area.dae")
     light = next(e for e in root.iter("light") if e.get("name") == "Panel")
     spot = light.find("technique_common/spot")
     assert spot is not None, "an Area light is a spot"
     assert float(spot.find("falloff_angle").text) == 180.0
     assert float(spot.find("falloff_exponent").text) == 1.0
     colour = [float(v) for v in spot.find("color").text.split()]
-    i0 = lights["area"].data.energy / math.pi ** 2
     assert colour == pytest.approx([i0, i0, i0], rel=1e-6)
 
 
 def test_an_area_light_exports_to_x3d_as_the_spot_that_draws_it(bpy_clean, tmp_path):
     """X3D: an Area light is a SpotLight of cut-off angle 90° (the hemisphere of the Phong
     light), its intensity the i0 of its Power, read back from the written XML."""
-    import xml.etree.ElementTree as ET  # noqa: PLC0415
-
-    bpy = bpy_clean
-    scene, objects, lights = _scene(bpy)
-    be.apply_phong(scene, objects)
-    from phong_nodes.addon.interchange import x3d_export  # noqa: PLC0415
-
-    out = tmp_path / "area.x3d"
-    with bpy.context.temp_override(scene=scene):
-        x3d_export.export(bpy.context, str(out))
-    spots = [e for e in ET.fromstring(out.read_text()).iter("SpotLight")
-             if e.get("DEF", "").startswith("Panel")]
+    root, i0 = _exported(bpy_clean, tmp_path, "x3d_export", "area.x3d")
+    spots = [e for e in root.iter("SpotLight") if e.get("DEF", "").startswith("Panel")]
     assert len(spots) == 1, "the Area light is a SpotLight"
     assert float(spots[0].get("cutOffAngle")) == pytest.approx(math.pi / 2.0, rel=1e-6)
-    i0 = lights["area"].data.energy / math.pi ** 2
     assert float(spots[0].get("intensity")) == pytest.approx(i0, rel=1e-6)
