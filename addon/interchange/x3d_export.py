@@ -122,6 +122,7 @@ class _Writer:
         self.context = context
         self.scene = context.scene
         self.layer = context.view_layer
+        self.collections = lights_mod.render_collections(self.layer)  # once, not per object
         self.path = os.path.abspath(filepath)
         self.folder = os.path.dirname(self.path)
         self.selection = use_selection
@@ -149,7 +150,7 @@ class _Writer:
                 "beamWidth, Phong highlights as Blinn's, the World's ambient light as a "
                 "DirectionalLight of intensity 0): the picture may differ")
         meshes = [o for o in scene.objects if o.type == "MESH" and self.chosen(o)
-                  and lights_mod.visible(o, self.layer) and not o.hide_render]
+                  and lights_mod.visible(o, self.layer, self.collections) and not o.hide_render]
         lights = [o for o in scene.objects if o.type == "LIGHT" and self.chosen(o)]
         other = sorted({o.type for o in scene.objects if self.chosen(o) and o.type not in
                         ("MESH", "LIGHT", "CAMERA", "EMPTY", "ARMATURE") and not o.hide_render})
@@ -159,7 +160,7 @@ class _Writer:
         heads = [o for o in lights if headlight_mod.is_headlight(o, scene)]
         doc.headlight = False
         for obj in heads:
-            if obj.hide_render or not lights_mod.visible(obj, self.layer):
+            if obj.hide_render or not lights_mod.visible(obj, self.layer, self.collections):
                 continue
             doc.headlight = True
             light = obj.data
@@ -633,7 +634,8 @@ class _Writer:
             return float(settings[attr])
 
         nothing = bool(obj.get(keys.X3D_LIGHTS_NOTHING))   # hidden: its scope is empty
-        on = (not obj.hide_render or nothing) and lights_mod.visible(obj, self.layer)
+        on = ((not obj.hide_render or nothing)
+              and lights_mod.visible(obj, self.layer, self.collections))
         name = obj.name.removesuffix(keys.X3D_OFF) if not on else obj.name
         matrix = Z_UP_TO_Y_UP @ np.array(obj.matrix_world, dtype=np.float64)
         direction = -matrix[:3, 2]

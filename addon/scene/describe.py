@@ -70,9 +70,10 @@ def evaluated(scene, view_layer=None):
 def phong_objects(scene, view_layer) -> list:
     """The objects of *view_layer* that render with a Phong material in some slot."""
     view_layer = lights_mod.synced(scene, view_layer)  # a scene just made has no objects yet
+    collections = lights_mod.render_collections(view_layer)  # once, not per object
     return [obj for obj in view_layer.objects
             if not obj.hide_render and hasattr(obj.data, "materials")
-            and lights_mod.visible(obj, view_layer)
+            and lights_mod.visible(obj, view_layer, collections)
             and any(materials.is_phong_material(slot.material) for slot in obj.material_slots)]
 
 
@@ -158,13 +159,15 @@ def triangles(view_layer, depsgraph) -> np.ndarray:
     kinds = ("MESH", "CURVE", "SURFACE", "META", "FONT", "CURVES")
     local = {}  # an object's triangles in its own space, once however often it is instanced
     parts = []
+    collections = lights_mod.render_collections(view_layer)  # once, not per instance
     for inst in depsgraph.object_instances:
         obj = inst.object
         original = obj.original
         if obj.type not in kinds or not compat.blocks_raycast(original):
             continue
         if not inst.is_instance and (original.hide_render
-                                     or not lights_mod.visible(original, view_layer)):
+                                     or not lights_mod.visible(original, view_layer,
+                                                               collections)):
             continue
         key = obj.name_full if not inst.is_instance else (obj.name_full, "instance")
         if key not in local:
