@@ -16,6 +16,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+import numpy as np
+
 from . import lights as lights_mod
 from . import materials, properties
 from . import sync as sync_mod
@@ -174,16 +176,21 @@ def notes(scene, lights, world_new=False) -> list:
     (*world_new*: the World took its Phong ambient light now) a World whose light Phong's
     uniform ambient light only approximates."""
     out = []
+    corners = None  # the scene's box corners, read once for every Area light
     for obj in lights:
         light = obj.data
         if light.type != "AREA":
             continue
+        if corners is None:
+            corners = _box_corners(scene)
         if light.spread < 3.14159:
             out.append(f"Area light '{obj.name}': its Spread ({light.spread * 57.2958:.0f}°) "
                        "narrows and brightens its beam, which the Phong light (a Lambertian "
                        "emitter's far field, a 180° cone) does not follow")
         size = max(light.size, light.size_y if light.shape in ("RECTANGLE", "ELLIPSE") else 0.0)
-        distance = _distance_to_scene(obj, scene)
+        origin = np.array(obj.matrix_world.translation)
+        distance = (float(np.sqrt(((corners - origin) ** 2).sum(axis=1)).min())
+                    if len(corners) else None)
         if distance is not None and size > 0.1 * distance:
             out.append(f"Area light '{obj.name}': {size:.3g} m across, {distance:.3g} m from "
                        "the nearest object: Phong draws it as a point emitter, exact from "
@@ -195,21 +202,15 @@ def notes(scene, lights, world_new=False) -> list:
     return out
 
 
-def _distance_to_scene(light_obj, scene) -> float | None:
-    """The distance from *light_obj* to the nearest corner of the bounding boxes of the
-    scene's objects with materials (None: no such object)."""
-    from mathutils import Vector  # noqa: PLC0415
-
-    origin = light_obj.matrix_world.translation
-    best = None
+def _box_corners(scene) -> np.ndarray:
+    """The world corners (N, 3) of the bounding boxes of *scene*'s objects with materials."""
+    parts = []
     for obj in scene.objects:
-        if obj.type not in KINDS:
-            continue
-        matrix = obj.matrix_world
-        for corner in obj.bound_box:
-            d = (matrix @ Vector(corner) - origin).length
-            best = d if best is None or d < best else best
-    return best
+        if obj.type in KINDS:
+            matrix = np.array(obj.matrix_world)
+            box = np.array([tuple(c) for c in obj.bound_box])
+            parts.append(box @ matrix[:3, :3].T + matrix[:3, 3])
+    return np.concatenate(parts) if parts else np.zeros((0, 3))
 
 
 def restore(obj, names=None) -> int:
