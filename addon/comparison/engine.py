@@ -2,11 +2,15 @@
 """The comparison: Eevee, Cycles and the numpy reference of any scene with Phong
 materials (a demo scene, an artist's scene, a production file).
 
-* Cycles renders the picture, the materials' term passes ("Phong Irradiant" ...) and the
-  probes: for that render only, every lights group of the scene is swapped for a copy that
-  also writes, as AOVs, what it sees per pixel (``core.compare.PROBES``: position, normal,
-  incoming, the material's inputs, and the object's number).  Eevee never compiles them
-  (each AOV costs Eevee shader compile time).  1 sample at the pixel centres, box filter
+* Cycles renders the picture as the user's F12 does, then, in a second render, the
+  materials' term passes ("Phong Irradiant" ...) and the probes: for that render only, every
+  lights group of the scene is swapped for a copy that also writes, as AOVs, what it sees
+  per pixel (``core.compare.PROBES``: position, normal, incoming, the material's inputs, and
+  the object's number).  Two renders, because the probes can change the picture they
+  observe: on a real character file, a black unlit pupil (an Emission folded to nothing)
+  vanished from Cycles' picture whenever its lights group held the Geometry or Object Info
+  probes, and the eye behind it showed through.  Eevee never compiles the probes (each AOV
+  costs Eevee shader compile time).  1 sample at the pixel centres, box filter
   0.01, SVM (Open Shading Language writes no AOVs: a scene with it on is rendered without,
   saying so in the notes).
 * Eevee renders the picture: 1 TAA sample, filter size 0: its first sample sits at the
@@ -206,12 +210,13 @@ def render_all(scene, layer, objects, engines, folder, resolution=None, progress
         if "eevee" in engines:
             progress(0.35, "Eevee (picture)")
             images["eevee"] = _render(scene, "eevee", folder, o)["Combined"][..., :3]
-        progress(0.05 if "eevee" not in engines else 0.5, "Cycles (picture, terms, probes)")
+        progress(0.05 if "eevee" not in engines else 0.5, "Cycles (picture)")
+        images["cycles"] = _render(scene, "cycles", folder, o)["Combined"][..., :3]
+        progress(0.2 if "eevee" not in engines else 0.65, "Cycles (terms, probes)")
         _add_aovs(layer, list(materials.AOVS) + [compare.probe_name(p) for p in compare.PROBES],
                   o)
         _probe_groups(objects, o)
         passes = _render(scene, "cycles", folder, o)
-        images["cycles"] = passes["Combined"][..., :3]
     finally:
         o.restore()  # the caller holds the handler paused (sync.paused)
     terms = {term: passes[f"Phong {term}"][..., :3] for term in compare.TERMS}
