@@ -196,21 +196,7 @@ def test_compare_after_apply(extension, name, tmp_path):
 #:   Subdivision Surface of 3 levels in the viewport and 2 in renders; the reference's
 #:   shadow triangles are now the render level's (``describe.render_geometry``: Cycles
 #:   failed with 1.69 before), and what is left is Eevee's own shadow maps on the body.
-#: * godot_mob.blend: Cycles' picture shows the eye's ambient colour (0.0311, the eye's
-#:   0.612 red x ambient 0.0509) on pixels of the black pupil that its own probes and term
-#:   passes, Eevee and the reference give as the pupil (0): max |Δ| 3.11e-02 on 7% of the
-#:   pixels; Eevee passes (99.66%).  The pupil's Phong colour is exactly black (Object
-#:   Color 0, no light, so an Emission of 0): Cycles shows the surface behind it.  With the
-#:   pupil's Object Color at 0.02 grey Cycles passes (2.3e-10).
-#: * tetra3d_lighting.blend: Eevee differs from Cycles and the reference (which agree to
-#:   1.6e-06) by up to 0.46 on 16% of the pixels (83.8% within 1/255), in rings around the
-#:   white 2000 W point light "Point light"; with that light alone 84.6%, with any other of
-#:   the four alone 100%; its animation, its node tree, soft falloff and the cube parented
-#:   to it are not the cause (each taken away: 83.8%).  Eevee's picture is above 1 on 1,399
-#:   pixels (max 2.60, metrics["eevee_above_1"]) where the model clamps the colour at 1.
 EXPECTED_ON = "5.3.0"
 EXPECTED_FAILURES: dict = {
     ("godot_player.blend", "Scene"): {"eevee"},
-    ("godot_mob.blend", "Scene"): {"cycles"},
-    ("tetra3d_lighting.blend", "Scene"): {"eevee"},
 }

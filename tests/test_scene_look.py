@@ -171,6 +171,27 @@ def test_apply_keeps_the_look_of_blenders_own_lights(bpy_clean, tmp_path):
     assert float((doubled - without)[lit].max()) > 0.05, "the key light's share is gone"
 
 
+def test_a_light_met_first_takes_blenders_diffuse_and_specular_factors(bpy_clean):
+    """An artist's light with Blender's Specular factor 0 (a real file does this for every
+    light) gives no Phong highlight, and one with Diffuse 0.5 half the diffuse light: Apply
+    reads both factors once, as it reads the Power.  A light that already has an i0 of its
+    own (the seeds' scenes, an imported file) keeps its own 1 and 1."""
+    bpy = bpy_clean
+    from phong_nodes.addon.lighting import properties  # noqa: PLC0415  (needs bpy)
+
+    artist = bpy.data.lights.new("artist", "POINT")
+    artist.diffuse_factor, artist.specular_factor = 0.5, 0.0
+    properties.ensure_light_props(artist)
+    assert (artist.phong.diffuse, artist.phong.specular) == (0.5, 0.0)
+    assert properties.settings_of(artist)["specular"] == 0.0
+    artist.specular_factor = 1.0  # read once, as the artist's look: the Phong setting stays
+    assert artist.phong.specular == 0.0
+    own = bpy.data.lights.new("own", "POINT")
+    own.diffuse_factor, own.specular_factor = 0.5, 0.0
+    properties.write_light(own, {"intensity": 2.0})
+    assert (own.phong.diffuse, own.phong.specular) == (1.0, 1.0)
+
+
 def test_an_area_light_is_a_lambertian_emitter_in_the_reference(bpy_clean):
     """The reference's description of an Area light (the comparison's ground truth): a 180°
     spot with edge exponent 1 and the i0 of its Power (P/π², Normalize on; per square metre

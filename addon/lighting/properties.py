@@ -275,16 +275,28 @@ class PhongSceneSettings(bpy.types.PropertyGroup):
                     "rebuilds the scene's lights groups; the materials keep their values)")
 
 
+#: The seeds' light settings that a light met for the first time takes from Blender's own
+#: factors of the light (an artist's Specular 0 light gives no highlight in Phong either).
+BLENDER_FACTORS = {"diffuse": "diffuse_factor", "specular": "specular_factor"}
+
+
 def ensure_light_props(light) -> None:
     """Write every missing Phong custom property of *light* (drivers need them to exist).  A
     light met for the first time takes its i0 from its Power (``from_power``); its Phong
-    Intensity starts at the i0 its Power gives, so that turning Power off keeps the look."""
+    Intensity starts at the i0 its Power gives, so that turning Power off keeps the look, and
+    its Phong Diffuse and Specular start at Blender's Diffuse and Specular factors of it
+    (``BLENDER_FACTORS``; a light with an i0 of its own, as the seeds' scenes and imported
+    files write, keeps 1 and 1)."""
     missing = False
     if FROM_POWER_KEY not in light.keys():
         power = from_power(light)
         light[FROM_POWER_KEY] = int(power)
         if power:
             light[LIGHT_KEYS["intensity"][0]] = power_intensity(light)
+            for attr, blender in BLENDER_FACTORS.items():
+                key = LIGHT_KEYS[attr][0]
+                if key not in light.keys():
+                    light[key] = float(getattr(light, blender, 1.0))
         missing = True
     for _attr, key, _label, default, vmin, soft_max, desc in LIGHT_SETTINGS:
         if key not in light.keys():
