@@ -2,8 +2,9 @@
 """Apply Phong Material converts every object that renders with materials, as an artist's
 file holds them: text, curves, meta balls, the objects of an instanced collection, an object
 whose mesh is linked from a library (its slots take the Phong material on the object; the
-library file is never written); an object linked from a library is named in the report, not
-skipped silently; Restore gives back exactly what was there."""
+library file is never written); a library's collection that an Empty instances and a library's
+object linked into the scene (through library overrides made here: the library file is never
+written); Restore gives back exactly what was there."""
 
 from __future__ import annotations
 
@@ -91,7 +92,7 @@ def test_apply_converts_every_object_that_renders(bpy_clean, tmp_path):
         data_to.meshes = ["Slab"]
     linked = bpy.data.objects.new("Linked props", None)
     linked.instance_type, linked.instance_collection = "COLLECTION", data_to.collections[0]
-    linked.location = (0.0, 30.0, 0.0)  # out of the picture
+    linked.location = (-1.5, 1.4, 0.0)
     scene.collection.objects.link(linked)
     floor = bpy.data.objects.new("Floor", data_to.meshes[0])  # local object, linked mesh
     floor.location = (0.0, 0.0, -3.0)
@@ -104,27 +105,48 @@ def test_apply_converts_every_object_that_renders(bpy_clean, tmp_path):
         assert all(name.startswith("Phong ") for name in names), f"{obj.name}: {names}"
     assert floor.material_slots[0].link == "OBJECT", "the library's mesh is left as it is"
     assert data_to.meshes[0].materials[0].name == "Stone"
-    crate = bpy.data.objects["Crate"]
-    assert crate.library is not None and crate.material_slots[0].material.name == "Wood"
+    library_crate = next(o for o in bpy.data.objects if o.name == "Crate" and o.library)
+    assert library_crate.material_slots[0].material.name == "Wood", "the library's is kept"
+    override = linked.instance_collection
+    assert override.library is None and override.override_library is not None, \
+        "the Empty instances a library override of the library's collection"
+    assert override.override_library.reference == data_to.collections[0]
+    assert override.name not in scene.collection.children, "the Empty alone shows it"
+    crate = override.objects[0]
+    assert crate.material_slots[0].material.name.startswith("Phong "), crate.name
 
     from phong_nodes.addon.lighting import convert  # noqa: PLC0415  (needs bpy)
 
-    report = convert.apply(scene, [linked])
-    assert [name for name, _why in report.skipped] == ["Crate"]
-    assert "library" in report.skipped[0][1]
+    scene.collection.objects.link(library_crate)  # a library's object linked in directly
+    report = convert.apply(scene, [library_crate])
+    assert report.skipped == [] and len(report.converted) == 1, report.text()
+    direct = next(o for o in scene.collection.objects if o.name.startswith("Crate"))
+    assert direct.override_library is not None and direct.library is None
+    assert direct.override_library.reference == library_crate
+    assert library_crate.name not in [o.name for o in scene.collection.objects
+                                      if o.library is not None], "the override took its place"
+    assert direct.material_slots[0].material.name.startswith("Phong ")
 
     path = str(tmp_path / "objects.exr")
     be.render_exr(scene, path)
     combined = be.read_multilayer_exr(path)["Combined"][..., :3]
     for name, colour in (("Title", (0.8, 0.1, 0.1)), ("Rail", (0.7, 0.6, 0.2)),
-                         ("Blob", (0.1, 0.7, 0.3)), ("Card", (0.2, 0.2, 0.9))):
+                         ("Blob", (0.1, 0.7, 0.3)), ("Card", (0.2, 0.2, 0.9)),
+                         ("Wood", (0.5, 0.3, 0.1))):
         found = np.abs(combined - np.array(colour)).max(axis=2) <= 1e-5
         assert found.sum() >= 3, f"{name}: its base colour is in the Phong picture"
 
     be.apply_phong(scene, selected)  # again: nothing new
+    assert linked.instance_collection == override, "one override, made once"
     for obj in scene.objects:
-        obj.select_set(obj in selected)
+        obj.select_set(obj in selected or obj == direct)
     assert bpy.ops.phong.restore_materials() == {"FINISHED"}
+    assert linked.instance_collection == data_to.collections[0], "the library's again"
+    assert "phong_instance_override" not in linked.keys()
+    assert [c.name for c in bpy.data.collections if c.override_library] == [], "dropped"
+    assert [o.name for o in bpy.data.objects if o.override_library] == [], "dropped"
+    assert library_crate.name in scene.collection.objects and \
+        scene.collection.objects[library_crate.name] == library_crate
     assert [s.material.name for s in title.material_slots] == ["Ink"]
     assert [s.material.name for s in box.material_slots] == ["Card"]
     assert floor.material_slots[0].link == "DATA" and floor.material_slots[0].material.name == \

@@ -8,14 +8,19 @@ an Empty instances are converted with it (the collection's own objects, once how
 it is instanced).  An object whose data comes from a library file keeps that data untouched:
 its slots take the Phong material on the object (a slot's Link set to Object, put back by
 Restore), so the library file is never written.  An object that is itself linked from a
-library cannot be changed in this file: it is named in the report with what to do, never
-skipped silently.
+library is converted through a library override of it (``override_linked``): an object
+linked into the scene's collections gets one in its place; a collection of a library that
+an Empty instances gets one of its hierarchy, which the Empty then instances.  Restore drops
+those overrides again (``drop_overrides``): the Empty instances the library's collection, the
+scene holds the linked object, exactly as before.  What cannot be overridden is named in the
+report with what to do, never skipped silently.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+import bpy
 import numpy as np
 
 from . import lights as lights_mod
@@ -32,6 +37,14 @@ NOT_SURFACES = {"VOLUME": "a volume (Phong shades surfaces)",
 #: is linked from a library): the indices of those slots, which Restore links to the data
 #: again.
 OBJECT_SLOTS_KEY = "phong_object_slots"
+#: Custom property of an Empty whose instanced collection, linked from a library, Apply
+#: replaced by a library override of it (Restore points the Empty back and drops the
+#: override).  Kept on the Empty, which is this file's own: a library override's own custom
+#: properties do not survive a reload.
+INSTANCE_OVERRIDE_KEY = "phong_instance_override"
+#: Custom property of a scene: {n: object}, the library overrides that Apply made of the
+#: objects linked into that scene, which Restore drops (linking the library's object back).
+OBJECT_OVERRIDES_KEY = "phong_object_overrides"
 
 
 @dataclass
@@ -69,8 +82,9 @@ def why_not(obj) -> str | None:
     if obj.type not in KINDS or not hasattr(obj.data, "materials"):
         return None  # no materials to convert (an Empty, a light, an armature ...)
     if obj.library is not None:
-        return (f"linked from the library '{obj.library.filepath}': make it local or a "
-                "library override (Object ▸ Library Override) to convert it")
+        return (f"linked from the library '{obj.library.filepath}', and Blender made no "
+                "library override of it here: make it local (Object ▸ Relations ▸ Make "
+                "Local) to convert it")
     return None
 
 
@@ -144,6 +158,7 @@ def apply(scene, objects=None, view_layer=None) -> Report:
     report = Report()
     if objects is None:
         objects = rendered_objects(scene, view_layer)
+    objects = override_linked(scene, objects, view_layer)
     targets, report.skipped = expand(objects)
     done = {}
     if not targets:
@@ -213,6 +228,112 @@ def _box_corners(scene) -> np.ndarray:
     return np.concatenate(parts) if parts else np.zeros((0, 3))
 
 
+# -- library overrides ---------------------------------------------------------------------
+
+def _has_surfaces(collection) -> bool:
+    return any(o.type in KINDS for o in collection.all_objects)
+
+
+def override_linked(scene, objects, view_layer=None) -> list:
+    """*objects* with what is linked from a library made convertible in this file: an object
+    linked into the scene replaced by a library override of it (registered in the scene's
+    ``OBJECT_OVERRIDES_KEY``), and each Empty of *objects* that instances a library's
+    collection made to instance a library override of that collection's hierarchy (one per
+    collection, ``INSTANCE_OVERRIDE_KEY`` on the Empty).  The library files are not written.
+    What Blender cannot override stays as it is (``why_not`` names it)."""
+    view_layer = view_layer or next((v for v in scene.view_layers if v.use),
+                                    scene.view_layers[0])
+    out, by_collection = [], {}
+    for obj in objects:
+        collection = obj.instance_collection if obj.instance_type == "COLLECTION" else None
+        if (obj.library is None and collection is not None and collection.library is not None
+                and _has_surfaces(collection)):
+            by_collection.setdefault(collection.as_pointer(), (collection, []))[1].append(obj)
+        if (obj.library is not None and obj.type in KINDS
+                and any(c.library is None for c in obj.users_collection)):
+            override = _override_object(scene, obj)
+            out.append(override if override is not None else obj)
+        else:
+            out.append(obj)
+    for collection, empties in by_collection.values():
+        _override_instanced(scene, view_layer, collection, empties)
+    return out
+
+
+def _override_object(scene, obj):
+    """A library override of the linked *obj* in its place in this file's collections (None
+    where Blender makes none)."""
+    try:
+        override = obj.override_create(remap_local_usages=True)
+    except (RuntimeError, TypeError):
+        override = None
+    if override is None:
+        return None
+    registered = scene.get(OBJECT_OVERRIDES_KEY)
+    if registered is None:
+        scene[OBJECT_OVERRIDES_KEY] = {}
+        registered = scene[OBJECT_OVERRIDES_KEY]
+    registered[str(max((int(k) for k in registered.keys()), default=-1) + 1)] = override
+    return override
+
+
+def _override_instanced(scene, view_layer, collection, empties) -> None:
+    """The Empties *empties* made to instance a library override of the library's
+    *collection* (its whole hierarchy), which no collection of the scene holds."""
+    try:
+        override = collection.override_hierarchy_create(scene, view_layer, reference=empties[0])
+    except (RuntimeError, TypeError):
+        override = None
+    if override is None:
+        return
+    for parent in [scene.collection, *scene.collection.children_recursive]:
+        if parent.library is None and override.name in parent.children \
+                and parent.children[override.name] == override:
+            parent.children.unlink(override)
+    for empty in empties:
+        empty.instance_collection = override
+        empty[INSTANCE_OVERRIDE_KEY] = 1
+
+
+def drop_overrides(scene, objects) -> int:
+    """Restore's side of ``override_linked`` for *objects* (Empties and overridden objects
+    among them): each Empty instances the library's collection again, each object override
+    gives its place back to the library's object; an override nothing uses any more is
+    removed.  Returns how many were dropped."""
+    dropped = 0
+    registered = scene.get(OBJECT_OVERRIDES_KEY) or {}
+    made = {value.as_pointer(): key for key, value in registered.items() if value is not None}
+    for obj in objects:
+        collection = obj.instance_collection if obj.instance_type == "COLLECTION" else None
+        if obj.get(INSTANCE_OVERRIDE_KEY) and collection is not None \
+                and collection.override_library is not None:
+            obj.instance_collection = collection.override_library.reference
+            del obj[INSTANCE_OVERRIDE_KEY]
+            if collection.users == 0:
+                _remove_hierarchy(collection)
+            dropped += 1
+        elif obj.as_pointer() in made and obj.override_library is not None:
+            del registered[made.pop(obj.as_pointer())]
+            obj.user_remap(obj.override_library.reference)
+            bpy.data.objects.remove(obj)
+            dropped += 1
+    return dropped
+
+
+def _remove_hierarchy(collection) -> None:
+    """Remove the library override *collection*, its child collections and the objects that
+    only they hold."""
+    collections = [collection, *collection.children_recursive]
+    inside = {c.as_pointer() for c in collections}
+    for obj in list(collection.all_objects):
+        if obj.override_library is not None and all(
+                c.as_pointer() in inside for c in obj.users_collection):
+            bpy.data.objects.remove(obj)
+    for child in collections[::-1]:
+        if child.override_library is not None:
+            bpy.data.collections.remove(child)
+
+
 def restore(obj, names=None) -> int:
     """Restore Original Materials on *obj*: the source materials back in its slots, and the
     slots Apply linked to the object linked to the data again; returns how many slots."""
@@ -222,5 +343,5 @@ def restore(obj, names=None) -> int:
     return changed
 
 
-__all__ = ["KINDS", "Report", "apply", "expand", "notes", "rendered_objects", "restore",
-           "why_not"]
+__all__ = ["KINDS", "Report", "apply", "drop_overrides", "expand", "notes",
+           "override_linked", "rendered_objects", "restore", "why_not"]

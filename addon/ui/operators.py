@@ -123,11 +123,14 @@ def _selected_meshes(op, context, action):
     return meshes
 
 
-def _selected_objects(op, context, action):
+def _selected_objects(op, context, action, override=False):
     """The selected objects that take Phong materials (with the objects of the collections
     their Empties instance), or None after an error report; those that cannot are named in
-    a warning."""
+    a warning.  *override*: what is linked from a library first made convertible through
+    library overrides (``convert.override_linked``: Apply)."""
     selected = list(context.selected_objects or [])
+    if override:
+        selected = convert.override_linked(context.scene, selected, context.view_layer)
     objects, skipped = convert.expand(selected)
     if not objects:
         what = (f"no object with materials among the selected objects "
@@ -162,7 +165,7 @@ that shared a material share its Phong version; the originals are kept)"""
                     "lights are shared)")
 
     def execute(self, context):
-        objects = _selected_objects(self, context, "Apply Phong Material")
+        objects = _selected_objects(self, context, "Apply Phong Material", override=True)
         if objects is None:
             return {"CANCELLED"}
         if self.model != "SCENE":
@@ -211,6 +214,7 @@ in the file until unused)"""
         names = {m.name: m for m in bpy.data.materials}  # one look-up table for all slots
         slots = sum(convert.restore(obj, names) for obj in objects)
         scene = context.scene
+        slots += convert.drop_overrides(scene, list(context.selected_objects or []))
         if not any(materials.is_phong_material(slot.material) for obj in scene.objects
                    for slot in getattr(obj, "material_slots", ())):
             shadows.give_back_raycast(scene)  # no Phong shadows left: Ray Cast as it was
