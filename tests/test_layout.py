@@ -170,8 +170,8 @@ def test_addon_rooms_import_only_the_rooms_below_them():
 #: modules before it in its list (never one after it, nor the package's ``__init__``, which
 #: imports them all and re-exports what callers use).  Every module of the folder is listed.
 CORE_PACKAGES = {
-    "x3d": ("numeric", "model", "graph", "parse_classic", "parse_xml", "fields", "files",
-            "geometry", "build", "flatten", "document", "phong", "write"),
+    "x3d": ("numeric", "model", "context", "graph", "parse_classic", "parse_xml", "fields",
+            "files", "protos", "geometry", "build", "flatten", "document", "phong", "write"),
     "collada": ("model", "read", "write"),
 }
 #: The most lines a module of ``core/`` may have (issue 44: one job a file).
@@ -209,6 +209,85 @@ def test_core_packages_import_only_the_modules_below_them():
                 if name not in order[:index]:
                     bad.append(f"core/{package}/{module}.py imports {name}")
     assert not bad, bad
+
+
+def _class_methods(tree) -> set:
+    """The names of the methods that the classes of a module define."""
+    return {item.name for node in ast.walk(tree) if isinstance(node, ast.ClassDef)
+            for item in node.body if isinstance(item, (ast.FunctionDef, ast.AsyncFunctionDef))}
+
+
+def _hidden_dependencies(sources: dict) -> list:
+    """Where the modules of one package (*sources*: name → text, in the package's order)
+    depend on a sibling without importing it, so that the order check above cannot see it:
+    a class built on a class of a sibling module (the parts of a reader as mixins sharing
+    ``self``), a call ``self.f(...)`` of a method that no class of the module defines (it
+    lives in another module, reached through ``self``), and a call ``self.x.f(...)`` of a
+    method that only modules later in the order define (an upward call through an object
+    kept on ``self``, such as a reader handed to its parser)."""
+    trees = {name: ast.parse(text, name) for name, text in sources.items()}
+    methods = {name: _class_methods(tree) for name, tree in trees.items()}
+    order = list(trees)
+    found = []
+    for index, (name, tree) in enumerate(trees.items()):
+        siblings = {alias.asname or alias.name for node in ast.walk(tree)
+                    if isinstance(node, ast.ImportFrom) and node.level == 1
+                    for alias in node.names}
+        earlier = set().union(*(methods[m] for m in order[:index + 1]))
+        later = set().union(*(methods[m] for m in order[index + 1:]))
+        for node in ast.walk(tree):
+            if isinstance(node, ast.ClassDef):
+                found += [f"{name}: class {node.name} is built on {base.id}" for base in
+                          node.bases if isinstance(base, ast.Name) and base.id in siblings]
+            elif isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute):
+                attr, owner = node.func.attr, node.func.value
+                if isinstance(owner, ast.Name) and owner.id == "self":
+                    if attr not in methods[name]:
+                        found.append(f"{name}:{node.lineno}: self.{attr}() is defined in no "
+                                     "class of this module")
+                elif (isinstance(owner, ast.Attribute) and isinstance(owner.value, ast.Name)
+                      and owner.value.id == "self" and attr in later and attr not in earlier):
+                    found.append(f"{name}:{node.lineno}: {ast.unparse(node.func)}() is a "
+                                 "method of a later module")
+    return found
+
+
+def test_the_hidden_dependency_check_finds_what_it_should():
+    sources = {
+        "low": "class Part:\n    def read(self):\n        return self.build(1)\n\n"
+               "class Parser:\n    def __init__(self, reader):\n        self.reader = reader\n\n"
+               "    def header(self):\n        return self.reader.unit(2)\n",
+        "high": "from .low import Part\n\nclass Reader(Part):\n    def build(self, x):\n"
+                "        return x\n\n    def unit(self, x):\n        return self.build(x)\n",
+    }
+    found = _hidden_dependencies(sources)
+    assert len(found) == 3, found
+    assert any("self.build()" in f for f in found)
+    assert any("self.reader.unit()" in f for f in found)
+    assert any("class Reader is built on Part" in f for f in found)
+    plain = {
+        "low": "class Notes:\n    def add(self, x):\n        self.last = x\n\n"
+               "def parse(ctx, text):\n    ctx.notes.add(text)\n    return text.split()\n\n"
+               "class Parser:\n    def __init__(self, ctx):\n        self.ctx = ctx\n\n"
+               "    def header(self):\n        self.ctx.notes.add(1)\n        return self.header\n",
+        "high": "from .low import parse\n\ndef build(ctx, text):\n    return parse(ctx, text)\n",
+    }
+    assert _hidden_dependencies(plain) == []
+
+
+def test_core_readers_hide_no_dependency():
+    """The readers of ``core/`` hand one explicit reading context to plain functions: no
+    mixins sharing ``self``, no call through ``self`` or through a handed-down reader into a
+    module later in the order, so the order check above sees every dependency."""
+    found = []
+    for package, order in CORE_PACKAGES.items():
+        folder = os.path.join(ROOT, "core", package)
+        sources = {}
+        for module in order:
+            with open(os.path.join(folder, module + ".py"), encoding="utf-8") as handle:
+                sources[module] = handle.read()
+        found += [f"core/{package}/{line}" for line in _hidden_dependencies(sources)]
+    assert not found, "dependencies the order check cannot see:\n" + "\n".join(found)
 
 
 def test_no_core_module_is_longer_than_its_limit():
