@@ -172,7 +172,8 @@ def test_addon_rooms_import_only_the_rooms_below_them():
 CORE_PACKAGES = {
     "x3d": ("numeric", "model", "context", "graph", "parse_classic", "parse_xml", "fields",
             "files", "protos", "geometry", "build", "flatten", "document", "phong", "write"),
-    "collada": ("model", "read", "write"),
+    "collada": ("model", "context", "numbers", "geometry", "effects", "lights_cameras", "nodes",
+                "read", "write"),
 }
 #: The most lines a module of ``core/`` may have (issue 44: one job a file).
 CORE_MODULE_LINES = 1200
