@@ -291,6 +291,95 @@ def test_core_readers_hide_no_dependency():
     assert not found, "dependencies the order check cannot see:\n" + "\n".join(found)
 
 
+def _import_graph(root) -> dict:
+    """{module: the modules of the package it imports}, by every relative import (also one
+    inside a function), for the package at *root*; modules by dotted path from *root*
+    (``addon.lighting.rig``; a package by its folder's path)."""
+    modules = {}
+    for folder, dirs, files in os.walk(root):
+        dirs[:] = [d for d in dirs if d != "__pycache__" and not d.startswith(".venv")]
+        for name in (f for f in files if f.endswith(".py")):
+            rel = os.path.relpath(os.path.join(folder, name), root)[:-3].split(os.sep)
+            if rel[0] in ("tests", "benchmarks", "tools"):
+                continue
+            modules[".".join(rel[:-1] if rel[-1] == "__init__" else rel)] = (
+                os.path.join(folder, name), rel[-1] == "__init__")
+    graph = {}
+    for module, (path, is_package) in modules.items():
+        package = module.split(".") if is_package else module.split(".")[:-1]
+        if module == "":
+            package = []
+        found = set()
+        for node in ast.walk(ast.parse(open(path, encoding="utf-8").read(), path)):
+            if isinstance(node, ast.ImportFrom) and node.level:
+                base = package[:len(package) - node.level + 1]
+                target = ".".join(base + ([node.module] if node.module else []))
+                for alias in node.names:
+                    full = f"{target}.{alias.name}" if target else alias.name
+                    found.add(full if full in modules else target)
+        graph[module] = {m for m in found if m in modules and m != module}
+    return graph
+
+
+def _import_circles(graph) -> list:
+    """The circles of *graph* (its strongly connected parts of more than one module)."""
+    index, low, stack, on_stack, circles = {}, {}, [], set(), []
+    for start in sorted(graph):
+        if start in index:
+            continue
+        work = [(start, iter(sorted(graph[start])))]
+        index[start] = low[start] = len(index)
+        stack.append(start)
+        on_stack.add(start)
+        while work:
+            node, children = work[-1]
+            child = next(children, None)
+            if child is not None:
+                if child not in index:
+                    index[child] = low[child] = len(index)
+                    stack.append(child)
+                    on_stack.add(child)
+                    work.append((child, iter(sorted(graph[child]))))
+                elif child in on_stack:
+                    low[node] = min(low[node], index[child])
+                continue
+            work.pop()
+            if work:
+                low[work[-1][0]] = min(low[work[-1][0]], low[node])
+            if low[node] == index[node]:
+                part = []
+                while True:
+                    member = stack.pop()
+                    on_stack.discard(member)
+                    part.append(member)
+                    if member == node:
+                        break
+                if len(part) > 1:
+                    circles.append(sorted(part))
+    return circles
+
+
+def test_the_circle_check_finds_what_it_should(tmp_path):
+    (tmp_path / "cli").mkdir()
+    (tmp_path / "cli" / "__init__.py").write_text("")
+    (tmp_path / "cli" / "runs.py").write_text("def f():\n    from .apply import g\n")
+    (tmp_path / "cli" / "apply.py").write_text("from .runs import f\nfrom ..core import x\n")
+    (tmp_path / "cli" / "bake.py").write_text("from .runs import f\n")
+    (tmp_path / "core").mkdir()
+    (tmp_path / "core" / "__init__.py").write_text("")
+    (tmp_path / "core" / "x.py").write_text("from . import y\n")
+    (tmp_path / "core" / "y.py").write_text("import os\n")
+    graph = _import_graph(str(tmp_path))
+    assert graph["cli.apply"] == {"cli.runs", "core.x"} and graph["core.x"] == {"core.y"}
+    assert _import_circles(graph) == [["cli.apply", "cli.runs"]]
+
+
+def test_no_import_circle():
+    """No module of the package imports, even inside a function, a module that imports it
+    back, directly or around a longer circle: every dependency goes one way."""
+    assert _import_circles(_import_graph(ROOT)) == []
+
+
 def test_no_core_module_is_longer_than_its_limit():
     long = []
     for folder, _dirs, files in os.walk(os.path.join(ROOT, "core")):
