@@ -370,7 +370,10 @@ def inline(ctx, n, depth, hint):
     return group
 
 
+# the end ------------------------------------------------------------------------------
+
 def finish(ctx, doc):
+    """The counts and notes of the reading *ctx* into the warnings of *doc*, a kind once."""
     if ctx.ignored:
         shown = ", ".join(f"{k} ×{v}" if v > 1 else k for k, v in sorted(ctx.ignored.items()))
         doc.warn("not imported (animation, interaction, scripts, sound, shaders, fog): "
