@@ -26,7 +26,7 @@ import tempfile
 
 from ..core import outputs
 from .inputs import BadInput, open_scene_file
-from .runs import Registered
+from .registered import Registered
 from .terminal import terminal
 
 

@@ -25,7 +25,7 @@ import time
 
 from ..core import outputs, report, scenes
 from .inputs import BadInput, open_scene_file, peer_problem
-from .runs import Registered
+from .registered import Registered
 from .terminal import check_interrupt, terminal
 
 

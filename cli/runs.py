@@ -35,7 +35,9 @@ import sys
 import time
 
 from ..core import compare, outputs, report, scenes
+from .apply import ApplyFailed, convert_scenes, report_lines
 from .inputs import FRAMED_KEY, BadInput, open_scene_file, peer_problem
+from .registered import Registered
 from .terminal import check_interrupt, terminal
 
 
@@ -70,34 +72,7 @@ def run(args, state) -> int:
         return _run(args, state, registered)
 
 
-class Registered:
-    """The extension registered (from the first ``ensure()``: importing bpy takes a second)
-    until the block ends, on every path: bpy 4.2 crashes at interpreter exit while classes
-    registered without an add-on (here: by hand) are still registered."""
-
-    def __init__(self):
-        self.done = False
-
-    def ensure(self) -> None:
-        if not self.done:
-            from .. import register  # noqa: PLC0415
-
-            register()
-            self.done = True
-
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *_exc):
-        if self.done:
-            from .. import unregister  # noqa: PLC0415
-
-            unregister()
-
-
 def _run(args, state, registered) -> int:
-    from .apply import ApplyFailed  # noqa: PLC0415  (apply imports this module)
-
     comparing = args.command == "compare"
     try:
         if comparing:
@@ -176,8 +151,6 @@ def _demo_jobs(mine, args) -> list:
 def _file_jobs(args):
     """``_scene_jobs`` of args.file; whatever else a file Blender opens makes go wrong while
     its scenes are chosen (exit 2) is one line, never a traceback."""
-    from .apply import ApplyFailed  # noqa: PLC0415  (apply imports this module)
-
     try:
         return _scene_jobs(args)
     except (BadInput, ApplyFailed, scenes.SceneError):
@@ -201,8 +174,6 @@ def _scene_jobs(args):
     names, named = open_scene_file(args.file, args.scenes)
     applied = {}
     if getattr(args, "apply", False):
-        from .apply import convert_scenes, report_lines  # noqa: PLC0415
-
         # every scene, in every shard alike (so that each names the same folders)
         for name, report in convert_scenes(named or names, args.file):
             print(report_lines(name, report))

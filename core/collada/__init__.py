@@ -26,16 +26,23 @@ image or a file; anything that cannot be read is left out with one warning namin
 (:class:`ColladaError`).
 
 The package, each module importing only those before it (``tests/test_layout.py``):
-``model`` (the document as plain data, its units and axes, image URIs), ``read`` (:func:`load`,
-:func:`parse_bytes`), ``write`` (:func:`dumps`); the XML hardening is ``core/xmlsafe.py``,
-shared with X3D.  Every name callers use is imported here: ``collada.load(path)``.
+``model`` (the document as plain data, its units and axes, image URIs), ``context`` (one
+reading's context: the document, the elements by id, the decimal commas met; every function
+of the reading is handed it, so each module's dependencies are its imports), ``numbers``
+(numbers of an element's text), ``geometry`` (meshes), ``effects`` (materials and their
+effects), ``lights_cameras`` (lights and cameras), ``nodes`` (the scene graph and its
+transforms), ``read`` (:func:`load`, :func:`parse_bytes`), ``write`` (:func:`dumps`); the XML
+hardening is ``core/xmlsafe.py``, shared with X3D.  Every name callers use is imported here:
+``collada.load(path)``.
 """
 
 from .model import (
     LIGHT_KINDS, MAX_BYTES, MAX_INDICES, NS14, NS15, OPAQUE_MODES, PROFILE, TECHNIQUE_COLORS,
     TECHNIQUES, UP_AXES, Camera, ColladaError, Document, Instance, Light, Material, Mesh, Node,
     Texture, attenuation, drop_degenerate, to_blender, _uri_path, uri_quote)
-from .read import BULK, TRANSFORMS, load, lookat, parse_bytes, rotation, skew, transform
+from .numbers import BULK
+from .nodes import TRANSFORMS, lookat, rotation, skew, transform
+from .read import load, parse_bytes
 from .write import dumps, fmt, ncname
 
 __all__ = [

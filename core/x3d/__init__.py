@@ -26,13 +26,18 @@ The package, one job a module, each importing only the modules before it in this
   their decomposition.
 * ``model`` — the data model (Transform, Shape, Mesh, Material, Light, Viewpoint, the
   flattened instances), the nesting limit, :class:`X3DError`, the warnings collected.
-* ``graph`` — the generic node graph both encodings parse into, the table of node types, and
-  PROTO expansion.
+* ``context`` — one reading's context (its option, notes, memo and caches, budgets), the one
+  object that every function of the reading below is handed: no reader object whose parts
+  share ``self``, so each module's dependencies are its imports.
+* ``graph`` — the generic node graph both encodings parse into, the table of node types, UNIT
+  statements.
 * ``parse_classic`` — ClassicVRML (VRML97 and X3D classic) into the graph.
 * ``parse_xml`` — X3D's XML encoding into the graph (entities refused: ``core/xmlsafe.py``,
   shared with COLLADA).
-* ``fields`` — typed field access (numbers, vectors, angles, booleans, strings, nodes).
+* ``fields`` — typed field access (numbers, vectors, angles, booleans, strings, nodes, a
+  node's canonical type).
 * ``files`` — reading a file (gzip, size limit), resolving URLs, sniffing the encoding.
+* ``protos`` — PROTO and EXTERNPROTO expansion; a field's node looked up (USE, PROTO).
 * ``geometry`` — tessellation, Extrusion, Text, and every geometry node into a Mesh.
 * ``build`` — the reader: DEF/USE dispatch, the scene-graph nodes, the warnings.
 * ``flatten`` — the shared graph into shape and light instances with world matrices.
@@ -79,8 +84,9 @@ from .model import (
     ENCODINGS, LIGHT_KINDS, MAX_DEPTH, NAME_PREFIX, SPOT_DEFAULTS, Y_UP_TO_Z_UP, Appearance,
     Light, LightInstance, Material, Mesh, Shape, ShapeInstance, Texture, TextureTransform,
     Transform, Viewpoint, X3DError)
-from .graph import _PRIMITIVES, MAX_NODES, MAX_PROTO_DEPTH
+from .graph import _PRIMITIVES
 from .files import MAX_BYTES, MAX_INLINE_DEPTH, resolve_local
+from .protos import MAX_NODES, MAX_PROTO_DEPTH
 from .geometry import (
     MAX_CAP_TRIANGULATION, MAX_EXTRUSION_POINTS, SEGMENTS, crease_normals, extrude,
     extrusion_frames, triangulate_polygon)

@@ -22,8 +22,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .model import NAME_PREFIX, _Notes, Transform, Viewpoint, _eye
-from .files import _read_file
-from .build import _Reader
+from .context import _Reading
+from .files import _read_file, parse, resolve_local
+from .build import build, finish
 from .flatten import _flatten
 
 
@@ -87,16 +88,16 @@ def loads(data, path: str = "<string>", resolver=None) -> Document:
     base of relative URLs; *resolver* (url, base folder) → local path or None resolves
     Inline, EXTERNPROTO and texture URLs (default :func:`resolve_local`).  Raises
     X3DError for what is not VRML97 / X3D at all; everything else is a warning."""
-    reader = _Reader(resolver)
-    src = reader.parse(data, path, 0)
-    reader.main = src
+    ctx = _Reading(resolver or resolve_local)
+    src = parse(ctx, data, path, 0)
+    ctx.main = src
     x3d = src.encoding != "vrml97"
     doc = Document(path=path, encoding=src.encoding, version=src.version, profile=src.profile,
                    meter=src.meter, unit_name=src.unit_name, meta=dict(src.meta),
                    navigation_types=["EXAMINE", "ANY"] if x3d else ["WALK", "ANY"])
-    reader.doc = doc
+    ctx.doc = doc
     for node in src.nodes:
-        child = reader.build(node, 1, "", "child")
+        child = build(ctx, node, 1, "", "child")
         if child is not None:
             doc.root.children.append(child)
     exact = {}
@@ -109,11 +110,11 @@ def loads(data, path: str = "<string>", resolver=None) -> Document:
             kept.append(line)
     if exact:
         doc.info = kept
-        for _node, obj in reader.memo.values():
+        for _node, obj in ctx.memo.values():
             if obj is not None and getattr(obj, "name", None) in exact:
                 obj.name = exact[obj.name]
-    _flatten(doc, reader.notes)
-    reader.finish(doc)
+    _flatten(doc, ctx.notes)
+    finish(ctx, doc)
     return doc
 
 

@@ -1,22 +1,20 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Files: reading one (at most :data:`MAX_BYTES`, gzip found by its magic bytes), resolving
-the URLs that name others (:func:`resolve_local`), and the reader's part that sniffs a
-file's encoding and hands it to its parser (:class:`_Files`: headers, UNIT, Inline and
-EXTERNPROTO files nested at most :data:`MAX_INLINE_DEPTH` deep).
+the URLs that name others (:func:`resolve_local`), and a file's encoding sniffed and its
+text handed to its parser (:func:`parse`: headers, UNIT; :func:`parse_file`: Inline and
+EXTERNPROTO files, parsed once a reading, nested at most :data:`MAX_INLINE_DEPTH` deep).
 """
 
 from __future__ import annotations
 
-import math
 import os
 import re
 import zlib
 
 from .. import xmlsafe
 from ..xmlsafe import local as _local, unquote as _unquote
-from .numeric import _word_number
 from .model import X3DError
-from .graph import _Source
+from .graph import _Source, unit
 from .parse_classic import _Classic, _strip_comments
 from .parse_xml import _Xml, _xml_root
 
@@ -105,108 +103,97 @@ def resolve_local(url: str, base: str) -> str | None:
     return os.path.normpath(path)
 
 
-class _Files:
-    """The reader's files: sniffing, parsing, units (a mixin of ``build._Reader``)."""
+# files of a reading ----------------------------------------------------------------
 
-    # files ------------------------------------------------------------------------------
-    def unit(self, src, category, name, factor):
-        value = _word_number(factor) if isinstance(factor, str) else float(factor)
-        if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
-            self.notes.add("UNIT statements that could not be read", f"{category} {factor}")
-            return
-        category = category.lower()
-        if category == "length":
-            src.meter, src.unit_name = float(value), name
-        elif category == "angle":
-            src.angle = float(value)
+def parse(ctx, data, path, depth=0):
+    """A file's bytes (gzip or not) into a _Source: its top-level nodes and PROTOs."""
+    if isinstance(data, str):
+        data = data.encode("utf-8")
+    if len(data) > MAX_BYTES:
+        raise X3DError(path, f"{len(data)} bytes: larger than {MAX_BYTES} bytes; refused")
+    data = _gunzip(data, path, ctx.notes)
+    head = data[:256].lstrip(b"\xef\xbb\xbf \t\r\n")
+    if head.startswith(b"<"):
+        return parse_xml(ctx, data, path, depth)
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError:
+        text = data.decode("latin-1")
+        ctx.notes.add("files that are not UTF-8, read as Latin-1", os.path.basename(path))
+    text = text.lstrip("\ufeff \t\r\n")
+    first = text.split("\n", 1)[0]
+    match = _HEADER.match(first)
+    header = True
+    if match is None:
+        header = False
+        lower = path.lower()
+        classic = lower.endswith((".x3dv", ".x3dvz", ".x3dv.gz"))
+        encoding, version = ("x3d-classic", "3.0") if classic else ("vrml97", "2.0")
+    else:
+        kind, version = match.group(1).upper(), match.group(2)
+        if kind == "VRML" and not version.startswith("2"):
+            raise X3DError(path, f"a VRML {version} file: VRML 1.0 is not read (only VRML97 "
+                                 "'#VRML V2.0 utf8' and X3D)")
+        encoding = "vrml97" if kind == "VRML" else "x3d-classic"
+        text = text[len(first):]
+    src = _Source(path, encoding, version, depth)
+    parser = _Classic(_strip_comments(text), src, ctx)
+    parser.statements(src.nodes, 1)
+    if parser.truncated:
+        ctx.notes.add("files that end inside a node, a list or a string (truncated?): "
+                      "what came before is read", os.path.basename(path))
+    if not header:
+        if not src.nodes and not src.scope.protos:
+            raise X3DError(path, "not a VRML97 or X3D file (no '#VRML V2.0 utf8' or "
+                                 "'#X3D' header, and no node)")
+        ctx.notes.add("files without a '#VRML V2.0 utf8' header, read as " + encoding,
+                      os.path.basename(path))
+    return src
 
-    def parse(self, data, path, depth=0):
-        """A file's bytes (gzip or not) into a _Source: its top-level nodes and PROTOs."""
-        if isinstance(data, str):
-            data = data.encode("utf-8")
-        if len(data) > MAX_BYTES:
-            raise X3DError(path, f"{len(data)} bytes: larger than {MAX_BYTES} bytes; refused")
-        data = _gunzip(data, path, self.notes)
-        head = data[:256].lstrip(b"\xef\xbb\xbf \t\r\n")
-        if head.startswith(b"<"):
-            return self.parse_xml(data, path, depth)
-        try:
-            text = data.decode("utf-8")
-        except UnicodeDecodeError:
-            text = data.decode("latin-1")
-            self.notes.add("files that are not UTF-8, read as Latin-1", os.path.basename(path))
-        text = text.lstrip("\ufeff \t\r\n")
-        first = text.split("\n", 1)[0]
-        match = _HEADER.match(first)
-        header = True
-        if match is None:
-            header = False
-            lower = path.lower()
-            classic = lower.endswith((".x3dv", ".x3dvz", ".x3dv.gz"))
-            encoding, version = ("x3d-classic", "3.0") if classic else ("vrml97", "2.0")
-        else:
-            kind, version = match.group(1).upper(), match.group(2)
-            if kind == "VRML" and not version.startswith("2"):
-                raise X3DError(path, f"a VRML {version} file: VRML 1.0 is not read (only VRML97 "
-                                     "'#VRML V2.0 utf8' and X3D)")
-            encoding = "vrml97" if kind == "VRML" else "x3d-classic"
-            text = text[len(first):]
-        src = _Source(path, encoding, version, depth)
-        parser = _Classic(_strip_comments(text), src, self.notes, self)
-        parser.statements(src.nodes, 1)
-        if parser.truncated:
-            self.notes.add("files that end inside a node, a list or a string (truncated?): "
-                           "what came before is read", os.path.basename(path))
-        if not header:
-            if not src.nodes and not src.scope.protos:
-                raise X3DError(path, "not a VRML97 or X3D file (no '#VRML V2.0 utf8' or "
-                                     "'#X3D' header, and no node)")
-            self.notes.add("files without a '#VRML V2.0 utf8' header, read as " + encoding,
-                           os.path.basename(path))
-        return src
 
-    def parse_xml(self, data, path, depth):
-        xmlsafe.refuse_entities(data, path, X3DError)
-        root = _xml_root(data, path, self.notes)
-        tag = _local(root.tag)
-        if tag.lower() != "x3d":
-            raise X3DError(path, f"not an X3D file (its root element is <{tag}>)")
-        src = _Source(path, "x3d-xml", root.get("version", "3.0"), depth)
-        src.profile = root.get("profile", "")
-        scene = None
-        for child in root:
-            ctag = _local(child.tag).lower()
-            if ctag == "head":
-                for item in child:
-                    itag = _local(item.tag).lower()
-                    if itag == "meta" and item.get("name") is not None:
-                        src.meta[item.get("name")] = item.get("content", "")
-                    elif itag == "unit":
-                        self.unit(src, item.get("category", ""), item.get("name", ""),
-                                  item.get("conversionFactor", ""))
-            elif ctag == "scene" and scene is None:
-                scene = child
-        if scene is None:
-            self.notes.add("X3D files without a <Scene>", os.path.basename(path))
-        else:
-            _Xml(src, self.notes, self).statements(scene, src.nodes, 1, src.scope)
-        return src
+def parse_xml(ctx, data, path, depth):
+    xmlsafe.refuse_entities(data, path, X3DError)
+    root = _xml_root(data, path, ctx.notes)
+    tag = _local(root.tag)
+    if tag.lower() != "x3d":
+        raise X3DError(path, f"not an X3D file (its root element is <{tag}>)")
+    src = _Source(path, "x3d-xml", root.get("version", "3.0"), depth)
+    src.profile = root.get("profile", "")
+    scene = None
+    for child in root:
+        ctag = _local(child.tag).lower()
+        if ctag == "head":
+            for item in child:
+                itag = _local(item.tag).lower()
+                if itag == "meta" and item.get("name") is not None:
+                    src.meta[item.get("name")] = item.get("content", "")
+                elif itag == "unit":
+                    unit(ctx.notes, src, item.get("category", ""), item.get("name", ""),
+                         item.get("conversionFactor", ""))
+        elif ctag == "scene" and scene is None:
+            scene = child
+    if scene is None:
+        ctx.notes.add("X3D files without a <Scene>", os.path.basename(path))
+    else:
+        _Xml(src, ctx).statements(scene, src.nodes, 1, src.scope)
+    return src
 
-    def parse_file(self, path, depth):
-        """An Inline or EXTERNPROTO file (parsed once, cached by real path); None (with a
-        warning) when it cannot be read."""
-        real = os.path.realpath(path)
-        if real in self.files:
-            return self.files[real]
-        self.files[real] = None
-        if depth > MAX_INLINE_DEPTH:
-            self.notes.add(f"Inline / EXTERNPROTO files nested deeper than {MAX_INLINE_DEPTH} "
-                           "left out", os.path.basename(path))
-            return None
-        try:
-            src = self.parse(_read_file(real), real, depth)
-        except X3DError as error:
-            self.notes.add("Inline / EXTERNPROTO files that could not be read", str(error))
-            return None
-        self.files[real] = src
-        return src
+
+def parse_file(ctx, path, depth):
+    """An Inline or EXTERNPROTO file (parsed once, cached by real path); None (with a
+    warning) when it cannot be read."""
+    real = os.path.realpath(path)
+    if real in ctx.files:
+        return ctx.files[real]
+    ctx.files[real] = None
+    if depth > MAX_INLINE_DEPTH:
+        ctx.notes.add(f"Inline / EXTERNPROTO files nested deeper than {MAX_INLINE_DEPTH} "
+                      "left out", os.path.basename(path))
+        return None
+    try:
+        src = parse(ctx, _read_file(real), real, depth)
+    except X3DError as error:
+        ctx.notes.add("Inline / EXTERNPROTO files that could not be read", str(error))
+        return None
+    ctx.files[real] = src
+    return src

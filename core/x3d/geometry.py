@@ -1,8 +1,10 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Geometry: the tessellation of the primitives (:data:`SEGMENTS` around), the Extrusion of
 the standards (:func:`extrude`, :func:`triangulate_polygon`, :func:`crease_normals`), and
-the reader's geometry nodes (:class:`_Geometry`: face sets, triangle sets, ElevationGrid,
-line and point sets, primitives, Extrusion and Text) into :class:`~.model.Mesh`.
+the geometry nodes (:func:`geometry_node`: face sets, triangle sets, ElevationGrid, line and
+point sets, primitives, Extrusion and Text) into :class:`~.model.Mesh`, each function handed
+the reading context (:class:`~.context._Reading`: its notes, its caches of arrays and
+tessellations).
 """
 
 from __future__ import annotations
@@ -14,6 +16,10 @@ import numpy as np
 from .numeric import _rotation3
 from .model import Mesh
 from .graph import _N, _PRIMITIVES
+from .fields import (
+    angle, flag, ints, node_value, node_values, num, numbers, string, strings, type_of, vec,
+    where)
+from .protos import lookup
 
 
 #: Segments around a tessellated Sphere, Cylinder or Cone (a Sphere has half as many rings).
@@ -526,389 +532,402 @@ def extrude(spine, cross_section, scales=((1.0, 1.0),), orientations=((0.0, 0.0,
             "corners": ids[keep], "uvs": uvs[keep], "warnings": warnings}
 
 
-class _Geometry:
-    """The reader's geometry nodes (a mixin of ``build._Reader``)."""
+# the geometry nodes -------------------------------------------------------------------
 
-    # geometry -----------------------------------------------------------------------------
-    def data_node(self, n, name, types):
-        found = self.lookup(self.node_value(n, name))
-        if found is None:
-            return None
-        t = self.type_of(found)
-        if t not in types:
-            self.notes.add("nodes where the standard allows none of their type: left out",
-                           f"{t or found.type} as {name}")
-            return None
-        return found
+def data_node(ctx, n, name, types):
+    found = lookup(ctx, node_value(ctx, n, name))
+    if found is None:
+        return None
+    t = type_of(ctx, found)
+    if t not in types:
+        ctx.notes.add("nodes where the standard allows none of their type: left out",
+                      f"{t or found.type} as {name}")
+        return None
+    return found
 
-    def array(self, n, name, types, field_name, width):
-        """The (k, width) values of a data node (Coordinate, Color, Normal ...), cached per
-        node so that a USE'd Coordinate is read once."""
-        node = self.data_node(n, name, types)
-        if node is None:
-            return None, None
-        key = (id(node), field_name)
-        if key in self.arrays:
-            return self.arrays[key][1], node
-        t = self.type_of(node)
-        if t == "ColorRGBA":
-            width = 4
-        values = self.numbers(node, field_name)
-        if values is None:
-            values = np.zeros(0)
-        if len(values) % width:
-            self.notes.add("lists whose length is not a multiple of their tuple size: the "
-                           "rest left out", self.where(node, field_name))
-            values = values[:len(values) - len(values) % width]
-        values = values.reshape(-1, width)
-        if t == "Color":
-            values = np.concatenate([values, np.ones((len(values), 1))], axis=1)
-        self.arrays[key] = (node, values)
-        return values, node
 
-    def coords(self, n):
-        points, node = self.array(n, "coord", ("Coordinate", "CoordinateDouble"), "point", 3)
-        if points is None:
-            found = self.lookup(self.node_value(n, "coord"))
-            if found is not None and self.type_of(found) == "GeoCoordinate":
-                self.notes.add("GeoCoordinate not read", found.name or None)
-            return np.zeros((0, 3))
-        return points
+def array(ctx, n, name, types, field_name, width):
+    """The (k, width) values of a data node (Coordinate, Color, Normal ...), cached per
+    node so that a USE'd Coordinate is read once."""
+    node = data_node(ctx, n, name, types)
+    if node is None:
+        return None, None
+    key = (id(node), field_name)
+    if key in ctx.arrays:
+        return ctx.arrays[key][1], node
+    t = type_of(ctx, node)
+    if t == "ColorRGBA":
+        width = 4
+    values = numbers(ctx, node, field_name)
+    if values is None:
+        values = np.zeros(0)
+    if len(values) % width:
+        ctx.notes.add("lists whose length is not a multiple of their tuple size: the "
+                      "rest left out", where(node, field_name))
+        values = values[:len(values) - len(values) % width]
+    values = values.reshape(-1, width)
+    if t == "Color":
+        values = np.concatenate([values, np.ones((len(values), 1))], axis=1)
+    ctx.arrays[key] = (node, values)
+    return values, node
 
-    def colors(self, n):
-        return self.array(n, "color", ("Color", "ColorRGBA"), "color", 3)[0]
 
-    def normals(self, n):
-        return self.array(n, "normal", ("Normal",), "vector", 3)[0]
+def coords_of(ctx, n):
+    points, node = array(ctx, n, "coord", ("Coordinate", "CoordinateDouble"), "point", 3)
+    if points is None:
+        found = lookup(ctx, node_value(ctx, n, "coord"))
+        if found is not None and type_of(ctx, found) == "GeoCoordinate":
+            ctx.notes.add("GeoCoordinate not read", found.name or None)
+        return np.zeros((0, 3))
+    return points
 
-    def texcoords(self, n):
-        found = self.lookup(self.node_value(n, "texCoord"))
-        if found is not None and self.type_of(found) == "MultiTextureCoordinate":
-            self.notes.add("MultiTextureCoordinate read as its first set", found.name or None)
-            first = next(iter(self.node_values(found, "texCoord")), None)
-            holder = _N("Shape", src=found.src)
-            holder.fields["texCoord"] = first
-            return self.array(holder, "texCoord", ("TextureCoordinate",), "point", 2)[0]
-        if found is not None and self.type_of(found) == "TextureCoordinateGenerator":
-            self.notes.add("TextureCoordinateGenerator not read: no texture coordinates",
-                           found.name or None)
-            return None
-        return self.array(n, "texCoord", ("TextureCoordinate",), "point", 2)[0]
 
-    def geometry(self, n, t, hint):
-        mesh = Mesh(name=n.name or hint or t, kind=t)
-        if t in _PRIMITIVES:
-            self.primitive(n, t, mesh)
-            return mesh
-        mesh.solid = self.flag(n, "solid", True)
-        mesh.ccw = self.flag(n, "ccw", True)
-        if t == "IndexedFaceSet":
-            self.face_set(n, mesh)
-        elif t == "ElevationGrid":
-            self.elevation_grid(n, mesh)
-        elif t == "Extrusion":
-            self.extrusion(n, mesh)
-        elif t == "Text":
-            self.text(n, mesh)
-        elif t in ("IndexedLineSet", "LineSet"):
-            self.line_set(n, t, mesh)
-        elif t == "PointSet":
-            mesh.positions = self.coords(n)
-            colors = self.colors(n)
-            if colors is not None and len(colors) >= len(mesh.positions):
-                mesh.point_colors = colors[:len(mesh.positions)]
-            elif colors is not None:
-                self.notes.add("colours fewer than their points: left out", mesh.name)
-        else:
-            self.triangle_set(n, t, mesh)
+def colors_of(ctx, n):
+    return array(ctx, n, "color", ("Color", "ColorRGBA"), "color", 3)[0]
+
+
+def normals_of(ctx, n):
+    return array(ctx, n, "normal", ("Normal",), "vector", 3)[0]
+
+
+def texcoords_of(ctx, n):
+    found = lookup(ctx, node_value(ctx, n, "texCoord"))
+    if found is not None and type_of(ctx, found) == "MultiTextureCoordinate":
+        ctx.notes.add("MultiTextureCoordinate read as its first set", found.name or None)
+        first = next(iter(node_values(ctx, found, "texCoord")), None)
+        holder = _N("Shape", src=found.src)
+        holder.fields["texCoord"] = first
+        return array(ctx, holder, "texCoord", ("TextureCoordinate",), "point", 2)[0]
+    if found is not None and type_of(ctx, found) == "TextureCoordinateGenerator":
+        ctx.notes.add("TextureCoordinateGenerator not read: no texture coordinates",
+                      found.name or None)
+        return None
+    return array(ctx, n, "texCoord", ("TextureCoordinate",), "point", 2)[0]
+
+
+def geometry_node(ctx, n, t, hint):
+    mesh = Mesh(name=n.name or hint or t, kind=t)
+    if t in _PRIMITIVES:
+        primitive(ctx, n, t, mesh)
         return mesh
+    mesh.solid = flag(ctx, n, "solid", True)
+    mesh.ccw = flag(ctx, n, "ccw", True)
+    if t == "IndexedFaceSet":
+        face_set(ctx, n, mesh)
+    elif t == "ElevationGrid":
+        elevation_grid(ctx, n, mesh)
+    elif t == "Extrusion":
+        extrusion(ctx, n, mesh)
+    elif t == "Text":
+        text(ctx, n, mesh)
+    elif t in ("IndexedLineSet", "LineSet"):
+        line_set(ctx, n, t, mesh)
+    elif t == "PointSet":
+        mesh.positions = coords_of(ctx, n)
+        colors = colors_of(ctx, n)
+        if colors is not None and len(colors) >= len(mesh.positions):
+            mesh.point_colors = colors[:len(mesh.positions)]
+        elif colors is not None:
+            ctx.notes.add("colours fewer than their points: left out", mesh.name)
+    else:
+        triangle_set(ctx, n, t, mesh)
+    return mesh
 
-    def attribute(self, values, index, per_vertex, faces, what, mesh):
-        """Per-corner values of a face set attribute as ISO/IEC 14772-1 §6.23 and 19775-1
-        §13.3.6 define them: per vertex by its own index (parallel to coordIndex) or else by
-        coordIndex; per face by its index (one a face) or else in face order."""
+
+def attribute(ctx, values, index, per_vertex, faces, what, mesh):
+    """Per-corner values of a face set attribute as ISO/IEC 14772-1 §6.23 and 19775-1
+    §13.3.6 define them: per vertex by its own index (parallel to coordIndex) or else by
+    coordIndex; per face by its index (one a face) or else in face order."""
+    if values is None:
+        return None
+    sizes, corners, at, face_no = faces
+    if not len(corners):
+        return None
+    if per_vertex:
+        if len(index):
+            if len(index) <= at.max():
+                ctx.notes.add(f"{what} left out: their index is shorter than coordIndex",
+                              mesh.name)
+                return None
+            idx = index[at]
+        else:
+            idx = corners
+    else:
+        if len(index):
+            if len(index) <= face_no.max():
+                ctx.notes.add(f"{what} left out: their index has fewer entries than faces",
+                              mesh.name)
+                return None
+            idx = np.repeat(index[face_no], sizes)
+        else:
+            idx = np.repeat(face_no, sizes)
+    if idx.min() < 0 or idx.max() >= len(values):
+        ctx.notes.add(f"{what} left out: an index is out of range", mesh.name)
+        return None
+    return values[idx]
+
+
+def face_set(ctx, n, mesh):
+    positions = coords_of(ctx, n)
+    mesh.positions = positions
+    mesh.convex = flag(ctx, n, "convex", True)
+    mesh.crease_angle = angle(ctx, n, "creaseAngle", 0.0)
+    mesh.color_per_vertex = flag(ctx, n, "colorPerVertex", True)
+    mesh.normal_per_vertex = flag(ctx, n, "normalPerVertex", True)
+    index = ints(ctx, n, "coordIndex")
+    faces = polygons(ctx, index, len(positions), mesh)
+    mesh.face_sizes, mesh.corners = faces[0], faces[1]
+    mesh.normals = attribute(ctx, normals_of(ctx, n), ints(ctx, n, "normalIndex"),
+                                  mesh.normal_per_vertex, faces, "normals", mesh)
+    mesh.colors = attribute(ctx, colors_of(ctx, n), ints(ctx, n, "colorIndex"),
+                                 mesh.color_per_vertex, faces, "colours", mesh)
+    mesh.uvs = attribute(ctx, texcoords_of(ctx, n), ints(ctx, n, "texCoordIndex"), True, faces,
+                              "texture coordinates", mesh)
+
+
+def polygons(ctx, index, count, mesh, smallest=3):
+    """Faces of an index list with -1 separators (the last may lack it): (sizes, corners,
+    where each corner is in *index*, each face's number among the file's faces).  Faces
+    with fewer than *smallest* corners or an index out of range are dropped (warned)."""
+    index = np.asarray(index, dtype=np.int64)
+    valid = np.flatnonzero(index >= 0)
+    empty = np.zeros(0, np.int64)
+    if not len(valid):
+        return empty, empty, empty, empty
+    run = np.cumsum(index < 0)[valid]
+    starts = np.flatnonzero(np.r_[True, run[1:] != run[:-1]])
+    sizes = np.diff(np.r_[starts, len(valid)])
+    corners = index[valid]
+    outside = np.add.reduceat((corners >= count).astype(np.int64), starts) > 0
+    small = sizes < smallest
+    if small.any():
+        ctx.notes.add(f"faces or lines with fewer than {smallest} indices: left out",
+                      mesh.name, int(small.sum()))
+    if (outside & ~small).any():
+        ctx.notes.add("faces or lines with a coordinate index out of range: left out",
+                      mesh.name, int((outside & ~small).sum()))
+    keep = ~(small | outside)
+    if keep.all():
+        return sizes, corners, valid, np.arange(len(sizes))
+    corner_keep = np.repeat(keep, sizes)
+    return sizes[keep], corners[corner_keep], valid[corner_keep], np.flatnonzero(keep)
+
+
+def triangle_set(ctx, n, t, mesh):
+    """IndexedTriangleSet, TriangleSet, the fan and strip sets, IndexedQuadSet, QuadSet:
+    faces of one index into coord, color, normal and texCoord alike; per-face values are
+    one a triangle (or quad)."""
+    positions = coords_of(ctx, n)
+    mesh.positions = positions
+    mesh.color_per_vertex = flag(ctx, n, "colorPerVertex", True)
+    mesh.normal_per_vertex = flag(ctx, n, "normalPerVertex", True)
+    indexed = t.startswith("Indexed")
+    index = ints(ctx, n, "index") if indexed else np.arange(len(positions), dtype=np.int64)
+    width = 4 if "Quad" in t else 3
+    if t in ("IndexedTriangleSet", "TriangleSet", "IndexedQuadSet", "QuadSet"):
+        usable = len(index) - len(index) % width
+        if usable != len(index):
+            ctx.notes.add("index lists whose length is not a multiple of their face size: "
+                          "the rest left out", mesh.name)
+        faces = index[:usable].reshape(-1, width)
+    else:
+        fan = "Fan" in t
+        if indexed:
+            seq_at = np.flatnonzero(index >= 0)
+            run = np.cumsum(index < 0)[seq_at]
+            starts = np.flatnonzero(np.r_[True, run[1:] != run[:-1]]) if len(run) else \
+                np.zeros(0, np.int64)
+            counts = np.diff(np.r_[starts, len(seq_at)]).astype(np.int64)
+            sequence = index[seq_at]
+        else:
+            counts = ints(ctx, n, "fanCount" if fan else "stripCount")
+            sequence = index
+            if counts.sum() > len(sequence) or (counts < 0).any():
+                ctx.notes.add("fan or strip counts beyond their coordinates: the rest "
+                              "left out", mesh.name)
+                counts = np.clip(counts, 0, None)
+                ends = np.cumsum(counts)
+                counts = counts[ends <= len(sequence)]
+            starts = np.r_[0, np.cumsum(counts)[:-1]].astype(np.int64) if len(counts) \
+                else np.zeros(0, np.int64)
+        if (counts < 3).any():
+            ctx.notes.add("fans or strips of fewer than 3 vertices: left out", mesh.name)
+            keep = counts >= 3
+            starts, counts = starts[keep], counts[keep]
+        faces = _fans(sequence, starts, counts) if fan else _strips(sequence, starts, counts)
+    face_no = np.arange(len(faces))
+    if len(faces):
+        bad = (faces >= len(positions)).any(axis=1) | (faces < 0).any(axis=1)
+        if bad.any():
+            ctx.notes.add("faces or lines with a coordinate index out of range: left out",
+                          mesh.name, int(bad.sum()))
+            faces, face_no = faces[~bad], face_no[~bad]
+    mesh.face_sizes = np.full(len(faces), faces.shape[1] if faces.ndim == 2 else 3, np.int64)
+    mesh.corners = faces.reshape(-1).astype(np.int64)
+    info = (mesh.face_sizes, mesh.corners, np.zeros(0, np.int64), face_no)
+    empty = np.zeros(0, np.int64)
+    mesh.normals = attribute(ctx, normals_of(ctx, n), empty, mesh.normal_per_vertex, info,
+                                  "normals", mesh)
+    mesh.colors = attribute(ctx, colors_of(ctx, n), empty, mesh.color_per_vertex, info,
+                                 "colours", mesh)
+    mesh.uvs = attribute(ctx, texcoords_of(ctx, n), empty, True, info, "texture coordinates",
+                              mesh)
+
+
+def elevation_grid(ctx, n, mesh):
+    nx, nz = int(num(ctx, n, "xDimension", 0)), int(num(ctx, n, "zDimension", 0))
+    dx, dz = num(ctx, n, "xSpacing", 1.0), num(ctx, n, "zSpacing", 1.0)
+    heights = numbers(ctx, n, "height")
+    mesh.crease_angle = angle(ctx, n, "creaseAngle", 0.0)
+    mesh.color_per_vertex = flag(ctx, n, "colorPerVertex", True)
+    mesh.normal_per_vertex = flag(ctx, n, "normalPerVertex", True)
+    mesh.primitive = {"xDimension": nx, "zDimension": nz, "xSpacing": dx, "zSpacing": dz}
+    if nx < 2 or nz < 2 or nx * nz > 50_000_000 or heights is None \
+            or len(heights) < nx * nz:
+        if nx * nz:
+            ctx.notes.add("ElevationGrids whose heights do not fill the grid: left out",
+                          mesh.name)
+        return
+    i, j = np.meshgrid(np.arange(nx), np.arange(nz))
+    mesh.positions = np.stack([i.ravel() * dx, heights[:nx * nz], j.ravel() * dz], axis=1)
+    qi, qj = np.meshgrid(np.arange(nx - 1), np.arange(nz - 1))
+    qi, qj = qi.ravel(), qj.ravel()
+    quads = np.stack([qi + qj * nx, qi + (qj + 1) * nx, qi + 1 + (qj + 1) * nx,
+                      qi + 1 + qj * nx], axis=1)
+    mesh.face_sizes = np.full(len(quads), 4, np.int64)
+    mesh.corners = quads.reshape(-1).astype(np.int64)
+    info = (mesh.face_sizes, mesh.corners, np.zeros(0, np.int64), np.arange(len(quads)))
+    empty = np.zeros(0, np.int64)
+    mesh.normals = attribute(ctx, normals_of(ctx, n), empty, mesh.normal_per_vertex, info,
+                                  "normals", mesh)
+    mesh.colors = attribute(ctx, colors_of(ctx, n), empty, mesh.color_per_vertex, info,
+                                 "colours", mesh)
+    uvs = texcoords_of(ctx, n)
+    if uvs is None:     # the standard's default: s along x, t along z, 0 to 1
+        uvs = np.stack([i.ravel() / (nx - 1), j.ravel() / (nz - 1)], axis=1)
+    mesh.uvs = attribute(ctx, uvs, empty, True, info, "texture coordinates", mesh)
+
+
+def line_set(ctx, n, t, mesh):
+    positions = coords_of(ctx, n)
+    mesh.positions = positions
+    mesh.color_per_vertex = flag(ctx, n, "colorPerVertex", True)
+    if t == "IndexedLineSet":
+        index = ints(ctx, n, "coordIndex")
+    else:
+        counts = ints(ctx, n, "vertexCount")
+        counts = counts[(counts >= 0) & (np.cumsum(np.clip(counts, 0, None)) <= len(positions))]
+        index = np.full(int(counts.sum()) + len(counts), -1, np.int64)
+        starts = np.r_[0, np.cumsum(counts + 1)[:-1]].astype(np.int64) if len(counts) else \
+            np.zeros(0, np.int64)
+        offsets = np.r_[0, np.cumsum(counts)[:-1]].astype(np.int64) if len(counts) else \
+            np.zeros(0, np.int64)
+        within = np.arange(int(counts.sum())) - np.repeat(offsets, counts)
+        index[np.repeat(starts, counts) + within] = np.repeat(offsets, counts) + within
+    sizes, corners, _at, _face_no = polygons(ctx, index, len(positions), mesh, smallest=2)
+    if len(sizes):
+        ends = np.cumsum(sizes)
+        first = np.arange(len(corners) - 1)
+        keep = np.ones(len(first), bool)
+        keep[ends[:-1] - 1] = False
+        mesh.edges = np.stack([corners[first[keep]], corners[first[keep] + 1]], axis=1)
+    else:
+        mesh.edges = np.zeros((0, 2), np.int64)
+    colors = colors_of(ctx, n)
+    if colors is not None:
+        if mesh.color_per_vertex and not len(ints(ctx, n, "colorIndex")) \
+                and len(colors) >= len(positions):
+            mesh.point_colors = colors[:len(positions)]
+        else:
+            ctx.notes.add("line colours given per line or by colorIndex: left out",
+                          mesh.name)
+
+
+def primitive(ctx, n, t, mesh):
+    if t == "Box":
+        p = {"size": vec(ctx, n, "size", (2.0, 2.0, 2.0))}
+    elif t == "Sphere":
+        p = {"radius": num(ctx, n, "radius", 1.0)}
+    elif t == "Cylinder":
+        p = {"radius": num(ctx, n, "radius", 1.0), "height": num(ctx, n, "height", 2.0),
+             "top": flag(ctx, n, "top", True), "bottom": flag(ctx, n, "bottom", True),
+             "side": flag(ctx, n, "side", True)}
+    else:
+        p = {"bottomRadius": num(ctx, n, "bottomRadius", 1.0),
+             "height": num(ctx, n, "height", 2.0), "side": flag(ctx, n, "side", True),
+             "bottom": flag(ctx, n, "bottom", True)}
+    mesh.primitive = p
+    key = (t,) + tuple(p.values())
+    parts = ctx.tessellated.get(key)
+    if parts is None:       # equal primitives share their (read-only) arrays
+        maker = {"Box": _box, "Sphere": _sphere, "Cylinder": _cylinder, "Cone": _cone}[t]
+        parts = maker(*p.values())
+        ctx.tessellated[key] = parts
+    mesh.positions, mesh.face_sizes, mesh.corners, mesh.normals, mesh.uvs = parts
+    mesh.solid = flag(ctx, n, "solid", True)
+    mesh.crease_angle = 0.5     # smooth sides, sharp edges (the normals are given anyway)
+
+
+def extrusion(ctx, n, mesh):
+    """Extrusion: its faces by :func:`extrude` (ISO/IEC 14772-1 §6.18), smoothed by
+    creaseAngle, with the standard's texture coordinates."""
+    def pairs(name, width, default):
+        values = numbers(ctx, n, name)
         if values is None:
-            return None
-        sizes, corners, at, face_no = faces
-        if not len(corners):
-            return None
-        if per_vertex:
-            if len(index):
-                if len(index) <= at.max():
-                    self.notes.add(f"{what} left out: their index is shorter than coordIndex",
-                                   mesh.name)
-                    return None
-                idx = index[at]
-            else:
-                idx = corners
-        else:
-            if len(index):
-                if len(index) <= face_no.max():
-                    self.notes.add(f"{what} left out: their index has fewer entries than faces",
-                                   mesh.name)
-                    return None
-                idx = np.repeat(index[face_no], sizes)
-            else:
-                idx = np.repeat(face_no, sizes)
-        if idx.min() < 0 or idx.max() >= len(values):
-            self.notes.add(f"{what} left out: an index is out of range", mesh.name)
-            return None
-        return values[idx]
+            return np.asarray(default, dtype=np.float64).reshape(-1, width)
+        if len(values) % width:
+            ctx.notes.add("lists whose length is not a multiple of their tuple size: the "
+                          "rest left out", where(n, name))
+        return values[:len(values) - len(values) % width].reshape(-1, width)
 
-    def face_set(self, n, mesh):
-        positions = self.coords(n)
-        mesh.positions = positions
-        mesh.convex = self.flag(n, "convex", True)
-        mesh.crease_angle = self.angle(n, "creaseAngle", 0.0)
-        mesh.color_per_vertex = self.flag(n, "colorPerVertex", True)
-        mesh.normal_per_vertex = self.flag(n, "normalPerVertex", True)
-        index = self.ints(n, "coordIndex")
-        faces = self.polygons(index, len(positions), mesh)
-        mesh.face_sizes, mesh.corners = faces[0], faces[1]
-        mesh.normals = self.attribute(self.normals(n), self.ints(n, "normalIndex"),
-                                      mesh.normal_per_vertex, faces, "normals", mesh)
-        mesh.colors = self.attribute(self.colors(n), self.ints(n, "colorIndex"),
-                                     mesh.color_per_vertex, faces, "colours", mesh)
-        mesh.uvs = self.attribute(self.texcoords(n), self.ints(n, "texCoordIndex"), True, faces,
-                                  "texture coordinates", mesh)
+    spine = pairs("spine", 3, [(0.0, 0.0, 0.0), (0.0, 1.0, 0.0)])
+    cross = pairs("crossSection", 2, [(1, 1), (1, -1), (-1, -1), (-1, 1), (1, 1)])
+    scales = pairs("scale", 2, [(1.0, 1.0)])
+    orientations = pairs("orientation", 4, [(0.0, 0.0, 1.0, 0.0)]).copy()
+    orientations[:, 3] *= n.src.angle if n.src is not None else 1.0
+    mesh.convex = flag(ctx, n, "convex", True)
+    mesh.crease_angle = angle(ctx, n, "creaseAngle", 0.0)
+    made = extrude(spine, cross, scales, orientations, flag(ctx, n, "beginCap", True),
+                   flag(ctx, n, "endCap", True), mesh.convex)
+    for line in made["warnings"]:
+        ctx.notes.add(line, mesh.name)
+    mesh.positions, mesh.face_sizes = made["positions"], made["face_sizes"]
+    mesh.corners, mesh.uvs = made["corners"], made["uvs"]
+    if mesh.crease_angle > 0 and len(mesh.corners):   # flat without: Blender's faces
+        normals = crease_normals(mesh.positions, mesh.face_sizes, mesh.corners,
+                                 mesh.crease_angle)
+        mesh.normals = normals if mesh.ccw else -normals
 
-    def polygons(self, index, count, mesh, smallest=3):
-        """Faces of an index list with -1 separators (the last may lack it): (sizes, corners,
-        where each corner is in *index*, each face's number among the file's faces).  Faces
-        with fewer than *smallest* corners or an index out of range are dropped (warned)."""
-        index = np.asarray(index, dtype=np.int64)
-        valid = np.flatnonzero(index >= 0)
-        empty = np.zeros(0, np.int64)
-        if not len(valid):
-            return empty, empty, empty, empty
-        run = np.cumsum(index < 0)[valid]
-        starts = np.flatnonzero(np.r_[True, run[1:] != run[:-1]])
-        sizes = np.diff(np.r_[starts, len(valid)])
-        corners = index[valid]
-        outside = np.add.reduceat((corners >= count).astype(np.int64), starts) > 0
-        small = sizes < smallest
-        if small.any():
-            self.notes.add(f"faces or lines with fewer than {smallest} indices: left out",
-                           mesh.name, int(small.sum()))
-        if (outside & ~small).any():
-            self.notes.add("faces or lines with a coordinate index out of range: left out",
-                           mesh.name, int((outside & ~small).sum()))
-        keep = ~(small | outside)
-        if keep.all():
-            return sizes, corners, valid, np.arange(len(sizes))
-        corner_keep = np.repeat(keep, sizes)
-        return sizes[keep], corners[corner_keep], valid[corner_keep], np.flatnonzero(keep)
 
-    def triangle_set(self, n, t, mesh):
-        """IndexedTriangleSet, TriangleSet, the fan and strip sets, IndexedQuadSet, QuadSet:
-        faces of one index into coord, color, normal and texCoord alike; per-face values are
-        one a triangle (or quad)."""
-        positions = self.coords(n)
-        mesh.positions = positions
-        mesh.color_per_vertex = self.flag(n, "colorPerVertex", True)
-        mesh.normal_per_vertex = self.flag(n, "normalPerVertex", True)
-        indexed = t.startswith("Indexed")
-        index = self.ints(n, "index") if indexed else np.arange(len(positions), dtype=np.int64)
-        width = 4 if "Quad" in t else 3
-        if t in ("IndexedTriangleSet", "TriangleSet", "IndexedQuadSet", "QuadSet"):
-            usable = len(index) - len(index) % width
-            if usable != len(index):
-                self.notes.add("index lists whose length is not a multiple of their face size: "
-                               "the rest left out", mesh.name)
-            faces = index[:usable].reshape(-1, width)
-        else:
-            fan = "Fan" in t
-            if indexed:
-                seq_at = np.flatnonzero(index >= 0)
-                run = np.cumsum(index < 0)[seq_at]
-                starts = np.flatnonzero(np.r_[True, run[1:] != run[:-1]]) if len(run) else \
-                    np.zeros(0, np.int64)
-                counts = np.diff(np.r_[starts, len(seq_at)]).astype(np.int64)
-                sequence = index[seq_at]
-            else:
-                counts = self.ints(n, "fanCount" if fan else "stripCount")
-                sequence = index
-                if counts.sum() > len(sequence) or (counts < 0).any():
-                    self.notes.add("fan or strip counts beyond their coordinates: the rest "
-                                   "left out", mesh.name)
-                    counts = np.clip(counts, 0, None)
-                    ends = np.cumsum(counts)
-                    counts = counts[ends <= len(sequence)]
-                starts = np.r_[0, np.cumsum(counts)[:-1]].astype(np.int64) if len(counts) \
-                    else np.zeros(0, np.int64)
-            if (counts < 3).any():
-                self.notes.add("fans or strips of fewer than 3 vertices: left out", mesh.name)
-                keep = counts >= 3
-                starts, counts = starts[keep], counts[keep]
-            faces = _fans(sequence, starts, counts) if fan else _strips(sequence, starts, counts)
-        face_no = np.arange(len(faces))
-        if len(faces):
-            bad = (faces >= len(positions)).any(axis=1) | (faces < 0).any(axis=1)
-            if bad.any():
-                self.notes.add("faces or lines with a coordinate index out of range: left out",
-                               mesh.name, int(bad.sum()))
-                faces, face_no = faces[~bad], face_no[~bad]
-        mesh.face_sizes = np.full(len(faces), faces.shape[1] if faces.ndim == 2 else 3, np.int64)
-        mesh.corners = faces.reshape(-1).astype(np.int64)
-        info = (mesh.face_sizes, mesh.corners, np.zeros(0, np.int64), face_no)
-        empty = np.zeros(0, np.int64)
-        mesh.normals = self.attribute(self.normals(n), empty, mesh.normal_per_vertex, info,
-                                      "normals", mesh)
-        mesh.colors = self.attribute(self.colors(n), empty, mesh.color_per_vertex, info,
-                                     "colours", mesh)
-        mesh.uvs = self.attribute(self.texcoords(n), empty, True, info, "texture coordinates",
-                                  mesh)
-
-    def elevation_grid(self, n, mesh):
-        nx, nz = int(self.num(n, "xDimension", 0)), int(self.num(n, "zDimension", 0))
-        dx, dz = self.num(n, "xSpacing", 1.0), self.num(n, "zSpacing", 1.0)
-        heights = self.numbers(n, "height")
-        mesh.crease_angle = self.angle(n, "creaseAngle", 0.0)
-        mesh.color_per_vertex = self.flag(n, "colorPerVertex", True)
-        mesh.normal_per_vertex = self.flag(n, "normalPerVertex", True)
-        mesh.primitive = {"xDimension": nx, "zDimension": nz, "xSpacing": dx, "zSpacing": dz}
-        if nx < 2 or nz < 2 or nx * nz > 50_000_000 or heights is None \
-                or len(heights) < nx * nz:
-            if nx * nz:
-                self.notes.add("ElevationGrids whose heights do not fill the grid: left out",
-                               mesh.name)
-            return
-        i, j = np.meshgrid(np.arange(nx), np.arange(nz))
-        mesh.positions = np.stack([i.ravel() * dx, heights[:nx * nz], j.ravel() * dz], axis=1)
-        qi, qj = np.meshgrid(np.arange(nx - 1), np.arange(nz - 1))
-        qi, qj = qi.ravel(), qj.ravel()
-        quads = np.stack([qi + qj * nx, qi + (qj + 1) * nx, qi + 1 + (qj + 1) * nx,
-                          qi + 1 + qj * nx], axis=1)
-        mesh.face_sizes = np.full(len(quads), 4, np.int64)
-        mesh.corners = quads.reshape(-1).astype(np.int64)
-        info = (mesh.face_sizes, mesh.corners, np.zeros(0, np.int64), np.arange(len(quads)))
-        empty = np.zeros(0, np.int64)
-        mesh.normals = self.attribute(self.normals(n), empty, mesh.normal_per_vertex, info,
-                                      "normals", mesh)
-        mesh.colors = self.attribute(self.colors(n), empty, mesh.color_per_vertex, info,
-                                     "colours", mesh)
-        uvs = self.texcoords(n)
-        if uvs is None:     # the standard's default: s along x, t along z, 0 to 1
-            uvs = np.stack([i.ravel() / (nx - 1), j.ravel() / (nz - 1)], axis=1)
-        mesh.uvs = self.attribute(uvs, empty, True, info, "texture coordinates", mesh)
-
-    def line_set(self, n, t, mesh):
-        positions = self.coords(n)
-        mesh.positions = positions
-        mesh.color_per_vertex = self.flag(n, "colorPerVertex", True)
-        if t == "IndexedLineSet":
-            index = self.ints(n, "coordIndex")
-        else:
-            counts = self.ints(n, "vertexCount")
-            counts = counts[(counts >= 0) & (np.cumsum(np.clip(counts, 0, None)) <= len(positions))]
-            index = np.full(int(counts.sum()) + len(counts), -1, np.int64)
-            starts = np.r_[0, np.cumsum(counts + 1)[:-1]].astype(np.int64) if len(counts) else \
-                np.zeros(0, np.int64)
-            offsets = np.r_[0, np.cumsum(counts)[:-1]].astype(np.int64) if len(counts) else \
-                np.zeros(0, np.int64)
-            within = np.arange(int(counts.sum())) - np.repeat(offsets, counts)
-            index[np.repeat(starts, counts) + within] = np.repeat(offsets, counts) + within
-        sizes, corners, _at, _face_no = self.polygons(index, len(positions), mesh, smallest=2)
-        if len(sizes):
-            ends = np.cumsum(sizes)
-            first = np.arange(len(corners) - 1)
-            keep = np.ones(len(first), bool)
-            keep[ends[:-1] - 1] = False
-            mesh.edges = np.stack([corners[first[keep]], corners[first[keep] + 1]], axis=1)
-        else:
-            mesh.edges = np.zeros((0, 2), np.int64)
-        colors = self.colors(n)
-        if colors is not None:
-            if mesh.color_per_vertex and not len(self.ints(n, "colorIndex")) \
-                    and len(colors) >= len(positions):
-                mesh.point_colors = colors[:len(positions)]
-            else:
-                self.notes.add("line colours given per line or by colorIndex: left out",
-                               mesh.name)
-
-    def primitive(self, n, t, mesh):
-        if t == "Box":
-            p = {"size": self.vec(n, "size", (2.0, 2.0, 2.0))}
-        elif t == "Sphere":
-            p = {"radius": self.num(n, "radius", 1.0)}
-        elif t == "Cylinder":
-            p = {"radius": self.num(n, "radius", 1.0), "height": self.num(n, "height", 2.0),
-                 "top": self.flag(n, "top", True), "bottom": self.flag(n, "bottom", True),
-                 "side": self.flag(n, "side", True)}
-        else:
-            p = {"bottomRadius": self.num(n, "bottomRadius", 1.0),
-                 "height": self.num(n, "height", 2.0), "side": self.flag(n, "side", True),
-                 "bottom": self.flag(n, "bottom", True)}
-        mesh.primitive = p
-        key = (t,) + tuple(p.values())
-        parts = self.tessellated.get(key)
-        if parts is None:       # equal primitives share their (read-only) arrays
-            maker = {"Box": _box, "Sphere": _sphere, "Cylinder": _cylinder, "Cone": _cone}[t]
-            parts = maker(*p.values())
-            self.tessellated[key] = parts
-        mesh.positions, mesh.face_sizes, mesh.corners, mesh.normals, mesh.uvs = parts
-        mesh.solid = self.flag(n, "solid", True)
-        mesh.crease_angle = 0.5     # smooth sides, sharp edges (the normals are given anyway)
-
-    def extrusion(self, n, mesh):
-        """Extrusion: its faces by :func:`extrude` (ISO/IEC 14772-1 §6.18), smoothed by
-        creaseAngle, with the standard's texture coordinates."""
-        def pairs(name, width, default):
-            values = self.numbers(n, name)
-            if values is None:
-                return np.asarray(default, dtype=np.float64).reshape(-1, width)
-            if len(values) % width:
-                self.notes.add("lists whose length is not a multiple of their tuple size: the "
-                               "rest left out", self.where(n, name))
-            return values[:len(values) - len(values) % width].reshape(-1, width)
-
-        spine = pairs("spine", 3, [(0.0, 0.0, 0.0), (0.0, 1.0, 0.0)])
-        cross = pairs("crossSection", 2, [(1, 1), (1, -1), (-1, -1), (-1, 1), (1, 1)])
-        scales = pairs("scale", 2, [(1.0, 1.0)])
-        orientations = pairs("orientation", 4, [(0.0, 0.0, 1.0, 0.0)]).copy()
-        orientations[:, 3] *= n.src.angle if n.src is not None else 1.0
-        mesh.convex = self.flag(n, "convex", True)
-        mesh.crease_angle = self.angle(n, "creaseAngle", 0.0)
-        made = extrude(spine, cross, scales, orientations, self.flag(n, "beginCap", True),
-                       self.flag(n, "endCap", True), mesh.convex)
-        for line in made["warnings"]:
-            self.notes.add(line, mesh.name)
-        mesh.positions, mesh.face_sizes = made["positions"], made["face_sizes"]
-        mesh.corners, mesh.uvs = made["corners"], made["uvs"]
-        if mesh.crease_angle > 0 and len(mesh.corners):   # flat without: Blender's faces
-            normals = crease_normals(mesh.positions, mesh.face_sizes, mesh.corners,
-                                     mesh.crease_angle)
-            mesh.normals = normals if mesh.ccw else -normals
-
-    def text(self, n, mesh):
-        """Text: its strings and FontStyle as plain data in ``mesh.text`` (no faces here: the
-        Blender side sets the text in its font).  Keys: strings, length (per string, 0: its
-        natural length), max_extent, solid, and the FontStyle's family (list), style, size,
-        spacing, justify (major, minor), horizontal, left_to_right, top_to_bottom,
-        language."""
-        style = self.lookup(self.node_value(n, "fontStyle"))
-        if style is not None and self.type_of(style) != "FontStyle":
-            self.notes.add("Text fontStyle that is not a FontStyle: defaults used",
-                           style.name or style.type)
-            style = None
-        lengths = self.numbers(n, "length")
-        font = {"family": ["SERIF"], "style": "PLAIN", "size": 1.0, "spacing": 1.0,
-                "justify": ["BEGIN", "FIRST"], "horizontal": True, "left_to_right": True,
-                "top_to_bottom": True, "language": ""}
-        if style is not None:
-            font.update(
-                family=self.strings(style, "family") or ["SERIF"],
-                style=self.string(style, "style", "PLAIN") or "PLAIN",
-                size=self.num(style, "size", 1.0), spacing=self.num(style, "spacing", 1.0),
-                justify=self.strings(style, "justify") or ["BEGIN"],
-                horizontal=self.flag(style, "horizontal", True),
-                left_to_right=self.flag(style, "leftToRight", True),
-                top_to_bottom=self.flag(style, "topToBottom", True),
-                language=self.string(style, "language", ""))
-        words = [str(word).strip().upper() for word in font["justify"][:2]]
-        font["justify"] = (words[0] if words and words[0] else "BEGIN",
-                           words[1] if len(words) > 1 and words[1] else "FIRST")
-        mesh.text = dict(font, strings=self.strings(n, "string"),
-                         length=[float(v) for v in lengths] if lengths is not None else [],
-                         max_extent=self.num(n, "maxExtent", 0.0),
-                         solid=self.flag(n, "solid", False))
+def text(ctx, n, mesh):
+    """Text: its strings and FontStyle as plain data in ``mesh.text`` (no faces here: the
+    Blender side sets the text in its font).  Keys: strings, length (per string, 0: its
+    natural length), max_extent, solid, and the FontStyle's family (list), style, size,
+    spacing, justify (major, minor), horizontal, left_to_right, top_to_bottom,
+    language."""
+    style = lookup(ctx, node_value(ctx, n, "fontStyle"))
+    if style is not None and type_of(ctx, style) != "FontStyle":
+        ctx.notes.add("Text fontStyle that is not a FontStyle: defaults used",
+                      style.name or style.type)
+        style = None
+    lengths = numbers(ctx, n, "length")
+    font = {"family": ["SERIF"], "style": "PLAIN", "size": 1.0, "spacing": 1.0,
+            "justify": ["BEGIN", "FIRST"], "horizontal": True, "left_to_right": True,
+            "top_to_bottom": True, "language": ""}
+    if style is not None:
+        font.update(
+            family=strings(ctx, style, "family") or ["SERIF"],
+            style=string(ctx, style, "style", "PLAIN") or "PLAIN",
+            size=num(ctx, style, "size", 1.0), spacing=num(ctx, style, "spacing", 1.0),
+            justify=strings(ctx, style, "justify") or ["BEGIN"],
+            horizontal=flag(ctx, style, "horizontal", True),
+            left_to_right=flag(ctx, style, "leftToRight", True),
+            top_to_bottom=flag(ctx, style, "topToBottom", True),
+            language=string(ctx, style, "language", ""))
+    words = [str(word).strip().upper() for word in font["justify"][:2]]
+    font["justify"] = (words[0] if words and words[0] else "BEGIN",
+                       words[1] if len(words) > 1 and words[1] else "FIRST")
+    mesh.text = dict(font, strings=strings(ctx, n, "string"),
+                     length=[float(v) for v in lengths] if lengths is not None else [],
+                     max_extent=num(ctx, n, "maxExtent", 0.0),
+                     solid=flag(ctx, n, "solid", False))

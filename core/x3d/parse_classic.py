@@ -14,7 +14,7 @@ import numpy as np
 from .numeric import _bulk_numbers, _is_number_word, _numbers_of, _word_number
 from .model import MAX_DEPTH
 from .graph import (
-    _ACCESS, _EOF, _IMPLIED, _IS, _KNOWN, _MISSING, _N, _NO_VALUE, _Proto, _Scope, _Use)
+    _ACCESS, _EOF, _IMPLIED, _IS, _KNOWN, _MISSING, _N, _NO_VALUE, _Proto, _Scope, _Use, unit)
 
 
 # -- ClassicVRML (VRML97 and X3D classic) -------------------------------------------------
@@ -38,12 +38,12 @@ class _Classic:
     """A recursive-descent reader of the classic encoding over one string; nesting is bounded
     by MAX_DEPTH (deeper blocks are skipped by counting brackets, not by recursion)."""
 
-    def __init__(self, text, src, notes, reader):
+    def __init__(self, text, src, ctx):
         self.text = text
         self.pos = 0
         self.src = src
-        self.notes = notes
-        self.reader = reader
+        self.notes = ctx.notes
+        self.ctx = ctx              # the reading context: its counts of ignored and too deep nodes
         self.scope = src.scope
         self.truncated = False
         self.line_at, self.line_no = 0, 1
@@ -169,7 +169,7 @@ class _Classic:
 
     def route(self):
         """ROUTE a.b TO c.d (spaces around the dots tolerated): skipped, counted."""
-        self.reader.ignored["ROUTE"] = self.reader.ignored.get("ROUTE", 0) + 1
+        self.ctx.ignored["ROUTE"] = self.ctx.ignored.get("ROUTE", 0) + 1
         for _ in range(8):
             kind, value = self.peek()
             if kind != "w":
@@ -203,7 +203,7 @@ class _Classic:
             words = [self.next() for _ in range(3)]
             if all(w[0] == "w" for w in words):
                 category, name, factor = (w[1] for w in words)
-                self.reader.unit(self.src, category, name, factor)
+                unit(self.notes, self.src, category, name, factor)
             else:
                 self.notes.add("UNIT statements that could not be read", f"line {self.line()}")
         elif keyword == "IMPORT":           # IMPORT inline.exported AS name
@@ -290,7 +290,7 @@ class _Classic:
             return None
         self.next()
         if depth > MAX_DEPTH:
-            self.reader.too_deep += 1
+            self.ctx.too_deep += 1
             self.skip_block("{")
             return None
         proto = self.scope.proto(type_)
@@ -357,7 +357,7 @@ class _Classic:
         if kind == "{":                     # a node with neither type nor DEF
             self.next()
             if depth > MAX_DEPTH:
-                self.reader.too_deep += 1
+                self.ctx.too_deep += 1
                 self.skip_block("{")
                 return None
             type_ = _IMPLIED.get(field_name or "", "Group")

@@ -42,10 +42,10 @@ def _xml_root(data: bytes, path: str, notes):
 class _Xml:
     """X3D's XML encoding into the same generic nodes as the classic one."""
 
-    def __init__(self, src, notes, reader):
+    def __init__(self, src, ctx):
         self.src = src
-        self.notes = notes
-        self.reader = reader
+        self.notes = ctx.notes
+        self.ctx = ctx              # the reading context: its counts of ignored and too deep nodes
 
     def statements(self, parent, out, depth, scope):
         for element in parent:
@@ -53,7 +53,7 @@ class _Xml:
             if not tag or tag.startswith("Metadata"):
                 continue
             if tag == "ROUTE":
-                self.reader.ignored["ROUTE"] = self.reader.ignored.get("ROUTE", 0) + 1
+                self.ctx.ignored["ROUTE"] = self.ctx.ignored.get("ROUTE", 0) + 1
             elif tag == "ProtoDeclare":
                 self.proto(element, depth, scope)
             elif tag == "ExternProtoDeclare":
@@ -73,7 +73,7 @@ class _Xml:
             found = scope.defs.get(use)
             return found if found is not None else _Use(use, scope)
         if depth > MAX_DEPTH:
-            self.reader.too_deep += 1
+            self.ctx.too_deep += 1
             return None
         if tag == "ProtoInstance":
             return self.instance(element, depth, scope)
@@ -100,7 +100,7 @@ class _Xml:
                 self.connect(child, node)
                 continue
             if tag == "ROUTE":
-                self.reader.ignored["ROUTE"] = self.reader.ignored.get("ROUTE", 0) + 1
+                self.ctx.ignored["ROUTE"] = self.ctx.ignored.get("ROUTE", 0) + 1
                 continue
             if tag in ("ProtoDeclare", "ExternProtoDeclare"):
                 continue
