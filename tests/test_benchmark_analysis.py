@@ -152,3 +152,23 @@ def test_the_committed_table_is_the_one_its_figures_give():
     with open(os.path.join(folder, "results.md"), encoding="utf-8") as handle:
         committed = handle.read()
     assert committed == table.markdown(data["figures"], data["meta"]) + "\n"
+
+
+def test_finished_picture_ratio_and_samples_are_each_case_s_medians():
+    """The time-to-a-finished-picture table: the ratio of the two cases' median seconds and
+    each case's median samples per pixel (worked out by hand: Principled 10 and 30 s -> 20,
+    Phong 12, 14 and 40 s -> 14; 14 / 20 = 0.70)."""
+    from phong_nodes.benchmarks import finished_picture
+
+    run = {"principled": [{"render_s": 10.0, "mean_samples": 900.0, "max_samples": 4096.0},
+                          {"render_s": 30.0, "mean_samples": 1100.0, "max_samples": 4096.0}],
+           "phong": [{"render_s": 12.0, "mean_samples": 100.0, "max_samples": 512.0},
+                     {"render_s": 14.0, "mean_samples": 300.0, "max_samples": 1024.0},
+                     {"render_s": 40.0, "mean_samples": 200.0, "max_samples": 2048.0}]}
+    median = {"principled": 20.0, "phong": 14.0}
+    result = {"figures": [{"lights": 4, "runs": run, "median_s": median,
+                           "ratio_to_principled": 14.0 / 20.0}]}
+    text = finished_picture.table(result)
+    row = text.splitlines()[-1]
+    assert "**0.70×**" in row
+    assert "| 1000 (4096) | 200 (1024) |" in row
