@@ -206,7 +206,7 @@ def test_entity_expansion_and_external_entities_are_refused_fast():
               + "".join(f'<!ENTITY lol{i} "{("&lol" + (str(i - 1) if i > 1 else "") + ";") * 10}">'
                         for i in range(1, 10))
               + f']><COLLADA xmlns="{collada.NS14}"><asset/>&lol9;</COLLADA>').encode()
-    start = time.perf_counter()
+    start = time.process_time()
     with pytest.raises(collada.ColladaError, match="entities"):
         collada.parse_bytes(laughs, "laughs.dae")
     external = (f'<?xml version="1.0"?><!DOCTYPE c [<!ENTITY x SYSTEM "file:///etc/passwd">]>'
@@ -218,7 +218,7 @@ def test_entity_expansion_and_external_entities_are_refused_fast():
         collada.parse_bytes(laughs.decode().replace('version="1.0"?>', 'version="1.0" '
                                                     'encoding="UTF-16"?>').encode("utf-16"),
                             "laughs16.dae")
-    assert time.perf_counter() - start < 1.0
+    assert time.process_time() - start < 1.0
     with pytest.raises(collada.ColladaError, match="not well-formed"):
         collada.parse_bytes(b"<COLLADA><asset>", "cut.dae")
     with pytest.raises(collada.ColladaError, match="not a COLLADA file"):
@@ -253,10 +253,10 @@ def test_indices_out_of_range_and_absurd_counts_are_left_out_with_a_warning():
     assert mesh.corners.tolist() == [0, 1, 2]
     assert mesh.uvs[0].tolist() == [[0.5, 0.5], [1.0, 1.0], [0.0, 0.0]]
     assert any("indices out of range for 1 TEXCOORD corner value(s)" in w for w in doc.warnings)
-    start = time.perf_counter()
+    start = time.process_time()
     doc = collada.parse_bytes(_tri_mesh("0 1 2", count="999999999999", accessor_count="4000000000"))
     assert len(doc.meshes["g"].face_sizes) == 1, "counts are not trusted for allocation"
-    assert time.perf_counter() - start < 1.0
+    assert time.process_time() - start < 1.0
 
 
 def test_lines_are_edges_with_their_material_and_unknown_profiles_import_black():
