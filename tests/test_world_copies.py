@@ -128,6 +128,49 @@ def test_a_save_writes_live_copies_and_the_next_drag_parks_them(loop_bpy, blende
     assert not world_copies.is_live(scene.world)
 
 
+class _MaterialSpy(_WorldSpy):
+    """Whether each depsgraph update re-evaluated a material or a lights group (a light's
+    own node tree and the parked drivers' twin are no material's)."""
+
+    def __call__(self, _scene, depsgraph):
+        types = self.bpy.types
+        self.updates.append(any(
+            isinstance(u.id, types.Material) or (
+                isinstance(u.id, types.NodeTree) and u.id.name.startswith("Phong Lights")
+                and not u.id.name.endswith("(parked drivers)"))
+            for u in depsgraph.updates))
+
+
+def test_an_eevee_power_drag_leaves_the_materials_alone(loop_bpy):
+    """In Eevee (the loop) a light's Power, colour or move re-evaluates no material once its
+    lights group's drivers of lights are parked in a twin; Cycles gets them all back, and no
+    twin is left."""
+    bpy = loop_bpy
+    rig, world_copies = _modules()
+    from phong_nodes.addon.lighting import parked_drivers  # noqa: PLC0415
+
+    scene, _plane, _sphere, lights = _scene(bpy, "Power", 3)
+    (group,) = rig.groups_of(scene)
+    lent = sorted((fc.data_path, fc.array_index) for fc in parked_drivers.light_fcurves(group))
+    assert lent, "the lights group reads the lights"
+    _eevee(bpy, scene)
+    with _MaterialSpy(bpy) as spy:
+        for step in range(4):
+            lights[step % 3].data.energy *= 1.1
+            lights[0].data.color = (1.0, 0.9 - 0.1 * step, 0.8)
+            lights[1].location.x += 0.1
+            bpy.context.view_layer.update()
+    assert spy.updates[0], "the first drag parks: the group changes once"
+    assert not any(spy.updates[1:]), f"then no material is re-evaluated: {spy.updates}"
+    assert parked_drivers.is_parked(group) and not parked_drivers.light_fcurves(group)
+
+    scene.render.engine = "CYCLES"
+    bpy.context.view_layer.update()
+    back = sorted((fc.data_path, fc.array_index) for fc in parked_drivers.light_fcurves(group))
+    assert back == lent and not parked_drivers.is_parked(group)
+    assert not [t for t in bpy.data.node_groups if t.get(parked_drivers.TWIN_MARK)]
+
+
 def test_a_term_pass_keeps_the_copies_live(loop_bpy):
     """A Phong term pass makes Eevee compile the lights group (no loop part): it reads the
     copies, so they stay live in Eevee."""
@@ -160,6 +203,8 @@ def test_a_cycles_render_after_an_eevee_drag_sees_the_moved_lights(loop_bpy, ble
     lights[0].location = (1.5, -1.0, 1.2)   # far from where the copies were parked
     lights[2].rotation_euler.x += 0.4
     lights[3].location.z += 0.8
+    lights[1].data.color = (0.3, 0.9, 0.6)  # the light's data edited while its drivers are parked
+    lights[1].data.phong.intensity *= 1.5
     bpy.context.view_layer.update()
     assert not world_copies.is_live(scene.world)
     eevee = _render(bpy, scene, "eevee", str(blender_tmp / "parked_eevee.exr"))

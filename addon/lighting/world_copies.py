@@ -30,6 +30,10 @@ live again (drivers back, values current) whenever something could read them:
 They are parked by a light drag in Eevee (the relink handler tells one): by then the
 depsgraph has evaluated their drivers, so a parked value is the light's transform then.
 
+The scene's lights groups with the loop part park and come back with the copies: their
+drivers of lights move to a twin (``parked_drivers.py``), so that a Power or colour dragged in
+Eevee re-evaluates no material either.
+
 Nothing here runs before 5.3 (``compat.HAS_LIGHT_LOOP``): there Eevee reads the copies.
 """
 
@@ -44,7 +48,7 @@ from bpy.app.handlers import persistent
 
 from ...node_groups import models
 from .. import compat
-from . import drivers, properties
+from . import drivers, ownership, parked_drivers, properties
 from . import loop as light_loop
 
 #: Render engines that read no View Layer attribute of a Phong material whose lights
@@ -328,21 +332,41 @@ def make_live(world) -> int:
 
 
 def _live_if_read(world) -> None:
-    """*world*'s parked copies live again where something can read them now."""
-    if (world is not None and world.library is None and not is_live(world)
-            and any(k.startswith(WORLD_PREFIX) for k in world.keys())
-            and not can_park(world)):
+    """*world*'s parked copies, and the parked lights groups of its scenes, live again where
+    something can read them now."""
+    if world is None or world.library is not None or can_park(world):
+        return
+    if not is_live(world) and any(k.startswith(WORLD_PREFIX) for k in world.keys()):
         make_live(world)
+    for scene in [s for s in bpy.data.scenes if s.world == world]:
+        _groups_live(scene)
+
+
+def _groups_live(scene, handler: bool = False) -> int:
+    """The parked lights groups of *scene* live again (``parked_drivers``); the twins of
+    groups a relink replaced removed (*handler*: ``render_pre`` or ``save_pre``, where no ID
+    may be removed: the twins wait for the next drag or relink)."""
+    back = sum(parked_drivers.make_live(tree, drop_twin=not handler)
+               for tree in ownership.groups_of(scene) if parked_drivers.is_parked(tree))
+    if not handler:
+        parked_drivers.prune_twins()
+    return back
+
+
 
 
 def follow(scene) -> None:
-    """Make *scene*'s World's copies live where something can read them (the end of every
-    Apply / Relink, and the relink handler on an engine switch).  Parking waits for a light
-    drag (:func:`on_drag`): by then the depsgraph has evaluated the copies' drivers (a copy
-    made for a light whose transform was never evaluated, as in a file written by a script,
-    would keep a wrong value)."""
+    """Make *scene*'s World's copies (and its parked lights groups) live where something can
+    read them (the end of every Apply / Relink, and the relink handler on an engine switch).
+    Parking waits for a light drag (:func:`on_drag`): by then the depsgraph has evaluated the
+    copies' drivers (a copy made for a light whose transform was never evaluated, as in a file
+    written by a script, would keep a wrong value)."""
     if compat.HAS_LIGHT_LOOP:
-        _live_if_read(getattr(scene, "world", None))
+        world = getattr(scene, "world", None)
+        _live_if_read(world)
+        if world is None or not can_park(world):
+            _groups_live(scene)
+        parked_drivers.prune_twins()
 
 
 def follow_readers() -> None:
@@ -352,19 +376,30 @@ def follow_readers() -> None:
     if compat.HAS_LIGHT_LOOP:
         for world in bpy.data.worlds:
             _live_if_read(world)
+        for scene in bpy.data.scenes:
+            if scene.world is None or not can_park(scene.world):
+                _groups_live(scene)
 
 
 def on_drag(scene) -> None:
     """A light drag in *scene* (``sync.on_depsgraph_update``, after the depsgraph evaluated
-    the copies' drivers): park them where nothing can read them.  Once parked, this costs a
-    look at the World's drivers."""
+    the copies' drivers): park them, and the drivers of lights of its lights groups, where
+    nothing can read them.  Once parked, this costs a look at the World's drivers and the
+    groups' keys."""
     if not compat.HAS_LIGHT_LOOP or scene.render.engine not in LOOP_ENGINES:
         return
     world = scene.world
-    if world is None or world.animation_data is None or not world.animation_data.drivers:
+    if world is None:
         return
-    if is_live(world) and can_park(world):
-        park(world)
+    groups = [t for t in ownership.groups_of(scene)
+              if light_loop.has_loop(t) and not parked_drivers.is_parked(t)]
+    live = world.animation_data is not None and is_live(world)
+    if (live or groups) and can_park(world):  # once parked: a look at the groups' keys
+        if live:
+            park(world)
+        for tree in groups:
+            parked_drivers.park(tree)
+        parked_drivers.prune_twins()
 
 
 @persistent
@@ -380,6 +415,8 @@ def before_render(scene=None, *_args) -> None:
         if scene is None:
             return
     world = getattr(scene, "world", None)
+    if scene.render.engine not in LOOP_ENGINES:
+        _groups_live(scene, handler=True)
     if world is None or world.library is not None:
         return
     if scene.render.engine not in LOOP_ENGINES and not is_live(world):
@@ -395,6 +432,8 @@ def before_save(*_args) -> None:
     for world in bpy.data.worlds:
         if world.library is None and not is_live(world):
             make_live(world)
+    for scene in bpy.data.scenes:  # the lights groups' drivers too (a twin, unused, is not
+        _groups_live(scene, handler=True)  # written)
 
 
 HANDLERS = (("render_pre", before_render), ("object_bake_pre", before_render),
