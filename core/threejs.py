@@ -78,6 +78,8 @@ import math
 import os
 import re
 
+import numpy as np
+
 from . import browser, outputs
 
 THREE_VERSION = "0.181.0"
@@ -156,6 +158,42 @@ def with_shadows(scene: dict, lights_cast: list, meshes_cast: list) -> dict:
         lights.append(light)
     out["lights"] = lights
     return out
+
+
+def model_note(model, scene_name: str) -> str | None:
+    """The warning of a scene in a lighting model (``node_groups.models``) that is not
+    three.js's own (None for three.js's): the page shows three.js's model."""
+    if "threejs" in model.native:
+        return None
+    return (f"scene {scene_name!r} uses the {model.label} model: the page shows three.js's "
+            "(set the scene's Lighting Model to three.js to see the same in Blender)")
+
+
+def light_of(light: dict, model) -> dict:
+    """The page's light of a scene's *light* (plain data: "name", "type" directional / point
+    / spot, "color", "intensity", "position", "direction", "half_angle" in degrees and its
+    settings) in the lighting *model*: three.js's distance, decay and penumbra as
+    ``LightingModel.threejs_light`` maps them; a directional light shines from -direction
+    towards the origin, a spot towards position + direction."""
+    out = {"name": light["name"], "type": light["type"], "color": light["color"],
+           "intensity": light["intensity"]}
+    if light["type"] == "directional":
+        u = _unit(light["direction"])
+        out.update(position=[float(c) for c in -u], target=[0.0, 0.0, 0.0])
+        return out
+    mapped = model.threejs_light(light)
+    out.update(position=light["position"], distance=mapped["distance"],
+               decay=mapped["decay"])
+    if light["type"] == "spot":
+        u = _unit(light["direction"])
+        out.update(target=[float(c) for c in np.asarray(light["position"]) + u],
+                   angle=math.radians(light["half_angle"]), penumbra=mapped["penumbra"])
+    return out
+
+
+def _unit(vector):
+    u = np.asarray(vector, np.float64)
+    return u / np.linalg.norm(u)
 
 
 def _shadow_camera(light: dict, centre: list, radius: float) -> dict:
