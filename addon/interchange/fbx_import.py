@@ -4,7 +4,7 @@
 The scene comes from Blender's own FBX importer where it reads the file (binary FBX 7100 and
 later); ASCII files and FBX 6.1 are built from ufbx (meshes with normals, UVs and vertex
 colours, the node hierarchy, cameras, lights; axes and units converted as Blender's importer
-does: Z up, metres).  Then ``core/fbx.py`` gives every material and light its values, by the
+does: Z up, metres).  Then ``core/fbx`` gives every material and light its values, by the
 FBX SDK's rules (see there), and:
 
     Object Color        DiffuseColor × DiffuseFactor          (× a DiffuseColor texture)
