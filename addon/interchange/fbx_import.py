@@ -527,12 +527,8 @@ def _finish(context, data: fbx.Scene, new, warnings, path, before, slots=None,
     world = context.scene.world
     if world is None:
         world = context.scene.world = bpy.data.worlds.new("World")
-    user = data.user   # the World's own intensity and colour, kept by Phong Nodes' export
-    if "AmbientIntensity" in user and all(f"Ambient{c}" in user for c in "RGB"):
-        properties.write_world(world, user["AmbientIntensity"],
-                               tuple(user[f"Ambient{c}"] for c in "RGB"))
-        return sync
-    properties.write_world(world, 1.0, data.ambient)
+    # AmbientColor, or the World's own intensity and colour that Phong Nodes' export kept
+    properties.write_world(world, *fbx.world_ambient(data.ambient, data.user))
     return sync
 
 
