@@ -27,7 +27,8 @@ An entry says what a model is made of; its groups' formulas are in ``library.py`
   "threejs"): a scene in another model is written mapped, with one warning.
 
 Each entry is an object of its model's class, which answers what the model means outside
-Blender (no exporter or comparison asks for a model by name): its reference
+Blender (no exporter or comparison asks for a model by name): its scene files' schema
+(:attr:`LightingModel.scene_schema`, read by ``core/scenes.py``), its reference
 (:meth:`LightingModel.reference_ambient`, :meth:`~LightingModel.reference_light`: the
 formulas of ``reference.py`` with its settings) and its mappings to the formats' values
 (:meth:`~LightingModel.x3d_light`, :meth:`~LightingModel.fbx_inner_angle`,
@@ -110,6 +111,12 @@ class LightingModel:
         """Whether the model reads a light's falloff (Quadratic or Power i0/d^k)."""
         return any(row[0] == "falloff" for row in self.settings)
 
+    @property
+    def scene_schema(self) -> str:
+        """The scene files' schema its lights and materials are read with (``core/scenes.py``'s
+        readers of that name): its class's."""
+        return self.name
+
     # -- what the model means outside Blender: each model's class says it -----------------
     # *settings* is a light's {setting: value} (every model's settings, as
     # ``addon/lighting/properties.settings_of`` reads them); *light* a light of a scene as
@@ -160,6 +167,10 @@ def _hard_edge(cos_angle, theta, width):
 class Seeds(LightingModel):
     """The seeds' textbook model: i0/(αr²+βr+γ) or i0/d^k, a cone with a cos^e edge, diffuse
     and specular factors per light."""
+
+    @property
+    def scene_schema(self) -> str:
+        return "seeds"
 
     def reference_light(self, light, P, width):
         kind = light["type"]
@@ -227,6 +238,10 @@ class ThreeJS(LightingModel):
     """three.js r181's MeshPhongMaterial: distance/decay lights, a smoothstep penumbra,
     Lambert/π and normalised Blinn-Phong with Fresnel."""
 
+    @property
+    def scene_schema(self) -> str:
+        return "threejs"
+
     def reference_ambient(self, intensity, color, object_color):
         return ref.threejs_ambient(intensity, color, object_color)["Color"]
 
@@ -267,6 +282,10 @@ class ThreeJS(LightingModel):
 
 class X3D(LightingModel):
     """The ISO lighting equation of X3D and VRML97 (docs/x3d.md)."""
+
+    @property
+    def scene_schema(self) -> str:
+        return "x3d"
 
     def reference_light(self, light, P, width):
         kind = light["type"]

@@ -12,7 +12,7 @@ import math
 import numpy as np
 import pytest
 
-from phong_nodes.core import compare, fbx, threejs, x3d
+from phong_nodes.core import compare, fbx, scenes, threejs, x3d
 from phong_nodes.node_groups import models
 
 #: Every setting a light holds (each model reads some), at values off every default.
@@ -232,6 +232,13 @@ def test_a_fourth_model_goes_through_every_mapping_and_the_reference(fourth):
                                rtol=1e-12)
     assert seeds["Diffuse"][0, 0].max() > 0.0
     np.testing.assert_array_equal(halves["Ambient"], seeds["Ambient"])
+    # its scene files: its class reads them as the seeds' do (their keys and defaults)
+    scene = scenes.parse({"title": "t", "model": "halves",
+                          "camera": {"location": [0, -5, 1], "look_at": [0, 0, 0]},
+                          "lights": [{"name": "key", "type": "point", "position": [0, 0, 2]}],
+                          "objects": [{"name": "ball"}]})
+    assert scene["model"] == "halves"
+    assert (scene["lights"][0]["diffuse"], scene["lights"][0]["quadratic"]) == (1.0, 1.0)
 
 
 def test_the_fourth_model_is_gone_after_its_test():
