@@ -163,6 +163,20 @@ def test_x3d_material_mapping_says_what_x3d_cannot():
     assert x3d.highlight_note(models.get("seeds"), 0.0, (0, 0, 0)) is None
 
 
+def test_x3d_world_ambient_comes_back():
+    """The World's Phong ambient (which X3D lacks) → a DirectionalLight of intensity 0 →
+    the same ambient read back; a black one is no light."""
+    light = x3d.world_ambient_light(0.25, (0.5, 1.0, 0.75))
+    assert (light.kind, light.intensity, light.is_global) == ("directional", 0.0, True)
+    assert x3d.is_world_ambient(light)
+    doc = x3d.Document(path="", encoding="x3d-xml", meter=1.0)
+    assert x3d.world_ambient(doc, light) == (0.25, (0.5, 1.0, 0.75))
+    assert x3d.world_ambient_light(0.0, (1, 1, 1)) is None
+    assert x3d.world_ambient_light(0.5, (0, 0, 0)) is None
+    assert not x3d.is_world_ambient(x3d.Light(kind="directional", name=x3d.WORLD_AMBIENT,
+                                              intensity=0.5))
+
+
 # -- three.js --------------------------------------------------------------------------------
 
 def test_threejs_light_of_a_spot():

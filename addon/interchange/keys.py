@@ -6,7 +6,7 @@ importers write them and the exporters read them here: no exporter imports an im
 
 from __future__ import annotations
 
-from ...core import fbx
+from ...core import fbx, x3d
 from ..lighting import materials as recipe
 
 # -- MTL (obj_import → mtl_export) ------------------------------------------------------------
@@ -54,7 +54,7 @@ X3D_COMPONENTS = "phong_x3d_components"
 X3D_MISSING_TEXTURE = "phong_x3d_missing_texture"
 #: the DEF of the DirectionalLight (intensity 0, global) that carries the World's Phong ambient
 #: light, which X3D lacks: written by the export, read back into the World by the import.
-X3D_WORLD_AMBIENT = "WorldAmbient"
+X3D_WORLD_AMBIENT = x3d.WORLD_AMBIENT
 #: spot light: the file's cutOffAngle.
 X3D_CUT_OFF = "phong_x3d_cut_off_angle"
 #: light object: a scoped light whose scope holds no shape.

@@ -620,15 +620,11 @@ class _Writer:
         world = self.scene.world
         if world is None:
             return
-        intensity = float(world.get(properties.AMBIENT_INTENSITY[0],
-                                    properties.AMBIENT_INTENSITY[1]))
-        color = [float(c) for c in world.get(properties.AMBIENT_COLOR[0],
-                                             properties.AMBIENT_COLOR[1])][:3]
-        if intensity <= 0.0 or not any(color):
-            return
-        root.insert(0, x3d.Light(kind="directional", name=keys.X3D_WORLD_AMBIENT, intensity=0.0,
-                                 ambient_intensity=f32(intensity), color=_colour(color),
-                                 is_global=True))
+        light = x3d.world_ambient_light(
+            float(world.get(properties.AMBIENT_INTENSITY[0], properties.AMBIENT_INTENSITY[1])),
+            world.get(properties.AMBIENT_COLOR[0], properties.AMBIENT_COLOR[1]))
+        if light is not None:
+            root.insert(0, light)
 
     # -- the camera -------------------------------------------------------------------------
     def viewpoint(self):

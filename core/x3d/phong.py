@@ -235,3 +235,36 @@ def material_fields(values: dict, kept_shininess=None, kept_ambient=None) -> tup
               "specular": colour32(values["Ks"]), "emissive": colour32(values["Ke"]),
               "shininess": shininess, "transparency": f32(1.0 - values["opacity"])}
     return fields, [n for n in (note, other) if n]
+
+
+# -- the World's Phong ambient light, which X3D lacks ------------------------------------------
+
+#: The DEF of the DirectionalLight (intensity 0, global) that carries the World's Phong
+#: ambient light: written by the export, read back into the World by the import.
+WORLD_AMBIENT = "WorldAmbient"
+
+
+def world_ambient_light(intensity: float, color) -> Light | None:
+    """The DirectionalLight of intensity 0 whose ambientIntensity and colour give the World's
+    Phong ambient term *intensity* × *color* (None where it is black)."""
+    color = [float(c) for c in tuple(color)[:3]]
+    if intensity <= 0.0 or not any(color):
+        return None
+    return Light(kind="directional", name=WORLD_AMBIENT, intensity=0.0,
+                 ambient_intensity=f32(intensity), color=colour32(color), is_global=True)
+
+
+def is_world_ambient(light: Light) -> bool:
+    """Whether *light* is :func:`world_ambient_light`'s: a DirectionalLight DEF'd
+    :data:`WORLD_AMBIENT` of intensity 0, on, without shadows (reached by the whole file:
+    the caller checks that).  Its ambient term is the World's, exactly."""
+    return (light.kind == "directional" and light.name == WORLD_AMBIENT
+            and float(light.intensity) == 0.0 and bool(light.on) and not light.shadows)
+
+
+def world_ambient(doc: Document, light: Light) -> tuple:
+    """(intensity, colour) of the World's Phong ambient that :func:`world_ambient_light`
+    wrote: the inverse of it."""
+    values = light_values(doc, light)
+    return (max(float(values["ambient_intensity"]), 0.0),
+            tuple(max(float(c), 0.0) for c in values["color"]))
