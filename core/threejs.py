@@ -169,6 +169,27 @@ def model_note(model, scene_name: str) -> str | None:
             "(set the scene's Lighting Model to three.js to see the same in Blender)")
 
 
+def material_of(name: str, values: dict) -> tuple:
+    """(the page's material, notes) of a Phong material's *values* ("color", "specular",
+    "shininess", "emissive", "specular_strength", "ambient" (the Ambient Object Color),
+    "blinn"): MeshLambertMaterial where the Specular Strength is 0, else MeshPhongMaterial
+    with specularStrength clamped into [0, 1]; notes: what three.js cannot say (an ambient
+    colour of its own, a Phong (r·v)^e share of the highlight)."""
+    notes = []
+    if max(abs(a - b) for a, b in zip(values["ambient"], values["color"])) > 1e-6:
+        notes.append("its own Ambient Object Color is not exported (three.js's ambient light "
+                     "sees the material's color)")
+    if values["blinn"]:
+        notes.append("Blinn is not exported (three.js's highlight is always Blinn-Phong)")
+    strength = min(max(values["specular_strength"], 0.0), 1.0)
+    out = {"name": name, "type": "lambert" if strength == 0.0 else "phong",
+           "color": values["color"], "emissive": values["emissive"]}
+    if out["type"] == "phong":
+        out.update(specular=values["specular"], shininess=values["shininess"],
+                   specular_strength=strength)
+    return out, notes
+
+
 def light_of(light: dict, model) -> dict:
     """The page's light of a scene's *light* (plain data: "name", "type" directional / point
     / spot, "color", "intensity", "position", "direction", "half_angle" in degrees and its

@@ -195,6 +195,17 @@ def test_threejs_light_of_a_spot():
     assert threejs.model_note(models.get("seeds"), "S")
 
 
+def test_threejs_material_of():
+    values = {"color": [0.5, 0.4, 0.3], "specular": [1, 1, 1], "shininess": 30.0,
+              "emissive": [0, 0, 0], "specular_strength": 1.5, "ambient": [0.5, 0.4, 0.3],
+              "blinn": 0.0}
+    out, notes = threejs.material_of("M", values)
+    assert (out["type"], out["specular_strength"], notes) == ("phong", 1.0, [])
+    out, notes = threejs.material_of("M", dict(values, specular_strength=0.0, blinn=1.0,
+                                               ambient=[0.1, 0.1, 0.1]))
+    assert out["type"] == "lambert" and "specular" not in out and len(notes) == 2
+
+
 # -- a fourth lighting model: one entry and its class --------------------------------------
 
 class _Halves(models.Seeds):

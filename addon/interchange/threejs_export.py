@@ -58,22 +58,14 @@ def _value(feeds, name, warnings, material):
 
 
 def material_dict(material, warnings: list) -> dict:
-    """The three.js material of a Phong material."""
+    """The three.js material of a Phong material: its values (``materials.feeds``) mapped by
+    ``threejs.material_of``."""
     feeds = materials.feeds(material)
     values = {key: _value(feeds, name, warnings, material) for key, name in FIELDS.items()}
-    ambient = _value(feeds, materials.AMBIENT_INPUT, warnings, material)
-    if max(abs(a - b) for a, b in zip(ambient, values["color"])) > 1e-6:
-        warnings.append(f"{material.name}: its own Ambient Object Color is not exported "
-                        "(three.js's ambient light sees the material's color)")
-    if _value(feeds, "Blinn", warnings, material):
-        warnings.append(f"{material.name}: Blinn is not exported (three.js's highlight is "
-                        "always Blinn-Phong)")
-    strength = min(max(values["specular_strength"], 0.0), 1.0)
-    out = {"name": material.name, "type": "lambert" if strength == 0.0 else "phong",
-           "color": values["color"], "emissive": values["emissive"]}
-    if out["type"] == "phong":
-        out.update(specular=values["specular"], shininess=values["shininess"],
-                   specular_strength=strength)
+    values["ambient"] = _value(feeds, materials.AMBIENT_INPUT, warnings, material)
+    values["blinn"] = _value(feeds, "Blinn", warnings, material)
+    out, notes = threejs.material_of(material.name, values)
+    warnings.extend(f"{material.name}: {note}" for note in notes)
     return out
 
 
