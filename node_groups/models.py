@@ -409,5 +409,5 @@ def check(table=None) -> list:
 
 
 __all__ = ["COMPOSITIONS", "EVERY", "NEAR", "RENDERED", "POWER_TO_INTENSITY", "AREA_HALF_ANGLE",
-           "AREA_EDGE_EXPONENT", "drawn_as", "LightingModel", "Seeds", "ThreeJS", "X3D", "MODELS", "NAMES", "DEFAULT",
-           "get", "check"]
+           "AREA_EDGE_EXPONENT", "drawn_as", "LightingModel", "Seeds", "ThreeJS", "X3D",
+           "MODELS", "NAMES", "DEFAULT", "get", "check"]

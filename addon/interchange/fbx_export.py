@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""FBX with Phong materials: Blender's own exporter writes the file, then the Phong
-parts are rewritten (``core/fbx``: ``phong`` the mapping, ``write`` the splice) and the file is put in place atomically.
+"""FBX with Phong materials: Blender's own exporter writes the file, then the Phong parts are
+rewritten (``core/fbx``: ``phong`` the mapping, ``write`` the splice) and the file is put in
+place atomically.  This module reads Blender; what each value becomes is ``core/fbx/phong``'s.
 
 Each Phong material (read by ``materials.feeds``, the one reader of a Phong material) becomes
 an FBX Phong material, or a Lambert where its Specular Color is black (as a Lambert imports):
@@ -10,8 +11,8 @@ an FBX Phong material, or a Lambert where its Specular Color is black (as a Lamb
     EmissiveColor = Irradiant Color    every factor 1, ReflectionFactor 0
     Opacity o, TransparencyFactor 1 − o, TransparentColor white
 
-Each Phong light (Point, Sun, Spot): LightType; Color; Intensity = 100 × Phong intensity (the
-importer's Intensity / 100); DecayType k of the falloff (1/d^k: a single term c·r^k of
+Each Phong light (Point, Sun, Spot; an Area light as the spot that draws it, a 180° cone):
+LightType; Color; Intensity = 100 × Phong intensity (the importer's Intensity / 100); DecayType k of the falloff (1/d^k: a single term c·r^k of
 i₀/(αr²+βr+γ) is exact, with Intensity = 100·i₀/c; a mixed one is written as its highest
 term, with a warning; the power falloff's k, rounded into 0-3); a spot's OuterAngle = Spot
 Size and InnerAngle per the scene's lighting model (seeds: where the edge factor
