@@ -8,7 +8,7 @@ A scene of *spheres* UV spheres (256 segments, 128 rings, triangulated: 65,024 t
 16: 1,040,384 triangles), each with its own Phong material (Apply Phong Material), lit by a
 point light, a spot and a sun.  In this process, the two calls alternating (the first of a
 repeat swaps each time): ``phong.export_fbx`` (Blender's exporter, then the Phong parts
-rewritten, ``core/fbx_write.py``, and the file renamed into place) and Blender's own
+rewritten, ``core/fbx/write.py``, and the file renamed into place) and Blender's own
 ``export_scene.fbx`` of the same scene, same options (the defaults).  Times are wall-clock
 seconds of the operator call (``time.perf_counter``); the figure is the median over the
 repeats, the ratio ours / Blender's (goal: 1.3).  Prints one JSON object (with the load

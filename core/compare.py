@@ -18,6 +18,7 @@ import math
 
 import numpy as np
 
+from ..node_groups import models
 from ..node_groups import reference as ref
 
 #: Cycles must match the reference within this (max abs error, linear colour).
@@ -109,73 +110,6 @@ def probe_name(probe: str) -> str:
     return PROBE_PREFIX + probe
 
 
-def light_at(light, P, model="seeds"):
-    """(ℓ, intensity, ambiguous) of one light of *model* ("seeds" or "threejs") at the
-    points P (N, 3).  Ambiguous: at a spot's hard cone edge."""
-    kind = light["type"]
-    if kind == "directional":  # the same light in both models
-        out = ref.directional_light(light["direction"], light["intensity"], geometry_position=P)
-        return out["Light Vector"], out["Intensity"], np.zeros(len(P), bool)
-    threejs = model == "threejs"
-    # the seeds' power falloff i0/d^k (docs/model.md §Power falloff): no quadratic falloff,
-    # then the power's
-    power = not threejs and light.get("falloff", "quadratic") == "power"
-    quadratic = (0.0, 0.0, 1.0) if power else (light["quadratic"], light["linear"],
-                                               light["constant"]) if not threejs else None
-    if kind == "point":
-        out = (ref.threejs_point_light(light["position"], light["intensity"],
-                                       light["distance"], light["decay"], geometry_position=P)
-               if threejs else
-               ref.point_light(light["position"], light["intensity"], *quadratic,
-                               geometry_position=P))
-        return (out["Light Vector"], _power(out, light) if power else out["Intensity"],
-                np.zeros(len(P), bool))
-    theta = math.radians(light["half_angle"])
-    if threejs:
-        out = ref.threejs_spot_light(light["position"], light["direction"], theta,
-                                     light["penumbra"], light["intensity"], light["distance"],
-                                     light["decay"], geometry_position=P)
-    else:
-        out = ref.spot_light(light["position"], light["direction"], theta,
-                             light["edge_exponent"], light["intensity"], *quadratic,
-                             geometry_position=P)
-    hard = not threejs or light["penumbra"] == 0  # three.js: smooth with a penumbra
-    edge = (np.abs(out["Cos Angle"] - math.cos(theta)) < AMBIGUOUS) & hard
-    return out["Light Vector"], _power(out, light) if power else out["Intensity"], edge
-
-
-def x3d_light_at(light, P):
-    """(ℓ, intensity I, ambient intensity Ia, ambiguous) of one light of the X3D / VRML97
-    model (docs/x3d.md) at the points P (N, 3): both attenuated, spotted and cut at the
-    radius.  Ambiguous: within 1e-5 of the radius, and of a spot's cut-off angle where the
-    edge is hard (beamWidth ≥ cutOffAngle)."""
-    kind = light["type"]
-    if kind == "directional":
-        out = ref.x3d_directional_light(light["direction"], light["intensity"],
-                                        light.get("ambient", 0.0), geometry_position=P)
-        return out["Light Vector"], out["Intensity"], out["Ambient"], np.zeros(len(P), bool)
-    falloff = (light.get("ambient", 0.0), light["constant"], light["linear"], light["quadratic"],
-               light.get("radius", 100.0))
-    if kind == "point":
-        out = ref.x3d_point_light(light["position"], light["intensity"], *falloff,
-                                  geometry_position=P)
-        edge = np.zeros(len(P), bool)
-    else:
-        cut = math.radians(light["half_angle"])
-        beam = light.get("beam_width", cut)
-        out = ref.x3d_spot_light(light["position"], light["direction"], beam, cut,
-                                 light["intensity"], *falloff, geometry_position=P)
-        edge = (np.abs(out["Spot Angle"] - cut) < AMBIGUOUS) & (beam >= cut)
-    edge |= np.abs(out["Distance"] - falloff[-1]) < AMBIGUOUS
-    return out["Light Vector"], out["Intensity"], out["Ambient"], edge
-
-
-def _power(out, light):
-    """The intensity of a light's group output *out* (no falloff) divided by d^k."""
-    return ref.power_falloff(out["Distance"], out["Intensity"],
-                             light.get("power_k", 2.0))["Intensity"]
-
-
 def reference_image(scene: dict, aovs: dict) -> dict:
     """The reference picture and its terms from the probe AOVs of a render.
 
@@ -211,49 +145,27 @@ def reference_image(scene: dict, aovs: dict) -> dict:
         reach[row, obj["lights"]] = True
 
     amb = scene["ambient"]
-    threejs = scene.get("model") == "threejs"
-    x3d = scene.get("model") == "x3d"
-    ambient = (ref.threejs_ambient if threejs else ref.ambient)(
-        amb["intensity"], amb["color"], ambient_color)["Color"]
+    model = models.get(scene.get("model"))
+    ambient = model.reference_ambient(amb["intensity"], amb["color"], ambient_color)
     sums = {"Irradiant": np.broadcast_to(irradiant, P.shape).copy(), "Ambient": ambient,
             "Diffuse": np.zeros_like(P), "Specular": np.zeros_like(P)}
     ambiguous = np.zeros(len(P), bool)
     seen = _visibilities(scene, P)
     n = ref.resolve_normal(normal, N)
-    strength = probe("strength", 1)[hit][..., 0].astype(np.float64) if threejs else None
-    v = ref.resolve_view(view, I) if x3d else None
+    px = {"color": color, "ambient_color": ambient_color, "spec_color": spec_color,
+          "exponent": exponent, "blinn": blinn, "normal": normal, "view": view, "N": N, "I": I,
+          "n": n, "v": ref.resolve_view(view, I),
+          "strength": (probe("strength", 1)[hit][..., 0].astype(np.float64)
+                       if probe_name("strength") in aovs else None)}
     for k, light in enumerate(scene["lights"]):
-        on = reach[idx, k]
-        if x3d:  # docs/x3d.md: per-light ambient, Blinn highlights without the N·L condition
-            ell, intensity, ambient_i, edge = x3d_light_at(light, P)
-            ambiguous |= edge & on
-            out = ref.x3d_light_terms(ell, np.where(on, intensity, 0.0) * seen[k],
-                                      np.where(on, ambient_i, 0.0), light["color"], exponent,
-                                      n, v)
-            sums["Diffuse"] += out["Diffuse Light"] * color
-            sums["Specular"] += out["Specular Light"] * spec_color
-            sums["Ambient"] += out["Ambient Light"] * ambient_color
-            continue
-        ell, intensity, edge = light_at(light, P, scene.get("model", "seeds"))
-        if threejs:
-            ambiguous |= edge & on
-            out = ref.threejs_phong(ell, np.where(on, intensity, 0.0) * seen[k], light["color"],
-                                    color,
-                                    spec_color, exponent, strength, normal, view, N, I)
-        else:
-            dif = np.where(on, light["diffuse"], 0.0)
-            spe = np.where(on, light["specular"], 0.0)
-            ambiguous |= edge & (dif + spe > 0)
-            ambiguous |= (np.abs(ref.dot(ell, n)) < AMBIGUOUS) & (spe > 0)
-            out = ref.phong_shading(
-                light_vector=ell, light_intensity=intensity * seen[k],
-                light_color=light["color"],
-                object_color=color, irradiant_color=(0.0, 0.0, 0.0), ambient_intensity=0.0,
-                diffuse_strength=dif, specular_strength=spe, specular_color=spec_color,
-                exponent=exponent, blinn=blinn, normal=normal, view_vector=view,
-                geometry_normal=N, incoming=I)
-        sums["Diffuse"] += out["Diffuse"]
-        sums["Specular"] += out["Specular"]
+        ell, intensity, ambient_i, edge = model.reference_light(light, P, AMBIGUOUS)
+        diffuse, specular, ambient_light, unsure = model.reference_terms(
+            light, ell, intensity, ambient_i, edge, reach[idx, k], seen[k], px, AMBIGUOUS)
+        ambiguous |= unsure
+        sums["Diffuse"] += diffuse
+        sums["Specular"] += specular
+        if ambient_light is not None:
+            sums["Ambient"] += ambient_light
     final = np.minimum(sum(sums.values()), 1.0)
     # an object with a material of Opacity below 1 shows what is behind it: not predicted
     see_through = np.array([bool(obj.get("transparent")) for obj in scene["objects"]] or [False])
@@ -375,7 +287,7 @@ def evaluate_peer(scene: dict, rgba: np.ndarray, images: dict, mask: np.ndarray)
     both = mask & (rgba[..., 3] > 0)
     pairs = {f"threejs-{name}": compare_display(rgba, images[name], both)
              for name in ("cycles", "eevee", "reference") if name in images}
-    if scene.get("model") != "threejs" or "threejs-cycles" not in pairs:
+    if "threejs" not in models.get(scene.get("model")).native or "threejs-cycles" not in pairs:
         return pairs, None, both
     within = pairs["threejs-cycles"]["share_within_2_255"]
     return pairs, {"ok": within >= THREEJS_SHARE and pairs["threejs-cycles"]["pixels"] > 0,
@@ -453,7 +365,7 @@ def evaluate_x3d_peer(scene: dict, rgba: np.ndarray, images: dict, mask: np.ndar
         pairs[key]["region"] = total
         pairs[key]["coverage"] = float(both.sum() / total) if total else 1.0
         pairs[key]["agree"] = float(within.sum() / total) if total else 1.0
-    if scene.get("model") != "x3d" or key not in pairs:
+    if "x3d" not in models.get(scene.get("model")).native or key not in pairs:
         return pairs, None, both
     agree = pairs[key]["agree"]
     return pairs, {"ok": agree >= X3D_PEER_SHARE,

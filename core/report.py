@@ -14,6 +14,7 @@ import os
 
 import numpy as np
 
+from ..node_groups import models
 from ..node_groups import reference as ref
 from . import compare
 from .outputs import write_file
@@ -174,7 +175,7 @@ def svg_plot(title: str, xlabel: str, ylabel: str, curves: list, x_range, y_rang
 
 def plots(scene: dict) -> dict:
     """{file name: SVG text} for the scene's lights: falloff curves, cos^e edge curves."""
-    if scene.get("model") == "threejs":
+    if "threejs" in models.get(scene.get("model")).native:   # three.js's lights' curves
         return _threejs_plots(scene)
     out = {}
     points = [l for l in scene["lights"] if l["type"] in ("point", "spot")]

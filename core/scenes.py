@@ -307,7 +307,8 @@ def parse(data: dict, path: str = "<scene>") -> dict:
     """Validate a TOML document (already parsed); returns the scene with defaults filled."""
     c = _Checker(path)
     c.unknown(data, TOP_KEYS, "")
-    model = c.string(data, "model", "", default="seeds", choices=MODELS)
+    model = c.string(data, "model", "", default=models.DEFAULT, choices=tuple(models.MODELS))
+    schema = models.get(model).scene_schema   # the readers of its lights and materials
     scene = {
         "title": c.string(data, "title", ""),
         "model": model,
@@ -317,9 +318,9 @@ def parse(data: dict, path: str = "<scene>") -> dict:
     }
     scene["camera"] = _camera(c, c.table(data, "camera", ""))
     scene["ambient"] = _ambient(c, c.table(data, "ambient", "", required=False))
-    scene["lights"] = _lights(c, c.array_of_tables(data, "lights", "", required=False), model)
+    scene["lights"] = _lights(c, c.array_of_tables(data, "lights", "", required=False), schema)
     scene["objects"] = _objects(c, c.array_of_tables(data, "objects", ""),
-                                [light["name"] for light in scene["lights"]], model)
+                                [light["name"] for light in scene["lights"]], schema)
     return scene
 
 
@@ -442,7 +443,7 @@ def _x3d_light(c: _Checker, raw: dict, where: str, index: int) -> dict:
     return light
 
 
-#: model -> the reader of its lights.
+#: a model's scene schema (``LightingModel.scene_schema``) -> the reader of its lights.
 LIGHT_READERS = {"seeds": _light, "threejs": _threejs_light, "x3d": _x3d_light}
 
 
@@ -529,7 +530,7 @@ def _x3d_material(c: _Checker, mat: dict, where: str) -> dict:
             "irradiant": c.color(mat, "irradiant", where, (0.0, 0.0, 0.0))}
 
 
-#: model -> the reader of its materials.
+#: a model's scene schema -> the reader of its materials.
 MATERIAL_READERS = {"seeds": _seeds_material, "threejs": _threejs_material,
                     "x3d": _x3d_material}
 

@@ -78,6 +78,8 @@ import math
 import os
 import re
 
+import numpy as np
+
 from . import browser, outputs
 
 THREE_VERSION = "0.181.0"
@@ -156,6 +158,63 @@ def with_shadows(scene: dict, lights_cast: list, meshes_cast: list) -> dict:
         lights.append(light)
     out["lights"] = lights
     return out
+
+
+def model_note(model, scene_name: str) -> str | None:
+    """The warning of a scene in a lighting model (``node_groups.models``) that is not
+    three.js's own (None for three.js's): the page shows three.js's model."""
+    if "threejs" in model.native:
+        return None
+    return (f"scene {scene_name!r} uses the {model.label} model: the page shows three.js's "
+            "(set the scene's Lighting Model to three.js to see the same in Blender)")
+
+
+def material_of(name: str, values: dict) -> tuple:
+    """(the page's material, notes) of a Phong material's *values* ("color", "specular",
+    "shininess", "emissive", "specular_strength", "ambient" (the Ambient Object Color),
+    "blinn"): MeshLambertMaterial where the Specular Strength is 0, else MeshPhongMaterial
+    with specularStrength clamped into [0, 1]; notes: what three.js cannot say (an ambient
+    colour of its own, a Phong (r·v)^e share of the highlight)."""
+    notes = []
+    if max(abs(a - b) for a, b in zip(values["ambient"], values["color"])) > 1e-6:
+        notes.append("its own Ambient Object Color is not exported (three.js's ambient light "
+                     "sees the material's color)")
+    if values["blinn"]:
+        notes.append("Blinn is not exported (three.js's highlight is always Blinn-Phong)")
+    strength = min(max(values["specular_strength"], 0.0), 1.0)
+    out = {"name": name, "type": "lambert" if strength == 0.0 else "phong",
+           "color": values["color"], "emissive": values["emissive"]}
+    if out["type"] == "phong":
+        out.update(specular=values["specular"], shininess=values["shininess"],
+                   specular_strength=strength)
+    return out, notes
+
+
+def light_of(light: dict, model) -> dict:
+    """The page's light of a scene's *light* (plain data: "name", "type" directional / point
+    / spot, "color", "intensity", "position", "direction", "half_angle" in degrees and its
+    settings) in the lighting *model*: three.js's distance, decay and penumbra as
+    ``LightingModel.threejs_light`` maps them; a directional light shines from -direction
+    towards the origin, a spot towards position + direction."""
+    out = {"name": light["name"], "type": light["type"], "color": light["color"],
+           "intensity": light["intensity"]}
+    if light["type"] == "directional":
+        u = _unit(light["direction"])
+        out.update(position=[float(c) for c in -u], target=[0.0, 0.0, 0.0])
+        return out
+    mapped = model.threejs_light(light)
+    out.update(position=light["position"], distance=mapped["distance"],
+               decay=mapped["decay"])
+    if light["type"] == "spot":
+        u = _unit(light["direction"])
+        out.update(target=[float(c) for c in np.asarray(light["position"]) + u],
+                   angle=math.radians(light["half_angle"]), penumbra=mapped["penumbra"])
+    return out
+
+
+def _unit(vector):
+    u = np.asarray(vector, np.float64)
+    return u / np.linalg.norm(u)
 
 
 def _shadow_camera(light: dict, centre: list, radius: float) -> dict:

@@ -22,7 +22,18 @@ An entry says what a model is made of; its groups' formulas are in ``library.py`
   expression (``shading_modes.py``) each hold one builder per composition, so a model that
   composes as an existing one is this table's entry and its light groups;
 * ``loop``: its group in Eevee's light loop on Blender 5.3+ (``library.LOOP_MODELS``; None: the
-  model's Eevee side is its lights group, as before 5.3).
+  model's Eevee side is its lights group, as before 5.3);
+* ``native``: the interchange formats whose own lighting equation the model is ("x3d",
+  "threejs"): a scene in another model is written mapped, with one warning.
+
+Each entry is an object of its model's class, which answers what the model means outside
+Blender (no exporter or comparison asks for a model by name): its scene files' schema
+(:attr:`LightingModel.scene_schema`, read by ``core/scenes.py``), its reference
+(:meth:`LightingModel.reference_ambient`, :meth:`~LightingModel.reference_light`: the
+formulas of ``reference.py`` with its settings) and its mappings to the formats' values
+(:meth:`~LightingModel.x3d_light`, :meth:`~LightingModel.fbx_inner_angle`,
+:meth:`~LightingModel.threejs_light`), read by ``core/x3d/phong.py``, ``core/fbx/phong.py``,
+``core/threejs.py`` and ``core/compare.py``.  A new model is one entry of its class.
 
 No ``bpy`` here.
 """
@@ -31,6 +42,10 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+
+import numpy as np
+
+from . import reference as ref
 
 #: How a lights group composes the material's colour (docs/contract.md, "Several lights").
 COMPOSITIONS = {
@@ -88,15 +103,231 @@ class LightingModel:
     #: the spot settings an Area light takes (it is drawn as a spot: ``drawn_as``), by
     #: setting; a spot setting not named here keeps its default
     area: tuple = ()
+    #: the interchange formats whose own lighting equation this model is ("x3d", "threejs")
+    native: tuple = ()
 
     @property
     def power_falloff(self) -> bool:
         """Whether the model reads a light's falloff (Quadratic or Power i0/d^k)."""
         return any(row[0] == "falloff" for row in self.settings)
 
+    @property
+    def scene_schema(self) -> str:
+        """The scene files' schema its lights and materials are read with (``core/scenes.py``'s
+        readers of that name): its class's."""
+        return self.name
+
+    # -- what the model means outside Blender: each model's class says it -----------------
+    # *settings* is a light's {setting: value} (every model's settings, as
+    # ``addon/lighting/properties.settings_of`` reads them); *light* a light of a scene as
+    # plain data ("type" point / directional / spot, "position", "direction", "half_angle" in
+    # degrees and the settings); *P* (N, 3) points.
+
+    def reference_ambient(self, intensity, color, object_color):
+        """The scene's ambient term (the World's Phong ambient) on *object_color*."""
+        return ref.ambient(intensity, color, object_color)["Color"]
+
+    def reference_light(self, light, P, width):
+        """(ℓ, intensity, ambient intensity or None, ambiguous) of *light* at the points *P*
+        in this model; ambiguous: within *width* of a discontinuity of its light."""
+        raise NotImplementedError(f"{self.name}: no reference light")
+
+    def reference_terms(self, light, ell, intensity, ambient, edge, on, seen, px, width):
+        """(diffuse, specular, ambient light (or None), ambiguous) of *light*'s light at the
+        pixels *px* (``core.compare``'s probes: color, spec_color, ambient_color, exponent,
+        blinn, strength, normal, view, N, I, n, v), from :meth:`reference_light`'s ℓ,
+        intensity, ambient intensity and edge; *on*: the pixels it reaches, *seen*: its
+        visibility there (0 in shadow); ambiguous: pixels within *width* of a discontinuity.
+        """
+        raise NotImplementedError(f"{self.name}: no reference terms")
+
+    def x3d_light(self, settings, falloff, kind, cut) -> tuple:
+        """({"attenuation": (a0, a1, a2), "radius": metres or None (none), "beam_width":
+        radians} of a light of *kind* ("point", "spot"; *cut*: a spot's cut-off angle), notes:
+        what X3D cannot say, each a sentence after "light NAME: ")."""
+        raise NotImplementedError(f"{self.name}: no X3D mapping")
+
+    def fbx_inner_angle(self, settings, outer) -> float:
+        """The FBX InnerAngle (degrees, full cone) of a spot whose OuterAngle is *outer*."""
+        raise NotImplementedError(f"{self.name}: no FBX mapping")
+
+    def threejs_light(self, settings) -> dict:
+        """The three.js page's distance, decay and (a spot's) penumbra of a light, of those
+        *settings* holds: the light's own three.js settings (the page shows three.js's model
+        whatever the scene's)."""
+        return {key: float(settings[key]) for key in ("distance", "decay", "penumbra")
+                if key in settings}
+
+
+def _hard_edge(cos_angle, theta, width):
+    """Where a hard cone's edge makes a point's light ambiguous."""
+    return np.abs(cos_angle - math.cos(theta)) < width
+
+
+class Seeds(LightingModel):
+    """The seeds' textbook model: i0/(αr²+βr+γ) or i0/d^k, a cone with a cos^e edge, diffuse
+    and specular factors per light."""
+
+    @property
+    def scene_schema(self) -> str:
+        return "seeds"
+
+    def reference_light(self, light, P, width):
+        kind = light["type"]
+        if kind == "directional":
+            out = ref.directional_light(light["direction"], light["intensity"],
+                                        geometry_position=P)
+            return out["Light Vector"], out["Intensity"], None, np.zeros(len(P), bool)
+        # the power falloff i0/d^k (docs/model.md §Power falloff): no quadratic falloff, then
+        # the power's
+        power = light.get("falloff", "quadratic") == "power"
+        quadratic = (0.0, 0.0, 1.0) if power else (light["quadratic"], light["linear"],
+                                                   light["constant"])
+        if kind == "point":
+            out = ref.point_light(light["position"], light["intensity"], *quadratic,
+                                  geometry_position=P)
+            edge = np.zeros(len(P), bool)
+        else:
+            theta = math.radians(light["half_angle"])
+            out = ref.spot_light(light["position"], light["direction"], theta,
+                                 light["edge_exponent"], light["intensity"], *quadratic,
+                                 geometry_position=P)
+            edge = _hard_edge(out["Cos Angle"], theta, width)
+        intensity = (ref.power_falloff(out["Distance"], out["Intensity"],
+                                       light.get("power_k", 2.0))["Intensity"]
+                     if power else out["Intensity"])
+        return out["Light Vector"], intensity, None, edge
+
+    def reference_terms(self, light, ell, intensity, ambient, edge, on, seen, px, width):
+        dif = np.where(on, light["diffuse"], 0.0)
+        spe = np.where(on, light["specular"], 0.0)
+        ambiguous = edge & (dif + spe > 0)
+        ambiguous |= (np.abs(ref.dot(ell, px["n"])) < width) & (spe > 0)
+        out = ref.phong_shading(
+            light_vector=ell, light_intensity=intensity * seen, light_color=light["color"],
+            object_color=px["color"], irradiant_color=(0.0, 0.0, 0.0), ambient_intensity=0.0,
+            diffuse_strength=dif, specular_strength=spe, specular_color=px["spec_color"],
+            exponent=px["exponent"], blinn=px["blinn"], normal=px["normal"],
+            view_vector=px["view"], geometry_normal=px["N"], incoming=px["I"])
+        return out["Diffuse"], out["Specular"], None, ambiguous
+
+    def x3d_light(self, settings, falloff, kind, cut) -> tuple:
+        notes = []
+        out = {"attenuation": (settings["constant"], settings["linear"], settings["quadratic"]),
+               "radius": None, "beam_width": cut}
+        if kind != "directional" and falloff == "POWER":
+            k = settings["power_k"]
+            terms = {0.0: (1.0, 0.0, 0.0), 1.0: (0.0, 1.0, 0.0), 2.0: (0.0, 0.0, 1.0)}
+            if k not in terms:
+                notes.append(f"falloff 1/d^{k:g} has no X3D counterpart; written as 1/d²")
+            out["attenuation"] = terms.get(k, (0.0, 0.0, 1.0))
+        if kind == "spot" and settings["edge_exponent"] > 0.0:
+            notes.append("the soft edge (Edge Exponent) written as a hard cone")
+        if (settings["diffuse"], settings["specular"]) != (1.0, 1.0):
+            notes.append("Diffuse / Specular factors have no X3D counterpart; written as 1")
+        return out, notes
+
+    def fbx_inner_angle(self, settings, outer) -> float:
+        # (cos ω)^e = ½ at ω = (Inner + Outer) / 4: the inverse of the importer's rule
+        # (core/fbx/phong.spot_edge_exponent)
+        e = settings["edge_exponent"]
+        return outer if e <= 0.0 else 4.0 * math.degrees(math.acos(0.5 ** (1.0 / e))) - outer
+
+
+class ThreeJS(LightingModel):
+    """three.js r181's MeshPhongMaterial: distance/decay lights, a smoothstep penumbra,
+    Lambert/π and normalised Blinn-Phong with Fresnel."""
+
+    @property
+    def scene_schema(self) -> str:
+        return "threejs"
+
+    def reference_ambient(self, intensity, color, object_color):
+        return ref.threejs_ambient(intensity, color, object_color)["Color"]
+
+    def reference_light(self, light, P, width):
+        kind = light["type"]
+        if kind == "directional":  # the seeds' directional light
+            out = ref.directional_light(light["direction"], light["intensity"],
+                                        geometry_position=P)
+            return out["Light Vector"], out["Intensity"], None, np.zeros(len(P), bool)
+        if kind == "point":
+            out = ref.threejs_point_light(light["position"], light["intensity"],
+                                          light["distance"], light["decay"],
+                                          geometry_position=P)
+            return out["Light Vector"], out["Intensity"], None, np.zeros(len(P), bool)
+        theta = math.radians(light["half_angle"])
+        out = ref.threejs_spot_light(light["position"], light["direction"], theta,
+                                     light["penumbra"], light["intensity"], light["distance"],
+                                     light["decay"], geometry_position=P)
+        edge = _hard_edge(out["Cos Angle"], theta, width) & (light["penumbra"] == 0)
+        return out["Light Vector"], out["Intensity"], None, edge
+
+    def reference_terms(self, light, ell, intensity, ambient, edge, on, seen, px, width):
+        out = ref.threejs_phong(ell, np.where(on, intensity, 0.0) * seen, light["color"],
+                                px["color"], px["spec_color"], px["exponent"], px["strength"],
+                                px["normal"], px["view"], px["N"], px["I"])
+        return out["Diffuse"], out["Specular"], None, edge & on
+
+    def x3d_light(self, settings, falloff, kind, cut) -> tuple:
+        penumbra = settings["penumbra"]
+        return {"attenuation": (settings["constant"], settings["linear"],
+                                settings["quadratic"]),
+                "radius": None,
+                "beam_width": cut * (1.0 - penumbra) if penumbra > 0.0 else cut}, []
+
+    def fbx_inner_angle(self, settings, outer) -> float:
+        return outer * (1.0 - settings["penumbra"])
+
+
+class X3D(LightingModel):
+    """The ISO lighting equation of X3D and VRML97 (docs/x3d.md)."""
+
+    @property
+    def scene_schema(self) -> str:
+        return "x3d"
+
+    def reference_light(self, light, P, width):
+        kind = light["type"]
+        if kind == "directional":
+            out = ref.x3d_directional_light(light["direction"], light["intensity"],
+                                            light.get("ambient", 0.0), geometry_position=P)
+            return (out["Light Vector"], out["Intensity"], out["Ambient"],
+                    np.zeros(len(P), bool))
+        falloff = (light.get("ambient", 0.0), light["constant"], light["linear"],
+                   light["quadratic"], light.get("radius", 100.0))
+        if kind == "point":
+            out = ref.x3d_point_light(light["position"], light["intensity"], *falloff,
+                                      geometry_position=P)
+            edge = np.zeros(len(P), bool)
+        else:   # a hard edge where beamWidth ≥ cutOffAngle
+            cut = math.radians(light["half_angle"])
+            beam = light.get("beam_width", cut)
+            out = ref.x3d_spot_light(light["position"], light["direction"], beam, cut,
+                                     light["intensity"], *falloff, geometry_position=P)
+            edge = (np.abs(out["Spot Angle"] - cut) < width) & (beam >= cut)
+        edge |= np.abs(out["Distance"] - falloff[-1]) < width   # the radius
+        return out["Light Vector"], out["Intensity"], out["Ambient"], edge
+
+    def reference_terms(self, light, ell, intensity, ambient, edge, on, seen, px, width):
+        # per-light ambient, Blinn highlights without the N·L condition
+        out = ref.x3d_light_terms(ell, np.where(on, intensity, 0.0) * seen,
+                                  np.where(on, ambient, 0.0), light["color"], px["exponent"],
+                                  px["n"], px["v"])
+        return (out["Diffuse Light"] * px["color"], out["Specular Light"] * px["spec_color"],
+                out["Ambient Light"] * px["ambient_color"], edge & on)
+
+    def x3d_light(self, settings, falloff, kind, cut) -> tuple:
+        return {"attenuation": (settings["constant"], settings["linear"],
+                                settings["quadratic"]),
+                "radius": settings["radius"], "beam_width": settings["beam_width"]}, []
+
+    def fbx_inner_angle(self, settings, outer) -> float:
+        return 2.0 * math.degrees(settings["beam_width"])
+
 
 _TABLE = (
-    LightingModel(
+    Seeds(
         name="seeds", label="Seeds (textbook Phong)",
         description="The lecture notes' Phong model: i0/(αr²+βr+γ) lights, (r·v)^e or (h·n)^e "
                     "highlights",
@@ -115,7 +346,7 @@ _TABLE = (
                   ("specular", EVERY, None, None)),
         composition="phong", loop="Phong Loop Light",
         area=(("edge_exponent", AREA_EDGE_EXPONENT),)),
-    LightingModel(
+    ThreeJS(
         name="threejs", label="three.js",
         description="What three.js r181's MeshPhongMaterial / MeshLambertMaterial show: "
                     "Lambert/π, normalised Blinn-Phong with Fresnel, distance/decay lights, "
@@ -129,8 +360,8 @@ _TABLE = (
                   ("decay", NEAR, None, "Decay"),
                   ("penumbra", ("SPOT",), None, "Penumbra")),
         composition="chain", spot_note="Angle: half the spot size", loop="three.js Loop Light",
-        area=(("penumbra", 0.0),)),
-    LightingModel(
+        area=(("penumbra", 0.0),), native=("threejs",)),
+    X3D(
         name="x3d", label="X3D / VRML97",
         description="The ISO lighting equation of X3D and VRML97: per-light ambient, "
                     "attenuation 1/max(a0 + a1·d + a2·d², 1) within a radius, a linear spot "
@@ -148,7 +379,7 @@ _TABLE = (
                   ("radius", NEAR, None, "Radius"),
                   ("beam_width", ("SPOT",), None, "Beam Width")),
         composition="phong_light_ambient", spot_note="Cut-off angle: half the spot size",
-        loop="X3D Loop Light", area=(("beam_width", AREA_HALF_ANGLE),)),
+        loop="X3D Loop Light", area=(("beam_width", AREA_HALF_ANGLE),), native=("x3d",)),
 )
 
 #: name -> LightingModel, the default (a scene without a model) first.
@@ -178,5 +409,5 @@ def check(table=None) -> list:
 
 
 __all__ = ["COMPOSITIONS", "EVERY", "NEAR", "RENDERED", "POWER_TO_INTENSITY", "AREA_HALF_ANGLE",
-           "AREA_EDGE_EXPONENT", "drawn_as", "LightingModel", "MODELS", "NAMES", "DEFAULT",
-           "get", "check"]
+           "AREA_EDGE_EXPONENT", "drawn_as", "LightingModel", "Seeds", "ThreeJS", "X3D",
+           "MODELS", "NAMES", "DEFAULT", "get", "check"]

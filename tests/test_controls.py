@@ -500,24 +500,31 @@ def test_panels_show_falloff_power_k_and_opacity(bpy_clean):
 # -- the comparison's reference ------------------------------------------------------------
 
 def test_the_comparison_reference_knows_the_power_falloff():
-    """core/compare.light_at (the reference of Compare / the bake) for a power light: i0/d^k,
-    and the spot's cone and edge, against the formula worked out here."""
+    """The seeds' model's reference light (the reference of Compare / the bake:
+    ``LightingModel.reference_light``) for a power light: i0/d^k, and the spot's cone and
+    edge, against the formula worked out here."""
     from phong_nodes.core import compare  # noqa: PLC0415
+    from phong_nodes.node_groups import models  # noqa: PLC0415
+
+    def light_at(light, P):
+        ell, intensity, _ambient, edge = models.get("seeds").reference_light(
+            light, P, compare.AMBIGUOUS)
+        return ell, intensity, edge
 
     P = np.array([[0.0, 0.0, 0.0], [1.0, 0.5, 0.0], [3.0, 0.0, 0.0], [0.2, -0.1, 1.5]])
     light = {"type": "point", "position": [0.0, 0.0, 2.0], "intensity": 1.5, "quadratic": 7.0,
              "linear": 7.0, "constant": 7.0, "falloff": "power", "power_k": 1.7}
     d = np.linalg.norm(P - [0.0, 0.0, 2.0], axis=-1)
-    _ell, intensity, _edge = compare.light_at(light, P)
+    _ell, intensity, _edge = light_at(light, P)
     np.testing.assert_allclose(intensity, 1.5 / d ** 1.7, rtol=1e-12)
     spot = {**light, "type": "spot", "direction": [0.0, 0.0, -1.0], "half_angle": 40.0,
             "edge_exponent": 3.0, "penumbra": 0.0}
     cos_w = (2.0 - P[:, 2]) / d
     want = np.where(cos_w >= math.cos(math.radians(40.0)), 1.5 / d ** 1.7 * cos_w ** 3, 0.0)
-    np.testing.assert_allclose(compare.light_at(spot, P)[1], want, rtol=1e-12)
+    np.testing.assert_allclose(light_at(spot, P)[1], want, rtol=1e-12)
     assert want[2] == 0.0 and want[0] > 0.0, "one point outside the cone, one inside"
     quadratic = {**light, "falloff": "quadratic"}
-    np.testing.assert_allclose(compare.light_at(quadratic, P)[1], 1.5 / (7 * d * d + 7 * d + 7))
+    np.testing.assert_allclose(light_at(quadratic, P)[1], 1.5 / (7 * d * d + 7 * d + 7))
 
 
 def test_describe_gives_the_reference_the_falloff(bpy_clean):

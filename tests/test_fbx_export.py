@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""FBX with Phong materials (issue 45): ``core/fbx_write.py`` (the Phong parts of a binary FBX
+"""FBX with Phong materials (issue 45): ``core/fbx/write.py`` (the Phong parts of a binary FBX
 rewritten, every other node's bytes kept) and File ▸ Export ▸ FBX (.fbx) with Phong Materials.
 
 The exported files are read here by peers, independently of the exporter: Blender's own
@@ -34,9 +34,9 @@ BINARY_7 = [p for p in sorted(glob.glob(os.path.join(DATA, "*binary.fbx")))
 def test_walk_reencodes_every_header_to_the_same_bytes(path):
     """Every node header re-encoded at its place (``force``) and the footer's padding
     recomputed: the same bytes, for binary FBX 7.x of Maya and Blender alike."""
-    from phong_nodes.core import fbx_write
+    from phong_nodes.core import fbx
     data = open(path, "rb").read()
-    out, missing = fbx_write.rewrite(data, force=True)
+    out, missing = fbx.rewrite(data, force=True)
     assert out == data and missing == []
 
 
@@ -45,21 +45,21 @@ def test_rewritten_material_and_ambient_are_what_ufbx_reads(tmp_path):
     its ambient set, without Blender: ufbx (through core.fbx's child process) reads the
     values written, the model, the opacity and the user property; every node but the
     rewritten ones keeps its bytes (the file grows by the new properties only)."""
-    from phong_nodes.core import fbx, fbx_write
+    from phong_nodes.core import fbx
     path = os.path.join(DATA, "blender_293_embedded_textures_7400_binary.fbx")
     data = open(path, "rb").read()
-    material = fbx_write.Material(lambert=True, diffuse=(0.1, 0.2, 0.3),
-                                  ambient=(0.4, 0.5, 0.6), specular=(0.0, 0.0, 0.0),
-                                  emissive=(0.01, 0.02, 0.03), exponent=7.0, opacity=0.75,
-                                  user={"Exponent": 7.0})
-    out, missing = fbx_write.rewrite(data, {"Material.001": material, "Nowhere": material},
-                                     ambient=(0.2, 0.3, 0.4))
+    material = fbx.Material(kind="LAMBERT", colors={
+        "Object Color": (0.1, 0.2, 0.3), "Ambient Object Color": (0.4, 0.5, 0.6),
+        "Specular Color": (0.0, 0.0, 0.0), "Irradiant Color": (0.01, 0.02, 0.03)},
+        exponent=7.0, opacity=0.75, user={"Exponent": 7.0})
+    out, missing = fbx.rewrite(data, {"Material.001": material, "Nowhere": material},
+                               ambient=(0.2, 0.3, 0.4))
     assert missing == ["material Nowhere"]
     target = tmp_path / "rewritten.fbx"
     target.write_bytes(out)
     scene = fbx.read(str(target))
     m = scene.material("Material.001")
-    assert (m.model, m.shading) == ("LAMBERT", "Lambert")
+    assert (m.kind, m.shading) == ("LAMBERT", "Lambert")
     assert m.colors["Object Color"] == (0.1, 0.2, 0.3)
     assert m.colors["Ambient Object Color"] == (0.4, 0.5, 0.6)
     assert m.colors["Irradiant Color"] == (0.01, 0.02, 0.03)
@@ -78,12 +78,12 @@ def test_rewritten_material_and_ambient_are_what_ufbx_reads(tmp_path):
 
 
 def test_not_a_binary_fbx_7_is_one_error():
-    from phong_nodes.core import fbx_write
+    from phong_nodes.core import fbx
     for data in (b"", b"; FBX 7.4.0 project file", open(os.path.join(
             DATA, "maya_cube_6100_binary.fbx"), "rb").read(),
                  open(BINARY_7[0], "rb").read()[:200]):
-        with pytest.raises(fbx_write.FbxWriteError):
-            fbx_write.rewrite(data, force=True)
+        with pytest.raises(fbx.FbxWriteError):
+            fbx.rewrite(data, force=True)
 
 
 # -- the hand scene ---------------------------------------------------------------------------
@@ -169,7 +169,7 @@ def _hand_scene(bpy):
 
 UFBX_SCRIPT = r"""
 import gc, json, sys
-gc.disable()   # ufbx 0.0.5's objects crash the collector (core/fbx.py)
+gc.disable()   # ufbx 0.0.5's objects crash the collector (core/fbx/read.py)
 import ufbx
 scene = ufbx.load_file(sys.argv[1], ignore_geometry=True)
 out = {}
@@ -393,12 +393,12 @@ def test_selection_only_and_a_failed_rewrite_leaves_the_file(bpy_clean, tmp_path
     assert set(parsed["Material"]) == {made["Glossy"].name}
     path = tmp_path / "scene.fbx"
     before = path.read_bytes()
-    from phong_nodes.core import fbx_write
+    from phong_nodes.core import fbx
 
     def broken(*_args, **_kwargs):
-        raise fbx_write.FbxWriteError("broken on purpose")
+        raise fbx.FbxWriteError("broken on purpose")
 
-    monkeypatch.setattr(fbx_write, "rewrite", broken)
+    monkeypatch.setattr(fbx, "rewrite", broken)
     with pytest.raises(RuntimeError, match="cannot be rewritten .broken on purpose"):
         bpy.ops.phong.export_fbx(filepath=str(path))
     assert path.read_bytes() == before
@@ -688,7 +688,7 @@ def test_image_textures_are_written_and_read_back(bpy_clean, tmp_path):
 
 UFBX_TEXTURES = r"""
 import gc, json, sys
-gc.disable()   # ufbx 0.0.5's objects crash the collector (core/fbx.py)
+gc.disable()   # ufbx 0.0.5's objects crash the collector (core/fbx/read.py)
 import ufbx
 scene = ufbx.load_file(sys.argv[1], ignore_geometry=True)
 hold, out = [], {}

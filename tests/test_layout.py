@@ -44,7 +44,7 @@ def test_pure_packages_import_where_bpy_cannot():
     assert "LOADED" not in names, result.stdout
     for expected in ("node_groups.expr", "node_groups.library", "node_groups.reference",
                      "core.scenes", "core.compare", "core.report", "core.outputs", "core.mtl",
-                     "core.xmlsafe", "core.x3d", "core.collada"):
+                     "core.xmlsafe", "core.x3d", "core.collada", "core.fbx"):
         assert expected in names, f"{expected} missing from {names}"
 
 
@@ -174,6 +174,7 @@ CORE_PACKAGES = {
             "files", "protos", "geometry", "build", "flatten", "document", "phong", "write"),
     "collada": ("model", "context", "numbers", "geometry", "effects", "lights_cameras", "nodes",
                 "read", "write"),
+    "fbx": ("model", "read", "phong", "write"),
 }
 #: The most lines a module of ``core/`` may have (issue 44: one job a file).
 CORE_MODULE_LINES = 1200
@@ -525,3 +526,52 @@ def test_no_product_text_cites_an_issue_number():
             number = text.count("\n", 0, match.start()) + 1
             found.append(f"{os.path.relpath(path, ROOT)}:{number}: {lines[number - 1].strip()}")
     assert not found, "issue numbers in product text:\n" + "\n".join(found)
+
+
+def _is_model(node) -> bool:
+    """Whether *node* names a scene's lighting model: ``model``, ``self.model``,
+    ``data["model"]``, ``scene.get("model")``."""
+    if isinstance(node, ast.Name):
+        return node.id == "model"
+    if isinstance(node, ast.Attribute):
+        return node.attr == "model"
+    if isinstance(node, ast.Subscript):
+        return isinstance(node.slice, ast.Constant) and node.slice.value == "model"
+    if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute):
+        return node.func.attr == "get" and bool(node.args) and \
+            isinstance(node.args[0], ast.Constant) and node.args[0].value == "model"
+    return False
+
+
+def _model_comparisons(source: str) -> list:
+    """The line numbers of comparisons of a lighting model by name (``model == "x3d"``,
+    ``data["model"] != "threejs"``, ``model in ("seeds", ...)``) in *source*."""
+    lines = []
+    for node in ast.walk(ast.parse(source)):
+        if isinstance(node, ast.Compare) and any(
+                isinstance(op, (ast.Eq, ast.NotEq, ast.In, ast.NotIn)) for op in node.ops) \
+                and any(_is_model(side) for side in [node.left, *node.comparators]):
+            lines.append(node.lineno)
+    return lines
+
+
+def test_the_model_comparison_count_finds_what_it_should():
+    found = _model_comparisons('if model == "x3d": pass\nx = self.model != "seeds"\n'
+                               'y = data["model"] in NAMES\nz = s.get("model") == "threejs"\n'
+                               'ok = models.get(name).native\nw = kind == "x3d"\n')
+    assert found == [1, 2, 3, 4]
+
+
+def test_no_exporter_or_core_module_asks_for_a_lighting_model_by_name():
+    """What a lighting model means outside Blender (its reference, its X3D, FBX and three.js
+    values) is its object's (``node_groups/models.py``): the exporters and ``core/`` ask the
+    model, never compare its name."""
+    found = []
+    for folder in (os.path.join(ROOT, "addon", "interchange"), os.path.join(ROOT, "core")):
+        for here, _dirs, files in os.walk(folder):
+            for name in (f for f in files if f.endswith(".py")):
+                path = os.path.join(here, name)
+                with open(path, encoding="utf-8") as handle:
+                    found += [f"{os.path.relpath(path, ROOT)}:{line}"
+                              for line in _model_comparisons(handle.read())]
+    assert found == [], found

@@ -20,7 +20,10 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 #: The modules that differ by model and must read the table (the issue's list).
 READERS = ("node_groups/shading_modes.py", "addon/lighting/rig.py",
            "addon/lighting/properties.py", "addon/lighting/loop.py", "addon/ui/panels.py",
-           "addon/shading/modes.py", "addon/shading/groups.py", "addon/lighting/lights.py")
+           "addon/shading/modes.py", "addon/shading/groups.py", "addon/lighting/lights.py",
+           # the exporters ask the model for its mapping (core/x3d/phong.py, core/fbx/phong.py)
+           "addon/interchange/x3d_export.py", "addon/interchange/fbx_export.py",
+           "addon/interchange/threejs_export.py")
 
 
 def test_the_table_is_sound():

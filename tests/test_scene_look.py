@@ -306,3 +306,52 @@ def test_an_area_light_exports_to_x3d_as_the_spot_that_draws_it(bpy_clean, tmp_p
     assert len(spots) == 1, "the Area light is a SpotLight"
     assert float(spots[0].get("cutOffAngle")) == pytest.approx(math.pi / 2.0, rel=1e-6)
     assert float(spots[0].get("intensity")) == pytest.approx(i0, rel=1e-6)
+
+
+UFBX_LIGHTS = r"""
+import gc, json, sys
+gc.disable()   # ufbx 0.0.5's objects crash the collector (core/fbx/read.py)
+import ufbx
+scene = ufbx.load_file(sys.argv[1], ignore_geometry=True)
+out = {}
+for i in range(len(scene.lights)):
+    light = scene.lights[i]
+    props = light.props.props
+    out[light.name] = {props[j].name: props[j].value_vec4.x for j in range(len(props))}
+print(json.dumps(out))
+sys.stdout.flush()
+import os
+os._exit(0)
+"""
+
+
+def test_an_area_light_exports_to_fbx_as_the_spot_that_draws_it(bpy_clean, tmp_path):
+    """FBX: an Area light is a spot (LightType 2) of OuterAngle 180° whose InnerAngle gives
+    the seeds' edge exponent 1 ((cos ω)^1 = ½ halfway between the half angles: ω = 60°, so
+    InnerAngle = 4·60° − 180° = 60°), Intensity 100 × its i0 (P/π²) with DecayType 2 (1/d²),
+    read back from the written file by ufbx (the FBX SDK's names, in a child process)."""
+    import json  # noqa: PLC0415
+    import subprocess  # noqa: PLC0415
+    import sys  # noqa: PLC0415
+
+    be.need_module("ufbx")
+    scene, objects, lights = _scene(bpy_clean)
+    be.apply_phong(scene, objects)
+    from phong_nodes.addon.interchange import fbx_export  # noqa: PLC0415
+    out = tmp_path / "area.fbx"
+    with bpy_clean.context.temp_override(scene=scene):
+        warnings = fbx_export.export(bpy_clean.context, str(out))
+    assert out.stat().st_size > 0
+    done = subprocess.run([sys.executable, "-c", UFBX_LIGHTS, str(out)], capture_output=True,
+                          text=True, timeout=120, check=True)
+    read = json.loads(done.stdout.strip().splitlines()[-1])
+    panel = next(props for name, props in read.items() if name.startswith("Panel"))
+    i0 = lights["area"].data.energy / math.pi ** 2
+    assert panel["LightType"] == 2, "an Area light is a spot"
+    assert panel["OuterAngle"] == pytest.approx(180.0, rel=1e-6)
+    assert panel["InnerAngle"] == pytest.approx(60.0, rel=1e-6)
+    assert panel["DecayType"] == 2
+    assert panel["Intensity"] == pytest.approx(100.0 * i0, rel=1e-6)
+    # the other models' spot settings of an Area light (X3D's beam width, three.js's
+    # penumbra) are what the file's angles do not give: kept, as a spot's are
+    assert any(w.startswith("light Panel: Phong settings kept") for w in warnings), warnings

@@ -552,13 +552,13 @@ def test_fbx_rewrite_sets_a_light_s_cast_shadows(tmp_path, cast):
     finds the CastShadows written, on the object itself; the P record is ("CastShadows",
     "bool", "", "", int32), the property Blender's own exporter writes (p_bool, int32)."""
     be.need_module("ufbx")
-    from phong_nodes.core import fbx, fbx_write  # noqa: PLC0415
+    from phong_nodes.core import fbx  # noqa: PLC0415
 
     data = open(os.path.join(FBX_DATA, "maya_camera_light_axes_y_up_7700_binary.fbx"),
                 "rb").read()
-    light = fbx_write.Light(type="SUN", color=(1.0, 1.0, 1.0), intensity=100.0, decay=0,
-                            cast_shadows=cast)
-    out, missing = fbx_write.rewrite(data, lights={"": light})
+    light = fbx.Light(type="SUN", color=(1.0, 1.0, 1.0), intensity=1.0, decay=0,
+                      cast_shadows=cast)
+    out, missing = fbx.rewrite(data, lights={"": light})
     assert missing == []
     # the P record as bytes: 4 strings (S + uint32 length + text), then I + int32
     want = b"".join(b"S" + len(s).to_bytes(4, "little") + s

@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""FBX with Phong materials: Blender's own exporter writes the file, then the Phong
-parts are rewritten (``core/fbx_write.py``) and the file is put in place atomically.
+"""FBX with Phong materials: Blender's own exporter writes the file, then the Phong parts are
+rewritten (``core/fbx``: ``phong`` the mapping, ``write`` the splice) and the file is put in
+place atomically.  This module reads Blender; what each value becomes is ``core/fbx/phong``'s.
 
 Each Phong material (read by ``materials.feeds``, the one reader of a Phong material) becomes
 an FBX Phong material, or a Lambert where its Specular Color is black (as a Lambert imports):
@@ -10,8 +11,8 @@ an FBX Phong material, or a Lambert where its Specular Color is black (as a Lamb
     EmissiveColor = Irradiant Color    every factor 1, ReflectionFactor 0
     Opacity o, TransparencyFactor 1 − o, TransparentColor white
 
-Each Phong light (Point, Sun, Spot): LightType; Color; Intensity = 100 × Phong intensity (the
-importer's Intensity / 100); DecayType k of the falloff (1/d^k: a single term c·r^k of
+Each Phong light (Point, Sun, Spot; an Area light as the spot that draws it, a 180° cone):
+LightType; Color; Intensity = 100 × Phong intensity (the importer's Intensity / 100); DecayType k of the falloff (1/d^k: a single term c·r^k of
 i₀/(αr²+βr+γ) is exact, with Intensity = 100·i₀/c; a mixed one is written as its highest
 term, with a warning; the power falloff's k, rounded into 0-3); a spot's OuterAngle = Spot
 Size and InnerAngle per the scene's lighting model (seeds: where the edge factor
@@ -37,32 +38,21 @@ materials are written as Blender writes them.
 
 from __future__ import annotations
 
-import math
 import os
 import tempfile
 
 import bpy
 
-from ...core import fbx as fbx_read
-from ...core import fbx_write, outputs
+from ...core import fbx, outputs
+from ...node_groups import models
 from .. import compat
 from ..lighting import materials as recipe
 from ..lighting import properties, rig
 from . import keys, native
 from .native import ensure_fbx_addon
 
-#: The importer's reading of a material's user properties: key -> lights-group input.
-MATERIAL_USER = {"Blinn": "Blinn", "SpecularStrength": "Specular Strength"}
-BLACK = (0.0, 0.0, 0.0)
-
-
-def _close(a, b) -> bool:
-    return abs(a - b) <= 1e-6 * max(1.0, abs(a), abs(b))
-
-
-#: The colour inputs that take a texture, and the FBX property it is written on.
-TEXTURE_PROPS = {"Object Color": "DiffuseColor", recipe.AMBIENT_INPUT: "AmbientColor",
-                 "Specular Color": "SpecularColor", "Irradiant Color": "EmissiveColor"}
+#: The colour inputs that take a texture (each written on its FBX property: fbx.PROPERTY_OF).
+TEXTURE_INPUTS = ("Object Color", recipe.AMBIENT_INPUT, "Specular Color", "Irradiant Color")
 #: The file name suffix of a packed image written beside the FBX file, by its format.
 SUFFIXES = {"PNG": ".png", "JPEG": ".jpg", "TARGA": ".tga", "TARGA_RAW": ".tga", "BMP": ".bmp",
             "TIFF": ".tif", "OPEN_EXR": ".exr", "OPEN_EXR_MULTILAYER": ".exr", "HDR": ".hdr",
@@ -73,7 +63,7 @@ WHITE = (1.0, 1.0, 1.0)
 #: enter the equation as numbers) is marked ``NonColor<property>`` for the importer.
 COLOUR_MAPS = ("DiffuseColor", "AmbientColor", "SpecularColor", "EmissiveColor",
                "TransparentColor")
-NON_COLOR_USER = fbx_read.NON_COLOR_USER
+NON_COLOR_USER = fbx.NON_COLOR_USER
 MEAN = 1.0 / 3.0
 
 
@@ -88,12 +78,12 @@ class Textures:
         self.folder = folder
         self.embed = embed    # Blender's embed_textures (with path_mode COPY): Video Content
         self.copy = copy      # Blender's path_mode COPY: image files copied beside the FBX
-        self.made = {}        # image name -> fbx_write.Texture
+        self.made = {}        # image name -> fbx.Texture
         self.pending = {}     # path beside the FBX -> bytes
         self.taken = set()
 
     def __call__(self, node, warnings, where):
-        """The fbx_write.Texture of the Image Texture *node*, or None (a warning says why)."""
+        """The fbx.Texture of the Image Texture *node*, or None (a warning says why)."""
         image = node.image
         if image.name in self.made:
             return self.made[image.name]
@@ -125,9 +115,10 @@ class Textures:
             relative = os.path.relpath(path, self.folder)
         except ValueError:   # another drive (Windows)
             relative = path
-        texture = fbx_write.Texture(path, relative, os.path.basename(path) or image.name,
-                                    data=image.colorspace_settings.name == native.NON_COLOR,
-                                    content=content if self.embed else None)
+        texture = fbx.Texture(name=os.path.basename(path) or image.name, candidates=(path,),
+                              relative=relative,
+                              data=image.colorspace_settings.name == native.NON_COLOR,
+                              content=content if self.embed else None)
         self.made[image.name] = texture
         return texture
 
@@ -244,7 +235,7 @@ def _exponent_map(feed, textures, out, warnings, where) -> bool:
         return False
     texture = textures(form[2][0][1], warnings, where)
     if texture is not None:
-        out.textures["ShininessExponent"] = texture
+        out.textures["Exponent"] = texture
         out.exponent = max(form[1], 0.0)
     return True
 
@@ -295,20 +286,20 @@ def _opacity_map(node, textures, out, warnings, where) -> None:
                         "Opacity control's value written)")
 
 
-def material_of(material, warnings: list, folder: str = "", textures=None) -> fbx_write.Material:
+def material_of(material, warnings: list, folder: str = "", textures=None) -> fbx.Material:
     """The FBX Phong (or Lambert) values of the Phong material *material* (*folder*: the
     FBX file's, for the textures' relative paths; *textures*: the export's
     :class:`Textures`).  A colour fed by an image texture (alone: colour white, or times a
     colour: that colour) is that colour with the texture on its property, as the importer
     reads it back (colour × texture); the exponent and opacity maps as ``_exponent_map`` and
-    ``_opacity_map`` say."""
+    ``_opacity_map`` say.  The values become FBX's by ``fbx.material_of``."""
     if textures is None:
         textures = Textures(folder)
     feeds = recipe.feeds(material)
     name = material.name
     where = f"material {name}"
     maps, values, mapped = {}, {}, set()
-    for key, prop in TEXTURE_PROPS.items():
+    for key in TEXTURE_INPUTS:
         feed = feeds[key]
         values[key] = feed.value
         node, colour, chain = feed.texture, None, feed.chain
@@ -325,18 +316,15 @@ def material_of(material, warnings: list, folder: str = "", textures=None) -> fb
         texture = textures(node, warnings, where)
         if texture is None:
             continue
-        maps[prop] = texture
+        maps[key] = texture
         if colour is not None:
             values[key] = colour
         elif feed.other is feed.texture:   # the texture alone: white × texture
             values[key] = WHITE
-    specular = values["Specular Color"]
-    lambert = all(c == 0.0 for c in specular) and "SpecularColor" not in maps
-    out = fbx_write.Material(
-        lambert=lambert, diffuse=values["Object Color"], ambient=values[recipe.AMBIENT_INPUT],
-        specular=specular, emissive=values["Irradiant Color"],
-        exponent=max(feeds["Exponent"].value, 0.0),
-        opacity=min(max(feeds["Opacity"].value, 0.0), 1.0), textures=maps)
+    values["Exponent"] = feeds["Exponent"].value
+    values["Opacity"] = feeds["Opacity"].value
+    out = fbx.material_of(values, maps, name)
+    lambert = out.lambert
     exponent_mapped = not lambert and _exponent_map(feeds["Exponent"], textures, out,
                                                     warnings, where)
     fed = [k for k, f in feeds.items() if f.other is not None and k not in mapped
@@ -346,12 +334,16 @@ def material_of(material, warnings: list, folder: str = "", textures=None) -> fb
                         "the control's value written")
     if feeds["Opacity"].other is not None:
         _opacity_map(feeds["Opacity"].other, textures, out, warnings, where)
-    for prop, texture in out.textures.items():
+    for key, texture in out.textures.items():
+        prop = fbx.PROPERTY_OF[key]
         if prop in COLOUR_MAPS and texture.data:   # a colour map read as data (X3D's texels)
             out.user[NON_COLOR_USER + prop] = 1.0
     kept = []
+    taken = {fbx.PROPERTY_OF[key] for key in out.textures}
+    by_property = {prop: key for key, prop in fbx.PROPERTY_OF.items()}
     for prop, entry in (material.get(keys.FBX_MISSING_MAPS) or {}).items():
-        if prop in out.textures or (lambert and prop in ("SpecularColor", "ShininessExponent")):
+        if prop in taken or prop not in by_property or \
+                (lambert and prop in ("SpecularColor", "ShininessExponent")):
             continue   # the material has its own map there now
         path, near = str(entry.get("path", "")), str(entry.get("near", ""))
         if not path and not near:
@@ -360,107 +352,42 @@ def material_of(material, warnings: list, folder: str = "", textures=None) -> fb
             relative = os.path.relpath(near or path, textures.folder)
         except ValueError:   # another drive (Windows)
             relative = near or path
-        out.textures[prop] = fbx_write.Texture(path or near, relative,
-                                               os.path.basename(path or near))
+        out.textures[by_property[prop]] = fbx.Texture(
+            name=os.path.basename(path or near), candidates=(path or near,), relative=relative)
         kept.append(prop)
     if kept:
         warnings.append(f"{where}: the file's references kept for the maps whose files were "
                         f"not there at import: {', '.join(kept)}")
-    blinn = feeds["Blinn"].value
-    if blinn != 0.0:
-        out.user["Blinn"] = blinn
     strength = feeds.get("Specular Strength")
-    if strength is not None and strength.value != 1.0:
-        out.user["SpecularStrength"] = strength.value
-    if lambert and out.exponent != fbx_read.SURFACE_DEFAULTS["ShininessExponent"]:
-        out.user["Exponent"] = out.exponent
-    if out.user:
+    if fbx.keep_unsaid(out, feeds["Blinn"].value,
+                       None if strength is None else strength.value):
         warnings.append(f"{where}: kept as FBX user properties (FBX's Phong cannot "
-                        "say them): " + ", ".join(fbx_write.USER + k for k in out.user))
+                        "say them): " + ", ".join(fbx.USER + k for k in out.user))
     return out
 
 
-def _spot_inner(light, model, outer) -> float:
-    """The FBX InnerAngle (degrees, full cone) of a spot whose OuterAngle is *outer*."""
-    if model == "threejs":
-        inner = outer * (1.0 - float(light.get("phong_penumbra", 0.0)))
-    elif model == "x3d":
-        key, default = properties.LIGHT_KEYS["beam_width"]
-        inner = 2.0 * math.degrees(float(light.get(key, default)))
-    else:   # seeds: (cos ω)^e = ½ at ω = (Inner + Outer) / 4 (fbx.spot_edge_exponent)
-        e = float(light.get("phong_edge_exponent", 0.0))
-        inner = outer if e <= 0.0 else 4.0 * math.degrees(math.acos(0.5 ** (1.0 / e))) - outer
-    return min(max(inner, 0.0), outer)
-
-
-def light_of(light, scene, warnings: list) -> fbx_write.Light:
-    """The FBX values of the Blender light *light* (Point, Sun, Spot) and, as user properties,
-    its Phong settings that those values do not give back."""
-    name = light.name
-    values = properties.settings_of(light)  # i0 its own or its Power's
-    out = fbx_write.Light(type=light.type, color=properties.light_color(light),
-                          intensity=100.0 * values["intensity"], decay=0,
-                          cast_shadows=bool(light.use_shadow))
-    power = False
-    if light.type != "SUN":
-        falloff = properties.falloff_of(light)
-        if falloff == "POWER":
-            power = True
-            k = values["power_k"]
-            out.decay = int(min(max(round(k), 0), 3))
-            if k != out.decay:
-                warnings.append(f"light {name}: power falloff k = {k:g} written as the nearest "
-                                f"FBX DecayType (1/d^{out.decay})")
-        else:
-            terms = [(2, values["quadratic"]), (1, values["linear"]), (0, values["constant"])]
-            used = [(k, c) for k, c in terms if c != 0.0]
-            if not used:
-                warnings.append(f"light {name}: falloff 1/0 (every coefficient 0) written "
-                                "without decay")
-            else:
-                out.decay, c = used[0]
-                out.intensity = 100.0 * values["intensity"] / c
-                if len(used) > 1:
-                    warnings.append(f"light {name}: mixed falloff i0/(αr²+βr+γ) written as "
-                                    f"its highest term, FBX DecayType 1/d^{out.decay}")
-    if light.type == "SPOT":
-        out.outer_angle = math.degrees(light.spot_size)
-        out.inner_angle = _spot_inner(light, rig.model_of(scene), out.outer_angle)
-    # what the importer derives from the written values (fbx_import.apply_light)
-    derived = {attr: default for attr, (_key, default) in properties.LIGHT_KEYS.items()}
-    derived["intensity"] = out.intensity / 100.0
-    if light.type != "SUN":
-        rule = fbx_read.falloff(out.decay)
-        derived.update({k: v for k, v in rule.items() if k in derived})
-        if (rule.get("falloff") == "POWER") != power:
-            out.user["falloff_power"] = 1.0 if power else 0.0
-    if light.type == "SPOT" and out.outer_angle > 0.0:
-        derived["edge_exponent"] = fbx_read.spot_edge_exponent(out.outer_angle,
-                                                               out.inner_angle)
-        derived["penumbra"] = min(max(1.0 - out.inner_angle / out.outer_angle, 0.0), 1.0)
-    for attr, value in values.items():
-        if not _close(value, derived[attr]):
-            out.user[attr] = value
-    if out.user:
-        warnings.append(f"light {name}: Phong settings kept as FBX user properties: "
-                        + ", ".join(fbx_write.USER + k for k in sorted(out.user)))
+def light_of(light, scene, warnings: list) -> fbx.Light:
+    """The FBX values of the Blender light *light* (Point, Sun, Spot; an Area light as the
+    spot that draws it) and, as user properties, its Phong settings that those values do not
+    give back: what the light holds, read by ``properties.light_values``, mapped by
+    ``fbx.light_of`` in the scene's lighting model."""
+    values = properties.light_values(light)   # i0 its own or its Power's
+    defaults = {attr: default for attr, (_key, default) in properties.LIGHT_KEYS.items()}
+    out, notes = fbx.light_of(light.type, values["color"], values["settings"],
+                              values["falloff"], values["spot_size"], light.use_shadow,
+                              models.get(rig.model_of(scene)), defaults, light.name)
+    warnings.extend(notes)
     return out
 
 
 def _ambient(scene):
     """(GlobalSettings AmbientColor, user properties) of the World's Phong ambient."""
     world = scene.world
-    key, default = properties.AMBIENT_INTENSITY
-    color_key, default_color = properties.AMBIENT_COLOR
     if world is None:
         return None, {}
-    intensity = float(world.get(key, default))
-    color = tuple(float(c) for c in tuple(world.get(color_key, default_color))[:3])
-    user = {}
-    if intensity != 1.0:
-        user = {"AmbientIntensity": intensity, "AmbientR": color[0], "AmbientG": color[1],
-                "AmbientB": color[2]}
-    return tuple(intensity * c for c in color), user
+    key, default = properties.AMBIENT_INTENSITY
+    color_key, default_color = properties.AMBIENT_COLOR
+    return fbx.ambient_of(float(world.get(key, default)), world.get(color_key, default_color))
 
 
 def export(context, filepath, use_selection=False, **options) -> list:
@@ -481,7 +408,7 @@ def export(context, filepath, use_selection=False, **options) -> list:
             if material is not None and material.name not in phong and \
                     recipe.is_phong_material(material):
                 phong[material.name] = material
-        if obj.type == "LIGHT" and obj.data.type in fbx_write.LIGHT_TYPES and \
+        if obj.type == "LIGHT" and obj.data.type in fbx.EXPORTED and \
                 obj.data.name not in lights:
             lights[obj.data.name] = obj.data
     textures = Textures(os.path.dirname(path), embed=bool(options.get("embed_textures"))
@@ -505,10 +432,10 @@ def export(context, filepath, use_selection=False, **options) -> list:
             raise ValueError(f"Blender's FBX exporter did not finish ({result})")
         with open(first, "rb") as handle:
             data = handle.read()
-        new, _missing = fbx_write.rewrite(data, values, light_values, ambient, ambient_user)
+        new, _missing = fbx.rewrite(data, values, light_values, ambient, ambient_user)
         textures.write()
         outputs.write_file(path, new)
-    except fbx_write.FbxWriteError as error:
+    except fbx.FbxWriteError as error:
         raise ValueError(f"the file Blender's exporter wrote cannot be rewritten ({error})") \
             from None
     finally:

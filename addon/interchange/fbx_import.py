@@ -4,7 +4,7 @@
 The scene comes from Blender's own FBX importer where it reads the file (binary FBX 7100 and
 later); ASCII files and FBX 6.1 are built from ufbx (meshes with normals, UVs and vertex
 colours, the node hierarchy, cameras, lights; axes and units converted as Blender's importer
-does: Z up, metres).  Then ``core/fbx.py`` gives every material and light its values, by the
+does: Z up, metres).  Then ``core/fbx`` gives every material and light its values, by the
 FBX SDK's rules (see there), and:
 
     Object Color        DiffuseColor × DiffuseFactor          (× a DiffuseColor texture)
@@ -252,12 +252,12 @@ def apply_material(material, source: fbx.Material, warnings: list, images: dict,
             socket = obj_import._multiplied(tree, name, socket, image, index)
             keep |= {obj_import.MAP_NODE + name, obj_import.MULTIPLY_NODE + name}
         tree.links.new(socket, lights.inputs[name])
-    compat.value_output(tree.nodes["phong_exponent"]).default_value = source.exponent
-    compat.value_output(tree.nodes["phong_blinn"]).default_value = source.user.get(
-        "Blinn", 1.0 if source.blinn else 0.0)
-    if "SpecularStrength" in source.user:
+    values = fbx.material_values(source)   # the FBX values as Phong values (core/fbx/phong)
+    compat.value_output(tree.nodes["phong_exponent"]).default_value = values["Exponent"]
+    compat.value_output(tree.nodes["phong_blinn"]).default_value = values["Blinn"]
+    if "Specular Strength" in values:
         compat.value_output(tree.nodes["phong_specular_strength"]).default_value = \
-            source.user["SpecularStrength"]
+            values["Specular Strength"]
     recipe.set_opacity(material, source.opacity)
     if lights.inputs["Normal"].is_linked:
         tree.links.remove(lights.inputs["Normal"].links[0])
@@ -376,28 +376,17 @@ def _power_supported() -> bool:
 
 def apply_light(light, source: fbx.Light, warnings: list, path) -> None:
     """Blender light data *light* given the FBX light's values."""
-    if light.type != source.type:
-        light.type = source.type
-    light.color = source.color
+    given = fbx.light_settings(source)   # the FBX values as Phong settings (core/fbx/phong)
+    if light.type != given["type"]:
+        light.type = given["type"]
+    light.color = given["color"]
     # FBX CastShadows: Blender's importer before 5.3 reads "CastShadow" (always its default)
-    light.use_shadow = bool(source.cast_shadows)
-    settings = {"intensity": source.intensity}
-    if source.type != "SUN":
-        settings.update(fbx.falloff(source.decay))
-        settings.setdefault("falloff", "QUADRATIC")
-    if source.type == "SPOT":
-        outer = min(max(source.outer_angle, 1.0), 180.0)
-        light.spot_size = math.radians(outer)
-        share = 1.0 - source.inner_angle / source.outer_angle if source.outer_angle > 0 else 0.0
-        light.spot_blend = min(max(share, 0.0), 1.0)
-        settings["edge_exponent"] = fbx.spot_edge_exponent(source.outer_angle,
-                                                           source.inner_angle)
-        settings["penumbra"] = min(max(share, 0.0), 1.0)
-    for key, value in source.user.items():   # what Phong Nodes' export kept (fbx_write)
-        if key == "falloff_power":
-            settings["falloff"] = "POWER" if value else "QUADRATIC"
-        elif key in properties.LIGHT_KEYS:
-            settings[key] = value
+    light.use_shadow = given["cast_shadows"]
+    if "spot_size" in given:
+        light.spot_size = given["spot_size"]
+        light.spot_blend = given["spot_blend"]
+    settings = {k: v for k, v in given["settings"].items()
+                if k in ("falloff", "intensity") or k in properties.LIGHT_KEYS}
     if not _power_supported():  # before the power falloff existed: stored, 1/d² rendered
         for key in ("falloff", "power_k"):
             if key in settings:
@@ -515,7 +504,7 @@ def _finish(context, data: fbx.Scene, new, warnings, path, before, slots=None,
     ambient.  *slots*: the material slots of the scene built from ufbx (``_build``), filled
     with Phong materials made here; without it the materials of Blender's importer are
     replaced (``native.take_place``).  Whatever the import made that nothing uses is removed."""
-    others = sorted({m.name for m in data.materials if m.model == "OTHER"})
+    others = sorted({m.name for m in data.materials if m.kind == "OTHER"})
     if others:
         made_as = ("as Apply Phong Material makes them from Blender's import (its base colour "
                    "and base colour texture)" if slots is None else
@@ -538,12 +527,8 @@ def _finish(context, data: fbx.Scene, new, warnings, path, before, slots=None,
     world = context.scene.world
     if world is None:
         world = context.scene.world = bpy.data.worlds.new("World")
-    user = data.user   # the World's own intensity and colour, kept by Phong Nodes' export
-    if "AmbientIntensity" in user and all(f"Ambient{c}" in user for c in "RGB"):
-        properties.write_world(world, user["AmbientIntensity"],
-                               tuple(user[f"Ambient{c}"] for c in "RGB"))
-        return sync
-    properties.write_world(world, 1.0, data.ambient)
+    # AmbientColor, or the World's own intensity and colour that Phong Nodes' export kept
+    properties.write_world(world, *fbx.world_ambient(data.ambient, data.user))
     return sync
 
 
@@ -562,7 +547,7 @@ def _materials(sync, data, new, warnings, path, before, slots, convert_all) -> N
             if material is None:
                 material = made[name] = recipe.new_material(name or "Material", group)
                 source = by_name.get(name)
-                if source is not None and source.model != "OTHER":
+                if source is not None and source.kind != "OTHER":
                     apply_material(material, source, warnings, images, path)
             if isinstance(target, bpy.types.Mesh):
                 target.materials[index] = material
@@ -575,7 +560,7 @@ def _materials(sync, data, new, warnings, path, before, slots, convert_all) -> N
             if made.users == 0:
                 continue   # a material no object uses: removed below
             source = sources[made]
-            if convert_all or source is None or source.model == "OTHER":
+            if convert_all or source is None or source.kind == "OTHER":
                 phong = recipe.from_source(made, made.name, group)
                 native.forget_source(phong, made)
             else:

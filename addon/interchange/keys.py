@@ -6,6 +6,7 @@ importers write them and the exporters read them here: no exporter imports an im
 
 from __future__ import annotations
 
+from ...core import fbx, x3d
 from ..lighting import materials as recipe
 
 # -- MTL (obj_import → mtl_export) ------------------------------------------------------------
@@ -35,10 +36,7 @@ COLLADA_INPUTS = {"Irradiant Color": ("emission", "phong_irradiant_color"),
 #: export writes the references back, as the file had them.
 FBX_MISSING_MAPS = "phong_fbx_missing_maps"
 #: core.fbx's texture slot -> the FBX property the export writes it on.
-FBX_SLOT_PROPS = {"Object Color": "DiffuseColor", recipe.AMBIENT_INPUT: "AmbientColor",
-                  "Specular Color": "SpecularColor", "Irradiant Color": "EmissiveColor",
-                  "Exponent": "ShininessExponent", "TransparentColor": "TransparentColor",
-                  "TransparencyFactor": "TransparencyFactor"}
+FBX_SLOT_PROPS = fbx.PROPERTY_OF
 
 # -- X3D / VRML97 (x3d_import → x3d_export) ----------------------------------------------------
 #: material: the file's ambientIntensity.
@@ -56,7 +54,7 @@ X3D_COMPONENTS = "phong_x3d_components"
 X3D_MISSING_TEXTURE = "phong_x3d_missing_texture"
 #: the DEF of the DirectionalLight (intensity 0, global) that carries the World's Phong ambient
 #: light, which X3D lacks: written by the export, read back into the World by the import.
-X3D_WORLD_AMBIENT = "WorldAmbient"
+X3D_WORLD_AMBIENT = x3d.WORLD_AMBIENT
 #: spot light: the file's cutOffAngle.
 X3D_CUT_OFF = "phong_x3d_cut_off_angle"
 #: light object: a scoped light whose scope holds no shape.

@@ -29,11 +29,10 @@ three.js model has none), a scene in the seeds' model (the page shows three.js's
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from ...core import threejs
+from ...node_groups import models
 from .. import compat
 from ..scene import describe
 from ..lighting import materials
@@ -59,22 +58,14 @@ def _value(feeds, name, warnings, material):
 
 
 def material_dict(material, warnings: list) -> dict:
-    """The three.js material of a Phong material."""
+    """The three.js material of a Phong material: its values (``materials.feeds``) mapped by
+    ``threejs.material_of``."""
     feeds = materials.feeds(material)
     values = {key: _value(feeds, name, warnings, material) for key, name in FIELDS.items()}
-    ambient = _value(feeds, materials.AMBIENT_INPUT, warnings, material)
-    if max(abs(a - b) for a, b in zip(ambient, values["color"])) > 1e-6:
-        warnings.append(f"{material.name}: its own Ambient Object Color is not exported "
-                        "(three.js's ambient light sees the material's color)")
-    if _value(feeds, "Blinn", warnings, material):
-        warnings.append(f"{material.name}: Blinn is not exported (three.js's highlight is "
-                        "always Blinn-Phong)")
-    strength = min(max(values["specular_strength"], 0.0), 1.0)
-    out = {"name": material.name, "type": "lambert" if strength == 0.0 else "phong",
-           "color": values["color"], "emissive": values["emissive"]}
-    if out["type"] == "phong":
-        out.update(specular=values["specular"], shininess=values["shininess"],
-                   specular_strength=strength)
+    values["ambient"] = _value(feeds, materials.AMBIENT_INPUT, warnings, material)
+    values["blinn"] = _value(feeds, "Blinn", warnings, material)
+    out, notes = threejs.material_of(material.name, values)
+    warnings.extend(f"{material.name}: {note}" for note in notes)
     return out
 
 
@@ -104,23 +95,6 @@ def _mesh_arrays(obj, depsgraph):
     corner = normals.reshape(-1, 3)[loops] @ normal_matrix.T
     corner /= np.maximum(np.linalg.norm(corner, axis=1, keepdims=True), 1e-30)
     return points.reshape(-1, 3, 3), corner.reshape(-1, 3, 3), slots
-
-
-def _light_dict(light) -> dict:
-    out = {"name": light["name"], "type": light["type"], "color": light["color"],
-           "intensity": light["intensity"]}
-    if light["type"] == "directional":
-        u = np.asarray(light["direction"], np.float64)
-        u /= np.linalg.norm(u)
-        out.update(position=[float(c) for c in -u], target=[0.0, 0.0, 0.0])
-        return out
-    out.update(position=light["position"], distance=light["distance"], decay=light["decay"])
-    if light["type"] == "spot":
-        u = np.asarray(light["direction"], np.float64)
-        u /= np.linalg.norm(u)
-        out.update(target=[float(c) for c in np.asarray(light["position"]) + u],
-                   angle=math.radians(light["half_angle"]), penumbra=light["penumbra"])
-    return out
 
 
 def camera_dict(scene, depsgraph, width: int, height: int, world=None) -> dict:
@@ -153,9 +127,10 @@ def scene_dict(scene, view_layer, width: int, height: int, objects=None,
     depsgraph = describe.evaluated(scene, view_layer)  # None for a scene no window shows
     data = described or describe.describe(scene, view_layer, objects)
     warnings = []
-    if data["model"] != "threejs":
-        warnings.append(f"scene {scene.name!r} uses the seeds' model: the page shows three.js's "
-                        "(set the scene's Lighting Model to three.js to see the same in Blender)")
+    model = models.get(data["model"])   # its mapping to three.js's values
+    note = threejs.model_note(model, scene.name)
+    if note:
+        warnings.append(note)
     mats, index, meshes, casts = [], {}, [], []
     for obj, entry in zip(objects, data["objects"]):
         points, normals, slots = _mesh_arrays(obj, depsgraph)
@@ -180,7 +155,7 @@ def scene_dict(scene, view_layer, width: int, height: int, objects=None,
         "title": data["title"], "width": int(width), "height": int(height),
         "camera": camera_dict(scene, depsgraph, width, height),
         "ambient": {"color": data["ambient"]["color"], "intensity": data["ambient"]["intensity"]},
-        "lights": [_light_dict(light) for light in data["lights"]],
+        "lights": [threejs.light_of(light, model) for light in data["lights"]],
         "materials": mats,
         "meshes": meshes,
     }

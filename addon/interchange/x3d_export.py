@@ -55,20 +55,14 @@ from . import keys, native
 
 #: Blender's Z up to the file's Y up (the inverse of x3d.Y_UP_TO_Z_UP: a rotation).
 Z_UP_TO_Y_UP = x3d.Y_UP_TO_Z_UP.T.copy()
-#: A light's radius where the scene's model has none (written for a scene in another model).
-NO_RADIUS = 1.0e6
 #: The largest image without a file written as a PixelTexture (texels: 1024 × 1024, about
 #: 10 MB of text); a larger one is left out with a warning.
 MAX_PIXELS = 1 << 20
 
 
-def f32(value) -> float:
-    """The shortest decimal that reads back as the same float32 (0.1 for float32(0.1))."""
-    return float(str(np.float32(value)))
-
-
-def _colour(values) -> tuple:
-    return tuple(f32(v) for v in tuple(values)[:3])
+#: The shortest decimal that reads back as the same float32 (the mapping's, core/x3d/phong).
+f32 = x3d.f32
+_colour = x3d.colour32
 
 
 def encoding_of(path: str) -> str:
@@ -129,7 +123,7 @@ class _Writer:
         self.warnings = warnings
         self.pixel_textures = {}    # (image name, extension) -> x3d.Texture, written once
         self.encoding = encoding_of(filepath)
-        self.model = rig.model_of(self.scene)
+        self.model = models.get(rig.model_of(self.scene))   # its mapping to X3D's values
         self.appearances = {}     # material name -> (Appearance or None, uses colours, attr)
         self.geometries = {}      # (mesh name, slot, UVs, colours attr) -> x3d.Mesh
         self.materials = {}       # material name -> x3d.Material
@@ -142,13 +136,9 @@ class _Writer:
         doc = x3d.Document(path=self.path, encoding=self.encoding, version="3.3",
                            profile="Immersive", meter=1.0, title=scene.name,
                            navigation_types=["EXAMINE", "ANY"])
-        if self.model != "x3d":
-            self.warnings.add(
-                f"scene {scene.name!r} is in the {self.model} lighting model, not X3D / VRML97: "
-                "its values are written mapped to X3D's (lights' attenuation 1/(c + l·d + q·d²) "
-                "as X3D's 1/max(a0 + a1·d + a2·d², 1), no radius, a spot's soft edge as "
-                "beamWidth, Phong highlights as Blinn's, the World's ambient light as a "
-                "DirectionalLight of intensity 0): the picture may differ")
+        note = x3d.model_note(self.model, scene.name)
+        if note:
+            self.warnings.add(note)
         meshes = [o for o in scene.objects if o.type == "MESH" and self.chosen(o)
                   and lights_mod.visible(o, self.layer, self.collections) and not o.hide_render]
         lights = [o for o in scene.objects if o.type == "LIGHT" and self.chosen(o)]
@@ -163,9 +153,9 @@ class _Writer:
             if obj.hide_render or not lights_mod.visible(obj, self.layer, self.collections):
                 continue
             doc.headlight = True
-            light = obj.data
-            values = (float(light.get("phong_intensity", 1.0)),
-                      float(light.get("phong_light_ambient", 0.0)), tuple(light.color))
+            read = properties.light_values(obj.data)
+            values = (read["settings"]["intensity"], read["settings"]["ambient"],
+                      read["color"])
             if values[0] != 1.0 or values[1] != 0.0 or any(c != 1.0 for c in values[2]):
                 self.warnings.add(f"headlight {obj.name}: X3D's headlight is white with "
                                   "intensity 1 and no ambient light; written as that")
@@ -407,16 +397,9 @@ class _Writer:
             self.warnings.add(f"material {name}: colours times a colour: X3D's colours replace "
                               "the diffuse colour; the colours written")
         transform = self.texture_transform(material) if texture is not None else None
-        shininess = exponent / 128.0
-        kept = material.get(keys.X3D_SHININESS)
-        if isinstance(kept, float) and np.float32(128.0 * kept) == np.float32(exponent):
-            shininess = kept
-        elif shininess > 1.0:
-            self.warnings.add(f"material {name}: Exponent {exponent:g} above X3D's 128 "
-                              "(shininess 1): written as shininess 1")
-            shininess = 1.0
-        else:
-            shininess = f32(shininess)
+        shininess, note = x3d.shininess_of(exponent, material.get(keys.X3D_SHININESS))
+        if note:
+            self.warnings.add(f"material {name}: {note}")
         out = x3d.Material(name=name, diffuse=diffuse,
                            ambient_intensity=self.ambient(material, kd_feed, ka_feed,
                                                           control),
@@ -424,16 +407,15 @@ class _Writer:
                                             else ks_feed.constant),
                            emissive=_colour(ke_feed.control if ke_feed.control is not None
                                             else ke_feed.constant),
-                           shininess=max(shininess, 0.0), transparency=f32(1.0 - opacity))
+                           shininess=shininess, transparency=f32(1.0 - opacity))
         if feeds["Opacity"].other is not None and not (
                 texture is not None and _texture_alpha(feeds["Opacity"].other,
                                                        kd_feed.texture)):
             self.warnings.add(f"material {name}: its opacity map left out (X3D 3's "
                               "transparency is one number)")
-        blinn = float(feeds["Blinn"].value)
-        if self.model != "x3d" and blinn < 1.0 and any(out.specular):
-            self.warnings.add(f"material {name}: Phong's (r·v)^e highlight written as X3D's "
-                              "Blinn highlight (n·h)^e")
+        note = x3d.highlight_note(self.model, float(feeds["Blinn"].value), out.specular)
+        if note:
+            self.warnings.add(f"material {name}: {note}")
         appearance = x3d.Appearance(name="", material=out, texture=texture,
                                     texture_transform=transform)
         return appearance, kd_feed.attribute if kd_feed.colours else "", texture is not None
@@ -451,25 +433,10 @@ class _Writer:
                       kd_feed.constant, dtype=np.float64)
         ka = np.array(ka_feed.control if ka_feed.control is not None else ka_feed.constant,
                       dtype=np.float64)
-        kept = material.get(keys.X3D_AMBIENT)
-        if isinstance(kept, float) and all(
-                np.float32(kept * float(str(np.float32(d)))) == np.float32(a)
-                for d, a in zip(kd, ka)):
-            return kept
-        if not ka.any():
-            return 0.0
-        if not kd.any():
-            self.warnings.add(f"material {name}: an ambient colour without a diffuse colour, "
-                              "which X3D (ambientIntensity × diffuseColor) cannot say: "
-                              "ambientIntensity 0 written")
-            return 0.0
-        ratio = float(ka @ kd / (kd @ kd))
-        if np.abs(ka - ratio * kd).max() > 1e-6 * max(1.0, float(ka.max())):
-            self.warnings.add(f"material {name}: Ambient Color "
-                              f"{tuple(round(float(v), 4) for v in ka)} "
-                              "is not a multiple of Object Color as X3D's ambientIntensity × "
-                              f"diffuseColor: the nearest multiple {ratio:.4g} written")
-        return f32(max(ratio, 0.0))
+        value, note = x3d.ambient_intensity_of(kd, ka, material.get(keys.X3D_AMBIENT))
+        if note:
+            self.warnings.add(f"material {name}: {note}")
+        return value
 
     def texture(self, node, material, multiplied):
         """The x3d.Texture of an Image Texture node: an ImageTexture of its file (relative to
@@ -628,11 +595,7 @@ class _Writer:
         # an Area light is the spot that draws it (a 90° cut-off; the X3D model's beam width)
         kind = {v: k for k, v in keys.X3D_LIGHT_TYPES.items()}[models.drawn_as(data.type)]
 
-        settings = properties.settings_of(data)  # i0 its own or its Power's
-
-        def value(attr):
-            return float(settings[attr])
-
+        read = properties.light_values(data)  # i0 its own or its Power's
         nothing = bool(obj.get(keys.X3D_LIGHTS_NOTHING))   # hidden: its scope is empty
         on = ((not obj.hide_render or nothing)
               and lights_mod.visible(obj, self.layer, self.collections))
@@ -641,39 +604,15 @@ class _Writer:
         direction = -matrix[:3, 2]
         length = float(np.linalg.norm(direction))
         direction = direction / length if length > 0 else np.array([0.0, 0.0, -1.0])
-        out = x3d.Light(kind=kind, name=name, on=on, intensity=value("intensity"),
-                        shadows=bool(data.use_shadow) and compat.HAS_RAYCAST,
-                        ambient_intensity=value("ambient"), color=_colour(properties.light_color(data)),
-                        location=tuple(f32(v) for v in matrix[:3, 3]),
-                        direction=tuple(f32(v) for v in direction))
-        if kind != "directional":
-            out.attenuation = (value("constant"), value("linear"), value("quadratic"))
-            out.radius = value("radius")
-            if self.model != "x3d":
-                out.radius = NO_RADIUS
-                if self.model == "seeds" and properties.falloff_of(data) == "POWER":
-                    k = value("power_k")
-                    terms = {0.0: (1.0, 0.0, 0.0), 1.0: (0.0, 1.0, 0.0), 2.0: (0.0, 0.0, 1.0)}
-                    if k not in terms:
-                        self.warnings.add(f"light {obj.name}: falloff 1/d^{k:g} has no X3D "
-                                          "counterpart; written as 1/d²")
-                    out.attenuation = terms.get(k, (0.0, 0.0, 1.0))
-        if kind == "spot":
-            size = float(properties.light_values(data)["spot_size"])
-            kept = data.get(keys.X3D_CUT_OFF)
-            cut = kept if isinstance(kept, float) and np.float32(2.0 * kept) == np.float32(size) \
-                else f32(size / 2.0)
-            out.cut_off_angle = cut
-            out.beam_width = value("beam_width") if self.model == "x3d" else cut
-            if self.model == "seeds" and value("edge_exponent") > 0.0:
-                self.warnings.add(f"light {obj.name}: the soft edge (Edge Exponent) written as "
-                                  "a hard cone")
-            if self.model == "threejs" and value("penumbra") > 0.0:
-                out.beam_width = cut * (1.0 - value("penumbra"))
-        if self.model == "seeds" and (value("diffuse"), value("specular")) != (1.0, 1.0):
-            self.warnings.add(f"light {obj.name}: Diffuse / Specular factors have no X3D "
-                              "counterpart; written as 1")
-        return out
+        fields, notes = x3d.light_fields(self.model, read["settings"], read["falloff"], kind,
+                                         read["spot_size"], data.get(keys.X3D_CUT_OFF))
+        for note in notes:
+            self.warnings.add(f"light {obj.name}: {note}")
+        return x3d.Light(kind=kind, name=name, on=on,
+                         shadows=bool(data.use_shadow) and compat.HAS_RAYCAST,
+                         color=_colour(read["color"]),
+                         location=tuple(f32(v) for v in matrix[:3, 3]),
+                         direction=tuple(f32(v) for v in direction), **fields)
 
     def world_ambient(self, root) -> None:
         """The World's Phong ambient light (which X3D lacks) as a DirectionalLight of
@@ -681,15 +620,11 @@ class _Writer:
         world = self.scene.world
         if world is None:
             return
-        intensity = float(world.get(properties.AMBIENT_INTENSITY[0],
-                                    properties.AMBIENT_INTENSITY[1]))
-        color = [float(c) for c in world.get(properties.AMBIENT_COLOR[0],
-                                             properties.AMBIENT_COLOR[1])][:3]
-        if intensity <= 0.0 or not any(color):
-            return
-        root.insert(0, x3d.Light(kind="directional", name=keys.X3D_WORLD_AMBIENT, intensity=0.0,
-                                 ambient_intensity=f32(intensity), color=_colour(color),
-                                 is_global=True))
+        light = x3d.world_ambient_light(
+            float(world.get(properties.AMBIENT_INTENSITY[0], properties.AMBIENT_INTENSITY[1])),
+            world.get(properties.AMBIENT_COLOR[0], properties.AMBIENT_COLOR[1]))
+        if light is not None:
+            root.insert(0, light)
 
     # -- the camera -------------------------------------------------------------------------
     def viewpoint(self):

@@ -96,15 +96,6 @@ SPOT_SIZE = (math.radians(1.0), math.pi)
 CAMERA_ANGLE = (0.00640536, 3.01675)
 
 
-
-def _world_ambient(light) -> bool:
-    """Whether *light* is the light the export writes for the World's Phong ambient light:
-    a DirectionalLight DEF'd ``WorldAmbient`` of intensity 0, on, without shadows (reached
-    by the whole file: checked by the caller).  Its ambient term is the World's, exactly."""
-    return (light.kind == "directional" and light.name == keys.X3D_WORLD_AMBIENT
-            and float(light.intensity) == 0.0 and bool(light.on)
-            and not light.shadows)
-
 class X3DImportError(native.InterchangeError):
     """The import failed; nothing was added to the file."""
 
@@ -493,10 +484,9 @@ class _Builder:
         total = len(self.doc.instances)
         for inst, location, direction, scope, is_global in merged.values():
             scope = None if is_global or len(scope) >= total else scope
-            if self.world_ambient is None and scope is None and _world_ambient(inst.light):
-                values = x3d.light_values(self.doc, inst.light)
-                self.world_ambient = (max(float(values["ambient_intensity"]), 0.0),
-                                      tuple(max(float(c), 0.0) for c in values["color"]))
+            if self.world_ambient is None and scope is None and \
+                    x3d.is_world_ambient(inst.light):
+                self.world_ambient = x3d.world_ambient(self.doc, inst.light)
                 continue
             out.append(self.light(inst, location, direction, scope))
         return out

@@ -132,7 +132,7 @@ def signature(scene, view_layer=None, candidates=None) -> tuple:
     for obj in supported:
         rule = receivers(obj)
         # power_scale: the constant of the i0 driver (an Area light's Normalize and shape)
-        parts.append((obj.name, obj.data.name, obj.data.type, obj.data.get("phong_falloff"),
+        parts.append((obj.name, obj.data.name, obj.data.type, properties.falloff_of(obj.data),
                       properties.power_scale(obj.data),
                       None if rule is None else (tuple(sorted(rule[0])), tuple(sorted(rule[1])))))
     return (tuple(parts), tuple(o.name for o in unsupported),

@@ -93,7 +93,10 @@ from .geometry import (
 from .flatten import MAX_INSTANCES, MAX_VISITS, PATH_LIMIT
 from .document import Document, load, loads
 from .phong import (
-    apply_texture_transform, counter_clockwise, light_values, phong_values, to_blender_matrix)
+    NO_RADIUS, WORLD_AMBIENT, ambient_intensity_of, apply_texture_transform, colour32,
+    counter_clockwise, f32, highlight_note, is_world_ambient, light_fields, light_settings,
+    light_values, material_fields, model_note, phong_values, shininess_of, to_blender_matrix,
+    world_ambient, world_ambient_light)
 from .write import dumps_vrml, dumps_x3d, dumps_x3dv, save
 
 __all__ = [
@@ -105,5 +108,8 @@ __all__ = [
     "MAX_CAP_TRIANGULATION", "MAX_EXTRUSION_POINTS", "SEGMENTS", "crease_normals", "extrude",
     "extrusion_frames", "triangulate_polygon", "MAX_INSTANCES", "MAX_VISITS", "PATH_LIMIT",
     "Document", "load", "loads", "apply_texture_transform", "counter_clockwise", "light_values",
-    "phong_values", "to_blender_matrix", "dumps_vrml", "dumps_x3d", "dumps_x3dv", "save",
+    "phong_values", "to_blender_matrix", "NO_RADIUS", "ambient_intensity_of", "colour32", "f32",
+    "highlight_note", "light_fields", "light_settings", "material_fields", "model_note",
+    "shininess_of", "WORLD_AMBIENT", "is_world_ambient", "world_ambient",
+    "world_ambient_light", "dumps_vrml", "dumps_x3d", "dumps_x3dv", "save",
 ]

@@ -23,8 +23,11 @@ turns what it reads into plain data, by the FBX SDK's rules:
 * a material of a shading model ufbx does not know ("Blinn" of 3ds Max: shader type UNKNOWN)
   that holds a Phong property is read as FbxSurfacePhong (Blinn on for "Blinn"); a file of
   Blender's exporter has its alpha texture on TransparencyFactor (:attr:`Material.alpha_map`);
-* the user properties ``PhongNodes|...`` that Phong Nodes' export writes (``fbx_write.py``)
+* the user properties ``PhongNodes|...`` that Phong Nodes' export writes (``write``)
   are read into ``user`` of materials, lights and the scene.
+
+Its data model is ``model``'s (the writer's too); what the values mean to the Phong model
+(the falloff of a DecayType, the edge of a spot) is ``phong``.
 
 ufbx 0.0.5 gives every property of an element (``props.props``) and finds a property through
 the template (``props.find_prop``).  Its Python binding is fragile: some of its objects crash
@@ -46,168 +49,23 @@ import subprocess
 import sys
 import tempfile
 import time
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict
 
-#: FBX SDK class defaults of FbxSurfaceLambert / FbxSurfacePhong (what the SDK writes in its
-#: own PropertyTemplate "FbxSurfacePhong"; Lambert's are the same without the specular ones).
-SURFACE_DEFAULTS = {
-    "EmissiveColor": (0.0, 0.0, 0.0), "EmissiveFactor": 1.0,
-    "AmbientColor": (0.2, 0.2, 0.2), "AmbientFactor": 1.0,
-    "DiffuseColor": (0.8, 0.8, 0.8), "DiffuseFactor": 1.0,
-    "TransparentColor": (0.0, 0.0, 0.0), "TransparencyFactor": 0.0,
-    "SpecularColor": (0.2, 0.2, 0.2), "SpecularFactor": 1.0,
-    "ShininessExponent": 20.0,
-    "ReflectionColor": (0.0, 0.0, 0.0), "ReflectionFactor": 1.0,
-}
-#: FBX SDK class defaults of FbxLight (its template as the SDK writes it: InnerAngle 0,
-#: OuterAngle 45; fbxlight.h's comment says 45 for InnerAngle too, the SDK writes 0).
-LIGHT_DEFAULTS = {"Color": (1.0, 1.0, 1.0), "Intensity": 100.0, "LightType": 0,
-                  "DecayType": 0, "InnerAngle": 0.0, "OuterAngle": 45.0, "CastShadows": 1.0}
-#: Older names of a property (FBX 6.1 and before), looked up after the current one.
-ALIASES = {"InnerAngle": ("InnerAngle", "HotSpot"), "OuterAngle": ("OuterAngle", "Cone angle")}
-#: FbxLight::EType and how a Blender light stands in for it.
-LIGHT_TYPES = {0: "POINT", 1: "SUN", 2: "SPOT", 3: "AREA", 4: "VOLUME"}
-#: The colour slots of the Phong model: lights-group input -> (colour, factor) properties.
-SLOTS = {
-    "Object Color": ("DiffuseColor", "DiffuseFactor"),
-    "Ambient Object Color": ("AmbientColor", "AmbientFactor"),
-    "Specular Color": ("SpecularColor", "SpecularFactor"),
-    "Irradiant Color": ("EmissiveColor", "EmissiveFactor"),
-}
-#: Texture slots read (a texture on the colour multiplies colour × factor; one on the factor
-#: too): property -> lights-group input.
-TEXTURE_SLOTS = {"DiffuseColor": "Object Color", "AmbientColor": "Ambient Object Color",
-                 "SpecularColor": "Specular Color", "EmissiveColor": "Irradiant Color",
-                 # the legacy names some older files connect textures to
-                 "Diffuse": "Object Color", "Ambient": "Ambient Object Color",
-                 "Specular": "Specular Color", "Emissive": "Irradiant Color",
-                 # scalar and opacity slots: the map multiplies its property
-                 "TransparentColor": "TransparentColor", "TransparencyFactor": "TransparencyFactor",
-                 "ShininessExponent": "Exponent", "Shininess": "Exponent"}
-#: The keys of ``Material.textures`` that are not colour inputs of the lights group: the two
-#: properties of the opacity (1 − TransparencyFactor × mean(TransparentColor)) and the exponent.
-OPACITY_MAPS = ("TransparentColor", "TransparencyFactor")
+if __package__:
+    from .model import (ALIASES, LIGHT_DEFAULTS, LIGHT_TYPES, OPACITY_MAPS, SLOTS,
+                        SURFACE_DEFAULTS, TEXTURE_SLOTS, USER, FbxError, Light, Material,
+                        MeshData, Node, Scene, Texture)
+else:   # the child process (:class:`Reading`) runs this file as a script: ``model`` beside it
+    from model import (ALIASES, LIGHT_DEFAULTS, LIGHT_TYPES, OPACITY_MAPS, SLOTS,
+                       SURFACE_DEFAULTS, TEXTURE_SLOTS, USER, FbxError, Light, Material,
+                       MeshData, Node, Scene, Texture)
+
 #: Embedded textures larger than this are left out (bounded memory), with a warning.
 MAX_EMBEDDED = 256 * 1024 * 1024
 #: Limits of the child process that reads a file: seconds, and bytes of address space.
 TIME_LIMIT = 300.0
 MEMORY_LIMIT = 8 * 1024 ** 3
 _NO_VALUE = 0x4000 | 0x10000  # ufbx PropFlags NOT_FOUND | NO_VALUE
-#: The prefix of the user properties Phong Nodes' FBX export writes for what FBX cannot say
-#: (``core/fbx_write.py``), read back into :attr:`Material.user`, :attr:`Light.user` and
-#: :attr:`Scene.user`: a Phong material's Blinn, Specular Strength and a Lambert's exponent;
-#: a light's Phong settings; the World's ambient intensity.
-USER = "PhongNodes|"
-
-
-class FbxError(ValueError):
-    """A file that cannot be read as FBX: names the file and what is wrong."""
-
-    def __init__(self, path: str, message: str):
-        self.path = path
-        super().__init__(f"{path}: {message}")
-
-
-@dataclass
-class Texture:
-    prop: str                 # the material property it is connected to (DiffuseColor ...)
-    name: str                 # the file name as written in the file
-    candidates: tuple         # where it is looked for, first existing wins
-    content: bytes | None     # embedded data (FBX Video Content), or None
-    element: str = ""         # the Texture element's name
-
-    @property
-    def resolved(self) -> str | None:
-        for path in self.candidates:
-            if path and os.path.isfile(path):
-                return path
-        return None
-
-
-@dataclass
-class Material:
-    name: str
-    model: str                # "PHONG", "LAMBERT" or "OTHER" (PBR, Arnold, ShaderFX ...)
-    shading: str              # the file's ShadingModel (or ufbx's shader name)
-    raw: dict = field(default_factory=dict)      # property -> value used (float or 3 floats)
-    sources: dict = field(default_factory=dict)  # property -> "object" | "template" | "default"
-    colors: dict = field(default_factory=dict)   # lights-group input -> (r, g, b)
-    exponent: float = 20.0
-    opacity: float = 1.0
-    blinn: bool = False
-    # the opacity is the alpha of the TransparencyFactor / TransparentColor map, as Blender's
-    # importer reads it (a file of Blender's exporter, which writes its alpha texture there)
-    alpha_map: bool = False
-    user: dict = field(default_factory=dict)     # USER properties: key -> float
-    transparent_color: tuple = (0.0, 0.0, 0.0)   # TransparentColor (for its map)
-    transparency_factor: float = 0.0             # TransparencyFactor (for its map)
-    textures: dict = field(default_factory=dict)  # lights-group input -> Texture
-    unsupported: list = field(default_factory=list)
-
-
-@dataclass
-class Light:
-    name: str                 # the light (NodeAttribute) name
-    nodes: tuple              # names of the nodes (objects) that hold it
-    fbx_type: int             # FbxLight::EType
-    type: str                 # POINT, SUN, SPOT (AREA and VOLUME become POINT, see warnings)
-    color: tuple
-    intensity: float          # Intensity / 100
-    decay: int                # k of 1/d^k
-    outer_angle: float        # degrees, full cone (spot)
-    inner_angle: float        # degrees, full cone (spot)
-    sources: dict = field(default_factory=dict)
-    user: dict = field(default_factory=dict)     # USER properties: key -> float
-    cast_shadows: bool = True  # CastShadows (the SDK's default: true): Blender's Cast Shadow
-
-
-@dataclass
-class Scene:
-    path: str
-    version: int
-    ascii: bool
-    creator: str
-    ambient: tuple
-    materials: list
-    lights: list
-    warnings: list
-    nodes: list = field(default_factory=list)    # Node, parents first (with geometry only)
-    meshes: dict = field(default_factory=dict)   # mesh id -> MeshData
-    user: dict = field(default_factory=dict)     # GlobalSettings' USER properties
-
-    def material(self, name):
-        return next((m for m in self.materials if m.name == name), None)
-
-    def light(self, name):
-        return next((l for l in self.lights if l.name == name or name in l.nodes), None)
-
-
-@dataclass
-class Node:
-    """A node of the file (with geometry): its matrix is relative to its parent node, or the
-    world's (Z up, metres) for a top-level node."""
-    id: int
-    name: str
-    parent: int | None
-    matrix: tuple             # 4 rows of 4
-    kind: str                 # MESH, LIGHT, CAMERA or EMPTY
-    data: str                 # name of its mesh / light / camera
-    mesh: int | None = None
-    materials: tuple = ()     # material names, by slot
-    light: dict | None = None     # {"type": POINT/SUN/SPOT}
-    camera: dict | None = None    # {"ortho", "fov_x", "ortho_size", "near", "far"}
-    visible: bool = True
-
-
-@dataclass
-class MeshData:
-    positions: object         # (V, 3) float64
-    loop_vertex: object       # (L,) int32
-    face_sizes: object        # (F,) int32
-    face_material: object     # (F,) int32
-    normals: object = None    # (L, 3) float64 or None
-    uvs: list = field(default_factory=list)      # (name, (L, 2) float64)
-    colors: list = field(default_factory=list)   # (name, (L, 4) float64)
 
 
 def _ufbx():
@@ -306,15 +164,13 @@ def _texture(prop_name, index, textures, base) -> Texture:
             if path and path not in candidates:
                 candidates.append(path)
     name = relative or absolute or filename or texture.name
-    return Texture(prop_name, name, tuple(candidates), content, texture.name)
+    return Texture(name=name, candidates=tuple(candidates), content=content, prop=prop_name,
+                   element=texture.name)
 
 
 #: Properties that only a Phong surface has: a material of a shading model ufbx does not
 #: know ("Blinn" of 3ds Max, "Anisotropic" ...) that holds one is read as FbxSurfacePhong.
 PHONG_ONLY = ("SpecularColor", "SpecularFactor", "ShininessExponent", "Shininess")
-#: The user property (+ the FBX property) Phong Nodes' export writes for a colour map whose
-#: image is data (Non-Color), read back in that colour space.
-NON_COLOR_USER = "NonColor"
 #: The start of the Creator of a file of Blender's own FBX exporter.
 BLENDER_CREATOR = "Blender (stable FBX IO)"
 
@@ -340,9 +196,9 @@ def read_material(mat, base="", textures=None, blender=False) -> Material:
     own = {p.name: p for p in items(mat.props.props)}
     # (``mat.shader`` is not touched: ufbx 0.0.5's Shader object crashes the garbage collector)
     if kind != ufbx.ShaderType.FBX_LAMBERT and not phong_like(kind, own):
-        return Material(mat.name, "OTHER", shading or kind.name)
+        return Material(name=mat.name, kind="OTHER", shading=shading or kind.name)
     lambert = kind == ufbx.ShaderType.FBX_LAMBERT
-    out = Material(mat.name, "LAMBERT" if lambert else "PHONG", shading,
+    out = Material(name=mat.name, kind="LAMBERT" if lambert else "PHONG", shading=shading,
                    blinn=shading.strip().lower() == "blinn", user=user_props(own))
     if "Blinn" in out.user:   # (the control's own value: fbx_import reads out.user)
         out.blinn = out.user["Blinn"] > 0.0
@@ -447,31 +303,6 @@ def from_scene(scene, path: str) -> Scene:
     return Scene(path, int(meta.version), bool(meta.ascii), meta.creator, ambient,
                  materials, lights, warnings,
                  user=user_props({p.name: p for p in items(scene.settings.props.props)}))
-
-
-def spot_edge_exponent(outer_deg: float, inner_deg: float) -> float:
-    """The seeds' soft edge exponent e_att for an FBX spot (full angles in degrees): 0 (hard
-    edge) when InnerAngle ≥ OuterAngle, else the e for which (cos ω)^e = 1/2 halfway between
-    the inner and the outer half-angles (the FBX spot fades from the inner to the outer cone);
-    capped at 100 (the control's range)."""
-    if outer_deg <= 0.0 or inner_deg >= outer_deg:
-        return 0.0
-    middle = math.radians((max(inner_deg, 0.0) + outer_deg) / 4.0)
-    cos = math.cos(min(middle, math.radians(89.9)))
-    return min(math.log(0.5) / math.log(cos), 100.0) if cos < 1.0 else 100.0
-
-
-def falloff(k: int) -> dict:
-    """Phong light settings of the decay 1/d^k: k = 0, 1, 2 as i₀/(αr² + βr + γ), others
-    as the power falloff (``falloff`` "POWER", ``power_k``)."""
-    if k == 0:
-        return {"quadratic": 0.0, "linear": 0.0, "constant": 1.0}
-    if k == 1:
-        return {"quadratic": 0.0, "linear": 1.0, "constant": 0.0}
-    if k == 2:
-        return {"quadratic": 1.0, "linear": 0.0, "constant": 0.0}
-    return {"quadratic": 1.0, "linear": 0.0, "constant": 0.0, "falloff": "POWER",
-            "power_k": float(k)}
 
 
 # -- geometry (read in the child process) -------------------------------------------------

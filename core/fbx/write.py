@@ -22,7 +22,7 @@ material's ``ShadingModel``) replaced:
   InnerAngle;
 * GlobalSettings' AmbientColor;
 * what FBX cannot say as user properties (flag "U", names :data:`USER`\\ + key) that
-  ``core/fbx.py`` reads back.
+  ``read`` reads back; ``phong`` says what each value is.
 
 Every value is written on the object itself, never left to a template.  Every other node
 keeps its bytes: the file is walked by its node headers only (a node's properties, the
@@ -35,64 +35,19 @@ first change get their new end offsets.  Binary FBX 7.x (7100-7400: 32-bit heade
 from __future__ import annotations
 
 import struct
-from dataclasses import dataclass, field
 
-from . import fbx
+from .model import PROPERTY_OF, USER, Light, Material
+from .phong import WRITTEN_TYPES
 
 MAGIC = b"Kaydara FBX Binary  \x00\x1a\x00"
 #: Blender's footer id (``encode_bin._FOOT_ID``), followed by 4 zero bytes, the padding to 16
 #: bytes, the version, 120 zero bytes and :data:`FOOT_MAGIC`.
 FOOT_ID = b"\xfa\xbc\xab\x09\xd0\xc8\xd4\x66\xb1\x76\xfb\x83\x1c\xf7\x26\x7e"
 FOOT_MAGIC = b"\xf8\x5a\x8c\x6a\xde\xf5\xd9\x7e\xec\xe9\x0c\xe3\x75\x8f\x29\x0b"
-#: The prefix of the user properties Phong Nodes writes (and ``core/fbx.py`` reads back).
-USER = fbx.USER
-#: FbxLight::EType of a Blender light type, and FbxLight::EDecayType by the exponent k.
-LIGHT_TYPES = {"POINT": 0, "SUN": 1, "SPOT": 2}
 
 
 class FbxWriteError(ValueError):
     """A file that is not a binary FBX this module can rewrite."""
-
-
-@dataclass
-class Texture:
-    """An image file a material property is multiplied by (FBX Texture and Video objects)."""
-    path: str                 # absolute
-    relative: str             # relative to the FBX file's folder
-    name: str
-    data: bool = False        # the image is read as data (Non-Color), not as a colour
-    content: bytes | None = None   # the file's bytes embedded in the Video (Content)
-
-
-@dataclass
-class Material:
-    """A Phong material as FBX says it (linear colours)."""
-    lambert: bool
-    diffuse: tuple
-    ambient: tuple
-    specular: tuple
-    emissive: tuple
-    exponent: float
-    opacity: float
-    user: dict = field(default_factory=dict)   # key (without USER) -> float
-    textures: dict = field(default_factory=dict)   # FBX property (DiffuseColor ...) -> Texture
-    #: the SDK's opacity rule 1 − TransparencyFactor × mean(TransparentColor) where a map on
-    #: either gives the opacity (None: 1 − opacity and white, the rule for the Opacity alone)
-    transparency_factor: float | None = None
-    transparent_color: tuple | None = None
-
-
-@dataclass
-class Light:
-    """A Phong light as FBX says it."""
-    type: str                 # POINT, SUN, SPOT
-    color: tuple
-    intensity: float          # FBX Intensity (100 × Phong intensity)
-    decay: int                # FbxLight::EDecayType 0..3 (k of 1/d^k)
-    cast_shadows: bool
-    outer_angle: float = 45.0     # degrees, full cone
-    inner_angle: float = 0.0      # degrees, full cone
-    user: dict = field(default_factory=dict)
 
 
 # -- the node tree ------------------------------------------------------------------------------
@@ -237,10 +192,11 @@ def material_props(m: Material) -> list:
     """The properties of a Phong material, in the order they are written."""
     zero = (0.0, 0.0, 0.0)
     out = [("ShadingModel", "KString", "", "", ("Lambert" if m.lambert else "Phong",), "S"),
-           color("DiffuseColor", m.diffuse), number("DiffuseFactor", 1.0),
-           color("AmbientColor", m.ambient), number("AmbientFactor", 1.0),
-           color("EmissiveColor", m.emissive), number("EmissiveFactor", 1.0),
-           color("SpecularColor", zero if m.lambert else m.specular),
+           color("DiffuseColor", m.colors["Object Color"]), number("DiffuseFactor", 1.0),
+           color("AmbientColor", m.colors["Ambient Object Color"]),
+           number("AmbientFactor", 1.0),
+           color("EmissiveColor", m.colors["Irradiant Color"]), number("EmissiveFactor", 1.0),
+           color("SpecularColor", zero if m.lambert else m.colors["Specular Color"]),
            number("SpecularFactor", 1.0),
            number("ShininessExponent", m.exponent), number("Shininess", m.exponent),
            color("ReflectionColor", zero), number("ReflectionFactor", 0.0),
@@ -252,8 +208,8 @@ def material_props(m: Material) -> list:
 
 
 def light_props(light: Light) -> list:
-    out = [enum("LightType", LIGHT_TYPES[light.type]), color("Color", light.color),
-           number("Intensity", light.intensity), enum("DecayType", light.decay),
+    out = [enum("LightType", WRITTEN_TYPES[light.type]), color("Color", light.color),
+           number("Intensity", 100.0 * light.intensity), enum("DecayType", light.decay),
            enum("CastShadows", 1 if light.cast_shadows else 0, "bool")]
     if light.type == "SPOT":
         out += [number("OuterAngle", light.outer_angle), number("InnerAngle", light.inner_angle)]
@@ -323,7 +279,8 @@ def rewrite(data: bytes, materials: dict | None = None, lights: dict | None = No
                     _set_props(reader, obj, material_props(m))
                     _set_string_child(reader, obj, b"ShadingModel",
                                       "Lambert" if m.lambert else "Phong")
-                    links += [(values[0], prop, t) for prop, t in sorted(m.textures.items())]
+                    links += sorted(((values[0], PROPERTY_OF[key], t)
+                                     for key, t in m.textures.items()), key=lambda x: x[1])
                     section.edited = True
                     found.add(("material", name))
                 elif obj.name == b"NodeAttribute" and len(values) > 2 and \
