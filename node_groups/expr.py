@@ -165,6 +165,18 @@ def _multiply_add(a, b, c):
     return a * b + c
 
 
+def _scale_add(v, s, c):
+    return v * np.asarray(s)[..., None] + c
+
+
+def _no_hit(position, direction, length):
+    """The Raycast node in numpy: no scene, so nothing is hit (the shadows' reference is
+    ``reference.py``'s visibility against the scene's triangles)."""
+    shape = np.broadcast_shapes(np.shape(position)[:-1], np.shape(direction)[:-1],
+                                np.shape(length))
+    return np.zeros(shape)
+
+
 _FF, _VV = (FLOAT, FLOAT), (VECTOR, VECTOR)
 
 #: Every operation of the expressions; a name may have a float and a vector form (the first
@@ -183,6 +195,7 @@ OPERATIONS = (
     Op("cos", FLOAT, (FLOAT,), np.cos, MATH, "COSINE"),
     Op("acos", FLOAT, (FLOAT,), _acos, MATH, "ARCCOSINE"),
     Op("madd", FLOAT, (FLOAT, FLOAT, FLOAT), _multiply_add, MATH, "MULTIPLY_ADD"),
+    Op("sign", FLOAT, (FLOAT,), np.sign, MATH, "SIGN"),
     Op("add", VECTOR, _VV, np.add, VECTOR_MATH, "ADD", output="Vector"),
     Op("sub", VECTOR, _VV, np.subtract, VECTOR_MATH, "SUBTRACT", output="Vector"),
     Op("mul", VECTOR, _VV, np.multiply, VECTOR_MATH, "MULTIPLY", output="Vector"),
@@ -210,8 +223,19 @@ SWITCH = Op("switch", FLOAT, (FLOAT, FLOAT, FLOAT), _switch, "GeometryNodeSwitch
             inputs=("Switch", "False", "True"), output="Output",
             properties=(("input_type", "FLOAT"),))
 
+#: The Raycast node (Blender 5.1+): 1 where the ray from Position along Direction (Length in
+#: units of Direction) hits a surface, else 0.  Not in OPERATIONS: numpy has no scene (it
+#: evaluates as no hit), and only the lights groups' shadow rays use it.
+RAYCAST = Op("raycast", FLOAT, (VECTOR, VECTOR, FLOAT), _no_hit, "ShaderNodeRaycast",
+             inputs=("Position", "Direction", "Length"), output="Is Hit")
+
+#: v·s + c in one Vector Math MULTIPLY_ADD for a float s: not in OPERATIONS, whose operands
+#: are sockets of their kind, as s is linked to a vector input (it reads as (s, s, s)).
+SCALE_ADD = Op("scale_add", VECTOR, (VECTOR, FLOAT, VECTOR), _scale_add, VECTOR_MATH,
+               "MULTIPLY_ADD", output="Vector")
+
 _BY_NAME: dict = {}
-for _op in (*OPERATIONS, SWITCH):
+for _op in (*OPERATIONS, SWITCH, RAYCAST, SCALE_ADD):
     _BY_NAME.setdefault(_op.name, []).append(_op)
 del _op
 
@@ -372,6 +396,22 @@ def switch(condition, if_false, if_true) -> Expr:
     return operation("switch", condition, if_false, if_true)
 
 
+def raycast(origin, direction, length) -> Expr:
+    """1 where the ray from *origin* along *direction* (for *length* times its length) hits
+    a surface, else 0 (a Raycast node: see RAYCAST)."""
+    return operation("raycast", origin, direction, length)
+
+
+def sign(a) -> Expr:
+    """-1, 0 or 1 as *a* is negative, zero or positive (Math SIGN)."""
+    return operation("sign", a)
+
+
+def scale_add(v, s, c) -> Expr:
+    """v·s + c for vectors *v*, *c* and a float *s*, in one node (Vector Math MULTIPLY_ADD)."""
+    return operation("scale_add", v, s, c)
+
+
 def combine(x, y, z) -> Expr:
     """The vector (x, y, z) of three floats (Combine XYZ)."""
     return operation("combine", x, y, z)
@@ -482,7 +522,8 @@ def evaluate(expr: Expr, inputs: dict, geometry_values: dict | None = None, _mem
 __all__ = [
     "Expr", "Op", "OPERATIONS", "FLOAT", "VECTOR", "COLOR", "SHADER", "LEAVES", "const",
     "input_", "geometry", "operation", "maximum", "minimum", "power", "less_than", "at_least", "cos",
-    "greater_than", "combine", "equal", "switch", "SWITCH",
+    "greater_than", "combine", "equal", "switch", "SWITCH", "raycast", "RAYCAST", "sign",
+    "scale_add", "SCALE_ADD",
     "acos",
     "dot", "length", "normalize", "select", "emission", "evaluate", "multiply_add",
     "reflect_about", "saturate",

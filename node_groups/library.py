@@ -20,7 +20,7 @@ from dataclasses import dataclass, field
 from . import models
 from .expr import (
     COLOR, FLOAT, SHADER, VECTOR, Expr, acos, at_least, combine, cos, dot, emission, equal,
-    evaluate, geometry, greater_than, input_, switch,
+    evaluate, geometry, greater_than, input_, raycast, scale_add, sign, switch,
     length, less_than, maximum, minimum, multiply_add, normalize, power, reflect_about, saturate,
     select,
 )
@@ -479,6 +479,177 @@ def _light_terms_switched(g):
     texture) makes the inliner turn the Switches into Mix nodes choosing among the same
     values."""
     _light_terms_of(g, switched=True)
+
+
+# -- one light of a lights group, whole (the seeds' model: addon/lighting/rig.py) -----------
+#
+# What a light costs is the nodes it adds to every material's shader (Cycles spends about
+# 14 µs per inlined node per material before the first sample, Eevee 5.2 about 40 µs per
+# node per material per pass: benchmarks/README.md), so each light of the seeds' model is
+# one group whose formula is the fewest exact nodes: its light model, its shadow ray, its
+# diffuse and specular light added to the sums of the lights before it.  Its type, falloff
+# and shadow are chosen when the lights group is built (one group each), the highlight by a
+# Switch on 5.3.  What is the same for every light is computed once per material, by Phong
+# Surface and Phong Surface Rays: the unit normal n and view vector v, the mirror image of
+# v (so that r·v is one dot product), the normal scaled for the gate below, the ray's lift.
+#
+# Three identities carry it, every term being ≥ 0:
+# * m = -ℓ, the unit vector from the light to the point: r·v = m·reflect(v, n), and a
+#   spot's cos ω = m·û, with no negation per light;
+# * ℓ·n ≥ 0 and r·v ≥ 0 (the highlight's condition) as one clamped minimum,
+#   saturate(min(r·v, G·(ℓ·n))), G = 2⁴⁰: r·v where ℓ·n ≥ 2⁻⁴⁰·r·v, 0 where either is
+#   negative; then x^max(e, 10⁻³⁰) is 0 at x = 0 and x^e elsewhere, so the condition costs
+#   no node.  The diffuse light reads G·(ℓ·n) too, its colour times 2⁻⁴⁰ (exact: powers
+#   of two); a spot's cone and edge the same way, saturate(min(cos ω, G·(cos ω - cos θ)));
+# * a shadowed point's light divided by 10³⁰ + its falloff, not multiplied by 0: the shadow
+#   ray's hit goes into the denominator, the one division every light already has.
+
+#: The gate's scale G (see above): 2⁴⁰, a power of two, so that G·x·2⁻⁴⁰ is x exactly.
+GATE_SCALE = 2.0 ** 40
+#: The smallest exponent of the highlight and the spot's edge: x^1e-30 is 1 for any
+#: positive float and 0 at 0, which is what the conditions need where e = 0.
+MIN_GATED_EXPONENT = 1.0e-30
+#: What a hit adds to a light's falloff denominator: its light becomes 10⁻³⁰ of itself.
+SHADOW_DENOMINATOR = 1.0e30
+#: A sun's shadow ray's length (in units of its unit direction): "to infinity" within float
+#: range.
+SUN_RAY_LENGTH = 1.0e8
+#: The rig's light types (a Blender light's: ``models.drawn_as``), falloffs and shadows, and
+#: the name of each group.
+LIGHT_KINDS = {"POINT": "Point", "SPOT": "Spot", "SUN": "Sun"}
+#: The sums a light adds to (the Plain ones: without its shadow, what Eevee shows before 5.3).
+_SUMS = (("Diffuse Sum", "diffuse"), ("Specular Sum", "specular"),
+         ("Plain Diffuse Sum", "unshadowed diffuse"), ("Plain Specular Sum", "unshadowed specular"))
+FALLOFFS = {"QUADRATIC": "", "POWER": " (i0/d^k)"}
+
+
+def light_group_name(kind: str, falloff: str = "QUADRATIC", shadows: bool = False) -> str:
+    """The name of the lights group's light of *kind* (POINT, SPOT, SUN), *falloff* (a sun's
+    is ignored) and with a shadow ray or not."""
+    name = f"Phong Lights {LIGHT_KINDS[kind]}"
+    if kind != "SUN":
+        name += FALLOFFS[falloff]
+    return name + (" with Shadow" if shadows else "")
+
+
+@group("Phong Surface Rays", "What every light of a lights group reads of the shaded point, "
+       "once for all lights", into=RIG_GROUPS)
+def _surface_rays(g):
+    """The mirror image of the view vector about the normal, the normal times -G (the gate,
+    see above) and the shaded point's position."""
+    n = g.vector("Normal", (0.0, 0.0, 1.0), "Unit surface normal n (Phong Surface)")
+    v = g.vector("View Vector", (0.0, 0.0, 1.0), "Unit vector v toward the viewer (Phong Surface)")
+    g.output("Mirror View", reflect_about(v, n), "v - 2(n·v)n: r·v = m·(this), m = -ℓ")
+    g.output("Gate Normal", n * -GATE_SCALE, "-G·n: G·(ℓ·n) = m·(this)")
+    g.output("Position", geometry("Position"), "The shaded point P")
+
+
+def _light_of(g, kind, falloff, shadows, switched):
+    """One light, whole (see above): its diffuse and specular light added to the sums."""
+    near = kind in ("POINT", "SPOT")
+    s = g.vector("Position", ZERO, _POS) if near else None
+    u = g.vector("Direction", DOWN, "Direction u of the light's -Z axis (normalized inside)") \
+        if kind != "POINT" else None
+    if kind == "SPOT":
+        theta = g.value("Half Angle", math.radians(30.0), "Half angle θ of the cone",
+                        min=0.0, max=math.pi, subtype="ANGLE")
+        e_att = g.value("Edge Exponent", 0.0, "e_att: 0 gives a hard edge, higher values a "
+                        "softer one", min=0.0, max=10000.0)
+    i0 = g.value("Intensity", 1.0, _I0 if near else _I, min=0.0)
+    if near and falloff == "QUADRATIC":
+        a = g.value("Quadratic", FALLOFF_DEFAULTS["quadratic"], _ALPHA, min=0.0)
+        b = g.value("Linear", FALLOFF_DEFAULTS["linear"], _BETA, min=0.0)
+        c = g.value("Constant", FALLOFF_DEFAULTS["constant"], _GAMMA, min=0.0)
+    elif near:
+        k = g.value("Falloff Exponent", 2.0, "k of i0/d^k: 2 physical, 1 softer, 0 none",
+                    min=0.0, max=16.0)
+    lc = g.color("Light Color", WHITE, _LC)
+    kd = g.value("Diffuse Strength", 1.0, "i_source,diff / i_source (seed 000 §3.5)", min=0.0)
+    ks = g.value("Specular Strength", 1.0, "i_source,spec / i_source (seed 000 §3.5)", min=0.0)
+    e = g.value("Exponent", 30.0, _E, min=0.0, max=10000.0)
+    blinn = g.value("Blinn", 0.0, "0 = Phong, 1 = Blinn-Phong, between = blend", min=0.0,
+                    max=1.0, subtype="FACTOR")
+    n = g.vector("Normal", (0.0, 0.0, 1.0), "Unit surface normal n (Phong Surface)")
+    v = g.vector("View Vector", (0.0, 0.0, 1.0), "Unit vector v toward the viewer (Phong Surface)")
+    mirror = g.vector("Mirror View", (0.0, 0.0, -1.0), "v - 2(n·v)n (Phong Surface Rays)")
+    gate_n = g.vector("Gate Normal", (0.0, 0.0, -GATE_SCALE), "-G·n (Phong Surface Rays)")
+    p = g.vector("Surface Position", ZERO, "The shaded point P (Phong Surface Rays)")
+    if shadows:
+        ng = g.vector("True Normal", (0.0, 0.0, 1.0), "The true (geometric) normal Ng")
+        drop = g.vector("Ray Drop", ZERO, "-offset·Ng: the ray starts at P + sign(Ng·ℓ)·"
+                        "offset·Ng, on the light's side of the surface")
+        casts = g.value("Cast Shadow", 1.0, "1: the light casts shadows, 0: it does not",
+                        min=0.0, max=1.0)
+    sums = {name: g.vector(name, ZERO, f"The {what} light of the lights before")
+            for name, what in _SUMS[:4 if shadows else 2]}
+
+    if near:
+        away = p - s
+        r = length(away)
+        m = normalize(away)  # m = -ℓ
+    else:
+        m = normalize(u)
+    numerator = i0
+    if kind == "SPOT":  # cos ω = -ℓ·û = m·û; [cos ω ≥ cos θ]·max(cos ω, 0)^e_att (above)
+        cos_w = dot(m, normalize(u))
+        base = saturate(minimum(cos_w, multiply_add(cos_w, GATE_SCALE, -GATE_SCALE * cos(theta))))
+        numerator = i0 * power(base, maximum(e_att, MIN_GATED_EXPONENT))
+    hit = None
+    if shadows:
+        side = sign(dot(ng, m))  # -sign(Ng·ℓ): the origin P - sign(Ng·m)·offset·Ng
+        origin = scale_add(drop, side, p)
+        hit = (raycast(origin, s - origin, 1.0) if near  # the segment to the light: Length 1
+               else raycast(origin, -m, SUN_RAY_LENGTH))
+
+    def intensity(shade):
+        """i0 (times a spot's cone and edge) over the falloff; *shade*: the denominator plus
+        hit·cast·10³⁰ (one node: cast·10³⁰ is the light's constant)."""
+        def more(denominator):
+            return multiply_add(hit, casts * SHADOW_DENOMINATOR, denominator) if shade \
+                else denominator
+
+        if near and falloff == "QUADRATIC":
+            denominator = multiply_add(multiply_add(a, r, b), r, more(c))
+            return numerator / maximum(denominator, MIN_DENOMINATOR)
+        if near:
+            return numerator / maximum(more(power(r, maximum(k, 0.0))), MIN_DENOMINATOR)
+        return numerator / more(1.0) if shade else numerator
+
+    ln_g = dot(m, gate_n)  # G·(ℓ·n)
+    e_1 = maximum(e, MIN_GATED_EXPONENT)
+    phong = power(saturate(minimum(dot(m, mirror), ln_g)), e_1)
+    blinn_f = power(saturate(minimum(dot(normalize(v - m), n), ln_g)), e_1)
+    factor = (1.0 - blinn) * phong + blinn * blinn_f
+    if switched:
+        factor = switch(equal(blinn, 0.0), switch(equal(blinn, 1.0), factor, blinn_f), phong)
+    diffuse_color = (kd * (1.0 / GATE_SCALE)) * lc  # G·(ℓ·n) times 2⁻⁴⁰: ℓ·n, exactly
+    for prefix, shade in (("", shadows), ("Plain ", False))[:2 if shadows else 1]:
+        i = intensity(shade)
+        g.output(f"{prefix}Diffuse Sum",
+                 scale_add(diffuse_color, i * maximum(ln_g, 0.0), sums[f"{prefix}Diffuse Sum"]),
+                 "+ i·max(ℓ·n, 0)·k_d·Cl_source" + (", unshadowed" if prefix else ""),
+                 color=True)
+        g.output(f"{prefix}Specular Sum",
+                 scale_add(ks * lc, i * factor, sums[f"{prefix}Specular Sum"]),
+                 "+ i·[ℓ·n ≥ 0]·((1-Blinn)·(r·v)^e + Blinn·(h·n)^e)·k_s·Cl_source" +
+                 (", unshadowed" if prefix else ""), color=True)
+
+
+def _register_lights():
+    for kind in LIGHT_KINDS:
+        for falloff in (FALLOFFS if kind != "SUN" else ("QUADRATIC",)):
+            for shadows in (False, True):
+                name = light_group_name(kind, falloff, shadows)
+                what = (f"One {LIGHT_KINDS[kind].lower()} light of a lights group: its diffuse "
+                        "and specular light added to the sums" +
+                        (", shadowed by its shadow ray" if shadows else ""))
+                group(name, what, into=RIG_GROUPS)(
+                    lambda g, k=kind, f=falloff, s=shadows: _light_of(g, k, f, s, False))
+                variant(name, SWITCH_FEATURE, what)(
+                    lambda g, k=kind, f=falloff, s=shadows: _light_of(g, k, f, s, True))
+
+
+_register_lights()
 
 
 # -- three.js (docs/threejs.md: three.js r181's shader chunks, npm three@0.181.0) ---------

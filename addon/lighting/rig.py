@@ -68,7 +68,7 @@ from __future__ import annotations
 
 import bpy
 
-from ...node_groups import models
+from ...node_groups import library, models
 from .. import compat, loader
 from . import drivers, ownership, properties
 from . import loop as light_loop
@@ -223,49 +223,71 @@ def build(tree, lights, world, model=MODELS[0], loop=False, lookups=None,
 
 def _build_phong(tree, lights, world, budget, model, loop=False, shadows=False) -> None:
     """The composition "phong" (the seeds' model, docs/contract.md "Several lights"): per
-    light its light group (a Power Falloff after it where the light's falloff is POWER) and a
-    Phong Light Terms; Diffuse = Σ diffuse light ⊗ Object Color, Specular = Σ specular light
-    ⊗ Specular Color, Color = min(Irradiant + Ambient + Diffuse + Specular, 1)."""
+    light one group of ``library.light_group_name`` (its type, falloff and shadow ray: the
+    fewest exact nodes a light costs, docs/benchmarks.md), each adding its diffuse and
+    specular light to the sums of the lights before; Diffuse = Σ diffuse light ⊗ Object
+    Color, Specular = Σ specular light ⊗ Specular Color, Color = min(Irradiant + Ambient +
+    Diffuse + Specular, 1).  With shadow rays each light also adds to the Plain sums, its
+    light without its shadow: the Shader (what Eevee shows before 5.3)."""
     group_in, group_out, out_x = _start(tree, lights, shadows)
     surface = _group_node(tree, "Phong Surface", "surface", (-600.0, 520.0))
     for name in ("Normal", "View Vector"):
         tree.links.new(group_in.outputs[name], surface.inputs[name])
-    shadings, lit = [], []
+    rays = _group_node(tree, "Phong Surface Rays", "surface rays", (-300.0, 820.0))
+    for name in ("Normal", "View Vector"):
+        tree.links.new(surface.outputs[name], rays.inputs[name])
     shared = shadow_rays.surface(tree, (-1800.0, 900.0)) if shadows else None
+    shared_inputs = {"Normal": surface.outputs["Normal"],
+                     "View Vector": surface.outputs["View Vector"],
+                     "Mirror View": rays.outputs["Mirror View"],
+                     "Gate Normal": rays.outputs["Gate Normal"],
+                     "Surface Position": shared["P"] if shared else rays.outputs["Position"],
+                     "Exponent": group_in.outputs["Exponent"],
+                     "Blinn": group_in.outputs["Blinn"]}
+    if shared:
+        shared_inputs.update({"True Normal": shared["Ng"], "Ray Drop": shared["drop"]})
+    sums = {}
     for index, obj in enumerate(lights):
-        y = -520.0 * index
-        light_node = _light_node(tree, obj, (-600.0, y), model, budget)
-        shading = _group_node(tree, "Phong Light Terms", f"shading:{obj.name}", (-300.0, y))
-        for name in ("Exponent", "Blinn"):
-            tree.links.new(group_in.outputs[name], shading.inputs[name])
-        for name in ("Normal", "View Vector"):
-            tree.links.new(surface.outputs[name], shading.inputs[name])
-        tree.links.new(light_node.outputs["Light Vector"], shading.inputs["Light Vector"])
-        tree.links.new(_power_falloff(tree, obj, light_node, model)
-                       or light_node.outputs["Intensity"],
-                       shading.inputs["Light Intensity"])
-        drivers.light_color(shading.inputs["Light Color"], obj.data)
-        for attr, socket in (("diffuse", "Diffuse Strength"), ("specular", "Specular Strength")):
-            drivers.prop(shading.inputs[socket], None, "LIGHT", obj.data,
-                         f'["{properties.LIGHT_KEYS[attr][0]}"]')
-        shadings.append(shading)
-        lit.append(_lit(tree, obj, light_node, shading, shared, (-1500.0, y)))
+        light = obj.data
+        falloff = "POWER" if _is_power(light, model) else "QUADRATIC"
+        name = library.light_group_name(models.drawn_as(light.type), falloff, shadows)
+        node = _light_node(tree, obj, (-600.0, -520.0 * index), model, budget, name)
+        for socket, source in (*shared_inputs.items(), *sums.items()):
+            tree.links.new(source, node.inputs[socket])
+        drivers.light_color(node.inputs["Light Color"], light)
+        for attr, socket in (("diffuse", "Diffuse Strength"), ("specular", "Specular Strength"),
+                             ("power_k", "Falloff Exponent")):
+            if socket in node.inputs:
+                drivers.prop(node.inputs[socket], None, "LIGHT", light,
+                             f'["{properties.LIGHT_KEYS[attr][0]}"]')
+        if shadows:  # Cast Shadow off: no hit counts
+            drivers.prop(node.inputs["Cast Shadow"], None, "LIGHT", light, "use_shadow")
+        sums = {socket.name: socket for socket in node.outputs}
     ambient = _group_node(tree, "Phong Ambient", "ambient", (-300.0, 520.0))
     tree.links.new(group_in.outputs["Ambient Object Color"], ambient.inputs["Object Color"])
     _drive_ambient(ambient, world)
-    sources = {"Diffuse": ("Diffuse Light", group_in.outputs["Object Color"]),
-               "Specular": ("Specular Light", group_in.outputs["Specular Color"])}
     base = (group_in.outputs["Irradiant Color"], ambient.outputs["Color"])
 
-    def colour(terms, link, prefix=""):
-        totals = _term_sums(tree, terms, group_out if link else None, sources, prefix)
-        return _color_sum(tree, base, totals, prefix)
+    def colour(prefix, link):
+        totals = []
+        for term, color in (("Diffuse", "Object Color"), ("Specular", "Specular Color")):
+            total = sums.get(f"{prefix}{term} Sum")
+            if total is not None:
+                total = _vector_node(tree, "MULTIPLY", f"{prefix.lower()}{term.lower()}:color",
+                                     (180.0 * len(lights), -200.0 - 160.0 * len(totals)),
+                                     total, group_in.outputs[color])
+            if link and total is None:  # no light
+                group_out.inputs[term].default_value = (0.0, 0.0, 0.0, 1.0)
+            elif link:
+                tree.links.new(total, group_out.inputs[term])
+            totals.append(total)
+        return _color_sum(tree, base, totals, prefix.lower())
 
-    color = colour(lit, True)
+    color = colour("", True)
     tree.links.new(color, group_out.inputs["Color"])
     tree.links.new(group_in.outputs["Irradiant Color"], group_out.inputs["Irradiant"])
     tree.links.new(ambient.outputs["Color"], group_out.inputs["Ambient"])
-    _shaders(tree, color, group_out, out_x, shadows and (lambda: colour(shadings, False, "plain ")))
+    _shaders(tree, color, group_out, out_x, shadows and (lambda: colour("Plain ", False)))
     if loop:
         light_loop.build(tree, model, group_in, group_out,
                          group_in.outputs["Irradiant Color"], ambient.outputs["Color"], surface,
@@ -496,7 +518,7 @@ def _group_node(tree, group_name, name, location):
     return node
 
 
-def _light_node(tree, obj, location, model, budget=(None, 0, 0)):
+def _light_node(tree, obj, location, model, budget=(None, 0, 0), group=None):
     """The light group of *obj* in *model*, driven by the light; its transform from the
     World (*budget*: [world, View Layer lookups left, those of them Eevee may compile left],
     spent here) or by drivers.  An Area light is drawn by the model's spot group
@@ -507,7 +529,7 @@ def _light_node(tree, obj, location, model, budget=(None, 0, 0)):
     properties.ensure_light_props(light)
     light_loop.write_parameters(light)  # what the light loop reads of it (5.3+; else nothing)
     spec = models.MODELS[model]
-    node = _group_node(tree, spec.light_groups[kind], f"light:{obj.name}", location)
+    node = _group_node(tree, group or spec.light_groups[kind], f"light:{obj.name}", location)
     inputs = node.inputs
     keys = {attr: f'["{key}"]' for attr, (key, _default) in properties.LIGHT_KEYS.items()}
     kinds = [name for name, types in (("LOCATION", ("POINT", "SPOT")), ("AXIS", ("SUN", "SPOT")))
@@ -534,7 +556,8 @@ def _light_node(tree, obj, location, model, budget=(None, 0, 0)):
             drivers.world_location(inputs["Position"], obj)
         if _is_power(light, model):  # i0 here; _power_falloff divides by d^k
             for name, value in (("Quadratic", 0.0), ("Linear", 0.0), ("Constant", 1.0)):
-                inputs[name].default_value = value
+                if name in inputs:  # (the seeds' lights group's light has its own i0/d^k)
+                    inputs[name].default_value = value
     if kind in ("SUN", "SPOT") and not from_world:
         drivers.world_minus_z(inputs["Direction"], obj)
     if light.type == "SPOT":

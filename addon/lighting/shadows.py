@@ -44,6 +44,7 @@ import bpy
 from bpy.app.handlers import persistent
 
 from ...node_groups import models
+from ...node_groups.library import SUN_RAY_LENGTH
 from .. import compat
 from . import drivers, ownership
 
@@ -54,8 +55,9 @@ CYCLES_SHADER = "Cycles Shader"
 #: The ray's origin moves this far along the true normal, times 1 + max |P| (measured: no
 #: acne on a 40 × 40 floor at every scene scale tried; 1e-3 leaks light).
 OFFSET = 1.0e-5
-#: A sun's ray length (in units of its unit direction): "to infinity" within float range.
-SUN_LENGTH = 1.0e8
+#: A sun's ray length (in units of its unit direction): "to infinity" within float range (the
+#: seeds' lights group's rays are in its light groups: ``library.SUN_RAY_LENGTH``, the same).
+SUN_LENGTH = SUN_RAY_LENGTH
 #: Names of the nodes written here (under their light's name).
 PREFIX = "shadow:"
 
@@ -251,7 +253,7 @@ def _math(tree, operation, name, location, a, b=None, c=None):
 
 def surface(tree, location) -> dict:
     """The shaded point's nodes every light's ray shares: {"P": Position, "Ng": True Normal,
-    "offset": OFFSET · (1 + max |P|), "lift": offset · Ng}."""
+    "offset": OFFSET · (1 + max |P|), "lift": offset · Ng, "drop": -lift}."""
     x, y = location
     geometry = _node(tree, "ShaderNodeNewGeometry", "geometry", (x, y))
     position = compat.output_socket(geometry, "Position")
@@ -267,7 +269,11 @@ def surface(tree, location) -> dict:
     normal = compat.output_socket(geometry, "True Normal")
     offset = compat.output_socket(offset, "Value")
     lift = _vector(tree, "SCALE", "lift", (x + 1080.0, y), normal, scale=offset)
-    return {"P": position, "Ng": normal, "offset": offset, "lift": lift}
+    drop = _node(tree, "ShaderNodeVectorMath", "drop", (x + 1260.0, y), "SCALE")
+    tree.links.new(lift, compat.input_socket(drop, "Vector"))
+    compat.input_socket(drop, "Scale").default_value = -1.0
+    return {"P": position, "Ng": normal, "offset": offset, "lift": lift,
+            "drop": compat.output_socket(drop, "Vector")}
 
 
 def visibility(tree, obj, light_node, shared, location):

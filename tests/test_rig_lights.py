@@ -1,0 +1,106 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""The lights group's light groups of the seeds' model (node_groups/library.py,
+``light_group_name``: one group per light type, falloff and shadow ray, the fewest exact
+nodes a light costs) evaluated on numpy agree with the independent reference: the light
+model of their type, then Phong Diffuse and the highlight (Phong, Blinn-Phong or their
+blend), added to the sums they are given.  numpy has no scene, so the shadow ray hits
+nothing there: a light with its ray gives its light unshadowed (the rays themselves are
+rendered by tests/test_shadows.py).  No Blender here."""
+
+import math
+
+import numpy as np
+import pytest
+
+from phong_nodes.node_groups import library, reference
+
+N = 4000
+
+
+def _unit(v):
+    return v / np.linalg.norm(v, axis=-1, keepdims=True)
+
+
+def _setting(rng, low, high):
+    x = rng.uniform(low, high, N)
+    x[rng.random(N) < 0.05] = 0.0  # zeros: α = β = γ = 0, exponents 0, i0 = 0
+    return x
+
+
+def _case(rng, kind, falloff):
+    """Random inputs of the light group and the reference's light for them."""
+    p = rng.uniform(-4, 4, (N, 3))
+    n, v = _unit(rng.normal(size=(N, 3))), _unit(rng.normal(size=(N, 3)))
+    inputs = {"Surface Position": p, "Normal": n, "View Vector": v,
+              "Mirror View": v - 2.0 * np.sum(n * v, axis=-1, keepdims=True) * n,
+              "Gate Normal": -library.GATE_SCALE * n,
+              "Intensity": _setting(rng, -0.5, 4.0), "Light Color": rng.uniform(-0.2, 1.5, (N, 3)),
+              "Diffuse Strength": _setting(rng, -0.5, 2.0),
+              "Specular Strength": _setting(rng, -0.5, 2.0),
+              "Exponent": _setting(rng, -1.0, 200.0), "Blinn": rng.uniform(0.0, 1.0, N),
+              "Diffuse Sum": rng.uniform(0, 1, (N, 3)), "Specular Sum": rng.uniform(0, 1, (N, 3)),
+              "True Normal": n, "Ray Drop": -1e-5 * n, "Cast Shadow": np.ones(N)}
+    inputs["Plain Diffuse Sum"], inputs["Plain Specular Sum"] = (
+        inputs["Diffuse Sum"] + 1.0, inputs["Specular Sum"] + 2.0)
+    if kind != "SUN":
+        inputs["Position"] = p + rng.normal(size=(N, 3)) * rng.choice([0.3, 2.0, 6.0], (N, 1))
+    if kind != "POINT":
+        inputs["Direction"] = rng.normal(size=(N, 3)) * rng.choice([0.5, 1.0, 3.0], (N, 1))
+    if kind == "SPOT":  # Blender's Spot Size is at most 180°: θ ≤ 90°
+        inputs["Half Angle"] = rng.uniform(0.0, math.pi / 2.0, N)
+        inputs["Edge Exponent"] = _setting(rng, -1.0, 40.0)
+    quadratic = dict(quadratic=1.0, linear=0.0, constant=0.0)
+    if falloff == "QUADRATIC" and kind != "SUN":
+        for name in ("Quadratic", "Linear", "Constant"):
+            inputs[name] = _setting(rng, -0.5, 4.0)
+        quadratic = {name.lower(): inputs[name] for name in ("Quadratic", "Linear", "Constant")}
+    elif kind != "SUN":
+        inputs["Falloff Exponent"] = _setting(rng, -1.0, 4.0)
+        quadratic = dict(quadratic=0.0, linear=0.0, constant=1.0)
+    i0 = inputs["Intensity"]
+    if kind == "SUN":
+        light = reference.directional_light(inputs["Direction"], i0, p)
+    elif kind == "POINT":
+        light = reference.point_light(inputs["Position"], i0, geometry_position=p, **quadratic)
+    else:
+        light = reference.spot_light(inputs["Position"], inputs["Direction"],
+                                     inputs["Half Angle"], inputs["Edge Exponent"], i0,
+                                     geometry_position=p, **quadratic)
+    if falloff == "POWER" and kind != "SUN":
+        light["Intensity"] = reference.power_falloff(light["Distance"], light["Intensity"],
+                                                     inputs["Falloff Exponent"])["Intensity"]
+    return inputs, light
+
+
+@pytest.mark.parametrize("switched", [False, True])
+@pytest.mark.parametrize("blinn", ["between", 0.0, 1.0])
+@pytest.mark.parametrize("shadows", [False, True])
+@pytest.mark.parametrize("kind, falloff", [("POINT", "QUADRATIC"), ("POINT", "POWER"),
+                                           ("SPOT", "QUADRATIC"), ("SPOT", "POWER"),
+                                           ("SUN", "QUADRATIC")])
+def test_a_light_adds_what_the_reference_gives(kind, falloff, shadows, blinn, switched):
+    rng = np.random.default_rng(hash((kind, falloff, shadows, str(blinn))) % 2**32)
+    inputs, light = _case(rng, kind, falloff)
+    if blinn != "between":
+        inputs["Blinn"] = np.full(N, blinn)
+    name = library.light_group_name(kind, falloff, shadows)
+    group = library.definition(name, (library.SWITCH_FEATURE,) if switched else ())
+    assert (group is library.RIG_GROUPS[name]) == (not switched)
+    got = group.evaluate(inputs)
+    ell, i = light["Light Vector"], light["Intensity"]
+    common = dict(light_color=inputs["Light Color"], normal=inputs["Normal"])
+    diffuse = reference.diffuse(ell, i * inputs["Diffuse Strength"], object_color=(1.0, 1.0, 1.0),
+                                **common)["Color"]
+    spec = dict(intensity=i * inputs["Specular Strength"], specular_color=(1.0, 1.0, 1.0),
+                exponent=inputs["Exponent"], view_vector=inputs["View Vector"], **common)
+    b = inputs["Blinn"][:, None]
+    specular = ((1.0 - b) * reference.specular(ell, **spec)["Color"]
+                + b * reference.blinn_specular(ell, **spec)["Color"])
+    sums = ("Diffuse Sum", "Specular Sum") + (
+        ("Plain Diffuse Sum", "Plain Specular Sum") if shadows else ())
+    assert set(got) == set(sums)
+    for output in sums:
+        term = diffuse if "Diffuse" in output else specular
+        assert np.abs(term).max() > 0.01 and np.mean(np.abs(term).max(axis=-1) > 1e-6) > 0.002
+        np.testing.assert_allclose(got[output] - inputs[output], term, rtol=1e-9, atol=1e-9,
+                                   err_msg=output)
