@@ -69,7 +69,7 @@ def ensure_group(name: str):
 
 def refresh_variants() -> list:
     """``ensure_group`` for each group of the file that has variants (``library.VARIANTS``):
-    one written for another release or by an earlier version (e.g. Phong Light Terms without
+    one written for another release or by an earlier version (e.g. the seeds' light group without
     5.3's Switch) is rewritten in place, links kept; returns the names rewritten."""
     names = []
     for name in VARIANTS:

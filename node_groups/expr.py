@@ -118,8 +118,11 @@ def _compare(a, b, epsilon):
 
 def _switch(condition, if_false, if_true):
     """Switch: *if_true* where the condition (a float linked to the boolean input converts as
-    x > 0) holds, else *if_false*."""
-    return np.where(np.asarray(condition) > 0.0, if_true, if_false)
+    x > 0) holds, else *if_false* (vectors: per point)."""
+    condition = np.asarray(condition) > 0.0
+    if max(np.ndim(if_false), np.ndim(if_true)) > np.ndim(condition):
+        condition = condition[..., None]
+    return np.where(condition, if_true, if_false)
 
 
 def _combine(x, y, z):
@@ -223,6 +226,11 @@ SWITCH = Op("switch", FLOAT, (FLOAT, FLOAT, FLOAT), _switch, "GeometryNodeSwitch
             inputs=("Switch", "False", "True"), output="Output",
             properties=(("input_type", "FLOAT"),))
 
+#: The Switch node on vectors: the same rules (the first form whose operands fit is used).
+SWITCH_VECTOR = Op("switch", VECTOR, (FLOAT, VECTOR, VECTOR), _switch, "GeometryNodeSwitch",
+                   inputs=("Switch", "False", "True"), output="Output",
+                   properties=(("input_type", "VECTOR"),))
+
 #: The Raycast node (Blender 5.1+): 1 where the ray from Position along Direction (Length in
 #: units of Direction) hits a surface, else 0.  Not in OPERATIONS: numpy has no scene (it
 #: evaluates as no hit), and only the lights groups' shadow rays use it.
@@ -235,7 +243,7 @@ SCALE_ADD = Op("scale_add", VECTOR, (VECTOR, FLOAT, VECTOR), _scale_add, VECTOR_
                "MULTIPLY_ADD", output="Vector")
 
 _BY_NAME: dict = {}
-for _op in (*OPERATIONS, SWITCH, RAYCAST, SCALE_ADD):
+for _op in (*OPERATIONS, SWITCH, SWITCH_VECTOR, RAYCAST, SCALE_ADD):
     _BY_NAME.setdefault(_op.name, []).append(_op)
 del _op
 
@@ -408,7 +416,10 @@ def sign(a) -> Expr:
 
 
 def scale_add(v, s, c) -> Expr:
-    """v·s + c for vectors *v*, *c* and a float *s*, in one node (Vector Math MULTIPLY_ADD)."""
+    """v·s + c for vectors *v*, *c* and a float *s*, in one node (Vector Math MULTIPLY_ADD);
+    for a constant *s*, v·s + c (its input is a vector socket)."""
+    if const(s).op == "const":
+        return const(v) * s + c
     return operation("scale_add", v, s, c)
 
 
@@ -522,7 +533,7 @@ def evaluate(expr: Expr, inputs: dict, geometry_values: dict | None = None, _mem
 __all__ = [
     "Expr", "Op", "OPERATIONS", "FLOAT", "VECTOR", "COLOR", "SHADER", "LEAVES", "const",
     "input_", "geometry", "operation", "maximum", "minimum", "power", "less_than", "at_least", "cos",
-    "greater_than", "combine", "equal", "switch", "SWITCH", "raycast", "RAYCAST", "sign",
+    "greater_than", "combine", "equal", "switch", "SWITCH", "SWITCH_VECTOR", "raycast", "RAYCAST", "sign",
     "scale_add", "SCALE_ADD",
     "acos",
     "dot", "length", "normalize", "select", "emission", "evaluate", "multiply_add",

@@ -417,7 +417,7 @@ def _shading(g):
 # computes (docs/contract.md, "Several lights"), with fewer nodes: every Eevee pass of every
 # material expands them again (measured: about 40 µs per node per material per render).  So
 # the normal and the view vector are resolved once for all lights (Phong Surface), each light
-# adds only its diffuse and specular light (Phong Light Terms), and the material colours, the
+# adds only its diffuse and specular light (its light group, below), and the material colours, the
 # ambient, the irradiant and the clamp are taken once, in the lights group.  The products of
 # driven values (strengths, light colour) stand in brackets of their own, so Blender folds
 # them into one value before it writes the shader (it does not fold a material's RGB node:
@@ -430,55 +430,6 @@ def _surface(g):
     g.output("Normal", g.normal(), "normalize(Normal), or Geometry ▸ Normal when it is zero")
     g.output("View Vector", g.view(),
              "normalize(View Vector), or Geometry ▸ Incoming when it is zero")
-
-
-def _light_terms_of(g, switched):
-    l = g.vector("Light Vector", ZERO, _L)
-    i = g.value("Light Intensity", 1.0, _I, min=0.0)
-    lc = g.color("Light Color", WHITE, _LC)
-    kd = g.value("Diffuse Strength", 1.0, "i_source,diff / i_source (seed 000 §3.5)", min=0.0)
-    ks = g.value("Specular Strength", 1.0, "i_source,spec / i_source (seed 000 §3.5)", min=0.0)
-    e = g.value("Exponent", 30.0, _E, min=0.0, max=10000.0)
-    blinn = g.value("Blinn", 0.0, "0 = Phong, 1 = Blinn-Phong, between = blend", min=0.0, max=1.0,
-                    subtype="FACTOR")
-    n = g.vector("Normal", (0.0, 0.0, 1.0), "Unit surface normal n (Phong Surface)")
-    v = g.vector("View Vector", (0.0, 0.0, 1.0), "Unit vector v toward the viewer (Phong Surface)")
-    # as in Phong Shading, a sum of two products: Cycles folds 0·x to 0, so a material with
-    # Blinn 0 (or 1) computes one highlight there (a multiply-add is not folded: +20 % render
-    # time at 16 lights, benchmarks/light_floor.py)
-    phong, blinn_f = phong_factor(l, n, v, e), blinn_factor(l, n, v, e)
-    factor = (1.0 - blinn) * phong + blinn * blinn_f
-    if switched:
-        factor = switch(equal(blinn, 0.0), switch(equal(blinn, 1.0), factor, blinn_f), phong)
-    g.output("Diffuse Light", (i * lambert(l, n)) * (kd * lc),
-             "i·max(ℓ·n, 0)·k_d·Cl_source: times Cl_objet, the diffuse term", color=True)
-    g.output("Specular Light", (i * factor) * (ks * lc),
-             "i·((1-Blinn)·(r·v)^e + Blinn·(h·n)^e)·k_s·Cl_source: times Cl_spec, the specular term",
-             color=True)
-
-
-@group("Phong Light Terms", "One light's diffuse and specular light, for a unit normal and view vector",
-       into=RIG_GROUPS)
-def _light_terms(g):
-    """Phong Shading's Diffuse and Specular terms of one light before the material's colours
-    (docs/model.md §Diffuse, §Specular (Phong), §Blinn-Phong, §Separate diffuse and specular
-    intensities): the lights group sums them over its lights, then multiplies the sums by the
-    Object Color and the Specular Color (once, not once per light).  Normal and View Vector
-    are taken as given (unit vectors from Phong Surface)."""
-    _light_terms_of(g, switched=False)
-
-
-@variant("Phong Light Terms", SWITCH_FEATURE,
-         "One light's diffuse and specular light, for a unit normal and view vector")
-def _light_terms_switched(g):
-    """Phong Light Terms where shader trees have a Switch node (Blender 5.3): a Blinn of 0 or
-    1 (a material's constant) chooses its highlight by a Switch, so that Blender's inliner
-    drops the other one's nodes (11 a light, which it keeps after folding the blend; every
-    material compiles its own copy of every light's nodes: benchmarks/README.md, "the node
-    budget").  A Blinn between 0 and 1 blends as before; one that is not constant (a
-    texture) makes the inliner turn the Switches into Mix nodes choosing among the same
-    values."""
-    _light_terms_of(g, switched=True)
 
 
 # -- one light of a lights group, whole (the seeds' model: addon/lighting/rig.py) -----------
@@ -523,11 +474,14 @@ _SUMS = (("Diffuse Sum", "diffuse"), ("Specular Sum", "specular"),
 FALLOFFS = {"QUADRATIC": "", "POWER": " (i0/d^k)"}
 
 
-def light_group_name(kind: str, falloff: str = "QUADRATIC", shadows: bool = False) -> str:
-    """The name of the lights group's light of *kind* (POINT, SPOT, SUN), *falloff* (a sun's
-    is ignored) and with a shadow ray or not."""
-    name = f"Phong Lights {LIGHT_KINDS[kind]}"
-    if kind != "SUN":
+def rig_light_group(model: str, kind: str, falloff: str = "QUADRATIC",
+                    shadows: bool = False) -> str:
+    """The light group a lights group of *model* (``models.MODELS``: its ``rig``) draws a
+    light of *kind* (POINT, SPOT, SUN) and *falloff* with, with a shadow ray or not: e.g.
+    "Phong Rig Spot (i0/d^k) with Shadow"."""
+    entry = models.get(model)
+    name = f"{entry.rig} {LIGHT_KINDS[kind]}"
+    if kind != "SUN" and entry.power_falloff:
         name += FALLOFFS[falloff]
     return name + (" with Shadow" if shadows else "")
 
@@ -639,7 +593,7 @@ def _register_lights():
     for kind in LIGHT_KINDS:
         for falloff in (FALLOFFS if kind != "SUN" else ("QUADRATIC",)):
             for shadows in (False, True):
-                name = light_group_name(kind, falloff, shadows)
+                name = rig_light_group("seeds", kind, falloff, shadows)
                 what = (f"One {LIGHT_KINDS[kind].lower()} light of a lights group: its diffuse "
                         "and specular light added to the sums" +
                         (", shadowed by its shadow ray" if shadows else ""))
@@ -783,6 +737,152 @@ def _threejs_phong(g):
     g.output("Color", diffuse + specular, "Diffuse + Specular (not clamped)", color=True)
 
 
+# -- one three.js light of a lights group, whole (addon/lighting/rig.py) --------------------
+#
+# As the seeds' model's (``_light_of``): one group per light type and shadow ray, m = -ℓ,
+# saturate(n·ℓ) read through G·(n·ℓ) (its ≤ 1 needs no node for unit vectors), the shadow
+# ray's hit in the denominator max(d^decay, 0.01).  The light's colour times F = f0 + (1 -
+# f0)·fresnel is split over two sums, Σ lc·i·(n·h)^s and Σ lc·i·(n·h)^s·fresnel, which the
+# material's colours multiply once (three.js Rig Material), as they do the diffuse sum.  On
+# 5.3 Switches on the light's and the material's constants keep only what is used: the
+# cut-off window where the light's distance is above 0, a smoothstep penumbra where its
+# penumbra is above 0 (else the hard edge cos ω > cos angle), the highlight where the
+# material's Specular Strength is above 0 (MeshLambertMaterial: 0).
+
+def _threejs_light_of(g, kind, shadows, switched):
+    """One three.js light, whole: its diffuse light and its highlight's two sums."""
+    near = kind in ("POINT", "SPOT")
+    s = g.vector("Position", ZERO, _POS) if near else None
+    u = g.vector("Direction", DOWN, "Direction u of the light's -Z axis (normalized inside)") \
+        if kind != "POINT" else None
+    if kind == "SPOT":
+        angle = g.value("Angle", math.pi / 3.0, "three.js angle: half angle of the cone",
+                        min=0.0, max=math.pi / 2.0, subtype="ANGLE")
+        penumbra = g.value("Penumbra", 0.0, "three.js penumbra: share of the cone that fades",
+                           min=0.0, max=1.0, subtype="FACTOR")
+    i = g.value("Intensity", 1.0, "three.js light intensity (the light's colour is multiplied "
+                "by it)", min=0.0)
+    if near:
+        cutoff = g.value("Distance", 0.0, _T_CUTOFF, min=0.0)
+        decay = g.value("Decay", 2.0, _T_DECAY, min=0.0, max=16.0)
+    lc = g.color("Light Color", WHITE, _LC)
+    shininess = g.value("Exponent", 30.0, "three.js shininess", min=0.0, max=10000.0)
+    strength = g.value("Specular Strength", 1.0, "three.js specularStrength (0: no highlight)",
+                       min=0.0, max=1.0, subtype="FACTOR")
+    n = g.vector("Normal", (0.0, 0.0, 1.0), "Unit surface normal n (Phong Surface)")
+    v = g.vector("View Vector", (0.0, 0.0, 1.0), "Unit vector v toward the viewer (Phong Surface)")
+    gate_n = g.vector("Gate Normal", (0.0, 0.0, -GATE_SCALE), "-G·n (Phong Surface Rays)")
+    p = g.vector("Surface Position", ZERO, "The shaded point P (Phong Surface Rays)")
+    if shadows:
+        ng = g.vector("True Normal", (0.0, 0.0, 1.0), "The true (geometric) normal Ng")
+        drop = g.vector("Ray Drop", ZERO, "-offset·Ng: the ray starts at P + sign(Ng·ℓ)·"
+                        "offset·Ng, on the light's side of the surface")
+        casts = g.value("Cast Shadow", 1.0, "1: the light casts shadows, 0: it does not",
+                        min=0.0, max=1.0)
+    names = ("Diffuse Sum", "Specular Sum", "Fresnel Sum")
+    names += tuple("Plain " + name for name in names) if shadows else ()
+    sums = {name: g.vector(name, ZERO, f"The lights before: their {name.lower()}")
+            for name in names}
+
+    def choose(condition, if_true, if_false):  # a Switch on a constant on 5.3
+        return switch(condition, if_false, if_true) if switched \
+            else select(condition, if_true, if_false)
+
+    if near:
+        away = p - s
+        d = length(away)
+        m = normalize(away)  # m = -ℓ
+    else:
+        m = normalize(u)
+    numerator = i
+    if kind == "SPOT":  # smoothstep(cos angle, cos(angle·(1 - penumbra)), cos ω), cos ω = m·û
+        cos_w = dot(m, normalize(u))
+        e0, e1 = cos(angle), cos(angle * (1.0 - penumbra))
+        slope = 1.0 / (e1 - e0)
+        t = saturate(multiply_add(cos_w, slope, -e0 * slope))
+        soft = (t * t) * multiply_add(t, -2.0, 3.0)
+        numerator = i * choose(less_than(e0, e1), soft, greater_than(cos_w, e0))
+    if near:  # the cut-off window (saturate(1 - (d/distance)⁴))² where distance > 0
+        window = saturate(multiply_add(power(d, 4.0), -power(1.0 / cutoff, 4.0), 1.0))
+        numerator = choose(less_than(0.0, cutoff), numerator * (window * window), numerator)
+    hit = None
+    if shadows:
+        side = sign(dot(ng, m))  # -sign(Ng·ℓ): the origin P - sign(Ng·m)·offset·Ng
+        origin = scale_add(drop, side, p)
+        hit = (raycast(origin, s - origin, 1.0) if near
+               else raycast(origin, -m, SUN_RAY_LENGTH))
+
+    def intensity(shade):
+        """i (times a spot's cone, the window) / max(d^decay, 0.01); *shade*: plus
+        hit·cast·10³⁰ in the denominator."""
+        def more(denominator):
+            return multiply_add(hit, casts * SHADOW_DENOMINATOR, denominator) if shade \
+                else denominator
+
+        if near:
+            return numerator / maximum(more(power(d, decay)), 0.01)
+        return numerator / more(1.0) if shade else numerator
+
+    h = normalize(v - m)
+    highlight = power(maximum(dot(h, n), 0.0), maximum(shininess, 1e-4))
+    vh = dot(v, h)  # in [0, 1] for unit v and ℓ: v·(v + ℓ) = 1 + v·ℓ ≥ 0
+    fresnel = power(2.0, multiply_add(vh, -5.55473, -6.98316) * vh)
+    color = (1.0 / GATE_SCALE) * lc  # G·(n·ℓ) times 2⁻⁴⁰: n·ℓ, exactly
+    for prefix, shade in (("", shadows), ("Plain ", False))[:2 if shadows else 1]:
+        w = intensity(shade) * maximum(dot(m, gate_n), 0.0)  # i·G·saturate(n·ℓ)
+        lit = w * highlight
+        sum_in = {name: sums[prefix + name] for name in names[:3]}
+        specular = scale_add(color, lit, sum_in["Specular Sum"])
+        fresnel_sum = scale_add(color, lit * fresnel, sum_in["Fresnel Sum"])
+        if switched:  # Specular Strength 0 (MeshLambertMaterial): no highlight
+            specular = switch(equal(strength, 0.0), specular, sum_in["Specular Sum"])
+            fresnel_sum = switch(equal(strength, 0.0), fresnel_sum, sum_in["Fresnel Sum"])
+        g.output(f"{prefix}Diffuse Sum", scale_add(color, w, sum_in["Diffuse Sum"]),
+                 "+ i·saturate(n·ℓ)·light", color=True)
+        g.output(f"{prefix}Specular Sum", specular, "+ i·saturate(n·ℓ)·light·saturate(n·h)^s",
+                 color=True)
+        g.output(f"{prefix}Fresnel Sum", fresnel_sum,
+                 "+ i·saturate(n·ℓ)·light·saturate(n·h)^s·2^((-5.55473 v·h - 6.98316) v·h)",
+                 color=True)
+
+
+@group("three.js Rig Material", "The three.js lights group's sums times the material's "
+       "colours: its Diffuse and Specular terms", into=RIG_GROUPS)
+def _threejs_rig_material(g):
+    """docs/threejs.md §Direct light: Diffuse = Σ irradiance ⊗ color/π, Specular = Σ
+    irradiance ⊗ F·0.25·D·specularStrength with F = f0 + (1 - f0)·fresnel and D = (s/2 + 1)/π
+    ·(n·h)^s, from the sums of the lights' groups (above)."""
+    diffuse = g.vector("Diffuse Sum", ZERO, "Σ i·saturate(n·ℓ)·light")
+    specular = g.vector("Specular Sum", ZERO, "Σ i·saturate(n·ℓ)·light·saturate(n·h)^s")
+    fresnel = g.vector("Fresnel Sum", ZERO, "Σ … ·fresnel")
+    c = g.color("Diffuse Color", WHITE, "The material's color (three.js's diffuse colour)")
+    f0 = g.color("Specular Color", THREEJS_SPECULAR, "The material's specular colour")
+    shininess = g.value("Shininess", 30.0, "three.js shininess", min=0.0, max=10000.0)
+    strength = g.value("Specular Strength", 1.0, "three.js specularStrength", min=0.0, max=1.0,
+                       subtype="FACTOR")
+    k = (0.25 * strength) * multiply_add(maximum(shininess, 1e-4), 0.5 * RECIPROCAL_PI,
+                                         RECIPROCAL_PI)
+    g.output("Diffuse", diffuse * (RECIPROCAL_PI * c), "Σ irradiance ⊗ color/π", color=True)
+    g.output("Specular", (specular * f0 + fresnel * (WHITE - f0)) * k,
+             "Σ irradiance ⊗ F·0.25·D·specularStrength", color=True)
+
+
+def _register_threejs_lights():
+    for kind in LIGHT_KINDS:
+        for shadows in (False, True):
+            name = rig_light_group("threejs", kind, "QUADRATIC", shadows)
+            what = (f"One three.js {LIGHT_KINDS[kind].lower()} light of a lights group: its "
+                    "diffuse light and its highlight's sums" +
+                    (", shadowed by its shadow ray" if shadows else ""))
+            group(name, what, into=RIG_GROUPS)(
+                lambda g, k=kind, s=shadows: _threejs_light_of(g, k, s, False))
+            variant(name, SWITCH_FEATURE, what)(
+                lambda g, k=kind, s=shadows: _threejs_light_of(g, k, s, True))
+
+
+_register_threejs_lights()
+
+
 # -- X3D / VRML97 (docs/x3d.md: ISO/IEC 19775-1 §17.2.2.4, ISO/IEC 14772-1 §4.14.4) ------
 #
 # The standards' lighting equation is this project's model with a few additions, each a
@@ -888,6 +988,125 @@ def _x3d_light_terms(g):
     g.output("Diffuse Light", (i * lambert(l, n)) * lc, "I·max(N·L, 0)·IL", color=True)
     g.output("Specular Light", (i * highlight) * lc, "I·max(N·H, 0)^e·IL", color=True)
     g.output("Ambient Light", ia * lc, "Ia·IL", color=True)
+
+
+# -- one X3D light of a lights group, whole (addon/lighting/rig.py) -------------------------
+#
+# As the seeds' model's (``_light_of``): one group per light type and shadow ray, with m = -ℓ
+# and the diffuse light read through G·(N·L) (Phong Surface Rays).  The radius's cut-off is
+# a denominator too: a point beyond it has 10³⁰ added to its attenuation's, so that
+# 1/max(a0 + a1·d + a2·d², 1) becomes 10⁻³⁰; so is the shadow ray's hit, added before the
+# clamp at 1.  A spot's ramp is saturate((ω - cutOffAngle)/(beamWidth - cutOffAngle)), which is
+# 1 within the beam and 0 beyond the cut-off, or, where beamWidth ≥ cutOffAngle, the hard
+# edge [ω < cutOffAngle] = [cos ω > cos cutOffAngle] (on 5.3 a Switch on the two constants
+# keeps only the one in use).
+# The light's own ambient light costs no node where its ambientIntensity is 0 (5.3: Switch).
+
+def _x3d_light_of(g, kind, shadows, switched):
+    """One X3D light, whole: its diffuse, specular and ambient light added to the sums."""
+    near = kind in ("POINT", "SPOT")
+    s = g.vector("Position", ZERO, _POS) if near else None
+    u = g.vector("Direction", DOWN, "Direction u of the light's -Z axis (normalized inside)") \
+        if kind != "POINT" else None
+    if kind == "SPOT":
+        beam = g.value("Beam Width", X3D_BEAM_WIDTH, "X3D beamWidth: full intensity within "
+                       "this angle of the axis", min=0.0, max=math.pi, subtype="ANGLE")
+        cut = g.value("Cut Off Angle", X3D_CUT_OFF_ANGLE, "X3D cutOffAngle: no light beyond "
+                      "this angle of the axis", min=0.0, max=math.pi, subtype="ANGLE")
+    i = g.value("Intensity", 1.0, "X3D intensity of the direct light", min=0.0)
+    ia = g.value("Ambient Intensity", 0.0, _X_IA, min=0.0)
+    if near:
+        a0 = g.value("Constant", 1.0, "a0 of 1/max(a0 + a1·d + a2·d², 1)", min=0.0)
+        a1 = g.value("Linear", 0.0, "a1 of 1/max(a0 + a1·d + a2·d², 1)", min=0.0)
+        a2 = g.value("Quadratic", 0.0, "a2 of 1/max(a0 + a1·d + a2·d², 1)", min=0.0)
+        radius = g.value("Radius", X3D_RADIUS, "The light reaches only the points within this "
+                         "distance (negative: everywhere)")
+    lc = g.color("Light Color", WHITE, _LC)
+    e = g.value("Exponent", 25.6, "128 × the X3D shininess", min=0.0, max=10000.0)
+    n = g.vector("Normal", (0.0, 0.0, 1.0), "Unit surface normal n (Phong Surface)")
+    v = g.vector("View Vector", (0.0, 0.0, 1.0), "Unit vector v toward the viewer (Phong Surface)")
+    gate_n = g.vector("Gate Normal", (0.0, 0.0, -GATE_SCALE), "-G·n (Phong Surface Rays)")
+    p = g.vector("Surface Position", ZERO, "The shaded point P (Phong Surface Rays)")
+    if shadows:
+        ng = g.vector("True Normal", (0.0, 0.0, 1.0), "The true (geometric) normal Ng")
+        drop = g.vector("Ray Drop", ZERO, "-offset·Ng: the ray starts at P + sign(Ng·ℓ)·"
+                        "offset·Ng, on the light's side of the surface")
+        casts = g.value("Cast Shadow", 1.0, "1: the light casts shadows, 0: it does not",
+                        min=0.0, max=1.0)
+    names = ("Diffuse Sum", "Specular Sum", "Ambient Sum") + (
+        ("Plain Diffuse Sum", "Plain Specular Sum") if shadows else ())
+    sums = {name: g.vector(name, ZERO, f"The lights before: their {name.lower()}")
+            for name in names}
+
+    if near:
+        away = p - s
+        d = length(away)
+        m = normalize(away)  # m = -ℓ
+    else:
+        m = normalize(u)
+    spot = 1.0
+    if kind == "SPOT":  # ω = acos(-ℓ·û) = acos(m·û)
+        cos_w = dot(m, normalize(u))
+        w = acos(cos_w)
+        slope = 1.0 / (beam - cut)
+        ramp = saturate(multiply_add(w, slope, -cut * slope))
+        hard = greater_than(cos_w, cos(cut))  # ω < cutOffAngle, no arccosine
+        soft = less_than(beam, cut)  # the two constants: the ramp, or the hard edge
+        spot = switch(soft, hard, ramp) if switched else select(soft, ramp, hard)
+    hit = None
+    if shadows:
+        side = sign(dot(ng, m))  # -sign(Ng·ℓ): the origin P - sign(Ng·m)·offset·Ng
+        origin = scale_add(drop, side, p)
+        hit = (raycast(origin, s - origin, 1.0) if near
+               else raycast(origin, -m, SUN_RAY_LENGTH))
+
+    def attenuated(numerator, shade):
+        """numerator · spot/max(a0 + a1·d + a2·d², 1) within the radius, else 0 (10⁻³⁰ of
+        it); *shade*: also where the shadow ray hits."""
+        if near:
+            beyond = greater_than(d, select(less_than(radius, 0.0), 2.0 * SHADOW_DENOMINATOR,
+                                            radius))
+            denominator = multiply_add(multiply_add(a2, d, a1), d,
+                                       multiply_add(beyond, SHADOW_DENOMINATOR, a0))
+        else:
+            denominator = 1.0
+        if shade:
+            denominator = multiply_add(hit, casts * SHADOW_DENOMINATOR, denominator)
+        if not near:  # a sun: no attenuation (its denominator is at least 1 already)
+            return numerator / denominator if shade else numerator
+        return (numerator * spot if kind == "SPOT" else numerator) / maximum(denominator, 1.0)
+
+    ln_g = dot(m, gate_n)  # G·(N·L)
+    highlight = power(maximum(dot(normalize(v - m), n), 0.0), maximum(e, 0.0))
+    for prefix, shade in (("", shadows), ("Plain ", False))[:2 if shadows else 1]:
+        direct = attenuated(i, shade)
+        g.output(f"{prefix}Diffuse Sum",
+                 scale_add((1.0 / GATE_SCALE) * lc, direct * maximum(ln_g, 0.0),
+                           sums[f"{prefix}Diffuse Sum"]), "+ I·max(N·L, 0)·IL", color=True)
+        g.output(f"{prefix}Specular Sum",
+                 scale_add(lc, direct * highlight, sums[f"{prefix}Specular Sum"]),
+                 "+ I·max(N·H, 0)^e·IL", color=True)
+    ambient = scale_add(ia * lc, attenuated(1.0, False), sums["Ambient Sum"])
+    if switched:  # ambientIntensity 0 (its default): nothing to add
+        ambient = switch(equal(ia, 0.0), ambient, sums["Ambient Sum"])
+    g.output("Ambient Sum", ambient, "+ Ia·IL, attenuated and spotted (not shadowed)",
+             color=True)
+
+
+def _register_x3d_lights():
+    for kind in LIGHT_KINDS:
+        for shadows in (False, True):
+            name = rig_light_group("x3d", kind, "QUADRATIC", shadows)
+            what = (f"One X3D {LIGHT_KINDS[kind].lower()} light of a lights group: its diffuse, "
+                    "specular and ambient light added to the sums" +
+                    (", shadowed by its shadow ray" if shadows else ""))
+            group(name, what, into=RIG_GROUPS)(
+                lambda g, k=kind, s=shadows: _x3d_light_of(g, k, s, False))
+            variant(name, SWITCH_FEATURE, what)(
+                lambda g, k=kind, s=shadows: _x3d_light_of(g, k, s, True))
+
+
+_register_x3d_lights()
 
 
 # -- Eevee's light loop (Blender 5.3+; addon/lighting/loop.py) -------------------------------

@@ -15,7 +15,7 @@ An entry says what a model is made of; its groups' formulas are in ``library.py`
 * ``settings``: what the model reads of a light, (setting, the light types that read it, the
   falloff under which it is read (None: any), the input of the model's light group that it
   drives (None: read elsewhere: the falloff chooses nodes, power_k drives the Power
-  Falloff's Exponent, diffuse and specular the Phong Light Terms' strengths)), in the light
+  Falloff's Exponent, diffuse and specular the light's terms' strengths)), in the light
   panel's order (``properties.model_settings``);
 * ``composition``: how the lights group sums the light groups' parts into the material's
   colour, one of ``COMPOSITIONS``; the lights group (``rig.py``) and the Per Vertex / Per Face
@@ -24,7 +24,9 @@ An entry says what a model is made of; its groups' formulas are in ``library.py`
 * ``loop``: its group in Eevee's light loop on Blender 5.3+ (``library.LOOP_MODELS``; None: the
   model's Eevee side is its lights group, as before 5.3);
 * ``native``: the interchange formats whose own lighting equation the model is ("x3d",
-  "threejs"): a scene in another model is written mapped, with one warning.
+  "threejs"): a scene in another model is written mapped, with one warning;
+* ``rig``, ``rig_material``, ``ambient``: the groups its lights group is built of, one a light
+  (``library.rig_light_group``), the material's colours and the World's ambient.
 
 Each entry is an object of its model's class, which answers what the model means outside
 Blender (no exporter or comparison asks for a model by name): its scene files' schema
@@ -49,8 +51,9 @@ from . import reference as ref
 
 #: How a lights group composes the material's colour (docs/contract.md, "Several lights").
 COMPOSITIONS = {
-    "phong": "per light a Phong Light Terms (diffuse and specular light; a Power Falloff where "
-             "the light's falloff is POWER); Σ diffuse ⊗ Object Color + Σ specular ⊗ Specular "
+    "phong": "per light one group of its type, falloff and shadow ray (its diffuse and "
+             "specular light added to the sums; i0/d^k where the light's falloff is POWER); "
+             "Σ diffuse ⊗ Object Color + Σ specular ⊗ Specular "
              "Color + the World's Phong Ambient + the irradiant, min(…, 1)",
     "chain": "three.js: the ambient (three.js Ambient) ⊕ the emissive ⊕ each light's three.js "
              "Phong, a Phong Color Add chain",
@@ -105,6 +108,15 @@ class LightingModel:
     area: tuple = ()
     #: the interchange formats whose own lighting equation this model is ("x3d", "threejs")
     native: tuple = ()
+    #: the first words of the lights group's light groups, one a light (``library``:
+    #: "<rig> Point", "<rig> Spot (i0/d^k) with Shadow", …)
+    rig: str = "Phong Rig"
+    #: the lights group's group that multiplies its lights' sums by the material's colours
+    #: (None: the diffuse sum times the Object Color, the specular sum times the Specular
+    #: Color)
+    rig_material: str | None = None
+    #: the World's ambient light: its group and the input the Ambient Object Color feeds
+    ambient: tuple = ("Phong Ambient", "Object Color")
 
     @property
     def power_falloff(self) -> bool:
@@ -360,7 +372,8 @@ _TABLE = (
                   ("decay", NEAR, None, "Decay"),
                   ("penumbra", ("SPOT",), None, "Penumbra")),
         composition="chain", spot_note="Angle: half the spot size", loop="three.js Loop Light",
-        area=(("penumbra", 0.0),), native=("threejs",)),
+        area=(("penumbra", 0.0),), native=("threejs",), rig="three.js Rig",
+        rig_material="three.js Rig Material", ambient=("three.js Ambient", "Diffuse Color")),
     X3D(
         name="x3d", label="X3D / VRML97",
         description="The ISO lighting equation of X3D and VRML97: per-light ambient, "
@@ -379,7 +392,8 @@ _TABLE = (
                   ("radius", NEAR, None, "Radius"),
                   ("beam_width", ("SPOT",), None, "Beam Width")),
         composition="phong_light_ambient", spot_note="Cut-off angle: half the spot size",
-        loop="X3D Loop Light", area=(("beam_width", AREA_HALF_ANGLE),), native=("x3d",)),
+        loop="X3D Loop Light", area=(("beam_width", AREA_HALF_ANGLE),), native=("x3d",),
+        rig="X3D Rig"),
 )
 
 #: name -> LightingModel, the default (a scene without a model) first.

@@ -170,11 +170,18 @@ def _material_of(bpy, tree):
                 and m.node_tree.nodes["phong_lights"].node_tree is tree)
 
 
+def _light_group(tree):
+    """The light group (``library.rig_light_group``) of the point lights of *tree*."""
+    names = {n.node_tree.name for n in tree.nodes if n.name.startswith("light:")}
+    assert len(names) == 1, names
+    return names.pop()
+
+
 def test_a_constant_blinn_leaves_no_dead_highlight_in_cycles(bpy_clean):
     """Blender 5.3 (Switch nodes in shader trees): a material whose Blinn is 0 (the default)
-    gives Cycles no node of the Blinn-Phong highlight, nor of the blend; with the Phong Light
-    Terms that releases before 5.3 write, 5.3's inliner folds the blend but keeps the other
-    highlight's nodes: 11 more a light (the node budget: benchmarks/README.md)."""
+    gives Cycles no node of the Blinn-Phong highlight, nor of the blend; with the light
+    group that releases before 5.3 write, 5.3's inliner folds the blend but keeps the other
+    highlight's nodes: BLEND_DEAD more a light (the node budget: benchmarks/README.md)."""
     import pytest  # noqa: PLC0415
 
     if library.SWITCH_FEATURE not in be.compat().NODE_FEATURES:
@@ -184,19 +191,25 @@ def test_a_constant_blinn_leaves_no_dead_highlight_in_cycles(bpy_clean):
     total, dead = _dead_inlined_nodes(material)
     from phong_nodes.addon import loader  # noqa: PLC0415
 
-    loader._write(bpy_clean.data.node_groups["Phong Light Terms"],
-                  library.RIG_GROUPS["Phong Light Terms"])  # the blend, as 5.2 writes it
+    name = _light_group(tree)
+    loader._write(bpy_clean.data.node_groups[name],
+                  library.RIG_GROUPS[name])  # the blend, as 5.2 writes it
     blend_total, blend_dead = _dead_inlined_nodes(material)
     be.report(f"[constant Blinn] 3 point lights: {total} inlined nodes, {dead} dead; with "
               f"the blend {blend_total}, {blend_dead} dead")
-    assert dead == 0 and blend_dead == 27
-    assert blend_total - total == 3 * 11
+    assert dead == 0 and blend_dead == 3 * BLEND_DEAD
+    assert blend_total - total == 3 * BLEND_MORE
 
 
-def test_a_file_with_the_former_phong_light_terms_gets_the_switch_on_load(bpy_clean, blender_tmp):
-    """A file saved by the previous version on 5.3 (or where the blend was written) has
-    Phong Light Terms without the Switch: loading it rewrites the group in place, the lights
-    group's links kept, and Cycles then gets 11 nodes a light fewer."""
+#: What the blend of the highlights leaves a light in Cycles on 5.3 where Blinn is 0: the
+#: Blinn-Phong highlight's nodes, dead (they reach no output), and in all.
+BLEND_DEAD, BLEND_MORE = 5, 7
+
+
+def test_a_file_with_the_former_light_group_gets_the_switch_on_load(bpy_clean, blender_tmp):
+    """A file saved where the light group was written without the Switch (the blend, as
+    releases before 5.3 write it) gets the Switch on load: the group rewritten in place, the
+    lights group's links kept, and Cycles then gets BLEND_MORE nodes a light fewer."""
     import pytest  # noqa: PLC0415
 
     if library.SWITCH_FEATURE not in be.compat().NODE_FEATURES:
@@ -206,16 +219,16 @@ def test_a_file_with_the_former_phong_light_terms_gets_the_switch_on_load(bpy_cl
     bpy = bpy_clean
     tree = _scene_with_point_lights(bpy, 3)
     material = _material_of(bpy, tree)
-    terms = bpy.data.node_groups["Phong Light Terms"]
-    loader._write(terms, library.RIG_GROUPS["Phong Light Terms"])
+    name = _light_group(tree)
+    loader._write(bpy.data.node_groups[name], library.RIG_GROUPS[name])
     former, links = _dead_inlined_nodes(material), len(tree.links)
     names = (material.name, tree.name)
     path = os.path.join(blender_tmp, "former_terms.blend")
     bpy.ops.wm.save_as_mainfile(filepath=path)
     bpy.ops.wm.open_mainfile(filepath=path)
-    terms = bpy.data.node_groups["Phong Light Terms"]
-    switched = library.VARIANTS["Phong Light Terms"][library.SWITCH_FEATURE]
+    terms = bpy.data.node_groups[name]
+    switched = library.VARIANTS[name][library.SWITCH_FEATURE]
     assert terms[loader.STAMP_FINGERPRINT] == switched.fingerprint
     assert len(bpy.data.node_groups[names[1]].links) == links
     total, dead = _dead_inlined_nodes(bpy.data.materials[names[0]])
-    assert former[1] == 27 and dead == 0 and former[0] - total == 3 * 11
+    assert former[1] == 3 * BLEND_DEAD and dead == 0 and former[0] - total == 3 * BLEND_MORE

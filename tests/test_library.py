@@ -112,41 +112,6 @@ def test_every_operation_gives_the_shape_of_its_declared_kind():
         assert len(op.inputs) == len(op.operands)
 
 
-@pytest.mark.parametrize("blinn", ["random", 0.0, 1.0])
-@pytest.mark.parametrize("feature", ["", "switch"])
-def test_the_lights_group_parts_give_what_phong_shading_gives(feature, blinn):
-    """Phong Surface then Phong Light Terms (the parts a lights group is built from, rig 5),
-    the terms multiplied by the material's colours as the lights group does, equal the
-    independent reference's Phong Shading Diffuse and Specular for the same light and
-    material, whatever the Normal and View Vector inputs (zero: the geometry's); so does
-    Phong Light Terms' variant for 5.3's Switch node, for a Blinn of 0, of 1 (its Switch
-    branches) and between (the blend)."""
-    rng = np.random.default_rng(30)
-    shading = library.GROUPS["Phong Shading"]
-    inputs, geometry = random_inputs(shading, rng), random_geometry(rng)
-    if blinn != "random":
-        inputs["Blinn"] = np.full_like(inputs["Blinn"], blinn)
-    elif feature:
-        assert 0.05 < np.mean((inputs["Blinn"] > 0.0) & (inputs["Blinn"] < 1.0))
-    want = reference.GROUPS["Phong Shading"](inputs, geometry)
-    surface = library.RIG_GROUPS["Phong Surface"].evaluate(
-        {k: inputs[k] for k in ("Normal", "View Vector")}, geometry)
-    terms_inputs = {k: inputs[k] for k in ("Light Vector", "Light Color", "Diffuse Strength",
-                                           "Specular Strength", "Exponent", "Blinn")}
-    terms_inputs["Light Intensity"] = inputs["Light Intensity"]
-    group = library.definition("Phong Light Terms", (feature,) if feature else ())
-    assert (group is library.RIG_GROUPS["Phong Light Terms"]) == (not feature)
-    terms = group.evaluate({**terms_inputs, **surface}, {})
-    diffuse = terms["Diffuse Light"] * inputs["Object Color"]
-    specular = terms["Specular Light"] * inputs["Specular Color"]
-    for got, expected, name in ((diffuse, want["Diffuse"], "Diffuse"),
-                                (specular, want["Specular"], "Specular")):
-        finite = np.isfinite(expected)
-        assert finite.mean() > 0.99 and np.abs(expected[finite]).max() > 0.1
-        np.testing.assert_allclose(got[finite], expected[finite], rtol=1e-9, atol=1e-9,
-                                   err_msg=name)
-
-
 def test_a_clamped_math_node_is_one_node_and_clamps():
     """saturate(x) of a float Math operation is that operation with the Clamp option (one
     node); of anything else, min(max(x, 0), 1)."""

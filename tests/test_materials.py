@@ -119,7 +119,7 @@ def test_lights_drive_phong_materials_cycles(bpy_clean, blender_tmp):
         bpy.context.view_layer.update()
         _assert_light_inputs(tree2, (spot2, point2))
         assert tree2.nodes["light:Spot"].inputs["Edge Exponent"].default_value == 5.0
-        np.testing.assert_allclose(tree2.nodes["shading:Spot"].inputs["Light Color"].default_value[:3],
+        np.testing.assert_allclose(tree2.nodes["light:Spot"].inputs["Light Color"].default_value[:3],
                                    (0.1, 0.2, 0.3), atol=1e-7)
         assert tree2.nodes["ambient"].inputs["Intensity"].default_value == pytest.approx(0.3)
     finally:
@@ -156,6 +156,12 @@ def test_light_and_world_defaults(bpy_clean):
         assert "UNDO" in getattr(bpy.types, f"PHONG_OT_{op}").bl_options, op
 
 
+def _lights(kinds, prefix="Phong Rig "):
+    """How many of the lights group's light groups (the seeds' model: one per light) *kinds*
+    counts, of those whose name starts with *prefix*."""
+    return sum(count for name, count in kinds.items() if name.startswith(prefix))
+
+
 def test_apply_is_idempotent_and_relink_follows_lights(bpy_clean):
     bpy = bpy_clean
     scene, plane, sphere, lights = build_scene(bpy)
@@ -163,9 +169,9 @@ def test_apply_is_idempotent_and_relink_follows_lights(bpy_clean):
     n_materials = len(bpy.data.materials)
     tree = lights_tree(plane.active_material)
     first, name = _counts(tree), tree.name
-    # one Phong Light Terms per light, one Phong Surface (normal and view once for all), one
+    # one light group per light, one Phong Surface (normal and view once for all), one
     # Phong Ambient, no Phong Shading (its ambient, irradiant and clamp are taken once)
-    assert first[0]["Phong Light Terms"] == 3 and first[0]["Phong Surface"] == 1
+    assert _lights(first[0]) == 3 and first[0]["Phong Surface"] == 1
     assert first[0]["Phong Ambient"] == 1 and "Phong Shading" not in first[0]
     for _ in range(2):
         assert bpy.ops.phong.apply_material() == {"FINISHED"}
@@ -180,7 +186,7 @@ def test_apply_is_idempotent_and_relink_follows_lights(bpy_clean):
     assert bpy.ops.phong.relink_lights() == {"FINISHED"}
     tree = lights_tree(plane.active_material)  # rebuilt apart and swapped in (two users)
     kinds, n = _counts(tree)
-    assert kinds["Phong Light Terms"] == 4 and kinds["Phong Point Light"] == 2
+    assert _lights(kinds) == 4 and _lights(kinds, "Phong Rig Point") == 2
     assert n > first[1]
     _assert_drivers_ok(tree)
 
@@ -189,7 +195,7 @@ def test_apply_is_idempotent_and_relink_follows_lights(bpy_clean):
     assert bpy.ops.phong.relink_lights() == {"FINISHED"}
     tree = lights_tree(plane.active_material)
     assert list(tree["phong_lights"]) == ["Extra", "Point", "Spot"]
-    assert _counts(tree)[0]["Phong Light Terms"] == 3
+    assert _lights(_counts(tree)[0]) == 3
 
     bpy.data.objects.remove(extra)
     for obj in lights:
@@ -197,7 +203,7 @@ def test_apply_is_idempotent_and_relink_follows_lights(bpy_clean):
     assert bpy.ops.phong.relink_lights() == {"FINISHED"}
     tree = lights_tree(plane.active_material)
     kinds, n = _counts(tree)
-    assert "Phong Light Terms" not in kinds and kinds["Phong Ambient"] == 1
+    assert _lights(kinds) == 0 and kinds["Phong Ambient"] == 1
     assert n == 4, "only the world's ambient intensity and colour remain driven"
     _assert_drivers_ok(tree)
 

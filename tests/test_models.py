@@ -114,7 +114,7 @@ def test_the_menu_and_the_lights_group_read_the_table(bpy_clean, monkeypatch):
     rig.build(tree, [obj], scene.world, "fourth")
     assert tree[rig.MODEL_KEY] == "fourth"
     node = tree.nodes[f"light:{obj.name}"]
-    assert node.node_tree.name == fourth.light_groups["SPOT"]
+    assert node.node_tree.name == f"{fourth.rig} Spot"  # its table entry's lights group part
     driven = {fc.data_path for fc in tree.animation_data.drivers}
     spot = node.inputs[fourth.spot_angle]
     assert spot.path_from_id("default_value") in driven

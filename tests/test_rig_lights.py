@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """The lights group's light groups of the seeds' model (node_groups/library.py,
-``light_group_name``: one group per light type, falloff and shadow ray, the fewest exact
+``rig_light_group``: one group per light type, falloff and shadow ray, the fewest exact
 nodes a light costs) evaluated on numpy agree with the independent reference: the light
 model of their type, then Phong Diffuse and the highlight (Phong, Blinn-Phong or their
 blend), added to the sums they are given.  numpy has no scene, so the shadow ray hits
@@ -83,7 +83,7 @@ def test_a_light_adds_what_the_reference_gives(kind, falloff, shadows, blinn, sw
     inputs, light = _case(rng, kind, falloff)
     if blinn != "between":
         inputs["Blinn"] = np.full(N, blinn)
-    name = library.light_group_name(kind, falloff, shadows)
+    name = library.rig_light_group("seeds", kind, falloff, shadows)
     group = library.definition(name, (library.SWITCH_FEATURE,) if switched else ())
     assert (group is library.RIG_GROUPS[name]) == (not switched)
     got = group.evaluate(inputs)
@@ -104,3 +104,130 @@ def test_a_light_adds_what_the_reference_gives(kind, falloff, shadows, blinn, sw
         assert np.abs(term).max() > 0.01 and np.mean(np.abs(term).max(axis=-1) > 1e-6) > 0.002
         np.testing.assert_allclose(got[output] - inputs[output], term, rtol=1e-9, atol=1e-9,
                                    err_msg=output)
+
+
+def _x3d_case(rng, kind):
+    """Random inputs of the X3D light group and the reference's light for them."""
+    p = rng.uniform(-4, 4, (N, 3))
+    n, v = _unit(rng.normal(size=(N, 3))), _unit(rng.normal(size=(N, 3)))
+    inputs = {"Surface Position": p, "Normal": n, "View Vector": v,
+              "Gate Normal": -library.GATE_SCALE * n,
+              "Intensity": _setting(rng, -0.5, 4.0), "Ambient Intensity": _setting(rng, 0.0, 1.0),
+              "Light Color": rng.uniform(-0.2, 1.5, (N, 3)), "Exponent": _setting(rng, -1.0, 128.0),
+              "True Normal": n, "Ray Drop": -1e-5 * n, "Cast Shadow": np.ones(N)}
+    for name in ("Diffuse Sum", "Specular Sum", "Ambient Sum", "Plain Diffuse Sum",
+                 "Plain Specular Sum"):
+        inputs[name] = rng.uniform(0, 1, (N, 3))
+    if kind != "SUN":
+        inputs["Position"] = p + rng.normal(size=(N, 3)) * rng.choice([0.3, 2.0, 6.0], (N, 1))
+        for name in ("Constant", "Linear", "Quadratic"):
+            inputs[name] = _setting(rng, 0.0, 2.0)
+        inputs["Radius"] = rng.choice([-1.0, 2.0, 5.0, 100.0], N)
+    if kind != "POINT":
+        inputs["Direction"] = rng.normal(size=(N, 3)) * rng.choice([0.5, 1.0, 3.0], (N, 1))
+    if kind == "SPOT":  # both orders: a ramp, or a hard edge at the cut-off
+        inputs["Beam Width"] = rng.uniform(0.0, math.pi / 2.0, N)
+        inputs["Cut Off Angle"] = rng.uniform(0.0, math.pi / 2.0, N)
+    near = {k: inputs[k] for k in ("Constant", "Linear", "Quadratic", "Radius")} \
+        if kind != "SUN" else {}
+    args = dict(intensity=inputs["Intensity"], ambient_intensity=inputs["Ambient Intensity"],
+                geometry_position=p)
+    if kind == "SUN":
+        light = reference.x3d_directional_light(inputs["Direction"], **args)
+    elif kind == "POINT":
+        light = reference.x3d_point_light(inputs["Position"], radius=near["Radius"],
+                                          constant=near["Constant"], linear=near["Linear"],
+                                          quadratic=near["Quadratic"], **args)
+    else:
+        light = reference.x3d_spot_light(inputs["Position"], inputs["Direction"],
+                                         inputs["Beam Width"], inputs["Cut Off Angle"],
+                                         radius=near["Radius"], constant=near["Constant"],
+                                         linear=near["Linear"], quadratic=near["Quadratic"],
+                                         **args)
+    return inputs, light
+
+
+@pytest.mark.parametrize("switched", [False, True])
+@pytest.mark.parametrize("shadows", [False, True])
+@pytest.mark.parametrize("kind", ["POINT", "SPOT", "SUN"])
+def test_an_x3d_light_adds_what_the_reference_gives(kind, shadows, switched):
+    rng = np.random.default_rng(hash(("x3d", kind, shadows)) % 2**32)
+    inputs, light = _x3d_case(rng, kind)
+    name = library.rig_light_group("x3d", kind, "QUADRATIC", shadows)
+    group = library.definition(name, (library.SWITCH_FEATURE,) if switched else ())
+    got = group.evaluate(inputs)
+    terms = reference.x3d_light_terms(light["Light Vector"], light["Intensity"],
+                                      light["Ambient"], inputs["Light Color"],
+                                      inputs["Exponent"], inputs["Normal"], inputs["View Vector"])
+    expected = {"Diffuse Sum": terms["Diffuse Light"], "Specular Sum": terms["Specular Light"],
+                "Ambient Sum": terms["Ambient Light"]}
+    if shadows:
+        expected.update({"Plain Diffuse Sum": terms["Diffuse Light"],
+                         "Plain Specular Sum": terms["Specular Light"]})
+    assert set(got) == set(expected)
+    for output, term in expected.items():
+        assert np.abs(term).max() > 0.01 and np.mean(np.abs(term).max(axis=-1) > 1e-6) > 0.002
+        np.testing.assert_allclose(got[output] - inputs[output], term, rtol=1e-9, atol=1e-9,
+                                   err_msg=output)
+
+
+def _threejs_case(rng, kind):
+    """Random inputs of the three.js light group and the reference's light for them."""
+    p = rng.uniform(-4, 4, (N, 3))
+    n, v = _unit(rng.normal(size=(N, 3))), _unit(rng.normal(size=(N, 3)))
+    inputs = {"Surface Position": p, "Normal": n, "View Vector": v,
+              "Gate Normal": -library.GATE_SCALE * n, "Intensity": _setting(rng, 0.0, 4.0),
+              "Light Color": rng.uniform(0.0, 1.5, (N, 3)), "Exponent": _setting(rng, -1.0, 200.0),
+              "Specular Strength": rng.choice([0.0, 0.3, 1.0], N),
+              "True Normal": n, "Ray Drop": -1e-5 * n, "Cast Shadow": np.ones(N)}
+    if kind != "SUN":
+        inputs["Position"] = p + rng.normal(size=(N, 3)) * rng.choice([0.3, 2.0, 6.0], (N, 1))
+        inputs["Distance"] = rng.choice([0.0, 3.0, 8.0], N)
+        inputs["Decay"] = _setting(rng, 0.0, 3.0)
+    if kind != "POINT":
+        inputs["Direction"] = rng.normal(size=(N, 3)) * rng.choice([0.5, 1.0, 3.0], (N, 1))
+    if kind == "SPOT":
+        inputs["Angle"] = rng.uniform(0.0, math.pi / 2.0, N)
+        inputs["Penumbra"] = rng.choice([0.0, 0.2, 1.0], N)
+    args = dict(intensity=inputs["Intensity"], geometry_position=p)
+    if kind == "SUN":
+        light = reference.directional_light(inputs["Direction"], **args)
+    elif kind == "POINT":
+        light = reference.threejs_point_light(inputs["Position"], distance=inputs["Distance"],
+                                              decay=inputs["Decay"], **args)
+    else:
+        light = reference.threejs_spot_light(inputs["Position"], inputs["Direction"],
+                                             inputs["Angle"], inputs["Penumbra"],
+                                             distance=inputs["Distance"], decay=inputs["Decay"],
+                                             **args)
+    return inputs, light
+
+
+@pytest.mark.parametrize("switched", [False, True])
+@pytest.mark.parametrize("shadows", [False, True])
+@pytest.mark.parametrize("kind", ["POINT", "SPOT", "SUN"])
+def test_a_threejs_light_gives_what_the_reference_gives(kind, shadows, switched):
+    """The light group's sums (from zero) times the material's colours (three.js Rig
+    Material) are the reference's three.js Phong Diffuse and Specular of the light."""
+    rng = np.random.default_rng(hash(("threejs", kind, shadows)) % 2**32)
+    inputs, light = _threejs_case(rng, kind)
+    group = library.definition(library.rig_light_group("threejs", kind, "QUADRATIC", shadows),
+                               (library.SWITCH_FEATURE,) if switched else ())
+    got = group.evaluate(inputs)
+    colours = {"Diffuse Color": rng.uniform(0, 1, (N, 3)),
+               "Specular Color": rng.uniform(0, 1, (N, 3)), "Shininess": inputs["Exponent"],
+               "Specular Strength": inputs["Specular Strength"]}
+    want = reference.threejs_phong(light["Light Vector"], light["Intensity"],
+                                   inputs["Light Color"], colours["Diffuse Color"],
+                                   colours["Specular Color"], inputs["Exponent"],
+                                   inputs["Specular Strength"], inputs["Normal"],
+                                   inputs["View Vector"])
+    material = library.RIG_GROUPS["three.js Rig Material"]
+    for prefix in ("", "Plain ") if shadows else ("",):
+        terms = material.evaluate({**colours, **{name: got[prefix + name] for name in (
+            "Diffuse Sum", "Specular Sum", "Fresnel Sum")}})
+        for output in ("Diffuse", "Specular"):
+            term = want[output]
+            assert np.abs(term).max() > 0.01 and np.mean(np.abs(term).max(axis=-1) > 1e-6) > 0.002
+            np.testing.assert_allclose(terms[output], term, rtol=1e-9, atol=1e-9,
+                                       err_msg=prefix + output)

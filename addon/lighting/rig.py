@@ -9,40 +9,42 @@ own values, its outputs the model's colour, each term and the shader:
              View Vector, Ambient Object Color, Specular Strength
     outputs  Color, Irradiant, Ambient, Diffuse, Specular, Shader
 
-A Point or Spot light whose ``phong_falloff`` is POWER gets its light group with no falloff
-(α = β = 0, γ = 1) and a Phong Power Falloff i0/d^k of its Distance (k: ``phong_power_k``);
-the falloff is chosen when the group is built (a change relinks, ``lights.signature``).
-
-Inside (docs/contract.md, "Several lights"): one Phong Ambient of the World's ambient light
-and the Ambient Object Color (the colour the ambient light sees: MTL's Ka; a material links
-it from its Object Color unless it has its own), one Phong Surface (the Normal and View
-Vector resolved once), and per light a light-model group (Phong Point / Directional / Spot
-Light) and a Phong Light Terms (its diffuse and specular light), driven by the light
-without Python (``drivers.py``).  Diffuse and Specular are the sums of the lights' terms
-times the Object Color and the Specular Color; Color is min(irradiant + ambient + Diffuse +
-Specular, 1), what a Phong Shading per light chained with Phong Color Add gives (min taken
-once over non-negative terms) with fewer nodes: Eevee expands every node of a material
-again for each of its passes.  With no light: ambient + irradiant (black when
-both are zero: docs/model.md §No light at all).
+Inside, in the seeds' model (docs/contract.md, "Several lights"): one Phong Ambient of the
+World's ambient light and the Ambient Object Color (the colour the ambient light sees: MTL's
+Ka; a material links it from its Object Color unless it has its own), one Phong Surface (the
+Normal and View Vector resolved once) and one Phong Surface Rays (what every light reads of
+the point), and per light one group of its type, falloff and shadow ray
+(``library.rig_light_group``: a Point or Spot light whose ``phong_falloff`` is POWER gets
+the i0/d^k one, k driven by ``phong_power_k``; the falloff is chosen when the group is built,
+a change relinks, ``lights.signature``), driven by the light without Python (``drivers.py``),
+which adds the light's diffuse and specular light to the sums of the lights before it.
+Diffuse and Specular are the sums times the Object Color and the Specular Color; Color is
+min(irradiant + ambient + Diffuse + Specular, 1), what a Phong Shading per light chained with
+Phong Color Add gives (min taken once over non-negative terms) with fewer nodes: Cycles
+compiles every node of every material, Eevee expands them again for each of its passes.
+With no light: ambient + irradiant (black when both are zero: docs/model.md §No light at
+all).
 
 Each model's light groups, spot angle input, name prefix, the settings it reads of a light
 and its composition are its entry in ``node_groups/models.py``; ``COMPOSE`` holds one builder
 per composition (the seeds' model above is "phong").
 
-In the three.js model (``scene["phong_model"] == "threejs"``, docs/threejs.md; "chain") each light
-is a three.js light group (Phong Directional Light, three.js Point / Spot Light) and a
-three.js Phong (MeshPhongMaterial; Specular Strength 0 is MeshLambertMaterial), the
-ambient is a three.js Ambient and the Irradiant Color is three.js's emissive, added as is.
-Blinn is not used there; the seeds' model does not use Specular Strength.
+In the three.js model (``scene["phong_model"] == "threejs"``, docs/threejs.md; "chain") each
+light is one group too (``library.rig_light_group``: MeshPhongMaterial's diffuse
+light and its highlight's two sums; Specular Strength 0 is MeshLambertMaterial), which
+three.js Rig Material multiplies by the material's colours; the ambient is a three.js Ambient
+and the Irradiant Color is three.js's emissive, added as is; Color is min(ambient + emissive
++ Σ lights, 1), what three.js's chain of Phong Color Adds gives.  Blinn is not used there;
+the seeds' model does not use Specular Strength (its lights' Specular Strength is theirs).
 
-In the X3D / VRML97 model (``"x3d"``, docs/x3d.md; "phong_light_ambient") each light is an X3D light group (X3D
-Directional / Point / Spot Light: intensity and ambient intensity, attenuation
-1/max(a0 + a1·d + a2·d², 1) within a radius, the linear spot ramp) and an X3D Light Terms
-(its diffuse, Blinn specular without the N·L condition, and ambient light); the sums are
-multiplied by the Object Color, the Specular Color and the Ambient Object Color (X3D's
-ambientIntensity × diffuseColor), the World's Phong ambient is added as in the seeds' model
-(an imported X3D file sets it to 0), and Color is min(irradiant + ambient + diffuse +
-specular, 1).  Blinn and Specular Strength are not used there.
+In the X3D / VRML97 model (``"x3d"``, docs/x3d.md; "phong_light_ambient") each light is one
+group (``library.rig_light_group``: intensity and ambient intensity, attenuation
+1/max(a0 + a1·d + a2·d², 1) within a radius, the linear spot ramp, its diffuse, Blinn
+specular without the N·L condition, and ambient light); the sums are multiplied by the
+Object Color, the Specular Color and the Ambient Object Color (X3D's ambientIntensity ×
+diffuseColor), the World's Phong ambient is added as in the seeds' model (an imported X3D
+file sets it to 0), and Color is min(irradiant + ambient + diffuse + specular, 1).  Blinn
+and Specular Strength are not used there.
 
 The number of drivers depends on the lights (about 12 per light), not on the objects.  A
 light's location and axis are not driven in the group: drivers on the World write them as
@@ -58,10 +60,11 @@ passes: their AOVs evaluate the per-light part in Eevee too, so the group is the
 5.2 (``wants_loop``).
 
 On Blender 5.1+ (``compat.HAS_RAYCAST``), where no view layer has a Phong term pass
-(``wants_shadows``), each light's terms are multiplied by its visibility, a Raycast node's
-shadow ray (``shadows.py``): Color, Diffuse, Specular and the output "Cycles Shader" (last:
-the material's CYCLES Material Output) are shadowed; the Shader is the same sums without
-them (what Eevee shows where it shows the group: its Raycast node is screen space only).
+(``wants_shadows``), each light's group is its "with Shadow" one, whose Raycast node's shadow
+ray (``shadows.py``) darkens its light: Color, Diffuse, Specular and the output "Cycles
+Shader" (last: the material's CYCLES Material Output) are shadowed; the Shader is the same
+from the groups' Plain sums, without shadows (what Eevee shows where it shows the group:
+its Raycast node is screen space only).
 """
 
 from __future__ import annotations
@@ -80,9 +83,10 @@ from . import world_copies
 SCENE_KEY, SET_KEY = ownership.SCENE_KEY, ownership.SET_KEY
 owner, groups_of, find = ownership.owner, ownership.groups_of, ownership.find
 #: Bump when the layout of the lights group changes.
-RIG_VERSION = 6  # 4: lights' transforms from World custom properties (View Layer attributes);
+RIG_VERSION = 7  # 4: lights' transforms from World custom properties (View Layer attributes);
 # 5: one Phong Surface and a Phong Light Terms per light instead of a Phong Shading per light;
-# 6: a light's i0 from the fourth component of its World copy (its Power: live)
+# 6: a light's i0 from the fourth component of its World copy (its Power: live);
+# 7: one group per light, its shadow ray inside (library.rig_light_group): the fewest nodes
 VERSION_KEY = "phong_lights_version"
 ALL = "*"
 #: The lighting models (``node_groups/models.py``: docs/model.md, docs/threejs.md,
@@ -221,13 +225,15 @@ def build(tree, lights, world, model=MODELS[0], loop=False, lookups=None,
     COMPOSE[models.MODELS[model].composition](tree, lights, world, budget, model, loop, shadows)
 
 
-def _build_phong(tree, lights, world, budget, model, loop=False, shadows=False) -> None:
-    """The composition "phong" (the seeds' model, docs/contract.md "Several lights"): per
-    light one group of ``library.light_group_name`` (its type, falloff and shadow ray: the
-    fewest exact nodes a light costs, docs/benchmarks.md), each adding its diffuse and
-    specular light to the sums of the lights before; Diffuse = Σ diffuse light ⊗ Object
-    Color, Specular = Σ specular light ⊗ Specular Color, Color = min(Irradiant + Ambient +
-    Diffuse + Specular, 1).  With shadow rays each light also adds to the Plain sums, its
+def _build_lean(tree, lights, world, budget, model, loop=False, shadows=False) -> None:
+    """The compositions "phong" (the seeds' model, docs/contract.md "Several lights") and
+    "phong_light_ambient" (X3D / VRML97, docs/x3d.md): per light one group of its type,
+    falloff and shadow ray (``library.rig_light_group``: the fewest exact nodes a light
+    costs, docs/benchmarks.md), each adding its diffuse and specular light (X3D: and its own
+    ambient light) to the sums of the lights before; Diffuse = Σ diffuse light ⊗ Object
+    Color, Specular = Σ specular light ⊗ Specular Color, Ambient = the World's Phong Ambient
+    (+ Σ the lights' ambient light ⊗ Ambient Object Color), Color = min(Irradiant + Ambient
+    + Diffuse + Specular, 1).  With shadow rays each light also adds to the Plain sums, its
     light without its shadow: the Shader (what Eevee shows before 5.3)."""
     group_in, group_out, out_x = _start(tree, lights, shadows)
     surface = _group_node(tree, "Phong Surface", "surface", (-600.0, 520.0))
@@ -243,36 +249,59 @@ def _build_phong(tree, lights, world, budget, model, loop=False, shadows=False) 
                      "Gate Normal": rays.outputs["Gate Normal"],
                      "Surface Position": shared["P"] if shared else rays.outputs["Position"],
                      "Exponent": group_in.outputs["Exponent"],
-                     "Blinn": group_in.outputs["Blinn"]}
+                     "Blinn": group_in.outputs["Blinn"],
+                     "Specular Strength": group_in.outputs["Specular Strength"]}
     if shared:
         shared_inputs.update({"True Normal": shared["Ng"], "Ray Drop": shared["drop"]})
+    entry = models.MODELS[model]
     sums = {}
     for index, obj in enumerate(lights):
         light = obj.data
         falloff = "POWER" if _is_power(light, model) else "QUADRATIC"
-        name = library.light_group_name(models.drawn_as(light.type), falloff, shadows)
+        name = library.rig_light_group(model, models.drawn_as(light.type), falloff, shadows)
         node = _light_node(tree, obj, (-600.0, -520.0 * index), model, budget, name)
         for socket, source in (*shared_inputs.items(), *sums.items()):
-            tree.links.new(source, node.inputs[socket])
+            if socket in node.inputs and not (socket == "Specular Strength"
+                                              and entry.rig_material is None):
+                tree.links.new(source, node.inputs[socket])  # (the seeds': the light's)
         drivers.light_color(node.inputs["Light Color"], light)
         for attr, socket in (("diffuse", "Diffuse Strength"), ("specular", "Specular Strength"),
                              ("power_k", "Falloff Exponent")):
-            if socket in node.inputs:
+            if socket in node.inputs and not node.inputs[socket].is_linked:  # the seeds'
                 drivers.prop(node.inputs[socket], None, "LIGHT", light,
                              f'["{properties.LIGHT_KEYS[attr][0]}"]')
         if shadows:  # Cast Shadow off: no hit counts
             drivers.prop(node.inputs["Cast Shadow"], None, "LIGHT", light, "use_shadow")
         sums = {socket.name: socket for socket in node.outputs}
-    ambient = _group_node(tree, "Phong Ambient", "ambient", (-300.0, 520.0))
-    tree.links.new(group_in.outputs["Ambient Object Color"], ambient.inputs["Object Color"])
-    _drive_ambient(ambient, world)
-    base = (group_in.outputs["Irradiant Color"], ambient.outputs["Color"])
+    world_ambient = _group_node(tree, entry.ambient[0], "ambient", (-300.0, 520.0))
+    tree.links.new(group_in.outputs["Ambient Object Color"],
+                   world_ambient.inputs[entry.ambient[1]])
+    _drive_ambient(world_ambient, world)
+    ambient = world_ambient.outputs["Color"]
+    if "Ambient Sum" in sums:  # the lights' own ambient light (X3D)
+        lights_ambient = _vector_node(tree, "MULTIPLY", "ambient:color", (180.0, 520.0),
+                                      sums["Ambient Sum"],
+                                      group_in.outputs["Ambient Object Color"])
+        ambient = _vector_node(tree, "ADD", "ambient:sum", (360.0, 520.0), ambient,
+                               lights_ambient)
+    base = (group_in.outputs["Irradiant Color"], ambient)
 
     def colour(prefix, link):
         totals = []
+        material = None
+        if entry.rig_material is not None and sums:
+            material = _group_node(tree, entry.rig_material, f"{prefix.lower()}material",
+                                   (180.0 * len(lights), -200.0 - 400.0 * bool(prefix)))
+            for name in ("Diffuse Sum", "Specular Sum", "Fresnel Sum"):
+                tree.links.new(sums[prefix + name], material.inputs[name])
+            for source, target in THREEJS_SHADING.items():
+                if target in material.inputs:
+                    tree.links.new(group_in.outputs[source], material.inputs[target])
         for term, color in (("Diffuse", "Object Color"), ("Specular", "Specular Color")):
             total = sums.get(f"{prefix}{term} Sum")
-            if total is not None:
+            if material is not None:
+                total = material.outputs[term]
+            elif total is not None:
                 total = _vector_node(tree, "MULTIPLY", f"{prefix.lower()}{term.lower()}:color",
                                      (180.0 * len(lights), -200.0 - 160.0 * len(totals)),
                                      total, group_in.outputs[color])
@@ -286,22 +315,13 @@ def _build_phong(tree, lights, world, budget, model, loop=False, shadows=False) 
     color = colour("", True)
     tree.links.new(color, group_out.inputs["Color"])
     tree.links.new(group_in.outputs["Irradiant Color"], group_out.inputs["Irradiant"])
-    tree.links.new(ambient.outputs["Color"], group_out.inputs["Ambient"])
+    tree.links.new(ambient, group_out.inputs["Ambient"])
     _shaders(tree, color, group_out, out_x, shadows and (lambda: colour("Plain ", False)))
-    if loop:
+    if loop:  # the X3D lights' own ambient light comes from the loop (X3D Loop Light)
         light_loop.build(tree, model, group_in, group_out,
-                         group_in.outputs["Irradiant Color"], ambient.outputs["Color"], surface,
-                         shadows)
+                         group_in.outputs["Irradiant Color"], world_ambient.outputs["Color"],
+                         surface, shadows)
     _stamp(tree, lights, model)
-
-
-def _lit(tree, obj, light_node, terms, shared, location):
-    """*terms* (a light's terms node) as the sums read it: times the light's visibility where
-    the group casts shadow rays (*shared*: ``shadows.surface``), else itself."""
-    if shared is None:
-        return terms
-    visible = shadow_rays.visibility(tree, obj, light_node, shared, location)
-    return shadow_rays.Lit(tree, terms, visible, ("Ambient Light",))
 
 
 def _color_sum(tree, base, totals, prefix=""):
@@ -352,106 +372,14 @@ def _start(tree, lights, shadows=False):
     return group_in, group_out, out_x
 
 
-#: three.js model: the three.js Phong input fed by each input of the lights group.
+#: three.js model: the input of three.js Rig Material fed by each input of the lights group.
 THREEJS_SHADING = {"Object Color": "Diffuse Color", "Specular Color": "Specular Color",
-                   "Exponent": "Shininess", "Specular Strength": "Specular Strength",
-                   "Normal": "Normal", "View Vector": "View Vector"}
-
-
-def _build_chain(tree, lights, world, budget, model, loop=False, shadows=False) -> None:
-    """The composition "chain" (the three.js model, docs/threejs.md): per light a light group
-    and a three.js Phong, the ambient a three.js Ambient, the emissive the Irradiant Color
-    input, added by a Phong Color Add chain."""
-    group_in, group_out, out_x = _start(tree, lights, shadows)
-    shadings, lit = [], []
-    shared = shadow_rays.surface(tree, (-1800.0, 900.0)) if shadows else None
-    for index, obj in enumerate(lights):
-        y = -520.0 * index
-        light_node = _light_node(tree, obj, (-600.0, y), model, budget)
-        shading = _group_node(tree, "three.js Phong", f"shading:{obj.name}", (-300.0, y))
-        for source, target in THREEJS_SHADING.items():
-            tree.links.new(group_in.outputs[source], shading.inputs[target])
-        tree.links.new(light_node.outputs["Light Vector"], shading.inputs["Light Vector"])
-        tree.links.new(light_node.outputs["Intensity"], shading.inputs["Intensity"])
-        drivers.light_color(shading.inputs["Light Color"], obj.data)
-        shadings.append(shading)
-        lit.append(_lit(tree, obj, light_node, shading, shared, (-1500.0, y)))
-    ambient = _group_node(tree, "three.js Ambient", "ambient", (-300.0, 520.0))
-    tree.links.new(group_in.outputs["Ambient Object Color"], ambient.inputs["Diffuse Color"])
-    _drive_ambient(ambient, world)
-    irradiant = group_in.outputs["Irradiant Color"]
-    _sums(tree, ambient, [irradiant] + [s.outputs["Color"] for s in lit], lit,
-          irradiant, group_out, out_x,
-          shadows and (lambda: _add_chain(tree, ambient, [irradiant] + [
-              s.outputs["Color"] for s in shadings], "plain ")))
-    if loop:
-        light_loop.build(tree, model, group_in, group_out, irradiant, ambient.outputs["Color"],
-                         shadows=shadows)
-    _stamp(tree, lights, model)
-
-
-def _build_light_ambient(tree, lights, world, budget, model, loop=False,
-                         shadows=False) -> None:
-    """The composition "phong_light_ambient" (the X3D / VRML97 model, docs/x3d.md; with
-    *loop*, the X3D Loop Light's part for Eevee): per light an X3D light group and an X3D
-    Light Terms;
-    Diffuse = Σ diffuse light ⊗ Object Color, Specular = Σ specular light ⊗ Specular Color, Ambient = (the World's ambient light + Σ the lights' ambient light) ⊗ Ambient
-    Object Color, Color = min(Irradiant + Ambient + Diffuse + Specular, 1)."""
-    group_in, group_out, out_x = _start(tree, lights, shadows)
-    surface = _group_node(tree, "Phong Surface", "surface", (-600.0, 520.0))
-    for name in ("Normal", "View Vector"):
-        tree.links.new(group_in.outputs[name], surface.inputs[name])
-    terms, lit = [], []
-    shared = shadow_rays.surface(tree, (-1800.0, 900.0)) if shadows else None
-    for index, obj in enumerate(lights):
-        y = -520.0 * index
-        light_node = _light_node(tree, obj, (-600.0, y), model, budget)
-        shading = _group_node(tree, "X3D Light Terms", f"shading:{obj.name}", (-300.0, y))
-        tree.links.new(group_in.outputs["Exponent"], shading.inputs["Exponent"])
-        for name in ("Normal", "View Vector"):
-            tree.links.new(surface.outputs[name], shading.inputs[name])
-        for source, target in (("Light Vector", "Light Vector"), ("Intensity", "Intensity"),
-                               ("Ambient", "Ambient")):
-            tree.links.new(light_node.outputs[source], shading.inputs[target])
-        drivers.light_color(shading.inputs["Light Color"], obj.data)
-        terms.append(shading)
-        lit.append(_lit(tree, obj, light_node, shading, shared, (-1500.0, y)))
-    world_ambient = _group_node(tree, "Phong Ambient", "ambient", (-300.0, 520.0))
-    tree.links.new(group_in.outputs["Ambient Object Color"], world_ambient.inputs["Object Color"])
-    _drive_ambient(world_ambient, world)
-    sources = {"Diffuse": ("Diffuse Light", group_in.outputs["Object Color"]),
-               "Specular": ("Specular Light", group_in.outputs["Specular Color"])}
-    totals = _term_sums(tree, lit, group_out, sources)
-    ambient = world_ambient.outputs["Color"]
-    lights_ambient = None
-    for index, shading in enumerate(terms):
-        lights_ambient = shading.outputs["Ambient Light"] if lights_ambient is None else \
-            _vector_node(tree, "ADD", f"ambient:{index}", (180.0 * index, 520.0),
-                         lights_ambient, shading.outputs["Ambient Light"])
-    if lights_ambient is not None:
-        lights_ambient = _vector_node(tree, "MULTIPLY", "ambient:color",
-                                      (180.0 * len(terms), 520.0), lights_ambient,
-                                      group_in.outputs["Ambient Object Color"])
-        ambient = _vector_node(tree, "ADD", "ambient:sum", (180.0 * (len(terms) + 1), 520.0),
-                               ambient, lights_ambient)
-    base = (group_in.outputs["Irradiant Color"], ambient)
-    color = _color_sum(tree, base, totals)
-    tree.links.new(color, group_out.inputs["Color"])
-    tree.links.new(group_in.outputs["Irradiant Color"], group_out.inputs["Irradiant"])
-    tree.links.new(ambient, group_out.inputs["Ambient"])
-    _shaders(tree, color, group_out, out_x, shadows and (lambda: _color_sum(
-        tree, base, _term_sums(tree, terms, None, sources, "plain "), "plain ")))
-    if loop:  # the lights' own ambient light comes from the loop (X3D Loop Light)
-        light_loop.build(tree, model, group_in, group_out,
-                         group_in.outputs["Irradiant Color"], world_ambient.outputs["Color"],
-                         surface, shadows)
-    _stamp(tree, lights, model)
+                   "Exponent": "Shininess", "Specular Strength": "Specular Strength"}
 
 
 #: composition (``models.COMPOSITIONS``) -> its builder(tree, lights, world, budget, model,
 #: loop, shadows).
-COMPOSE = {"phong": _build_phong, "chain": _build_chain,
-           "phong_light_ambient": _build_light_ambient}
+COMPOSE = {"phong": _build_lean, "chain": _build_lean, "phong_light_ambient": _build_lean}
 
 
 def _emission(tree, color, group_out, out_x, output="Shader"):
@@ -588,33 +516,6 @@ def _is_power(light, model) -> bool:
             and properties.falloff_of(light) == "POWER")
 
 
-def _power_falloff(tree, obj, light_node, model):
-    """For a light whose falloff is POWER: its light group set to no falloff (α = β = 0,
-    γ = 1: Intensity i0, times the spot's cone and edge) followed by a Phong Power Falloff
-    of its Distance, k driven by ``phong_power_k``; returns that Intensity output.  None for
-    the other lights (their light group's quadratic falloff, driven)."""
-    light = obj.data
-    if not _is_power(light, model):
-        return None
-    node = _group_node(tree, "Phong Power Falloff", f"falloff:{obj.name}",
-                       (light_node.location.x + 150.0, light_node.location.y - 330.0))
-    tree.links.new(light_node.outputs["Distance"], node.inputs["Distance"])
-    tree.links.new(light_node.outputs["Intensity"], node.inputs["Intensity"])
-    drivers.prop(node.inputs["Exponent"], None, "LIGHT", light,
-                 f'["{properties.LIGHT_KEYS["power_k"][0]}"]')
-    return node.outputs["Intensity"]
-
-
-def _shading_node(tree, group_in, name, location, first):
-    node = _group_node(tree, "Phong Shading", name, location)
-    for socket_name, _type, _default in INPUTS:
-        if ((socket_name == "Irradiant Color" and not first) or socket_name not in node.inputs
-                or socket_name == "Specular Strength"):  # the seeds' is the light's (driven)
-            continue
-        tree.links.new(group_in.outputs[socket_name], node.inputs[socket_name])
-    return node
-
-
 def _drive_ambient(node, world) -> None:
     """The Phong Ambient node's light: the World's Phong ambient intensity and colour."""
     if world is None:
@@ -641,56 +542,3 @@ def _vector_node(tree, operation, name, location, a, b):
     else:
         tree.links.new(b, compat.input_socket(node, "Vector_001"))
     return node.outputs["Vector"]
-
-
-def _term_sums(tree, shadings, group_out, sources=None, prefix="") -> list:
-    """The Diffuse and Specular outputs: the sums of the shadings' terms (black without a
-    light); *sources* maps a term to (the shadings' output, a colour socket the sum is
-    multiplied by), default (the term, none).  Returns the two sums (None without a light);
-    *group_out* None: the outputs are not linked (the sums without shadows); *prefix*: of
-    the nodes' names."""
-    totals = []
-    for row, term in enumerate(("Diffuse", "Specular")):
-        output, color = (sources or {}).get(term, (term, None))
-        total = None
-        for index, shading in enumerate(shadings):
-            total = shading.outputs[output] if total is None else _vector_node(
-                tree, "ADD", f"{prefix}{term.lower()}:{index}",
-                (180.0 * index, -200.0 - 160.0 * row), total, shading.outputs[output])
-        if total is not None and color is not None:
-            total = _vector_node(tree, "MULTIPLY", f"{prefix}{term.lower()}:color",
-                                 (180.0 * len(shadings), -200.0 - 160.0 * row), total, color)
-        if group_out is None:
-            pass
-        elif total is None:  # no light
-            group_out.inputs[term].default_value = (0.0, 0.0, 0.0, 1.0)
-        else:
-            tree.links.new(total, group_out.inputs[term])
-        totals.append(total)
-    return totals
-
-
-def _add_chain(tree, ambient, parts, prefix=""):
-    """The Phong Color Add chain of the ambient's colour and *parts*."""
-    color = ambient.outputs["Color"]
-    for index, part in enumerate(parts):
-        add = _group_node(tree, "Phong Color Add", f"{prefix}add:{index}",
-                          (180.0 * index, 300.0))
-        tree.links.new(color, add.inputs["A"])
-        tree.links.new(part, add.inputs["B"])
-        color = add.outputs["Color"]
-    return color
-
-
-def _sums(tree, ambient, parts, shadings, irradiant, group_out, out_x, plain=None) -> None:
-    """The three.js model's outputs. Color: the Phong Color Add chain of the ambient's colour
-    and *parts*; Diffuse and Specular: the sums of the shadings' terms (black without one);
-    Irradiant: *irradiant*; Ambient: the ambient node's; Shader: an emission of Color (with
-    shadow rays: *plain* writes the colour without them, ``_shaders``)."""
-    links = tree.links
-    color = _add_chain(tree, ambient, parts)
-    links.new(color, group_out.inputs["Color"])
-    links.new(irradiant, group_out.inputs["Irradiant"])
-    links.new(ambient.outputs["Color"], group_out.inputs["Ambient"])
-    _term_sums(tree, shadings, group_out)
-    _shaders(tree, color, group_out, out_x, plain)

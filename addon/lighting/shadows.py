@@ -7,15 +7,17 @@ light's position (a sun: the ray from P toward the sun, opposite to its directio
 shadow-casting object, the receiver itself included, then 0.  The ambient and irradiant
 light are not shadowed, nor an X3D light's own ambient.  Hard shadows from the light's centre:
 a light's Radius / Angle does not soften them.  A light whose Blender **Cast Shadow**
-(``light.use_shadow``) is off casts none; the switch is read by a driver (``v * -1.0``,
-Blender's own simple expression: no Python), so toggling it renders as a moved light does.
+(``light.use_shadow``) is off casts none; the switch is read by a driver (Blender's own
+simple expression: no Python), so toggling it renders as a moved light does.
 
-Cycles (Blender 5.1+, ``compat.HAS_RAYCAST``): per light a Raycast node in the lights group
-(``visibility``), from P moved along the true normal, to the light's side of the surface, by
-``OFFSET`` · (1 + max |P|) (from P itself the node skips only the shading triangle: acne
-along the diagonals of a finely split floor; 1e-3 lets light leak), toward the light with
-Length 1 in units of the direction (the direction is the segment itself; lights are never
-hit), or a sun's direction with Length ``SUN_LENGTH``.  The node honours an object's Ray
+Cycles (Blender 5.1+, ``compat.HAS_RAYCAST``): per light a Raycast node, inside the light's
+group of the lights group (``library.rig_light_group``, "with Shadow": a hit adds 10³⁰ to
+the light's falloff denominator), from P moved along the true normal, to the light's side of
+the surface, by ``OFFSET`` · (1 + max |P|) (from P itself the node skips only the shading
+triangle: acne along the diagonals of a finely split floor; 1e-3 lets light leak), toward
+the light with Length 1 in units of the direction (the direction is the segment itself;
+lights are never hit), or a sun's direction with Length ``library.SUN_RAY_LENGTH``; what
+every light's ray shares is written here once per lights group (:func:`surface`).  The node honours an object's Ray
 Visibility ▸ Ray Cast on 5.3 (``visible_raycast``; 5.2: only an object with every ray
 visibility off is skipped), not Ray Visibility ▸ Shadow (``visible_shadow``) nor Light
 Linking's shadow blockers; a transparent (Opacity below 1) caster blocks the light.
@@ -44,9 +46,8 @@ import bpy
 from bpy.app.handlers import persistent
 
 from ...node_groups import models
-from ...node_groups.library import SUN_RAY_LENGTH
 from .. import compat
-from . import drivers, ownership
+from . import ownership
 
 #: Custom property of a lights group built with shadow rays (1) or without (0).
 KEY = "phong_lights_shadows"
@@ -55,9 +56,6 @@ CYCLES_SHADER = "Cycles Shader"
 #: The ray's origin moves this far along the true normal, times 1 + max |P| (measured: no
 #: acne on a 40 × 40 floor at every scene scale tried; 1e-3 leaks light).
 OFFSET = 1.0e-5
-#: A sun's ray length (in units of its unit direction): "to infinity" within float range (the
-#: seeds' lights group's rays are in its light groups: ``library.SUN_RAY_LENGTH``, the same).
-SUN_LENGTH = SUN_RAY_LENGTH
 #: Names of the nodes written here (under their light's name).
 PREFIX = "shadow:"
 
@@ -274,61 +272,3 @@ def surface(tree, location) -> dict:
     compat.input_socket(drop, "Scale").default_value = -1.0
     return {"P": position, "Ng": normal, "offset": offset, "lift": lift,
             "drop": compat.output_socket(drop, "Vector")}
-
-
-def visibility(tree, obj, light_node, shared, location):
-    """The visibility V (a float socket: 1 lit, 0 in shadow) of the light *obj* at the shaded
-    point, from its light group node *light_node* (Light Vector, and Distance for a point or
-    spot light) and *shared* (``surface``); Cast Shadow off: 1 everywhere."""
-    x, y = location
-    name = obj.name
-    ell = light_node.outputs["Light Vector"]
-    side = _math(tree, "SIGN", f"{name}:side", (x, y),
-                 _vector(tree, "DOT_PRODUCT", f"{name}:ng.l", (x - 180.0, y), shared["Ng"], ell))
-    # P + sign(Ng·ℓ)·offset·Ng, one node: the light's side of the surface (sign ±1 or 0: the
-    # same origin as P + Ng·(sign·offset))
-    origin = _vector(tree, "MULTIPLY_ADD", f"{name}:origin", (x + 540.0, y), shared["lift"],
-                     compat.output_socket(side, "Value"), c=shared["P"])
-    ray = _node(tree, "ShaderNodeRaycast", f"{name}:ray", (x + 900.0, y))
-    tree.links.new(origin, compat.input_socket(ray, "Position"))
-    if obj.data.type in ("POINT", "SPOT", "AREA"):  # the segment from the origin to the light
-        light = _vector(tree, "MULTIPLY_ADD", f"{name}:light", (x + 540.0, y - 160.0), ell,
-                        light_node.outputs["Distance"], c=shared["P"])  # P + ℓ·r = S
-        direction = _vector(tree, "SUBTRACT", f"{name}:segment", (x + 720.0, y - 160.0),
-                            light, origin)
-        compat.input_socket(ray, "Length").default_value = 1.0
-    else:  # a sun: toward it, as far as floats go
-        direction = ell
-        compat.input_socket(ray, "Length").default_value = SUN_LENGTH
-    tree.links.new(direction, compat.input_socket(ray, "Direction"))
-    seen = _math(tree, "MULTIPLY_ADD", f"{name}:visible", (x + 1100.0, y),
-                 compat.output_socket(ray, "Is Hit"), -1.0, 1.0)
-    drivers.prop(compat.input_socket(seen, "Value_001"), None, "LIGHT", obj.data, "use_shadow",
-                 scale=-1.0)
-    return compat.output_socket(seen, "Value")
-
-
-class Lit:
-    """A light's terms node seen through its visibility: ``outputs[name]`` is the node's
-    output times V (one Vector Math node each, made when first asked), except the outputs
-    in *unshadowed* (an X3D light's ambient light), which are the node's own."""
-
-    def __init__(self, tree, terms, visible, unshadowed=()):
-        self.node = terms
-        self.outputs = _Scaled(tree, terms, visible, frozenset(unshadowed))
-
-
-class _Scaled:
-    def __init__(self, tree, terms, visible, unshadowed):
-        self.tree, self.terms, self.visible, self.unshadowed = tree, terms, visible, unshadowed
-        self.made = {}
-
-    def __getitem__(self, name):
-        if name in self.unshadowed:
-            return self.terms.outputs[name]
-        if name not in self.made:
-            x, y = self.terms.location
-            self.made[name] = _vector(self.tree, "SCALE", f"{self.terms.name}:{name}",
-                                      (x + 220.0, y - 120.0 * len(self.made)),
-                                      self.terms.outputs[name], scale=self.visible)
-        return self.made[name]

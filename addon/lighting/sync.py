@@ -395,7 +395,7 @@ def upgrade_on_load(*_args):
     Material Outputs, of nodes 5.2 does not know, are removed) or lack it where it should
     be (a file of 5.2 opened by 5.3).  Files of version 0.1 (no lights
     groups, every light in the material) are upgraded by Relink Phong Lights.  A group with
-    a variant for this release (5.3's Phong Light Terms) is rewritten in place where the
+    a variant for this release (5.3's light groups of the seeds' lights groups) is rewritten in place where the
     file has another (``loader.refresh_variants``)."""
     if _BUSY:
         return
