@@ -802,9 +802,12 @@ def _threejs_light_of(g, kind, shadows, switched):
         t = saturate(multiply_add(cos_w, slope, -e0 * slope))
         soft = (t * t) * multiply_add(t, -2.0, 3.0)
         numerator = i * choose(less_than(e0, e1), soft, greater_than(cos_w, e0))
-    if near:  # the cut-off window (saturate(1 - (d/distance)⁴))² where distance > 0
+    if near:  # the cut-off window (saturate(1 - (d/distance)⁴))², 1 where distance is 0
+        # (1/0 is 0 in a Math node: the window is then 1, and on 5.3 a Switch drops it)
         window = saturate(multiply_add(power(d, 4.0), -power(1.0 / cutoff, 4.0), 1.0))
-        numerator = choose(less_than(0.0, cutoff), numerator * (window * window), numerator)
+        windowed = numerator * (window * window)
+        numerator = switch(less_than(0.0, cutoff), numerator, windowed) if switched \
+            else windowed
     hit = None
     if shadows:
         side = sign(dot(ng, m))  # -sign(Ng·ℓ): the origin P - sign(Ng·m)·offset·Ng
