@@ -226,15 +226,16 @@ def build(tree, lights, world, model=MODELS[0], loop=False, lookups=None,
 
 
 def _build_lean(tree, lights, world, budget, model, loop=False, shadows=False) -> None:
-    """The compositions "phong" (the seeds' model, docs/contract.md "Several lights") and
-    "phong_light_ambient" (X3D / VRML97, docs/x3d.md): per light one group of its type,
-    falloff and shadow ray (``library.rig_light_group``: the fewest exact nodes a light
-    costs, docs/benchmarks.md), each adding its diffuse and specular light (X3D: and its own
-    ambient light) to the sums of the lights before; Diffuse = Σ diffuse light ⊗ Object
-    Color, Specular = Σ specular light ⊗ Specular Color, Ambient = the World's Phong Ambient
-    (+ Σ the lights' ambient light ⊗ Ambient Object Color), Color = min(Irradiant + Ambient
-    + Diffuse + Specular, 1).  With shadow rays each light also adds to the Plain sums, its
-    light without its shadow: the Shader (what Eevee shows before 5.3)."""
+    """Every composition (``models.COMPOSITIONS``: the seeds' "phong", docs/contract.md
+    "Several lights"; three.js's "chain"; X3D's "phong_light_ambient"): per light one group
+    of its type, falloff and shadow ray (``library.rig_light_group``: the fewest exact nodes
+    a light costs, benchmarks/README.md), each adding its light to the sums of the lights
+    before it; Diffuse = Σ diffuse light ⊗ Object Color, Specular = Σ specular light ⊗
+    Specular Color (three.js: its ``rig_material`` applies the material's colours), Ambient =
+    the World's ambient (+ X3D: Σ the lights' own ambient light ⊗ Ambient Object Color),
+    Color = min(Irradiant + Ambient + Diffuse + Specular, 1).  With shadow rays each light
+    also adds to the Plain sums, its light without its shadow: the Shader (what Eevee shows
+    before 5.3)."""
     group_in, group_out, out_x = _start(tree, lights, shadows)
     surface = _group_node(tree, "Phong Surface", "surface", (-600.0, 520.0))
     for name in ("Normal", "View Vector"):
@@ -263,7 +264,7 @@ def _build_lean(tree, lights, world, budget, model, loop=False, shadows=False) -
         for socket, source in (*shared_inputs.items(), *sums.items()):
             if socket in node.inputs and not (socket == "Specular Strength"
                                               and entry.rig_material is None):
-                tree.links.new(source, node.inputs[socket])  # (the seeds': the light's)
+                tree.links.new(source, node.inputs[socket])  # the seeds' is the light's
         drivers.light_color(node.inputs["Light Color"], light)
         for attr, socket in (("diffuse", "Diffuse Strength"), ("specular", "Specular Strength"),
                              ("power_k", "Falloff Exponent")):
