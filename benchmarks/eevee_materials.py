@@ -228,12 +228,14 @@ def _ungroup(tree, group) -> None:
 # -- the lights group of version 0.3 (a Phong Shading per light) ---------------------------
 
 def write_per_light_shading(lights_group) -> None:
-    """Rewrite *lights_group* (a seeds'-model rig) as version 0.3 built it: per light a Phong
-    Shading (ambient off, the irradiant on the first only) instead of a Phong Light Terms,
-    no Phong Surface, the Color the Phong Color Add chain of the ambient and the shadings'
-    colours, Diffuse and Specular the sums of their terms.  The same light groups, Attribute
+    """Rewrite *lights_group* (a seeds'-model rig) as version 0.3 built it: per light its
+    light group of the library (Phong Point / Directional / Spot Light) and a Phong Shading
+    (ambient off, the irradiant on the first only) instead of the lights group's one group a
+    light, no Phong Surface, the Color the Phong Color Add chain of the ambient and the
+    shadings' colours, Diffuse and Specular the sums of their terms.  The same Attribute
     nodes and values; the drivers dropped (the values they wrote stay)."""
     from phong_nodes.addon import loader  # noqa: PLC0415
+    from phong_nodes.node_groups import models  # noqa: PLC0415
 
     tree = lights_group
     nodes, links = tree.nodes, tree.links
@@ -241,17 +243,31 @@ def write_per_light_shading(lights_group) -> None:
         tree.animation_data_clear()
     group_in = next(n for n in nodes if n.bl_idname == "NodeGroupInput")
     group_out = next(n for n in nodes if n.bl_idname == "NodeGroupOutput")
-    terms = [n for n in nodes if n.name.startswith("shading:")]
+    kinds = {f"{models.MODELS['seeds'].rig} {word}": kind
+             for kind, word in (("POINT", "Point"), ("SPOT", "Spot"), ("SUN", "Sun"))}
+    rigged = [n for n in nodes if n.name.startswith("light:")]
     shadings = []
-    for index, old in enumerate(terms):
+
+    def copy_inputs(old, new):
+        for socket in new.inputs:
+            source = old.inputs.get(socket.name)
+            if source is None:
+                continue
+            if source.is_linked and source.links[0].from_node.bl_idname != "ShaderNodeGroup":
+                links.new(source.links[0].from_socket, socket)  # Attributes, the group input
+            elif not source.is_linked:
+                socket.default_value = source.default_value
+
+    for index, old in enumerate(rigged):
+        kind = kinds[old.node_tree.name.split(" (")[0].removesuffix(" with Shadow")]
+        light = nodes.new("ShaderNodeGroup")
+        light.node_tree, _status = loader.ensure_group(models.MODELS["seeds"].light_groups[kind])
+        copy_inputs(old, light)
         new = nodes.new("ShaderNodeGroup")
         new.node_tree, _status = loader.ensure_group("Phong Shading")
-        for socket in old.inputs:
-            target = new.inputs[socket.name]
-            if socket.is_linked and socket.links[0].from_node.name != "surface":
-                links.new(socket.links[0].from_socket, target)
-            elif not socket.is_linked:
-                target.default_value = socket.default_value
+        copy_inputs(old, new)
+        links.new(light.outputs["Light Vector"], new.inputs["Light Vector"])
+        links.new(light.outputs["Intensity"], new.inputs["Light Intensity"])
         for name in ("Object Color", "Specular Color", "Normal", "View Vector"):
             links.new(group_in.outputs[name], new.inputs[name])
         if index == 0:
@@ -260,8 +276,8 @@ def write_per_light_shading(lights_group) -> None:
             new.inputs["Irradiant Color"].default_value = (0.0, 0.0, 0.0, 1.0)
         new.inputs["Ambient Intensity"].default_value = 0.0
         shadings.append(new)
-    for node in [n for n in nodes if n.name.startswith(("shading:", "surface", "color",
-                                                        "diffuse:", "specular:"))]:
+    for node in [n for n in nodes if n in rigged or n.name.startswith((
+            "surface", "color", "diffuse:", "specular:", "plain "))]:
         nodes.remove(node)
     color = nodes["ambient"].outputs["Color"]
     for shading in shadings:

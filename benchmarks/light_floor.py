@@ -63,9 +63,9 @@ def _values(material):
         raise ValueError("the minimal chain is Phong's (Blinn 0)")
     lights = []
     for light in [n for n in group if n.name.startswith("light:")]:
-        if light.node_tree.name != "Phong Point Light":
-            raise ValueError("the minimal chain is for point lights")
-        shading = group[f"shading:{light.name[len('light:'):]}"]
+        if light.node_tree.name.removesuffix(" with Shadow") != "Phong Rig Point":
+            raise ValueError("the minimal chain is for point lights (i0/(αr²+βr+γ))")
+        shading = light  # the lights group's one group a light: its colour and strengths
         falloff = tuple(light.inputs[k].default_value for k in ("Quadratic", "Linear", "Constant"))
         if falloff != (1.0, 0.0, 0.0):
             raise ValueError(f"the minimal chain is for i0/r² (falloff {falloff})")

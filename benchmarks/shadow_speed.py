@@ -55,7 +55,7 @@ def worker(engine, case, objects, n_lights, samples, res, renders, variant="") -
     moved before each timed render; ``shared``:
     every object given the first object's material; ``chain<K>``: every material replaced by
     ``_chain_materials``' K math nodes and a Raycast node per light, Phong-free; ``blend``:
-    Phong Light Terms written as before 5.3 (no Switch on the Blinn); joined by
+    the lights group's light groups written as before 5.3 (no Switch on the Blinn); joined by
     "+")."""
     os.environ["PHONG_BENCH_SHADOWS"] = "1"
     from .eevee_materials import _camera  # noqa: PLC0415
@@ -90,7 +90,8 @@ def worker(engine, case, objects, n_lights, samples, res, renders, variant="") -
             tree = meshes[0].material_slots[0].material.node_tree
             ungroup_all(tree.nodes["phong_lights"].node_tree)
         elif part == "noblinn":  # every material's Blinn is 0: the Blinn branch unlinked
-            _without_blinn(bpy.data.node_groups["Phong Light Terms"])
+            for group in _light_groups(meshes):
+                _without_blinn(group)
         elif part == "persistent":  # Render > Performance > Persistent Data (the user's)
             scene.render.use_persistent_data = True
         elif part == "castoff":  # the lights' Cast Shadow off (Principled's too: not the goal)
@@ -101,12 +102,12 @@ def worker(engine, case, objects, n_lights, samples, res, renders, variant="") -
         elif part == "extratrees":  # 1,000 more node trees in the file (unused materials)
             for index in range(1000):
                 bpy.data.materials.new(f"Extra {index:04d}").use_fake_user = True
-        elif part == "blend":  # Phong Light Terms as releases before 5.3 write it
+        elif part == "blend":  # the light groups as releases before 5.3 write them
             from phong_nodes.addon import loader  # noqa: PLC0415
             from phong_nodes.node_groups import library  # noqa: PLC0415
 
-            loader._write(bpy.data.node_groups["Phong Light Terms"],
-                          library.RIG_GROUPS["Phong Light Terms"])
+            for group in _light_groups(meshes):
+                loader._write(group, library.RIG_GROUPS[group.name])
         elif part.startswith("chain"):  # chain<K>: a Cycles node budget (no Phong nodes)
             _chain_materials(bpy, materials, int(part[5:]), len(_lights))
         elif part == "shared":
@@ -189,8 +190,15 @@ def _chain_materials(bpy, materials, k, rays) -> None:
         tree.links.new(emission.outputs[0], output.inputs["Surface"])
 
 
+def _light_groups(meshes) -> list:
+    """The light groups (one a light: ``library.rig_light_group``) of the lights group of
+    the first of *meshes*' material."""
+    tree = meshes[0].material_slots[0].material.node_tree.nodes["phong_lights"].node_tree
+    return list({n.node_tree for n in tree.nodes if n.name.startswith("light:")})
+
+
 def _without_blinn(tree) -> None:
-    """Ablation (same picture where Blinn is 0): in Phong Light Terms, the highlight blend
+    """Ablation (same picture where Blinn is 0): in a light group, the highlight blend
     (1 - Blinn)·Phong + Blinn·Blinn-Phong replaced by its first product, so that Blender's
     inliner never reaches the Blinn-Phong branch (what a Switch on a constant Blinn gives)."""
     group_in = next(n for n in tree.nodes if n.bl_idname == "NodeGroupInput")

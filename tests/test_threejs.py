@@ -138,14 +138,16 @@ def test_apply_with_the_threejs_model_and_switching_back(bpy_clean):
     material = sphere.material_slots[0].material
     tree, types = _group_types(material)
     assert tree.name == "three.js Lights Switch"
-    plain = ["Phong Color Add"] * 2 if be.compat().HAS_RAYCAST else []  # the chain without
-    assert types == ["Phong Color Add", "Phong Color Add"] + plain + [  # shadows: Eevee's
-        "three.js Ambient", "three.js Phong", "three.js Spot Light"]
+    shadowed = be.compat().HAS_RAYCAST
+    plain = ["three.js Rig Material"] if shadowed else []  # the sums without shadows: Eevee's
+    assert types == sorted(["Phong Surface", "Phong Surface Rays", "three.js Ambient",
+                            "three.js Rig Material"] + plain + [
+        "three.js Rig Spot" + (" with Shadow" if shadowed else "")])
     assert material.node_tree.nodes["phong_specular_strength"].outputs[0].default_value == 1.0
     out = next(n for n in tree.nodes if n.bl_idname == "NodeGroupOutput")
     for name in ("Color", "Irradiant", "Ambient", "Diffuse", "Specular", "Shader"):
         assert out.inputs[name].is_linked, f"the lights group's {name} output is fed"
-    assert out.inputs["Color"].links[0].from_node.name == "add:1"  # irradiant, then the spot
+    assert out.inputs["Color"].links[0].from_node.name == "color"  # min(…, 1), once
     # the light's three.js settings drive the group
     light.data.phong.penumbra = 0.4
     light.data.phong.decay = 1.0
@@ -160,7 +162,8 @@ def test_apply_with_the_threejs_model_and_switching_back(bpy_clean):
     scene.phong.model = "seeds"
     tree, types = _group_types(material)
     assert tree.name == "Phong Lights Switch"
-    assert "Phong Spot Light" in types and "three.js Phong" not in types
+    assert any(t.startswith("Phong Rig Spot") for t in types)
+    assert not any(t.startswith("three.js") for t in types)
     assert sphere.material_slots[0].material is material, "the material itself is kept"
 
 
