@@ -56,8 +56,9 @@ COMPOSITIONS = {
              "Σ diffuse ⊗ Object Color + Σ specular ⊗ Specular "
              "Color + the World's Phong Ambient + the irradiant, min(…, 1)",
     "chain": "three.js: the ambient (three.js Ambient) ⊕ the emissive ⊕ each light's three.js "
-             "Phong, a Phong Color Add chain",
-    "phong_light_ambient": "as phong, with X3D Light Terms, and each light's own ambient "
+             "Phong, as one sum clamped once (per light one group: its irradiance and its "
+             "highlight's sums, times the material's colours once)",
+    "phong_light_ambient": "as phong, with X3D's lights, and each light's own ambient "
                            "light: + Σ ambient light ⊗ Ambient Object Color",
 }
 
