@@ -11,12 +11,14 @@ its i0 reaches the group through the World (``world_copies``).
 
 So when the World's copies are parked (``world_copies``: a scene that only Eevee or Workbench
 renders, nothing else reading them), the lights groups of the scene that have the loop part
-are parked too: their drivers whose variables read a light or an object move to a *twin*, a
-copy of the group that no material uses (``TWIN_KEY`` points to it), and the group keeps the
-values they had.  A drag then re-evaluates the twin, not the materials.  Whenever something
+are parked too: their drivers whose variables read a light or an object are written down in
+the group's custom property ``PARKED_KEY`` (path, type, expression, variables and their
+targets, the targets as ID pointers, which make no depsgraph relation) and removed; the
+sockets keep the values they had.  A drag then re-evaluates no material.  Whenever something
 could read the per-light part (the engine switched to Cycles, a render or bake by such an
-engine, a save, a reader of the World's copies), the drivers move back and the twin goes
-(:func:`make_live`): the same moments as the World's copies, by the same handlers.
+engine, a save, a reader of the World's copies), the drivers are made again from what was
+written (:func:`make_live`): the same moments as the World's copies, by the same handlers.
+Nothing is added to or removed from ``bpy.data`` either way, so it is safe in ``render_pre``.
 
 Nothing here runs before 5.3: there Eevee compiles the per-light part.
 """
@@ -25,11 +27,11 @@ from __future__ import annotations
 
 import bpy
 
-#: Custom property of a parked lights group: its twin (an ID pointer), which holds the
-#: drivers it lent.
-TWIN_KEY = "phong_parked_drivers"
-#: Custom property of a twin (so that a twin whose group is gone is found and removed).
-TWIN_MARK = "phong_parked_twin"
+#: Custom property of a parked lights group: its drivers of lights, written down.
+PARKED_KEY = "phong_parked_drivers"
+#: What is written down of a driver variable's target.
+_TARGET_ATTRS = ("id_type", "data_path", "transform_type", "transform_space", "rotation_mode",
+                 "bone_target")
 
 
 def _reads_the_lights(fcurve) -> bool:
@@ -47,62 +49,85 @@ def light_fcurves(tree) -> list:
 
 
 def is_parked(tree) -> bool:
-    return isinstance(tree.get(TWIN_KEY), bpy.types.NodeTree)
+    return PARKED_KEY in tree.keys()
+
+
+def _written(fcurve) -> dict:
+    driver = fcurve.driver
+    variables = []
+    for variable in driver.variables:
+        targets = []
+        for target in list(variable.targets)[:_TARGET_COUNT.get(variable.type, 1)]:
+            values = {attr: getattr(target, attr) for attr in _TARGET_ATTRS
+                      if hasattr(target, attr)}
+            if target.id is not None:
+                values["id"] = target.id
+            targets.append(values)
+        variables.append({"name": variable.name, "type": variable.type, "targets": targets})
+    return {"path": fcurve.data_path, "index": fcurve.array_index, "type": driver.type,
+            "expression": driver.expression, "variables": variables}
+
+
+#: How many targets each variable type uses.
+_TARGET_COUNT = {"SINGLE_PROP": 1, "TRANSFORMS": 1, "CONTEXT_PROP": 1, "ROTATION_DIFF": 2,
+                 "LOC_DIFF": 2}
+
+
+def _make(anim, written) -> bool:
+    """The driver *written* made again on *anim*; False where its path no longer resolves
+    (the group was rebuilt meanwhile)."""
+    try:
+        fcurve = anim.drivers.new(written["path"], index=int(written["index"]))
+    except (RuntimeError, TypeError):
+        return False
+    for modifier in list(fcurve.modifiers):
+        fcurve.modifiers.remove(modifier)
+    driver = fcurve.driver
+    driver.type = written["type"]
+    driver.expression = written["expression"]
+    for values in written["variables"]:
+        variable = driver.variables.new()
+        variable.name = values["name"]
+        variable.type = values["type"]
+        for target, attrs in zip(variable.targets, values["targets"]):
+            if "id_type" in attrs and variable.type == "SINGLE_PROP":
+                target.id_type = attrs["id_type"]
+            if "id" in attrs:
+                target.id = attrs["id"]
+            for attr in _TARGET_ATTRS[1:]:
+                if attr in attrs:
+                    setattr(target, attr, attrs[attr])
+    return True
 
 
 def park(tree) -> int:
-    """Move *tree*'s drivers of lights to a twin (their values stay on the group's sockets);
-    returns how many moved."""
+    """Write down and remove *tree*'s drivers of lights (their values stay on the group's
+    sockets); returns how many."""
     if is_parked(tree):
         return 0
     lent = light_fcurves(tree)
     if not lent:
         return 0
-    twin = tree.copy()  # carries every driver; no material uses it
-    for key in list(twin.keys()):
-        del twin[key]  # not a lights group of any scene, reading no World key
-    twin[TWIN_MARK] = 1
-    twin.name = f"{tree.name} (parked drivers)"
-    tree[TWIN_KEY] = twin
+    tree[PARKED_KEY] = [_written(fc) for fc in lent]
     for fcurve in lent:
         tree.animation_data.drivers.remove(fcurve)
     return len(lent)
 
 
-def make_live(tree, drop_twin: bool = True) -> int:
-    """Give *tree* its drivers of lights back from its twin and remove the twin (*drop_twin*
-    False: leave it to :func:`prune_twins`, for ``render_pre`` and ``save_pre``, where removing
-    an ID crashes the render that follows; a twin nothing uses is not saved either); returns
-    how many came back."""
-    twin = tree.get(TWIN_KEY)
-    if twin is None:
+def make_live(tree) -> int:
+    """Make *tree*'s parked drivers again (with the lights' values of now, at the next
+    depsgraph update); returns how many."""
+    if not is_parked(tree):
         return 0
-    del tree[TWIN_KEY]
-    if not isinstance(twin, bpy.types.NodeTree):
-        return 0
+    written = [w.to_dict() if hasattr(w, "to_dict") else dict(w) for w in tree[PARKED_KEY]]
+    del tree[PARKED_KEY]
     anim = tree.animation_data or tree.animation_data_create()
     have = {(fc.data_path, fc.array_index) for fc in anim.drivers}
-    back = 0
-    for fcurve in light_fcurves(twin):
-        if (fcurve.data_path, fcurve.array_index) not in have:
-            anim.drivers.from_existing(src_driver=fcurve)
-            back += 1
-    if drop_twin:
-        bpy.data.node_groups.remove(twin)
-    return back
+    made = 0
+    for item in written:
+        if (item["path"], int(item["index"])) not in have and _make(anim, item):
+            made += 1
+    return made
 
 
-def prune_twins() -> int:
-    """Remove the twins whose group is gone or no longer parked (a relink replaced it);
-    returns how many."""
-    kept = {tree.get(TWIN_KEY).as_pointer() for tree in bpy.data.node_groups
-            if is_parked(tree)}
-    doomed = [t for t in bpy.data.node_groups
-              if t.get(TWIN_MARK) and t.as_pointer() not in kept]
-    for twin in doomed:
-        bpy.data.node_groups.remove(twin)
-    return len(doomed)
-
-
-__all__ = ["TWIN_KEY", "TWIN_MARK", "is_parked", "light_fcurves", "make_live", "park",
-           "prune_twins"]
+__all__ = ["PARKED_KEY", "is_parked", "light_fcurves", "make_live", "park"]

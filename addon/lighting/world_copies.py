@@ -31,8 +31,8 @@ They are parked by a light drag in Eevee (the relink handler tells one): by then
 depsgraph has evaluated their drivers, so a parked value is the light's transform then.
 
 The scene's lights groups with the loop part park and come back with the copies: their
-drivers of lights move to a twin (``parked_drivers.py``), so that a Power or colour dragged in
-Eevee re-evaluates no material either.
+drivers of lights are written down and removed (``parked_drivers.py``), so that a Power or
+colour dragged in Eevee re-evaluates no material either.
 
 Nothing here runs before 5.3 (``compat.HAS_LIGHT_LOOP``): there Eevee reads the copies.
 """
@@ -342,15 +342,10 @@ def _live_if_read(world) -> None:
         _groups_live(scene)
 
 
-def _groups_live(scene, handler: bool = False) -> int:
-    """The parked lights groups of *scene* live again (``parked_drivers``); the twins of
-    groups a relink replaced removed (*handler*: ``render_pre`` or ``save_pre``, where no ID
-    may be removed: the twins wait for the next drag or relink)."""
-    back = sum(parked_drivers.make_live(tree, drop_twin=not handler)
-               for tree in ownership.groups_of(scene) if parked_drivers.is_parked(tree))
-    if not handler:
-        parked_drivers.prune_twins()
-    return back
+def _groups_live(scene) -> int:
+    """The parked lights groups of *scene* live again (``parked_drivers``)."""
+    return sum(parked_drivers.make_live(tree) for tree in ownership.groups_of(scene)
+               if parked_drivers.is_parked(tree))
 
 
 
@@ -366,7 +361,6 @@ def follow(scene) -> None:
         _live_if_read(world)
         if world is None or not can_park(world):
             _groups_live(scene)
-        parked_drivers.prune_twins()
 
 
 def follow_readers() -> None:
@@ -399,7 +393,6 @@ def on_drag(scene) -> None:
             park(world)
         for tree in groups:
             parked_drivers.park(tree)
-        parked_drivers.prune_twins()
 
 
 @persistent
@@ -416,7 +409,7 @@ def before_render(scene=None, *_args) -> None:
             return
     world = getattr(scene, "world", None)
     if scene.render.engine not in LOOP_ENGINES:
-        _groups_live(scene, handler=True)
+        _groups_live(scene)
     if world is None or world.library is not None:
         return
     if scene.render.engine not in LOOP_ENGINES and not is_live(world):
@@ -432,8 +425,8 @@ def before_save(*_args) -> None:
     for world in bpy.data.worlds:
         if world.library is None and not is_live(world):
             make_live(world)
-    for scene in bpy.data.scenes:  # the lights groups' drivers too (a twin, unused, is not
-        _groups_live(scene, handler=True)  # written)
+    for scene in bpy.data.scenes:  # the lights groups' drivers too
+        _groups_live(scene)
 
 
 HANDLERS = (("render_pre", before_render), ("object_bake_pre", before_render),
