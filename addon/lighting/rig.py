@@ -73,7 +73,7 @@ import bpy
 
 from ...node_groups import library, models
 from .. import compat, loader
-from . import drivers, ownership, properties
+from . import drivers, ownership, parked_drivers, properties
 from . import loop as light_loop
 from . import shadows as shadow_rays
 from . import world_copies
@@ -218,6 +218,8 @@ def build(tree, lights, world, model=MODELS[0], loop=False, lookups=None,
     are shadowed, the Shader (what Eevee shows where it shows the group) is not."""
     loop = loop and light_loop.supports(model)
     shadows = shadows and shadow_rays.supported()
+    if parked_drivers.PARKED_KEY in tree.keys():  # written afresh: every driver live
+        del tree[parked_drivers.PARKED_KEY]
     _interface(tree)
     if lookups is None:
         lookups = compat.view_layer_lookups(loop)
