@@ -23,7 +23,7 @@ import bpy
 
 from . import loader
 from .lighting import forwarding as lighting_forwarding
-from .lighting import materials, properties, sync
+from .lighting import opacity, properties, sync
 from .shading import forwarding as shading_forwarding
 from .shading import modes
 from .shading import properties as shading_properties
@@ -49,7 +49,7 @@ def connect(on: bool = True) -> None:
       (the switch rebuilds the scene's lights groups; the settings never import the sync
       that builds on them);
     * ``shading.forwarding`` (the Shading's and Opacity's setters, which hold no ``bpy``):
-      ``shading.modes.update`` and ``lighting.materials.set_opacity``.
+      ``shading.modes.update`` and ``lighting.opacity.set_opacity``.
     """
     if modes.refresh in sync.AFTER_FINISH:
         sync.AFTER_FINISH.remove(modes.refresh)
@@ -57,7 +57,7 @@ def connect(on: bool = True) -> None:
         sync.AFTER_FINISH.append(modes.refresh)
     lighting_forwarding.set_model_callback(sync.relink_scene if on else None)
     shading_forwarding.set_callback(modes.update if on else None)
-    shading_forwarding.set_opacity_callback(materials.set_opacity if on else None)
+    shading_forwarding.set_opacity_callback(opacity.set_opacity if on else None)
 
 
 def register():

@@ -119,7 +119,7 @@ def _artist(bpy, name, objects, n_lights):
 def run(objects: int, n_lights: int, moves: int) -> dict:
     bpy = worker_setup()
     from phong_nodes.addon import compat  # noqa: PLC0415
-    from phong_nodes.addon.lighting import materials  # noqa: PLC0415
+    from phong_nodes.addon.lighting import opacity, recipe, sources  # noqa: PLC0415
 
     load_before = os.getloadavg()
     scene, meshes, lights, view_layer = _artist(bpy, "light_move", objects, n_lights)
@@ -140,12 +140,12 @@ def run(objects: int, n_lights: int, moves: int) -> dict:
     compat.VIEW_LAYER_LOOKUPS = 0  # the previous rig: every transform driven in the group
     try:
         out["relink_s"]["previous"] = _relink(bpy, scene, view_layer)
-        for material in materials.phong_materials():  # and the source as an ID pointer
-            material[materials.SOURCE_KEY] = materials.source_of(material)
+        for material in recipe.phong_materials():  # and the source as an ID pointer
+            material[sources.SOURCE_KEY] = sources.source_of(material)
         view_layer.update()
         out["update_s"]["previous"] = _measure(bpy, view_layer, lights, moves)
-        for material in materials.phong_materials():
-            material[materials.SOURCE_KEY] = material[materials.SOURCE_KEY].name
+        for material in recipe.phong_materials():
+            material[sources.SOURCE_KEY] = material[sources.SOURCE_KEY].name
     finally:
         compat.VIEW_LAYER_LOOKUPS = saved
     _relink(bpy, scene, view_layer)
@@ -269,10 +269,10 @@ def run_parts(objects: int, n_lights: int, moves: int, passes: int) -> dict:
     Apply leaves it, Phong without the World's drivers (the World no longer updates on a
     drag; Cycles would then render stale transforms), without the extension's depsgraph
     handlers of the lights (``sync.on_depsgraph_update``, ``loop.follow_lights``,
-    ``materials.follow_opacity``), and without both.  Also Principled before Apply
+    ``opacity.follow_opacity``), and without both.  Also Principled before Apply
     ("principled_fresh": what ``run_each`` compares with) and the handlers' own time."""
     bpy = worker_setup()
-    from phong_nodes.addon.lighting import loop, materials, sync, world_copies  # noqa: PLC0415
+    from phong_nodes.addon.lighting import loop, opacity, recipe, sources, sync, world_copies  # noqa: PLC0415
 
     load_before = os.getloadavg()
     scene, meshes, lights, view_layer = _artist(bpy, "light_parts", objects, n_lights)
@@ -289,7 +289,7 @@ def run_parts(objects: int, n_lights: int, moves: int, passes: int) -> dict:
             if (key := world_copies.world_key(obj, kind)) in world.keys()]
     handlers = bpy.app.handlers.depsgraph_update_post
     ours = [h for h in handlers
-            if h in (materials.follow_opacity, loop.follow_lights, sync.on_depsgraph_update)]
+            if h in (opacity.follow_opacity, loop.follow_lights, sync.on_depsgraph_update)]
     state = {"materials": "phong", "world": True, "handlers": True}
 
     def case(name):

@@ -562,14 +562,14 @@ def distinct_layouts(scene):
     """Give every Phong material of *scene* its own node layout without changing a value:
     material k gets a chain of k Math ADD 0 nodes on its Exponent (a shader per material,
     what a recipe that wires per-object values into each material would compile)."""
-    from phong_nodes.addon.lighting import materials  # noqa: PLC0415
+    from phong_nodes.addon.lighting import recipe  # noqa: PLC0415
 
     found = {slot.material for obj in scene.objects for slot in obj.material_slots
-             if materials.is_phong_material(slot.material)}
+             if recipe.is_phong_material(slot.material)}
     for k, material in enumerate(sorted(found, key=lambda m: m.name), start=1):
         tree = material.node_tree
         socket = tree.nodes["phong_exponent"].outputs[0]
-        target = tree.nodes[materials.LIGHTS_NODE].inputs["Exponent"]
+        target = tree.nodes[recipe.LIGHTS_NODE].inputs["Exponent"]
         for _ in range(k):
             add = tree.nodes.new("ShaderNodeMath")
             add.operation = "ADD"

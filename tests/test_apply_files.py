@@ -68,7 +68,7 @@ def plain_file(bpy_clean, tmp_path):
 def test_apply_converts_every_scene_into_a_new_file_that_compares_ok(bpy_clean, plain_file,
                                                                       tmp_path):
     bpy = bpy_clean
-    from phong_nodes.addon.lighting import materials  # noqa: PLC0415
+    from phong_nodes.addon.lighting import recipe  # noqa: PLC0415
     path, digest = plain_file
     out = tmp_path / "made" / "phong.blend"
     result = run_cli(tmp_path, "apply", str(path), "-o", str(out))
@@ -85,7 +85,7 @@ def test_apply_converts_every_scene_into_a_new_file_that_compares_ok(bpy_clean, 
     bpy.ops.wm.open_mainfile(filepath=str(out))
     for name in SCENES:
         ball = bpy.data.objects[f"{name} ball"]
-        assert materials.is_phong_material(ball.material_slots[0].material), name
+        assert recipe.is_phong_material(ball.material_slots[0].material), name
     assert "Artist's layout" in bpy.data.workspaces, "the file's own workspaces are kept"
     # relative paths remapped to OUT.blend's folder: the image is still found
     image = bpy.data.images["paint"]

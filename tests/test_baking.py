@@ -161,7 +161,7 @@ def test_vertex_bake_of_a_checker_texture_on_object_color(bpy_clean):
     checker's colour there, worked out here from Blender's checker formula."""
     bpy = bpy_clean
     from phong_nodes.addon.baking import lighting  # noqa: PLC0415
-    from phong_nodes.addon.lighting import materials  # noqa: PLC0415
+    from phong_nodes.addon.lighting import recipe  # noqa: PLC0415
 
     scene = _build(bpy, "textured")
     objects = _meshes(scene)
@@ -170,8 +170,8 @@ def test_vertex_bake_of_a_checker_texture_on_object_color(bpy_clean):
     for obj in objects:
         tree = lighting.phong_material(obj, 0).node_tree
         checker = next(n for n in tree.nodes if n.bl_idname == "ShaderNodeTexChecker")
-        lights = tree.nodes[materials.LIGHTS_NODE]
-        for name in ("Object Color", materials.AMBIENT_INPUT):
+        lights = tree.nodes[recipe.LIGHTS_NODE]
+        for name in ("Object Color", recipe.AMBIENT_INPUT):
             assert lights.inputs[name].links[0].from_node == checker, name
         co = np.array([v.co for v in obj.data.vertices], np.float64)
         color, clear = _checker(co, checker)

@@ -654,9 +654,9 @@ def test_export_of_a_blender_scene_writes_the_controls_and_says_what_it_cannot(b
     nodes["phong_specular_color"].outputs[0].default_value = (0.7, 0.6, 0.5, 1.0)
     nodes["phong_exponent"].outputs[0].default_value = 42.0
     nodes["phong_blinn"].outputs[0].default_value = 1.0
-    from phong_nodes.addon.lighting import materials  # noqa: PLC0415
+    from phong_nodes.addon.lighting import opacity  # noqa: PLC0415
 
-    materials.set_opacity(material, 0.75)
+    opacity.set_opacity(material, 0.75)
     out = tmp_path / "made.dae"
     from phong_nodes.addon.interchange import collada_export  # noqa: PLC0415
 
@@ -687,7 +687,7 @@ def test_export_of_a_blender_scene_writes_the_controls_and_says_what_it_cannot(b
 def test_opacity_changed_after_import_is_exported(bpy_clean, tmp_path):
     bpy = bpy_clean
     assert bpy.ops.phong.import_collada(filepath=LIT) == {"FINISHED"}
-    from phong_nodes.addon.lighting import materials  # noqa: PLC0415
+    from phong_nodes.addon.lighting import opacity  # noqa: PLC0415
 
     material = bpy.data.materials["Red Paint"]
     out = tmp_path / "kept.dae"
@@ -695,7 +695,7 @@ def test_opacity_changed_after_import_is_exported(bpy_clean, tmp_path):
     (mat,) = collada.load(str(out)).materials.values()
     assert (mat.opaque, mat.transparent, mat.transparency) == ("RGB_ZERO", (0, 0, 0, 1), 0.0), \
         "unchanged: the file's own transparency"
-    materials.set_opacity(material, 0.5)
+    opacity.set_opacity(material, 0.5)
     assert bpy.ops.phong.export_collada(filepath=str(out)) == {"FINISHED"}
     (mat,) = collada.load(str(out)).materials.values()
     assert mat.opacity() == 0.5 and mat.opaque == "A_ONE"

@@ -45,7 +45,8 @@ def _reach(light):
 def test_every_scene_builds_as_an_artist_scene(bpy_clean):
     bpy = bpy_clean
     from phong_nodes.addon.baking import lighting  # noqa: PLC0415
-    from phong_nodes.addon.lighting import materials  # noqa: PLC0415
+    from phong_nodes.addon.lighting import sources  # noqa: PLC0415
+    from phong_nodes.addon.lighting import recipe as phong_recipe
     from phong_nodes.core import scenes  # noqa: PLC0415
     mine = bpy.data.scenes[0]
     mine_objects = len(mine.objects)
@@ -83,15 +84,15 @@ def test_every_scene_builds_as_an_artist_scene(bpy_clean):
             if obj_data["bake"]:  # shown baked; its Phong material is kept
                 assert material.name == f"Phong Bake {obj.name}", name
                 material = lighting.phong_material(obj, 0)
-            assert materials.is_phong_material(material), name
-            assert materials.source_of(material) is not None, "the original is kept"
+            assert phong_recipe.is_phong_material(material), name
+            assert sources.source_of(material) is not None, "the original is kept"
             nodes = material.node_tree.nodes
             exponent = nodes["phong_exponent"].outputs[0].default_value
             assert exponent == pytest.approx(obj_data["material"]["exponent"])
             if obj_data["material"]["shading"] != "pixel":  # its own nodes (test_shading_modes)
                 assert material["phong_shading"] == obj_data["material"]["shading"].upper()
             elif obj_data["material"]["texture"] is None:
-                group = nodes[materials.LIGHTS_NODE].node_tree.name
+                group = nodes[phong_recipe.LIGHTS_NODE].node_tree.name
                 layouts.setdefault(group, set()).add(repr(_layout(material)))
         assert all(len(v) == 1 for v in layouts.values()), \
             f"{name}: untextured materials of one light set share one layout (one shader)"
@@ -228,11 +229,12 @@ def _settings(scene):
 @pytest.mark.eevee
 def test_a_scene_made_by_hand_compares_ok_by_operator_and_cli(bpy_clean, tmp_path):
     bpy = bpy_clean
-    from phong_nodes.addon.lighting import materials  # noqa: PLC0415
+    from phong_nodes.addon.lighting import sources  # noqa: PLC0415
+    from phong_nodes.addon.lighting import recipe as phong_recipe
     scene = _hand_made_scene(bpy)
     settings = _settings(scene)
-    groups = {m.name: m.node_tree.nodes[materials.LIGHTS_NODE].node_tree.name
-              for m in materials.phong_materials()}
+    groups = {m.name: m.node_tree.nodes[phong_recipe.LIGHTS_NODE].node_tree.name
+              for m in phong_recipe.phong_materials()}
     assert len(set(groups.values())) == 2, "the point light's link makes a second light set"
     with bpy.context.temp_override(scene=scene):
         assert bpy.ops.phong.compare_scene(directory=str(tmp_path / "op")) == {"FINISHED"}
@@ -249,8 +251,8 @@ def test_a_scene_made_by_hand_compares_ok_by_operator_and_cli(bpy_clean, tmp_pat
     assert spot["position"] != pytest.approx([0.5, 0.0, 1.0]), "the parent's transform counts"
     # everything the comparison changed is back
     assert _settings(scene) == settings
-    assert {m.name: m.node_tree.nodes[materials.LIGHTS_NODE].node_tree.name
-            for m in materials.phong_materials()} == groups
+    assert {m.name: m.node_tree.nodes[phong_recipe.LIGHTS_NODE].node_tree.name
+            for m in phong_recipe.phong_materials()} == groups
     assert not [g for g in bpy.data.node_groups if g.name.endswith("(probe)")]
     assert not [f for f in os.listdir(tmp_path / "op") if f.startswith(".")]
 

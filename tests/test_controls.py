@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Two controls the COLLADA and FBX importers set: a Phong material's Opacity
-(``materials.set_opacity``, MTL ``d``) and a light's power falloff i0/d^k
+(``opacity_nodes.set_opacity``, MTL ``d``) and a light's power falloff i0/d^k
 (``light["phong_falloff"] = "POWER"``, ``light["phong_power_k"]``).
 
 Rendered pixels against the numpy reference, worked out here: the blend
@@ -36,7 +36,8 @@ def _ref():
 
 
 def _materials():
-    from phong_nodes.addon.lighting import materials  # noqa: PLC0415  (needs bpy)
+    from phong_nodes.addon.lighting import recipe, writer  # noqa: PLC0415  (needs bpy)
+    from phong_nodes.addon.lighting import opacity as opacity_nodes
 
     return materials
 
@@ -149,7 +150,7 @@ def test_opacity_blends_the_phong_colour_over_what_is_behind(bpy_clean, blender_
     assert nodes["phong_opacity"].outputs[0].default_value == 1.0
     assert nodes["phong_opacity"].parent == nodes["phong_controls"]
     opaque_links = sorted((l.from_node.name, l.to_node.name) for l in material.node_tree.links)
-    assert materials.set_opacity(material, opacity) == pytest.approx(opacity)
+    assert opacity_nodes.set_opacity(material, opacity) == pytest.approx(opacity)
     assert material.surface_render_method == "BLENDED"
     passes, cycles_s = render(bpy, scene, str(blender_tmp / f"opacity_{opacity}_cycles.exr"))
     combined, phong, front_px, back_px = _blend_reference(scene, back, front, point, opacity,
@@ -168,7 +169,7 @@ def test_opacity_blends_the_phong_colour_over_what_is_behind(bpy_clean, blender_
     assert err_aov <= CY_TOL, "Cycles' AOVs keep the front's unblended Phong values"
     assert share >= EEVEE_SHARE
     # back to opaque: the recipe's nodes and links exactly as before, Eevee's default method
-    materials.set_opacity(material, 1.0)
+    opacity_nodes.set_opacity(material, 1.0)
     assert "phong_opacity_mix" not in nodes and "phong_opacity_transparent" not in nodes
     assert sorted((l.from_node.name, l.to_node.name) for l in material.node_tree.links) == \
         opaque_links
@@ -180,14 +181,14 @@ def test_opacity_is_clamped_and_bad_values_are_refused(bpy_clean):
     materials = _materials()
     _scene_, _back, front, _point = _opacity_scene(bpy, "cycles")
     material = front.active_material
-    assert materials.set_opacity(material, 1.7) == 1.0 and materials.opacity(material) == 1.0
+    assert opacity_nodes.set_opacity(material, 1.7) == 1.0 and recipe.opacity(material) == 1.0
     assert "phong_opacity_mix" not in material.node_tree.nodes
-    assert materials.set_opacity(material, -2) == 0.0 and materials.opacity(material) == 0.0
+    assert opacity_nodes.set_opacity(material, -2) == 0.0 and recipe.opacity(material) == 0.0
     assert "phong_opacity_mix" in material.node_tree.nodes
     for bad in (float("nan"), "half", None):
         with pytest.raises(ValueError, match="opacity must be a number"):
-            materials.set_opacity(material, bad)
-    assert materials.opacity(material) == 0.0, "a refused value changes nothing"
+            opacity_nodes.set_opacity(material, bad)
+    assert recipe.opacity(material) == 0.0, "a refused value changes nothing"
 
 
 @pytest.mark.slow
@@ -199,8 +200,8 @@ def test_an_opaque_material_renders_as_before(bpy_clean, blender_tmp):
     scene, _back, front, _point = _opacity_scene(bpy, "eevee")
     _eevee(scene, keep=("Phong Color",))
     before, _s = render(bpy, scene, str(blender_tmp / "opaque_before.exr"))
-    materials.set_opacity(front.active_material, 0.3)
-    materials.set_opacity(front.active_material, 1.0)
+    opacity_nodes.set_opacity(front.active_material, 0.3)
+    opacity_nodes.set_opacity(front.active_material, 1.0)
     after, _s = render(bpy, scene, str(blender_tmp / "opaque_after.exr"))
     assert np.array_equal(before["Combined"], after["Combined"])
     assert np.array_equal(before["Phong Color"], after["Phong Color"])
@@ -211,8 +212,8 @@ def test_relink_and_edits_of_the_control_keep_the_nodes_in_step(bpy_clean):
     materials = _materials()
     _scene_, _back, front, _point = _opacity_scene(bpy, "cycles")
     material = front.active_material
-    materials.set_opacity(material, 0.4)
-    materials.wire(material, material.node_tree.nodes["phong_lights"].node_tree)
+    opacity_nodes.set_opacity(material, 0.4)
+    writer.wire(material, material.node_tree.nodes["phong_lights"].node_tree)
     surface = material.node_tree.nodes["phong_output"].inputs["Surface"]
     assert surface.links[0].from_node.name == "phong_opacity_mix"
     assert bpy.ops.phong.relink_lights() == {"FINISHED"}
@@ -263,7 +264,7 @@ def test_mtl_d_imports_as_opacity_and_exports_as_d(bpy_clean, tmp_path, capfd):
     logged = "".join(capfd.readouterr())
     assert "transparency" not in logged, logged
     materials = _materials()
-    got = {name: materials.opacity(bpy.data.materials[name])
+    got = {name: recipe.opacity(bpy.data.materials[name])
            for name in ("glass", "window", "wall")}
     assert got == {"glass": 0.5, "window": 0.75, "wall": 1.0}
     assert bpy.data.materials["glass"].surface_render_method == "BLENDED"
@@ -424,7 +425,7 @@ def test_saved_file_reopens_and_renders_the_same(bpy_clean, blender_tmp, tmp_pat
     bpy = bpy_clean
     materials = _materials()
     scene, back, front, point = _opacity_scene(bpy, "cycles")
-    materials.set_opacity(front.active_material, 0.5)
+    opacity_nodes.set_opacity(front.active_material, 0.5)
     _set_power(bpy, point, 1.5)
     before, _s = render(bpy, scene, str(blender_tmp / "saved_before.exr"))
     path, name = str(tmp_path / "controls.blend"), scene.name
@@ -432,7 +433,7 @@ def test_saved_file_reopens_and_renders_the_same(bpy_clean, blender_tmp, tmp_pat
     bpy.ops.wm.open_mainfile(filepath=path)
     scene = bpy.data.scenes[name]
     material = bpy.data.objects["Front"].active_material
-    assert materials.opacity(material) == 0.5
+    assert recipe.opacity(material) == 0.5
     assert bpy.data.lights["Point"]["phong_falloff"] == "POWER"
     after, _s = render(bpy, scene, str(blender_tmp / "saved_after.exr"))
     assert np.abs(after["Combined"] - before["Combined"]).max() <= 1e-6

@@ -117,7 +117,9 @@ WORLD = (0.5, (0.2, 0.4, 0.6))   # Phong ambient intensity, colour
 def _hand_scene(bpy):
     """Four planes with the Phong materials of MATERIALS (through Apply Phong Material), one
     with a Principled material beside them, the lights of LIGHTS, the World's ambient."""
-    from phong_nodes.addon.lighting import materials  # noqa: PLC0415
+    from phong_nodes.addon.lighting import recipe, writer  # noqa: PLC0415
+    from phong_nodes.addon.lighting import feeds as feed_reader
+    from phong_nodes.addon.lighting import opacity as opacity_nodes
 
     scene = bpy.context.scene
     world = bpy.data.worlds.new("World")
@@ -157,12 +159,12 @@ def _hand_scene(bpy):
         nodes["phong_exponent"].outputs[0].default_value = exponent
         nodes["phong_blinn"].outputs[0].default_value = blinn
         nodes["phong_irradiant_color"].outputs[0].default_value = (*ke, 1.0)
-        materials.set_opacity(material, opacity)
+        opacity_nodes.set_opacity(material, opacity)
         if name in AMBIENT_KA:
-            node = materials.color_control(material.node_tree, materials.AMBIENT_CONTROL,
+            node = writer.color_control(material.node_tree, recipe.AMBIENT_CONTROL,
                                            AMBIENT_KA[name])
-            material.node_tree.links.new(node.outputs[0], nodes[materials.LIGHTS_NODE].inputs[
-                materials.AMBIENT_INPUT])
+            material.node_tree.links.new(node.outputs[0], nodes[recipe.LIGHTS_NODE].inputs[
+                recipe.AMBIENT_INPUT])
         made[name] = material
     return planes, made
 
@@ -329,8 +331,10 @@ def test_peers_read_the_export(bpy_clean, tmp_path):
 
 
 def _controls(material):
-    from phong_nodes.addon.lighting import materials
-    return {k: f.value for k, f in materials.feeds(material).items()}
+    from phong_nodes.addon.lighting import recipe, writer
+    from phong_nodes.addon.lighting import feeds as feed_reader
+    from phong_nodes.addon.lighting import opacity as opacity_nodes
+    return {k: f.value for k, f in feed_reader.feeds(material).items()}
 
 
 @pytest.mark.slow
@@ -406,8 +410,10 @@ def test_selection_only_and_a_failed_rewrite_leaves_the_file(bpy_clean, tmp_path
 
 
 def _scene_controls(bpy):
-    from phong_nodes.addon.lighting import materials, properties
-    mats = {m.name: _controls(m) for m in bpy.data.materials if materials.is_phong_material(m)}
+    from phong_nodes.addon.lighting import properties, recipe, writer
+    from phong_nodes.addon.lighting import feeds as feed_reader
+    from phong_nodes.addon.lighting import opacity as opacity_nodes
+    mats = {m.name: _controls(m) for m in bpy.data.materials if recipe.is_phong_material(m)}
     lights = {l.name: ({attr: float(l.get(key, default))
                         for attr, (key, default) in properties.LIGHT_KEYS.items()},
                        properties.falloff_of(l), l.type, tuple(l.color))
@@ -604,7 +610,9 @@ def _textured_scene(bpy, folder):
     chain: a Vector Math Multiply of the control and an Image Texture) and Irradiant Color =
     another image alone; the images are PNG files in *folder*."""
     from phong_nodes.addon import compat
-    from phong_nodes.addon.lighting import materials
+    from phong_nodes.addon.lighting import recipe, writer
+    from phong_nodes.addon.lighting import feeds as feed_reader
+    from phong_nodes.addon.lighting import opacity as opacity_nodes
     images = {}
     for key, rgb in (("diffuse", (0.2, 0.8, 0.4)), ("glow", (0.5, 0.1, 0.9))):
         image = bpy.data.images.new(key, 2, 2)
@@ -624,7 +632,7 @@ def _textured_scene(bpy, folder):
     assert bpy.ops.phong.apply_material() == {"FINISHED"}
     material = obj.material_slots[0].material
     tree = material.node_tree
-    lights = tree.nodes[materials.LIGHTS_NODE]
+    lights = tree.nodes[recipe.LIGHTS_NODE]
     control = tree.nodes["phong_object_color"]
     control.outputs[0].default_value = (0.5, 0.25, 1.0, 1.0)
     texture = tree.nodes.new("ShaderNodeTexImage")
@@ -672,8 +680,10 @@ def test_image_textures_are_written_and_read_back(bpy_clean, tmp_path):
     np.testing.assert_allclose(props["EmissiveColor"][2], (1.0, 1.0, 1.0), atol=0)
     be.reset_empty_file()
     assert bpy.ops.phong.import_fbx(filepath=path) == {"FINISHED"}
-    from phong_nodes.addon.lighting import materials
-    feeds = materials.feeds(bpy.data.materials[name])
+    from phong_nodes.addon.lighting import recipe, writer
+    from phong_nodes.addon.lighting import feeds as feed_reader
+    from phong_nodes.addon.lighting import opacity as opacity_nodes
+    feeds = feed_reader.feeds(bpy.data.materials[name])
     assert feeds["Object Color"].value == pytest.approx((0.5, 0.25, 1.0))
     assert bpy.path.basename(feeds["Object Color"].texture.image.filepath) == "diffuse.png"
     assert feeds["Irradiant Color"].value == pytest.approx((1.0, 1.0, 1.0))
@@ -727,7 +737,9 @@ def _ufbx_textures(path):
 
 
 def _tile(bpy, name):
-    from phong_nodes.addon.lighting import materials
+    from phong_nodes.addon.lighting import recipe, writer
+    from phong_nodes.addon.lighting import feeds as feed_reader
+    from phong_nodes.addon.lighting import opacity as opacity_nodes
     mesh = bpy.data.meshes.new(name)
     mesh.from_pydata([(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0)], [], [(0, 1, 2, 3)])
     mesh.uv_layers.new(name="UVMap")
@@ -740,7 +752,7 @@ def _tile(bpy, name):
     bpy.context.view_layer.objects.active = obj
     assert bpy.ops.phong.apply_material() == {"FINISHED"}
     material = obj.material_slots[0].material
-    materials.set_opacity(material, 1.0)
+    opacity_nodes.set_opacity(material, 1.0)
     material.name = name
     return material
 
@@ -769,7 +781,9 @@ def test_every_map_is_written_and_read_back(bpy_clean, tmp_path):
     bpy = bpy_clean
     from phong_nodes.addon import compat
     from phong_nodes.addon.interchange import fbx_export, native
-    from phong_nodes.addon.lighting import materials
+    from phong_nodes.addon.lighting import recipe, writer
+    from phong_nodes.addon.lighting import feeds as feed_reader
+    from phong_nodes.addon.lighting import opacity as opacity_nodes
     folder = str(tmp_path / "textures")
     os.makedirs(folder)
     shiny = _tile(bpy, "Shiny")
@@ -781,11 +795,11 @@ def test_every_map_is_written_and_read_back(bpy_clean, tmp_path):
     native.exponent_map(shiny, rough)
     lost = _png(bpy, folder, "lost", (0.9, 0.1, 0.1, 1.0), keep=False)   # file not there
     node = native.image_node(tree, "lost", lost, (-1400.0, 0.0))
-    tree.links.new(node.outputs["Color"], tree.nodes[materials.LIGHTS_NODE].inputs[
+    tree.links.new(node.outputs["Color"], tree.nodes[recipe.LIGHTS_NODE].inputs[
         "Object Color"])
     # X3D's texture alpha × Opacity, the image packed (an imported PixelTexture)
     leaf = _tile(bpy, "Leaf")
-    materials.set_opacity(leaf, 0.75)
+    opacity_nodes.set_opacity(leaf, 0.75)
     label = _png(bpy, folder, "label", (1.0, 1.0, 1.0, 0.5))
     label.pack()
     os.remove(label.filepath_raw)
@@ -793,7 +807,7 @@ def test_every_map_is_written_and_read_back(bpy_clean, tmp_path):
     alpha = native.image_node(tree, "alpha", label, (-1400.0, 600.0))
     native.opacity_map(leaf, native.math(
         tree, native.MAP_NODE + "alpha x o", "MULTIPLY", alpha.outputs["Alpha"],
-        compat.value_output(tree.nodes[materials.OPACITY]), (-900.0, 600.0)))
+        compat.value_output(tree.nodes[recipe.OPACITY]), (-900.0, 600.0)))
     # COLLADA's RGB_ZERO: 1 − t × mean(texel), a data map
     veil = _tile(bpy, "Veil")
     mask = _png(bpy, folder, "mask", (0.2, 0.4, 0.6, 1.0))
@@ -825,22 +839,22 @@ def test_every_map_is_written_and_read_back(bpy_clean, tmp_path):
     be.reset_empty_file()
     assert bpy.ops.phong.import_fbx(filepath=path) == {"FINISHED"}
     shiny, leaf, veil = (bpy.data.materials[n] for n in ("Shiny", "Leaf", "Veil"))
-    feeds = materials.feeds(shiny)
+    feeds = feed_reader.feeds(shiny)
     assert feeds["Exponent"].value == 64.0
     form = fbx_export._walk(feeds["Exponent"].socket)
     assert form[0] == "prod" and form[1] == 64.0 and \
         form[2][0][1].image.filepath.endswith("rough.png")
-    feeds = materials.feeds(leaf)
+    feeds = feed_reader.feeds(leaf)
     assert feeds["Opacity"].value == pytest.approx(0.75)
     form = fbx_export._walk(compat.output_socket(feeds["Opacity"].other, "Value"))
     assert form[:2] == ("prod", pytest.approx(0.75)) and form[2][0][0] == "alpha"
     assert bpy.path.basename(form[2][0][1].image.filepath) == "label.png"
-    feeds = materials.feeds(veil)
+    feeds = feed_reader.feeds(veil)
     form = fbx_export._walk(compat.output_socket(feeds["Opacity"].other, "Value"))
     assert form[:2] == ("one_minus", pytest.approx(0.8)) and form[2][0][0] == "mean"
     assert bpy.path.basename(form[2][0][1].image.filepath) == "mask.png"
     # the missing colour map: left out of the picture, its reference kept for the export
-    assert materials.feeds(shiny)["Object Color"].texture is None
+    assert feed_reader.feeds(shiny)["Object Color"].texture is None
     assert not [i.name for i in bpy.data.images if i.filepath.endswith("lost.png")]
     again = tmp_path / "again"
     again.mkdir()
@@ -907,9 +921,11 @@ def test_an_x3d_files_pixel_textures_are_fbx_maps(bpy_clean, tmp_path):
     # the project's importer: X3D's texels are data (Non-Color), and stay so (NonColor<prop>)
     be.reset_empty_file()
     assert bpy.ops.phong.import_fbx(filepath=path) == {"FINISHED"}
-    from phong_nodes.addon.lighting import materials
+    from phong_nodes.addon.lighting import recipe, writer
+    from phong_nodes.addon.lighting import feeds as feed_reader
+    from phong_nodes.addon.lighting import opacity as opacity_nodes
     for name, image in (("Label", "Checker.png"), ("Paint", "Stripes.png")):
-        feeds = materials.feeds(bpy.data.materials[name])
+        feeds = feed_reader.feeds(bpy.data.materials[name])
         for key in ("Object Color", "Ambient Object Color"):
             node = feeds[key].chain.texture if feeds[key].texture is None else \
                 feeds[key].texture

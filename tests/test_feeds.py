@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""``materials.feeds()``, the one reader of a Phong material that every exporter uses: what
+"""``feeds.feeds()``, the one reader of a Phong material that every exporter uses: what
 feeds each input of the lights group (a value, a texture, the importers' chains), which
 socket feeds it, and the seeds' Ka = Kd (Ambient Object Color fed by Object Color's socket).
 The expected values are the colours the test sets and their products by hand."""
@@ -46,17 +46,18 @@ def _input(node, identifier):
 
 def test_plain_controls_and_the_seeds_ambient(bpy_clean):
     bpy = bpy_clean
-    from phong_nodes.addon.lighting import materials
+    from phong_nodes.addon.lighting import recipe
+    from phong_nodes.addon.lighting import feeds as feed_reader
     material = _phong_material(bpy)
     nodes = material.node_tree.nodes
     nodes["phong_object_color"].outputs[0].default_value = (0.2, 0.4, 0.6, 1.0)
     nodes["phong_exponent"].outputs[0].default_value = 17.0
-    feeds = materials.feeds(material)
+    feeds = feed_reader.feeds(material)
     assert feeds["Object Color"].value == pytest.approx((0.2, 0.4, 0.6))
     assert feeds["Object Color"].other is None and feeds["Object Color"].chain is None
     assert feeds["Exponent"].value == pytest.approx(17.0)
     # the recipe links Ambient Object Color from the socket that feeds Object Color
-    ambient = feeds[materials.AMBIENT_INPUT]
+    ambient = feeds[recipe.AMBIENT_INPUT]
     assert ambient.value == pytest.approx((0.2, 0.4, 0.6))
     assert ambient.socket == feeds["Object Color"].socket
     assert ambient.socket.node.name == "phong_object_color"
@@ -67,24 +68,25 @@ def test_a_texture_on_object_color_and_ambient(bpy_clean):
     """Ambient fed by Object Color's texture is Object Color's feed; fed by a texture of its
     own (no Ambient control in the material) it is its own, not Object Color's."""
     bpy = bpy_clean
-    from phong_nodes.addon.lighting import materials
+    from phong_nodes.addon.lighting import recipe
+    from phong_nodes.addon.lighting import feeds as feed_reader
     material = _phong_material(bpy)
     tree = material.node_tree
-    lights = tree.nodes[materials.LIGHTS_NODE]
+    lights = tree.nodes[recipe.LIGHTS_NODE]
     tree.nodes["phong_object_color"].outputs[0].default_value = (0.3, 0.5, 0.7, 1.0)
     diffuse = _image_node(bpy, tree, "diffuse")
     tree.links.new(diffuse.outputs["Color"], lights.inputs["Object Color"])
-    tree.links.new(diffuse.outputs["Color"], lights.inputs[materials.AMBIENT_INPUT])
-    feeds = materials.feeds(material)
-    colour, ambient = feeds["Object Color"], feeds[materials.AMBIENT_INPUT]
+    tree.links.new(diffuse.outputs["Color"], lights.inputs[recipe.AMBIENT_INPUT])
+    feeds = feed_reader.feeds(material)
+    colour, ambient = feeds["Object Color"], feeds[recipe.AMBIENT_INPUT]
     assert colour.texture.image.name == "diffuse" and colour.other == colour.texture
     assert colour.value == pytest.approx((0.3, 0.5, 0.7)), "the control's colour is stated"
     assert ambient.other is colour.other and ambient.texture is colour.texture
     assert ambient.value == pytest.approx((0.3, 0.5, 0.7))
-    assert materials.AMBIENT_CONTROL not in tree.nodes
+    assert recipe.AMBIENT_CONTROL not in tree.nodes
     own = _image_node(bpy, tree, "ambient")
-    tree.links.new(own.outputs["Color"], lights.inputs[materials.AMBIENT_INPUT])
-    ambient = materials.feeds(material)[materials.AMBIENT_INPUT]
+    tree.links.new(own.outputs["Color"], lights.inputs[recipe.AMBIENT_INPUT])
+    ambient = feed_reader.feeds(material)[recipe.AMBIENT_INPUT]
     assert ambient.texture.image.name == "ambient"
     assert ambient.socket != feeds["Object Color"].socket
 
@@ -93,10 +95,11 @@ def test_the_importers_chains(bpy_clean):
     """An X3D import's chains: colour × (texture × colour attribute) on Object Color, a Scale
     of it on Ambient; a product of two colours; an unknown node."""
     bpy = bpy_clean
-    from phong_nodes.addon.lighting import materials
+    from phong_nodes.addon.lighting import recipe
+    from phong_nodes.addon.lighting import feeds as feed_reader
     material = _phong_material(bpy)
     tree = material.node_tree
-    lights = tree.nodes[materials.LIGHTS_NODE]
+    lights = tree.nodes[recipe.LIGHTS_NODE]
     texture = _image_node(bpy, tree, "map")
     attribute = tree.nodes.new("ShaderNodeVertexColor")
     attribute.layer_name = "Col"
@@ -110,7 +113,7 @@ def test_the_importers_chains(bpy_clean):
     scale = _vector_math(tree, "SCALE")
     _input(scale, "Scale").default_value = 0.3
     tree.links.new(outer.outputs["Vector"], _input(scale, "Vector"))
-    tree.links.new(scale.outputs["Vector"], lights.inputs[materials.AMBIENT_INPUT])
+    tree.links.new(scale.outputs["Vector"], lights.inputs[recipe.AMBIENT_INPUT])
     product = _vector_math(tree, "MULTIPLY")
     tree.links.new(_rgb(tree, (0.5, 0.5, 0.25)).outputs[0], _input(product, "Vector"))
     tree.links.new(_rgb(tree, (0.4, 1.0, 0.8)).outputs[0], _input(product, "Vector_001"))
@@ -119,7 +122,7 @@ def test_the_importers_chains(bpy_clean):
     mix.data_type = "RGBA"
     tree.links.new(next(s for s in mix.outputs if s.type == "RGBA"),
                    lights.inputs["Irradiant Color"])
-    feeds = materials.feeds(material)
+    feeds = feed_reader.feeds(material)
 
     chain = feeds["Object Color"].chain
     assert chain.colour == pytest.approx((0.5, 0.25, 1.0))
@@ -127,13 +130,46 @@ def test_the_importers_chains(bpy_clean):
     assert chain.attribute.layer_name == "Col"
     assert chain.scale is None and not chain.unknown
     assert feeds["Object Color"].texture is None, "not the importers' colour × map"
-    chain = feeds[materials.AMBIENT_INPUT].chain
+    chain = feeds[recipe.AMBIENT_INPUT].chain
     assert chain.scale == pytest.approx(0.3)
     assert chain.colour == pytest.approx((0.5, 0.25, 1.0))
     assert chain.texture.image.name == "map" and chain.attribute.layer_name == "Col"
-    assert feeds[materials.AMBIENT_INPUT].socket != feeds["Object Color"].socket
+    assert feeds[recipe.AMBIENT_INPUT].socket != feeds["Object Color"].socket
     chain = feeds["Specular Color"].chain
     assert chain.colour == pytest.approx((0.2, 0.5, 0.2))
     assert chain.texture is None and chain.attribute is None and not chain.unknown
     assert feeds["Irradiant Color"].chain.unknown
     assert feeds["Exponent"].chain is None
+
+
+def test_what_the_writer_writes_the_reader_reads_back(bpy_clean):
+    """The round trip of the one writer and the one reader: a new Phong material given
+    values (binary fractions: float32 keeps them exactly) and a map on Specular Color by
+    ``writer.write`` / ``writer.colour_times_map`` reads back through ``feeds`` as those
+    values, the map as the Specular Color's texture, the Ka its own (not Object Color's)."""
+    bpy = bpy_clean
+    from phong_nodes.addon.lighting import recipe, writer
+    from phong_nodes.addon.lighting import feeds as feed_reader
+    group = _phong_material(bpy).node_tree.nodes[recipe.LIGHTS_NODE].node_tree
+    material = writer.new_material("Written", group)
+    colours = {"Object Color": (0.25, 0.5, 0.75), recipe.AMBIENT_INPUT: (0.125, 0.0625, 0.5),
+               "Specular Color": (0.5, 0.375, 0.25), "Irradiant Color": (0.0, 0.125, 0.25)}
+    writer.write(material, writer.Values(colours, exponent=17.5, blinn=1.0,
+                                         specular_strength=0.0, opacity=0.625))
+    image = bpy.data.images.new("specular map", 4, 4)
+    writer.colour_times_map(material, "Specular Color", image, 2)
+    feeds = feed_reader.feeds(material)
+    for target, colour in colours.items():
+        assert feeds[target].value == colour, target
+    assert feeds["Exponent"].value == 17.5 and feeds["Blinn"].value == 1.0
+    assert feeds["Specular Strength"].value == 0.0 and feeds["Opacity"].value == 0.625
+    assert feeds["Specular Color"].texture.image == image
+    assert all(feeds[t].other is None for t in colours if t != "Specular Color")
+    assert feeds[recipe.AMBIENT_INPUT].socket != feeds["Object Color"].socket
+    assert recipe.blends(material), "an opacity below 1 blends"
+    # written again, the values replace the first ones and the map stays on its input
+    writer.write(material, writer.Values({"Object Color": (1.0, 0.0, 0.5)}, exponent=3.0,
+                                         opacity=1.0), link=False)
+    again = feed_reader.feeds(material)
+    assert again["Object Color"].value == (1.0, 0.0, 0.5) and again["Exponent"].value == 3.0
+    assert again["Specular Color"].texture.image == image and not recipe.blends(material)

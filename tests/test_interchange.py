@@ -114,14 +114,14 @@ def test_no_suffix_is_written_outside_the_table():
 def test_each_format_imports_through_the_one_signature(bpy_clean, key):
     bpy = bpy_clean
     formats = _formats()
-    from phong_nodes.addon.lighting import materials  # noqa: PLC0415
+    from phong_nodes.addon.lighting import recipe  # noqa: PLC0415
 
     _lit_scene(bpy, key)
     objects_before = set(bpy.data.objects)
     result = formats.import_file(bpy.context, FILES[key])
     assert isinstance(result, formats.ImportResult)
     assert result.objects and all(o not in objects_before for o in result.objects)
-    assert result.materials and all(materials.is_phong_material(m) for m in result.materials)
+    assert result.materials and all(recipe.is_phong_material(m) for m in result.materials)
     assert all(isinstance(w, str) for w in result.warnings)
     made = {s.material for o in result.objects for s in getattr(o, "material_slots", ())}
     assert made <= set(result.materials), "every material on the new objects is in the result"
@@ -189,13 +189,13 @@ def test_the_old_error_names_are_the_one_error(extension):
 
 def _wiring(scene) -> dict:
     """{(object, slot): (material, its lights group)} of the scene's Phong materials."""
-    from phong_nodes.addon.lighting import materials  # noqa: PLC0415
+    from phong_nodes.addon.lighting import recipe  # noqa: PLC0415
 
     out = {}
     for obj in scene.objects:
         for slot in getattr(obj, "material_slots", ()):
-            if materials.is_phong_material(slot.material):
-                node = slot.material.node_tree.nodes.get(materials.LIGHTS_NODE)
+            if recipe.is_phong_material(slot.material):
+                node = slot.material.node_tree.nodes.get(recipe.LIGHTS_NODE)
                 out[(obj.name, slot.slot_index)] = (slot.material.name, node.node_tree.name)
     return out
 

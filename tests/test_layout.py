@@ -575,3 +575,72 @@ def test_no_exporter_or_core_module_asks_for_a_lighting_model_by_name():
                     found += [f"{os.path.relpath(path, ROOT)}:{line}"
                               for line in _model_comparisons(handle.read())]
     assert found == [], found
+
+
+# -- one writer of the Phong material: its control nodes are named in the recipe alone -------
+
+RECIPE = os.path.join(ROOT, "addon", "lighting", "recipe.py")
+#: The Phong material's modules in their order: each imports only the ones before it (what it
+#: is, what its outputs show, its opacity, its writer, its reader, its source).
+MATERIAL_MODULES = ("recipe", "engine_outputs", "opacity", "writer", "feeds", "sources")
+#: Product strings spelt like a control node but meaning something else: the World's ambient
+#: colour is a custom property of the World (lighting/properties.py), not a node.
+OTHER_MEANINGS = {(os.path.join("addon", "lighting", "properties.py"), "phong_ambient_color")}
+
+
+def _control_names(source: str) -> set:
+    """The control node names the recipe lists: the keys of ``CONTROLS`` and the names
+    assigned to ``AMBIENT_CONTROL`` and ``OPACITY``, read from *source* (recipe.py's text)."""
+    names = set()
+    for node in ast.parse(source).body:
+        if not isinstance(node, ast.Assign) or not isinstance(node.targets[0], ast.Name):
+            continue
+        target = node.targets[0].id
+        if target == "CONTROLS" and isinstance(node.value, ast.Dict):
+            names |= {key.value for key in node.value.keys}
+        elif target in ("AMBIENT_CONTROL", "OPACITY") and isinstance(node.value, ast.Constant):
+            names.add(node.value.value)
+    return names
+
+
+def _control_spellings(source: str, path: str, names) -> list:
+    """Where *source* spells one of *names* as a string of its own (a node looked up or made
+    by its name): ``tree.nodes["phong_exponent"]``, ``{"phong_blinn": ...}``."""
+    return [f"{path}:{node.lineno}: {node.value}" for node in ast.walk(ast.parse(source, path))
+            if isinstance(node, ast.Constant) and isinstance(node.value, str)
+            and node.value in names]
+
+
+def test_the_control_name_count_finds_what_it_should():
+    names = _control_names('CONTROLS = {"phong_a": 1, "phong_b": 2}\nAMBIENT_CONTROL = "phong_c"\n'
+                           'OPACITY = "phong_d"\nOTHER = "phong_e"\n')
+    assert names == {"phong_a", "phong_b", "phong_c", "phong_d"}
+    bad = 'x = tree.nodes["phong_a"]\ny = {"phong_c": 1}\nz = f"{a}"\n"""phong_b in prose"""\n'
+    assert len(_control_spellings(bad, "bad.py", names)) == 2
+
+
+def test_only_the_recipe_names_the_control_nodes():
+    """Importers, the demos and every other module hand the writer (``lighting/writer.py``)
+    values by the lights group's input names; the control nodes' names ("phong_exponent",
+    ...) are spelt in ``lighting/recipe.py`` alone: 0 elsewhere in product code."""
+    names = _control_names(open(RECIPE, encoding="utf-8").read())
+    assert {"phong_object_color", "phong_exponent", "phong_blinn", "phong_opacity"} <= names
+    found = []
+    for path in _product_text_files():
+        relative = os.path.relpath(path, ROOT)
+        if not path.endswith(".py") or os.path.abspath(path) == os.path.abspath(RECIPE):
+            continue
+        found += [hit for hit in _control_spellings(open(path, encoding="utf-8").read(),
+                                                    relative, names)
+                  if (relative, hit.rsplit(": ", 1)[1]) not in OTHER_MEANINGS]
+    assert len(found) == 0, "control nodes named outside the recipe:\n" + "\n".join(found)
+
+
+def test_the_material_modules_import_only_the_ones_before_them():
+    folder = os.path.join(ROOT, "addon", "lighting")
+    bad = []
+    for index, name in enumerate(MATERIAL_MODULES):
+        for target in _sibling_targets(os.path.join(folder, name + ".py")):
+            if target in MATERIAL_MODULES and MATERIAL_MODULES.index(target) >= index:
+                bad.append(f"lighting/{name}.py imports {target}")
+    assert not bad, bad

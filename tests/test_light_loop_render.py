@@ -37,7 +37,7 @@ def loop_bpy(bpy_clean):
 
 
 def _modules():
-    from phong_nodes.addon.lighting import loop, materials, properties, rig, sync  # noqa: PLC0415
+    from phong_nodes.addon.lighting import loop, opacity, properties, recipe, rig, sync  # noqa: PLC0415
     from phong_nodes.addon.lighting import world_copies  # noqa: PLC0415
 
     return loop, materials, properties, rig, sync, world_copies
@@ -150,11 +150,11 @@ def _check(label, eevee, cycles, clamped, unclamped, mask):
 def _loop_materials(materials, loop, objects):
     for obj in objects:
         tree = obj.active_material.node_tree
-        lights = tree.nodes[materials.LIGHTS_NODE]
+        lights = tree.nodes[recipe.LIGHTS_NODE]
         assert loop.has_loop(lights.node_tree)
-        output = tree.nodes[materials.OUTPUT_EEVEE]
+        output = tree.nodes[recipe.OUTPUT_EEVEE]
         assert output.target == "EEVEE" and output.inputs["Surface"].is_linked
-        assert tree.nodes[materials.OUTPUT].target == "CYCLES", "Eevee leaves the lights out"
+        assert tree.nodes[recipe.OUTPUT].target == "CYCLES", "Eevee leaves the lights out"
         assert not any(n.bl_idname == "ShaderNodeOutputAOV" and n.aov_name.startswith("Phong")
                        for n in tree.nodes), "no term AOV: Eevee would compile the lights"
 
@@ -170,7 +170,7 @@ def test_the_loop_matches_the_reference_and_cycles(loop_bpy, blender_tmp, n_ligh
     scene, plane, sphere, lights = _scene(bpy, f"Loop {n_lights}", n_lights,
                                           blinn=1.0 if n_lights == 1 else 0.35)
     _loop_materials(materials, loop, (plane, sphere))
-    group = plane.active_material.node_tree.nodes[materials.LIGHTS_NODE].node_tree
+    group = plane.active_material.node_tree.nodes[recipe.LIGHTS_NODE].node_tree
     assert len(copies.listed(group)) + len(copies.listed(group, loop=True)) == sum(
         2 if o.data.type == "SPOT" else 1 for o in lights), "every transform from the World"
     cycles = _render(bpy, scene, "cycles", str(blender_tmp / f"loop_{n_lights}_cycles.exr"))
@@ -209,7 +209,7 @@ def test_lights_added_removed_retyped_and_set_need_no_relink(loop_bpy, blender_t
     bpy = loop_bpy
     loop, materials, _properties, _rig, sync, copies = _modules()
     scene, plane, sphere, lights = _scene(bpy, "Loop edits", 4)
-    group = plane.active_material.node_tree.nodes[materials.LIGHTS_NODE].node_tree
+    group = plane.active_material.node_tree.nodes[recipe.LIGHTS_NODE].node_tree
     built = list(group["phong_lights"])
     with sync.paused():
         added = _add_light(bpy, scene, 7, 4)  # a spot with power falloff
@@ -289,27 +289,27 @@ def test_what_keeps_the_lights_group_in_eevee(loop_bpy):
     nodes = material.node_tree.nodes
     from phong_nodes.addon.lighting import shadows  # noqa: PLC0415
 
-    materials.set_opacity(material, 0.5)
-    assert materials.OPACITY_MIX in nodes
-    if shadows.has_shadows(nodes[materials.LIGHTS_NODE].node_tree):
+    opacity.set_opacity(material, 0.5)
+    assert recipe.OPACITY_MIX in nodes
+    if shadows.has_shadows(nodes[recipe.LIGHTS_NODE].node_tree):
         # the group's shadow rays stay out of Eevee: its EEVEE output blends the group's
         # Shader (no Raycast node, not the loop), the CYCLES one its Cycles Shader
-        mix = nodes[materials.OPACITY_MIX_EEVEE]
-        assert nodes[materials.OUTPUT_EEVEE].inputs["Surface"].links[0].from_node == mix
+        mix = nodes[recipe.OPACITY_MIX_EEVEE]
+        assert nodes[recipe.OUTPUT_EEVEE].inputs["Surface"].links[0].from_node == mix
         second = be.compat().input_socket
         assert second(mix, "Shader_001").links[0].from_socket.name == "Shader"
-        assert second(nodes[materials.OPACITY_MIX], "Shader_001").links[0].from_socket.name \
+        assert second(nodes[recipe.OPACITY_MIX], "Shader_001").links[0].from_socket.name \
             == shadows.CYCLES_SHADER
     else:
-        assert materials.OUTPUT_EEVEE not in nodes
-    materials.set_opacity(material, 1.0)
-    assert materials.OUTPUT_EEVEE in nodes and materials.OPACITY_MIX not in nodes
+        assert recipe.OUTPUT_EEVEE not in nodes
+    opacity.set_opacity(material, 1.0)
+    assert recipe.OUTPUT_EEVEE in nodes and recipe.OPACITY_MIX not in nodes
     assert bpy.ops.phong.add_term_passes() == {"FINISHED"}
     for obj in (plane, sphere):
         tree = obj.active_material.node_tree
-        assert materials.OUTPUT_EEVEE not in tree.nodes
-        assert not loop.has_loop(tree.nodes[materials.LIGHTS_NODE].node_tree)
-        assert all(f"phong_aov:{name}" in tree.nodes for name in materials.AOVS)
+        assert recipe.OUTPUT_EEVEE not in tree.nodes
+        assert not loop.has_loop(tree.nodes[recipe.LIGHTS_NODE].node_tree)
+        assert all(f"phong_aov:{name}" in tree.nodes for name in recipe.AOVS)
     layer = scene.view_layers[0]
     for name in rig.PASS_NAMES:
         layer.aovs.remove(layer.aovs[name])
@@ -331,16 +331,16 @@ def test_a_file_of_5_3_without_the_loop(loop_bpy, blender_tmp, monkeypatch):
     sync.upgrade_on_load()
     for obj in (plane, sphere):
         tree = obj.active_material.node_tree
-        group = tree.nodes[materials.LIGHTS_NODE].node_tree
+        group = tree.nodes[recipe.LIGHTS_NODE].node_tree
         assert not group.get(loop.LOOP_KEY)
         assert not any(n.label.startswith(loop.NODE_PREFIX) for n in group.nodes)
         if compat.HAS_RAYCAST:  # 5.2: shadow rays, so Eevee shows the group's Shader apart
-            output = tree.nodes[materials.OUTPUT_EEVEE]
+            output = tree.nodes[recipe.OUTPUT_EEVEE]
             assert output.inputs["Surface"].links[0].from_socket.name == "Shader"
-            assert not any(f"phong_aov:{name}" in tree.nodes for name in materials.AOVS)
+            assert not any(f"phong_aov:{name}" in tree.nodes for name in recipe.AOVS)
         else:
-            assert materials.OUTPUT_EEVEE not in tree.nodes
-            assert all(f"phong_aov:{name}" in tree.nodes for name in materials.AOVS)
+            assert recipe.OUTPUT_EEVEE not in tree.nodes
+            assert all(f"phong_aov:{name}" in tree.nodes for name in recipe.AOVS)
         assert len(group.get(copies.WORLD_KEYS, ())) <= compat.VIEW_LAYER_LOOKUPS
 
 
@@ -414,9 +414,9 @@ def test_the_comparison_of_a_demo_scene_on_the_loop(loop_bpy, tmp_path, name):
     bpy.ops.phong.build_demo_scene(name=name, resolution=48)
     scene = bpy.data.scenes[name]
     phong = [slot.material for obj in scene.objects for slot in obj.material_slots
-             if materials.is_phong_material(slot.material)]
-    assert phong and all(materials.OUTPUT_EEVEE in m.node_tree.nodes for m in phong
-                         if not materials.blends(m))
+             if recipe.is_phong_material(slot.material)]
+    assert phong and all(recipe.OUTPUT_EEVEE in m.node_tree.nodes for m in phong
+                         if not recipe.blends(m))
     metrics = engine.run(scene, str(tmp_path / name))
     pairs = metrics["pairs"]
     report(f"[loop comparison {name}] {metrics['verdict']}; eevee-reference max "
@@ -459,7 +459,7 @@ def test_before_5_3_the_material_is_the_one_of_5_2(bpy_clean):
     plane.select_set(True)
     assert bpy.ops.phong.apply_material() == {"FINISHED"}
     tree = plane.active_material.node_tree
-    group = tree.nodes[materials.LIGHTS_NODE].node_tree
+    group = tree.nodes[recipe.LIGHTS_NODE].node_tree
     from phong_nodes.addon.lighting import shadows  # noqa: PLC0415
 
     # 5.2 casts Phong shadows in Cycles (the lights cast shadows by default): its Raycast
@@ -469,8 +469,8 @@ def test_before_5_3_the_material_is_the_one_of_5_2(bpy_clean):
     outputs = [n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputMaterial"]
     assert sorted(n.target for n in outputs) == (["CYCLES", "EEVEE"] if rays else ["ALL"])
     # the term AOVs where nothing keeps them out (the shadow rays do, as the loop does)
-    assert [f"phong_aov:{name}" in tree.nodes for name in materials.AOVS] == [
-        not rays] * len(materials.AOVS)
+    assert [f"phong_aov:{name}" in tree.nodes for name in recipe.AOVS] == [
+        not rays] * len(recipe.AOVS)
     assert not loop.has_loop(group) and not group.get(loop.LOOP_KEY)
     assert not any(n.label.startswith(loop.NODE_PREFIX) for n in group.nodes)
     assert [o.name for o in group.interface.items_tree if o.in_out == "OUTPUT"] == [

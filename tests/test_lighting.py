@@ -387,9 +387,9 @@ def test_a_material_without_nodes_gives_its_viewport_colour(bpy_clean):
     assert bpy.ops.phong.apply_material() == {"FINISHED"}
     phong = plane.active_material
     assert phong.name == "Phong Flat" and phong["phong_source"] == "Flat"
-    from phong_nodes.addon.lighting import materials  # noqa: PLC0415  (needs bpy)
+    from phong_nodes.addon.lighting import sources  # noqa: PLC0415  (needs bpy)
 
-    assert materials.source_of(phong) == flat and flat.use_fake_user
+    assert sources.source_of(phong) == flat and flat.use_fake_user
     colour = phong.node_tree.nodes["phong_object_color"].outputs[0].default_value
     assert tuple(colour) == pytest.approx((0.2, 0.6, 0.3, 1.0))
     assert (len(flat.node_tree.nodes) if flat.node_tree else None) == nodes_before, \

@@ -521,12 +521,12 @@ def test_modifiers_come_first_and_pixel_mode_leaves_nothing_behind(bpy_clean):
     assert not any(aovs[t].is_linked for t in ("Phong Irradiant", "Phong Ambient",
                                                "Phong Diffuse", "Phong Specular"))
     # Opacity below 1 mixes the shown shader, the stored colour's emission
-    from phong_nodes.addon.lighting import materials  # noqa: PLC0415
+    from phong_nodes.addon.lighting import opacity, recipe  # noqa: PLC0415
 
-    materials.set_opacity(material, 0.5)
-    mix = material.node_tree.nodes[materials.OPACITY_MIX]
+    opacity.set_opacity(material, 0.5)
+    mix = material.node_tree.nodes[recipe.OPACITY_MIX]
     assert mix.inputs[2].links[0].from_node.name == modes.EMISSION_NODE
-    materials.set_opacity(material, 1.0)
+    opacity.set_opacity(material, 1.0)
     surface = material.node_tree.nodes["phong_output"].inputs["Surface"].links[0]
     assert surface.from_node.name == modes.EMISSION_NODE
     groups_before = {t.name for t in bpy.data.node_groups}
@@ -546,7 +546,7 @@ def test_modifiers_come_first_and_pixel_mode_leaves_nothing_behind(bpy_clean):
     shown = ("Cycles Shader" if shadows.has_shadows(nodes["phong_lights"].node_tree)
              else "Shader")
     assert surface.from_node.name == "phong_lights" and surface.from_socket.name == shown
-    if materials.OUTPUT_EEVEE in nodes:  # 5.2+: Eevee shows the loop or the unshadowed Shader
+    if recipe.OUTPUT_EEVEE in nodes:  # 5.2+: Eevee shows the loop or the unshadowed Shader
         assert not any(n.name.startswith("phong_aov:") for n in nodes)
     else:
         for name, socket in aovs.items():  # every AOV from the lights group again

@@ -83,7 +83,8 @@ def test_textured_materials_are_copies_of_the_template_with_the_same_picture(bpy
                                                                             blender_tmp,
                                                                             monkeypatch):
     bpy = bpy_clean
-    from phong_nodes.addon.lighting import materials, node_copy  # noqa: PLC0415
+    from phong_nodes.addon.lighting import node_copy, recipe  # noqa: PLC0415
+    from phong_nodes.addon.lighting import sources as source_materials
     copied = []
     real = node_copy.copy_upstream
     monkeypatch.setattr(node_copy, "copy_upstream",
@@ -105,15 +106,15 @@ def test_textured_materials_are_copies_of_the_template_with_the_same_picture(bpy
     # the chains were copied, not the sources: no scratch template is left behind
     assert not [m for m in bpy.data.materials if m.name.startswith("Phong template")]
     for phong, source in zip(fast, sources):
-        assert materials.source_of(phong) is source and phong.name == f"Phong {source.name}"
+        assert source_materials.source_of(phong) is source and phong.name == f"Phong {source.name}"
         assert len(phong.node_tree.nodes) == len(fast[0].node_tree.nodes) - \
-            len(node_copy.upstream(materials.base_color_link(sources[0]).node)) + \
-            len(node_copy.upstream(materials.base_color_link(source).node))
+            len(node_copy.upstream(source_materials.base_color_link(sources[0]).node)) + \
+            len(node_copy.upstream(source_materials.base_color_link(source).node))
     picture = _render(scene, str(blender_tmp / "fast.exr"))
     # the former way: a copy of each source given the recipe's nodes
-    group = fast[0].node_tree.nodes[materials.LIGHTS_NODE].node_tree
+    group = fast[0].node_tree.nodes[recipe.LIGHTS_NODE].node_tree
     for plane, source in zip(planes, sources):
-        plane.material_slots[0].material = materials.from_source(source, "former", group)
+        plane.material_slots[0].material = source_materials.from_source(source, "former", group)
     former = _render(scene, str(blender_tmp / "former.exr"))
     lit = picture.max(axis=-1) > 0.02
     assert lit.mean() > 0.5
@@ -131,12 +132,13 @@ def test_a_chain_the_copy_cannot_reproduce_is_left_whole(bpy_clean, monkeypatch)
     unknown) is not copied: nothing is left in the target, and Apply takes the former way,
     the source's own nodes kept."""
     bpy = bpy_clean
-    from phong_nodes.addon.lighting import materials, node_copy  # noqa: PLC0415
+    from phong_nodes.addon.lighting import node_copy, recipe  # noqa: PLC0415
+    from phong_nodes.addon.lighting import sources as source_materials
     ramp_source = _chains(bpy)[2]
     target = bpy.data.materials.new("target")
     be.compat().new_material_tree(target)
     before = len(target.node_tree.nodes)
-    link = materials.base_color_link(ramp_source)
+    link = source_materials.base_color_link(ramp_source)
     assert node_copy.copy_upstream(ramp_source.node_tree, link.node, target.node_tree) is not None
     assert len(target.node_tree.nodes) == before + 2
     monkeypatch.setattr(node_copy, "_NESTED", node_copy._NESTED - {"ColorRamp"})

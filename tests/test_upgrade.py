@@ -97,7 +97,7 @@ def _render_cycles(bpy, scene, path: str) -> np.ndarray:
 def test_a_file_of_another_release_renders_right(bpy_clean, tmp_path, saved_by):
     bpy = bpy_clean
     from phong_nodes.addon.comparison import engine  # noqa: PLC0415
-    from phong_nodes.addon.lighting import materials  # noqa: PLC0415
+    from phong_nodes.addon.lighting import recipe  # noqa: PLC0415
 
     # The same scene made here, now: the picture the upgraded file must show.
     fresh = str(tmp_path / "made_here.blend")
@@ -109,11 +109,11 @@ def test_a_file_of_another_release_renders_right(bpy_clean, tmp_path, saved_by):
 
     bpy.ops.wm.open_mainfile(filepath=_file(saved_by))
     scene = bpy.data.scenes["Upgrade"]
-    phong = {m.name: m for m in bpy.data.materials if materials.is_phong_material(m)}
+    phong = {m.name: m for m in bpy.data.materials if recipe.is_phong_material(m)}
     assert sorted(phong) == sorted(SET)
     for name, material in phong.items():
         nodes = material.node_tree.nodes
-        node = nodes[materials.LIGHTS_NODE]
+        node = nodes[recipe.LIGHTS_NODE]
         fed = {s.name: [l.from_node.name for l in s.links] for s in node.inputs}
         assert {i: fed.get(i) for i in FEEDS} == {i: [c] for i, c in FEEDS.items()}, name
         for control, value in SET[name].items():

@@ -229,14 +229,15 @@ def _seeds_scene(bpy):
         nodes["phong_object_color"].outputs[0].default_value = (*kd, 1.0)
         nodes["phong_exponent"].outputs[0].default_value = exponent
         nodes["phong_specular_color"].outputs[0].default_value = (0.5, 0.5, 0.5, 1.0)
-    from phong_nodes.addon.lighting import materials  # noqa: PLC0415
+    from phong_nodes.addon.lighting import recipe, writer  # noqa: PLC0415
+    from phong_nodes.addon.lighting import feeds as feed_reader
 
     for obj, ka in ((cubes[1], (0.25, 0.25, 0.125)), (cubes[2], (0.3, 0.1, 0.1))):
         material = obj.material_slots[0].material
         tree = material.node_tree
-        node = materials.color_control(tree, materials.AMBIENT_CONTROL, ka)
-        tree.links.new(node.outputs[0], tree.nodes[materials.LIGHTS_NODE].inputs[
-            materials.AMBIENT_INPUT])
+        node = writer.color_control(tree, recipe.AMBIENT_CONTROL, ka)
+        tree.links.new(node.outputs[0], tree.nodes[recipe.LIGHTS_NODE].inputs[
+            recipe.AMBIENT_INPUT])
     point.data.phong.intensity = 2.0
     point.data.phong.constant, point.data.phong.linear, point.data.phong.quadratic = \
         0.5, 0.25, 0.125
@@ -426,12 +427,13 @@ def test_an_inline_image_is_written_as_a_pixel_texture(bpy_clean, tmp_path, suff
     source = tmp_path / "pixels.x3dv"
     source.write_text(PIXEL_FILE)
     assert bpy.ops.phong.import_x3d(filepath=str(source)) == {"FINISHED"}
-    from phong_nodes.addon.lighting import materials
+    from phong_nodes.addon.lighting import recipe, writer
+    from phong_nodes.addon.lighting import feeds as feed_reader
     paint = bpy.data.materials["Paint"]
     generated = bpy.data.images.new("Made", 2, 1, alpha=True)
     generated.colorspace_settings.name = "Non-Color"
     generated.pixels[:] = [0.2, 0.2, 0.2, 1.0, 0.6, 0.6, 0.6, 0.5]
-    feeds = materials.feeds(paint)
+    feeds = feed_reader.feeds(paint)
     node = feeds["Object Color"].texture
     assert node is not None and node.image.name == "Stripes"
     out = str(tmp_path / f"out{suffix}")
@@ -513,7 +515,8 @@ def test_reused_def_names_and_proto_materials_keep_each_material(bpy_clean, tmp_
     import gives the same materials on the same objects.  The DirectionalLight DEF'd in one
     group and USE'd in two others is one light per direction, each reaching its groups."""
     bpy = bpy_clean
-    from phong_nodes.addon.lighting import materials
+    from phong_nodes.addon.lighting import recipe, writer
+    from phong_nodes.addon.lighting import feeds as feed_reader
     source = tmp_path / "reused.wrl"
     source.write_text(REUSED)
     assert bpy.ops.phong.import_x3d(filepath=str(source)) == {"FINISHED"}
@@ -521,11 +524,11 @@ def test_reused_def_names_and_proto_materials_keep_each_material(bpy_clean, tmp_
     def state():
         out = {}
         for m in bpy.data.materials:
-            if materials.is_phong_material(m):
+            if recipe.is_phong_material(m):
                 users = sorted(o.name for o in bpy.data.objects if o.type == "MESH"
                                and o.material_slots[0].material is m)
                 out[m.name] = (tuple(round(v, 6) for v in
-                                     materials.feeds(m)["Object Color"].value), users)
+                                     feed_reader.feeds(m)["Object Color"].value), users)
         lights = []
         for o in bpy.data.objects:
             if o.type == "LIGHT":
@@ -609,7 +612,8 @@ def test_a_missing_texture_keeps_its_reference(bpy_clean, tmp_path, suffix):
     without one (its own material, "[no texture]")."""
     import re
     bpy = bpy_clean
-    from phong_nodes.addon.lighting import materials
+    from phong_nodes.addon.lighting import recipe, writer
+    from phong_nodes.addon.lighting import feeds as feed_reader
     source = tmp_path / "received" / "part.wrl"
     source.parent.mkdir()
     source.write_text("""#VRML V2.0 utf8
@@ -620,11 +624,11 @@ Transform { translation 3 0 0 children Shape { appearance Appearance { material 
                                                 geometry Box { } } }
 """)
     assert bpy.ops.phong.import_x3d(filepath=str(source)) == {"FINISHED"}
-    names = sorted(m.name for m in bpy.data.materials if materials.is_phong_material(m))
+    names = sorted(m.name for m in bpy.data.materials if recipe.is_phong_material(m))
     assert names == ["Label", "Label [no texture]"]
     label = bpy.data.materials["Label"]
-    assert materials.feeds(label)["Object Color"].value == (0.5, 0.25, 1.0)
-    assert materials.feeds(label)["Object Color"].other is None   # not in the picture
+    assert feed_reader.feeds(label)["Object Color"].value == (0.5, 0.25, 1.0)
+    assert feed_reader.feeds(label)["Object Color"].other is None   # not in the picture
     out = tmp_path / "elsewhere" / f"out{suffix}"
     out.parent.mkdir()
     assert bpy.ops.phong.export_x3d(filepath=str(out)) == {"FINISHED"}
@@ -634,9 +638,9 @@ Transform { translation 3 0 0 children Shape { appearance Appearance { material 
     assert found == ["../received/maps/print.png"], text
     be.reset_empty_file()
     assert bpy.ops.phong.import_x3d(filepath=str(out)) == {"FINISHED"}
-    assert sorted(m.name for m in bpy.data.materials if materials.is_phong_material(m)) == \
+    assert sorted(m.name for m in bpy.data.materials if recipe.is_phong_material(m)) == \
         names
     again = bpy.data.materials["Label"]
-    assert materials.feeds(again)["Object Color"].value == (0.5, 0.25, 1.0)
+    assert feed_reader.feeds(again)["Object Color"].value == (0.5, 0.25, 1.0)
     assert str(tmp_path / "received" / "maps" / "print.png") in \
         list(again["phong_x3d_missing_texture"]["paths"])

@@ -315,14 +315,14 @@ def test_a_textures_alpha_is_the_materials_opacity_both_ways(bpy_clean, tmp_path
     are written back and a re-import renders the same pixels."""
     bpy = bpy_clean
     from phong_nodes.addon.interchange import x3d_export  # noqa: PLC0415
-    from phong_nodes.addon.lighting import materials  # noqa: PLC0415
+    from phong_nodes.addon.lighting import recipe  # noqa: PLC0415
 
     _alpha_png(tmp_path / "label.png")
     path = write(tmp_path, "label.x3dv", ALPHA_SCENE)
     scene, picture = _render_bands(bpy, path, tmp_path, "alpha")
     ink = bpy.data.materials["Ink"]
-    assert materials.blends(ink) and materials.opacity(ink) == pytest.approx(0.75)
-    assert not materials.blends(bpy.data.materials["Back"])
+    assert recipe.blends(ink) and recipe.opacity(ink) == pytest.approx(0.75)
+    assert not recipe.blends(bpy.data.materials["Back"])
     _check_bands(picture)
     out = tmp_path / "out"
     out.mkdir()
@@ -358,12 +358,12 @@ def test_the_comparison_leaves_out_what_a_textures_alpha_blends(bpy_clean, tmp_p
 @pytest.mark.cycles
 def test_an_opaque_rgba_texture_leaves_the_material_opaque(bpy_clean, tmp_path):
     bpy = bpy_clean
-    from phong_nodes.addon.lighting import materials  # noqa: PLC0415
+    from phong_nodes.addon.lighting import recipe  # noqa: PLC0415
 
     png(tmp_path / "label.png", np.tile([10, 20, 30, 255], (4, 4, 1)))
     path = write(tmp_path, "label.x3dv", ALPHA_SCENE.replace("transparency 0.25", ""))
     assert bpy.ops.phong.import_x3d(filepath=path) == {"FINISHED"}
-    assert not materials.blends(bpy.data.materials["Ink"])
+    assert not recipe.blends(bpy.data.materials["Ink"])
 
 
 # -- solid ----------------------------------------------------------------------------------------

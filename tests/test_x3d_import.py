@@ -205,11 +205,11 @@ def test_scoped_directional_light_reaches_exactly_its_group(bpy_clean, tmp_path)
     assert sorted(o.name for o in receivers.objects) == ["A", "A.001", "B", "B.001"]
     point = next(o for o in objects if o.type == "LIGHT" and o.data.type == "POINT")
     assert point.light_linking.receiver_collection is None
-    from phong_nodes.addon.lighting import materials  # noqa: PLC0415
+    from phong_nodes.addon.lighting import recipe  # noqa: PLC0415
 
     def lights_of(name):
         material = objects[name].material_slots[0].material
-        group = material.node_tree.nodes[materials.LIGHTS_NODE].node_tree
+        group = material.node_tree.nodes[recipe.LIGHTS_NODE].node_tree
         return sorted(group["phong_lights"])
 
     assert lights_of("A") == lights_of("B.001") == sorted([suns[0].name, point.name])
@@ -362,14 +362,14 @@ def test_an_import_adds_exactly_the_files_materials_as_phong(bpy_clean, tmp_path
     before = _ids(bpy)
     _import(bpy, os.path.join(DATA, "hand_rules.x3dv"))
     after = _ids(bpy)
-    from phong_nodes.addon.lighting import materials  # noqa: PLC0415
+    from phong_nodes.addon.lighting import recipe  # noqa: PLC0415
 
     added = after["materials"] - before["materials"]
     # Stone, Clay, and Clay for the second ball's light set (not the Blue light's scope)
     assert added == {"Stone.001", "Clay", "Clay [Cone, Headlight, Lamp]"}
-    assert all(materials.is_phong_material(bpy.data.materials[n]) for n in added)
+    assert all(recipe.is_phong_material(bpy.data.materials[n]) for n in added)
     assert all(bpy.data.materials[n].users >= 1 for n in added), "nothing unused"
-    assert not materials.is_phong_material(mine) and mine.name == "Stone", "the user's untouched"
+    assert not recipe.is_phong_material(mine) and mine.name == "Stone", "the user's untouched"
     assert after["images"] == before["images"]
     assert after["objects"] - before["objects"] == {"Ground", "Ball", "Ball.001", "Lamp",
                                                     "Cone", "Blue", "Headlight", "Front"}

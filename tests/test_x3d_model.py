@@ -124,10 +124,10 @@ def _compared(scene, folder, label):
 @pytest.mark.eevee
 def test_a_scene_in_the_x3d_model_matches_the_standards_equation(bpy_clean, tmp_path):
     bpy = bpy_clean
-    from phong_nodes.addon.lighting import materials  # noqa: PLC0415
+    from phong_nodes.addon.lighting import recipe  # noqa: PLC0415
     scene, point, spot, _sun = _x3d_scene(bpy)
-    groups = {m.node_tree.nodes[materials.LIGHTS_NODE].node_tree.name
-              for m in materials.phong_materials()}
+    groups = {m.node_tree.nodes[recipe.LIGHTS_NODE].node_tree.name
+              for m in recipe.phong_materials()}
     assert groups == {"X3D Lights X3D model"}
     metrics, cycles, lights = _compared(scene, tmp_path / "x3d", "x3d model")
     assert cycles <= 1e-4 and max(t["max_abs"] for t in metrics["terms"].values()) <= 1e-4

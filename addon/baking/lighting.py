@@ -2,7 +2,7 @@
 """Bake Phong Lighting: the Phong look of objects into an image per object (through its UV
 map) or into a colour attribute per vertex (Gouraud shading), with Cycles' own bake.
 
-A Phong material ends in an Emission shader of the model's colour (``lighting/materials``),
+A Phong material ends in an Emission shader of the model's colour (``lighting/recipe.py``),
 so Cycles' Emit bake gives the model's colour exactly.  For the bake only, each Phong
 material of an object is replaced by a copy in which
 
@@ -51,7 +51,7 @@ from ...core import outputs
 from .. import compat
 from ..scene import describe, render
 from ..scene.render import Overrides
-from ..lighting import materials
+from ..lighting import recipe
 from ..shading import modes as shading_modes
 
 TARGETS = ("IMAGE", "VERTEX")
@@ -109,11 +109,11 @@ def phong_material(obj, index: int):
     """The Phong material of slot *index* of *obj*: the slot's own, or, while the bake is
     shown, the one the slot held before (``show.py``); None when there is none."""
     slot = obj.material_slots[index]
-    if materials.is_phong_material(slot.material):
+    if recipe.is_phong_material(slot.material):
         return slot.material
     kept = obj.get(SLOTS_KEY)
     material = kept.get(str(index)) if kept is not None else None
-    return material if materials.is_phong_material(material) else None
+    return material if recipe.is_phong_material(material) else None
 
 
 def has_phong(obj) -> bool:
@@ -274,13 +274,13 @@ def bake_material(material, settings: Settings, camera, image=None, matrix=None)
         copy = material.copy()
         copy.name = f"{material.name} (Phong bake)"
         tree = copy.node_tree
-        lights_node = tree.nodes[materials.LIGHTS_NODE]
+        lights_node = tree.nodes[recipe.LIGHTS_NODE]
         if settings.view == "CAMERA":
             _view_vector(tree, lights_node, camera, matrix)
         emission = tree.nodes.new("ShaderNodeEmission")
         emission.inputs["Strength"].default_value = 1.0
         tree.links.new(_emitted(tree, lights_node, settings), emission.inputs["Color"])
-        output = tree.nodes[materials.OUTPUT]
+        output = tree.nodes[recipe.OUTPUT]
         tree.links.new(compat.output_socket(emission, "Emission"), output.inputs["Surface"])
     copy[TEMP_KEY] = 1
     if image is not None:

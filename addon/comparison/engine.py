@@ -38,7 +38,7 @@ import bpy
 from ...core import browser, compare, outputs, report, threejs, x_ite
 from .. import compat
 from ..lighting import loop as light_loop
-from ..lighting import materials, rig, shadows
+from ..lighting import engine_outputs, recipe, rig, shadows
 from ..lighting import sync as sync_mod
 from ..interchange import threejs_export
 from ..scene import describe, render
@@ -63,7 +63,7 @@ def check(scene, view_layer=None, camera=True):
     phong = describe.phong_objects(scene, layer)
     # Per Vertex / Per Face materials are not the per-pixel model: shown, not compared
     objects = [obj for obj in phong
-               if any(materials.is_phong_material(slot.material)
+               if any(recipe.is_phong_material(slot.material)
                       and shading_modes.mode_of(slot.material) == shading_modes.PIXEL
                       for slot in obj.material_slots)]
     if phong and not objects:
@@ -91,7 +91,7 @@ def _render(scene, engine, folder, o: Overrides) -> dict:
 
 
 def _add_aovs(layer, names, o: Overrides) -> None:
-    for name in materials.add_view_layer_aovs(layer, names):
+    for name in engine_outputs.add_view_layer_aovs(layer, names):
         o.later(lambda aov_name=name: _remove_aov(layer, aov_name))
 
 
@@ -106,8 +106,8 @@ def _probe_groups(objects, o: Overrides) -> None:
     groups = {}
     for obj in objects:
         for slot in obj.material_slots:
-            if materials.is_phong_material(slot.material):
-                node = slot.material.node_tree.nodes.get(materials.LIGHTS_NODE)
+            if recipe.is_phong_material(slot.material):
+                node = slot.material.node_tree.nodes.get(recipe.LIGHTS_NODE)
                 if node is not None and node.node_tree is not None:
                     groups[node.node_tree.name] = node.node_tree
     for group in groups.values():
@@ -140,7 +140,7 @@ def _add_probes(tree) -> None:
                "I": geometry.outputs["Incoming"], "normal": group_in.outputs["Normal"],
                "view": group_in.outputs["View Vector"],
                "color": group_in.outputs["Object Color"],
-               "ambient": group_in.outputs[materials.AMBIENT_INPUT],
+               "ambient": group_in.outputs[recipe.AMBIENT_INPUT],
                "specular": group_in.outputs["Specular Color"],
                "irradiant": group_in.outputs["Irradiant Color"],
                "params": params.outputs["Vector"],
@@ -157,9 +157,9 @@ def _add_probes(tree) -> None:
 def _add_term_aovs(tree) -> None:
     """The term passes as AOV outputs inside *tree*: a lights group with the loop part
     (Blender 5.3+) or shadow rays (5.1+), whose materials hold no AOV outputs
-    (``materials.wire``), for Cycles' render only."""
+    (``writer.wire``), for Cycles' render only."""
     group_out = next(n for n in tree.nodes if n.bl_idname == "NodeGroupOutput")
-    for index, (aov_name, output) in enumerate(materials.AOVS.items()):
+    for index, (aov_name, output) in enumerate(recipe.AOVS.items()):
         aov = tree.nodes.new("ShaderNodeOutputAOV")
         aov.aov_name = aov_name
         aov.location = (group_out.location.x, group_out.location.y - 200.0 - 120.0 * index)
@@ -213,7 +213,7 @@ def render_all(scene, layer, objects, engines, folder, resolution=None, progress
         progress(0.05 if "eevee" not in engines else 0.5, "Cycles (picture)")
         images["cycles"] = _render(scene, "cycles", folder, o)["Combined"][..., :3]
         progress(0.2 if "eevee" not in engines else 0.65, "Cycles (terms, probes)")
-        _add_aovs(layer, list(materials.AOVS) + [compare.probe_name(p) for p in compare.PROBES],
+        _add_aovs(layer, list(recipe.AOVS) + [compare.probe_name(p) for p in compare.PROBES],
                   o)
         _probe_groups(objects, o)
         passes = _render(scene, "cycles", folder, o)

@@ -30,7 +30,8 @@ from mathutils import Vector
 
 from .. import compat
 from ..baking import lighting, show
-from ..lighting import materials, properties, rig
+from ..lighting import properties, recipe, rig, writer
+from ..lighting import sources as source_materials
 from ..lighting import sync as sync_mod
 from ..scene import meshes, render
 from ..shading import modes as shading_modes
@@ -134,41 +135,35 @@ def _controls(material, obj_data) -> None:
     """The file's values and terms on the Phong controls of *material*."""
     mat, terms = obj_data["material"], set(obj_data["terms"])
     tree = material.node_tree
-    nodes = tree.nodes
-    values = {
-        "phong_specular_color": mat["specular_color"] if "specular" in terms else BLACK,
-        "phong_irradiant_color": mat["irradiant"] if "irradiant" in terms else BLACK,
-    }
-    for name, color in values.items():
-        materials.set_quietly(compat.value_output(nodes[name]), (*color, 1.0))
-    materials.set_quietly(compat.value_output(nodes["phong_exponent"]), [mat["exponent"]])
-    materials.set_quietly(compat.value_output(nodes["phong_blinn"]), [mat["blinn"]])
-    # three.js: MeshLambertMaterial, or no specular term, is specularStrength 0 (a black
-    # specular colour alone would keep three.js's Fresnel reflection)
-    lambert = mat.get("type") == "lambert" or "specular" not in terms
-    materials.set_quietly(compat.value_output(nodes["phong_specular_strength"]),
-                          [0.0 if lambert else 1.0])
-    lights = nodes[materials.LIGHTS_NODE]
+    lights = tree.nodes[recipe.LIGHTS_NODE]
     color_feed = lights.inputs["Object Color"].links[0].from_socket
-    textured = color_feed.node.name != "phong_object_color"
+    textured = not writer.controlled(material, "Object Color")
     # The ambient light sees the material's own Ambient Object Color control: the model's
     # ambient colour (the object colour; X3D: ambient_intensity × it), or black without the
     # ambient term (the same layout for every object).  Textured: the texture (× X3D's
     # ambient_intensity).
-    if textured and "ambient" in terms:
+    own_ambient = not (textured and "ambient" in terms)
+    colors = {"Specular Color": mat["specular_color"] if "specular" in terms else BLACK,
+              "Irradiant Color": mat["irradiant"] if "irradiant" in terms else BLACK}
+    if own_ambient:
+        colors[recipe.AMBIENT_INPUT] = mat["ambient_color"] if "ambient" in terms else BLACK
+    colors["Object Color"] = mat["color"] if "diffuse" in terms else BLACK
+    # three.js: MeshLambertMaterial, or no specular term, is specularStrength 0 (a black
+    # specular colour alone would keep three.js's Fresnel reflection)
+    lambert = mat.get("type") == "lambert" or "specular" not in terms
+    controls = writer.write(material, writer.Values(
+        colors, exponent=mat["exponent"], blinn=mat["blinn"],
+        specular_strength=0.0 if lambert else 1.0), link=False,
+        ambient_label="Ambient Object Color")
+    if own_ambient:
+        ambient = controls[recipe.AMBIENT_INPUT]
+    else:
         ambient = color_feed
         if mat.get("ambient_intensity") is not None:
             ambient = _scaled(tree, color_feed, mat["ambient_intensity"])
-    else:
-        ambient = compat.value_output(materials.control_node(
-            tree, materials.AMBIENT_CONTROL, "Ambient Object Color",
-            mat["ambient_color"] if "ambient" in terms else BLACK))
-    tree.links.new(ambient, lights.inputs[materials.AMBIENT_INPUT])
-    control = nodes["phong_object_color"]
-    materials.set_quietly(compat.value_output(control),
-                          (*(mat["color"] if "diffuse" in terms else BLACK), 1.0))
+    tree.links.new(ambient, lights.inputs[recipe.AMBIENT_INPUT])
     if textured and "diffuse" not in terms:
-        tree.links.new(compat.value_output(control), lights.inputs["Object Color"])
+        tree.links.new(controls["Object Color"], lights.inputs["Object Color"])
 
 
 def _scaled(tree, socket, factor):
@@ -243,7 +238,7 @@ def remove(scene) -> None:
         for slot in obj.material_slots:
             if slot.material is not None:
                 doomed.add(slot.material)
-                source = materials.source_of(slot.material)
+                source = source_materials.source_of(slot.material)
                 if source is not None:
                     doomed.add(source)
         linking = getattr(obj, "light_linking", None)

@@ -21,8 +21,8 @@ import numpy as np
 
 from ...core import collada
 from .. import compat
-from ..lighting import materials as recipe
-from ..lighting import properties
+from ..lighting import feeds as feed_reader
+from ..lighting import properties, recipe, sources
 from . import keys
 
 
@@ -42,14 +42,14 @@ def _feed(feed, name, material, warnings):
 def material_of(material, warnings) -> collada.Material:
     out = collada.Material(material.name, material.name)
     if not recipe.is_phong_material(material):
-        color = recipe.base_color(material) or (0.8, 0.8, 0.8)
+        color = sources.base_color(material) or (0.8, 0.8, 0.8)
         out.technique = "lambert"
         out.colors["diffuse"] = (*color[:3], 1.0)
         warnings.append(f"material {material.name} is not a Phong material: written as "
                         "lambert with its base colour")
         return out
     tree = material.node_tree
-    feeds = recipe.feeds(material)
+    feeds = feed_reader.feeds(material)
     blinn = float(feeds["Blinn"].value)
     technique = material.get(keys.COLLADA_TECHNIQUE)
     if technique not in collada.TECHNIQUES:
@@ -60,7 +60,7 @@ def material_of(material, warnings) -> collada.Material:
         warnings.append(f"material {material.name}: Blinn {blinn:g} between Phong and Blinn "
                         f"written as {technique}")
     out.technique = technique
-    for socket_name, (element, _control) in keys.COLLADA_INPUTS.items():
+    for socket_name, element in keys.COLLADA_INPUTS.items():
         color, texture = _feed(feeds[socket_name], socket_name, material, warnings)
         out.colors[element] = (*color, 1.0)
         if texture is not None:

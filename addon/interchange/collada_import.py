@@ -35,8 +35,8 @@ from mathutils import Matrix
 
 from ...core import collada
 from .. import compat
-from ..lighting import materials as recipe
-from ..lighting import properties
+from ..lighting import opacity as opacity_nodes
+from ..lighting import properties, recipe, writer
 from ..lighting import sync as sync_mod
 from . import keys, native
 
@@ -49,7 +49,7 @@ TRANSPARENCY_KEY = keys.COLLADA_TRANSPARENCY
 SYMBOLS_KEY = "phong_collada_symbols"   # a mesh's material symbols, while importing
 TEXTURE_NODE = keys.COLLADA_TEXTURE_NODE   # + lights-group input
 UVMAP_NODE = "phong_dae_uv:"      # + lights-group input
-#: lights-group input -> (COLLADA element, control node)
+#: lights-group input -> COLLADA element
 INPUTS = keys.COLLADA_INPUTS
 #: The most objects one import makes: the file's nodes with their ``instance_node`` copies
 #: (and an object per instance of a node that holds several).  A file whose instances would
@@ -436,7 +436,7 @@ class _Builder:
         if key in self.materials:
             return self.materials[key]
         name = source.name if source is not None else "COLLADA default"
-        material = recipe.new_material(name, group)
+        material = writer.new_material(name, group)
         if source is not None:
             self.values(material, source, uv_binding)
         self.materials[key] = material
@@ -445,29 +445,22 @@ class _Builder:
     def values(self, material, source: collada.Material, uv_binding):
         tree = material.node_tree
         lights = tree.nodes[recipe.LIGHTS_NODE]
-        for index, (socket_name, (element, control)) in enumerate(INPUTS.items()):
-            color = source.color(element)
-            node = recipe.color_control(tree, control, color)
-            output = compat.value_output(node)
+        specular = source.technique in ("phong", "blinn")
+        negative = source.shininess is not None and source.shininess < 0.0
+        writer.write(material, writer.Values(
+            {socket_name: source.color(element) for socket_name, element in INPUTS.items()},
+            exponent=source.shininess if specular and source.shininess is not None
+            and not negative else 0.0,
+            blinn=1.0 if source.technique == "blinn" else 0.0,
+            specular_strength=1.0 if specular else 0.0))
+        for index, (socket_name, element) in enumerate(INPUTS.items()):
             texture = source.texture(element)
-            if texture is not None:
-                image = self.image(texture, source)
-                if image is not None:
-                    output = self.texture_node(tree, socket_name, image, texture, uv_binding,
-                                               index)
-            tree.links.new(output, lights.inputs[socket_name])
-        compat.value_output(tree.nodes["phong_exponent"]).default_value = (
-            source.shininess if source.shininess is not None and source.technique in
-            ("phong", "blinn") else 0.0)
-        compat.value_output(tree.nodes["phong_blinn"]).default_value = \
-            1.0 if source.technique == "blinn" else 0.0
-        strength = tree.nodes.get("phong_specular_strength")
-        if strength is not None:
-            compat.value_output(strength).default_value = \
-                1.0 if source.technique in ("phong", "blinn") else 0.0
-        if source.shininess is not None and source.shininess < 0.0:
+            image = self.image(texture, source) if texture is not None else None
+            if image is not None:
+                tree.links.new(self.texture_node(tree, socket_name, image, texture, uv_binding,
+                                                 index), lights.inputs[socket_name])
+        if negative:
             self.doc.warn(f"material {source.name}: shininess {source.shininess:g} read as 0")
-            compat.value_output(tree.nodes["phong_exponent"]).default_value = 0.0
         material[TECHNIQUE_KEY] = source.technique
         material[OPAQUE_KEY] = source.opaque
         if source.transparent is not None:
@@ -478,7 +471,7 @@ class _Builder:
         channels = source.opacity_channels()
         mapped = self.transparent_map(material, source, uv_binding)
         if mapped:   # the texture's opacity per pixel; the control keeps a white texel's
-            recipe.set_opacity(material, opacity)
+            opacity_nodes.set_opacity(material, opacity)
             return
         if max(channels) - min(channels) > 1e-6:
             self.doc.warn(f"material {source.name}: {source.opaque} opacity differs per "
@@ -490,7 +483,7 @@ class _Builder:
                           f"{1.0 if source.transparency is None else source.transparency:g}); "
                           "imported opaque, as its exporter most likely meant")
             opacity = 1.0
-        recipe.set_opacity(material, opacity)  # clamped to [0, 1] there
+        opacity_nodes.set_opacity(material, opacity)  # clamped to [0, 1] there
 
     def transparent_map(self, material, source, uv_binding) -> bool:
         """A ``<transparent><texture>`` as the material's opacity map, the spec's formula of

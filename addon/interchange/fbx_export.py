@@ -46,8 +46,8 @@ import bpy
 from ...core import fbx, outputs
 from ...node_groups import models
 from .. import compat
-from ..lighting import materials as recipe
-from ..lighting import properties, rig
+from ..lighting import feeds as feed_reader
+from ..lighting import properties, recipe, rig
 from . import keys, native
 from .native import ensure_fbx_addon
 
@@ -295,7 +295,7 @@ def material_of(material, warnings: list, folder: str = "", textures=None) -> fb
     ``_opacity_map`` say.  The values become FBX's by ``fbx.material_of``."""
     if textures is None:
         textures = Textures(folder)
-    feeds = recipe.feeds(material)
+    feeds = feed_reader.feeds(material)
     name = material.name
     where = f"material {name}"
     maps, values, mapped = {}, {}, set()

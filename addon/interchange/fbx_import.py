@@ -43,16 +43,14 @@ from mathutils import Matrix
 
 from ...core import fbx
 from .. import compat
-from ..lighting import materials as recipe
-from ..lighting import properties
+from ..lighting import opacity as opacity_nodes
+from ..lighting import properties, recipe, writer
+from ..lighting import sources as source_materials
 from ..lighting import sync as sync_mod
 from . import keys, native, obj_import
 from .native import ensure_fbx_addon
 
 FbxError = fbx.FbxError
-#: lights-group input -> control node of the recipe (or ours, for the ambient colour)
-CONTROLS = {"Object Color": "phong_object_color", recipe.AMBIENT_INPUT: recipe.AMBIENT_CONTROL,
-            "Specular Color": "phong_specular_color", "Irradiant Color": "phong_irradiant_color"}
 #: Custom property on imported objects, lights and materials: the FBX file they came from.
 SOURCE_KEY = "phong_fbx_source"
 def _base_name(name: str) -> str:
@@ -238,27 +236,20 @@ def apply_material(material, source: fbx.Material, warnings: list, images: dict,
     """Give the Phong material *material* the values and textures of *source*."""
     tree = material.node_tree
     lights = tree.nodes[recipe.LIGHTS_NODE]
-    keep = set(recipe.RECIPE_NODES)
     where = f"{path} ({source.name})"
-    for index, (name, control) in enumerate(CONTROLS.items()):
-        color = source.colors[name]
-        node = recipe.color_control(tree, control, color)
-        keep.add(control)
-        socket = compat.value_output(node)
+    values = fbx.material_values(source)   # the FBX values as Phong values (core/fbx/phong)
+    controls = writer.write(material, writer.Values(
+        {name: values[name] for name in fbx.COLOURS}, exponent=values["Exponent"],
+        blinn=values["Blinn"], specular_strength=values.get("Specular Strength")))
+    keep = set(recipe.RECIPE_NODES) | {socket.node.name for socket in controls.values()}
+    for index, name in enumerate(fbx.COLOURS):
         texture = source.textures.get(name)
         image = _image(texture, images, warnings, where, _data(source, texture)) \
             if texture is not None else None
         if image is not None:
-            socket = obj_import._multiplied(tree, name, socket, image, index)
-            keep |= {obj_import.MAP_NODE + name, obj_import.MULTIPLY_NODE + name}
-        tree.links.new(socket, lights.inputs[name])
-    values = fbx.material_values(source)   # the FBX values as Phong values (core/fbx/phong)
-    compat.value_output(tree.nodes["phong_exponent"]).default_value = values["Exponent"]
-    compat.value_output(tree.nodes["phong_blinn"]).default_value = values["Blinn"]
-    if "Specular Strength" in values:
-        compat.value_output(tree.nodes["phong_specular_strength"]).default_value = \
-            values["Specular Strength"]
-    recipe.set_opacity(material, source.opacity)
+            writer.colour_times_map(material, name, image, index)
+            keep |= {writer.MAP_NODE + name, writer.TIMES_NODE + name}
+    opacity_nodes.set_opacity(material, source.opacity)
     if lights.inputs["Normal"].is_linked:
         tree.links.remove(lights.inputs["Normal"].links[0])
     obj_import._prune(tree, keep)
@@ -545,7 +536,7 @@ def _materials(sync, data, new, warnings, path, before, slots, convert_all) -> N
         for target, index, name in slots:
             material = made.get(name)
             if material is None:
-                material = made[name] = recipe.new_material(name or "Material", group)
+                material = made[name] = writer.new_material(name or "Material", group)
                 source = by_name.get(name)
                 if source is not None and source.kind != "OTHER":
                     apply_material(material, source, warnings, images, path)
@@ -561,10 +552,10 @@ def _materials(sync, data, new, warnings, path, before, slots, convert_all) -> N
                 continue   # a material no object uses: removed below
             source = sources[made]
             if convert_all or source is None or source.kind == "OTHER":
-                phong = recipe.from_source(made, made.name, group)
+                phong = source_materials.from_source(made, made.name, group)
                 native.forget_source(phong, made)
             else:
-                phong = recipe.new_material(made.name, group)
+                phong = writer.new_material(made.name, group)
                 apply_material(phong, source, warnings, images, path)
             native.take_place(made, phong)
     native.remove_unused(before)

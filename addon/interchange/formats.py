@@ -14,7 +14,7 @@ names the file) and leaves the scene as it was.  Every importer ends through
 ``lighting.sync.session``: the scene's Phong materials relinked, as Relink Phong Lights
 leaves them.  Every exporter has one signature too,
 ``export(context, filepath, use_selection=False, **options)`` -> warnings, and reads the
-Phong materials through ``lighting.materials.feeds``; no exporter imports an importer.
+Phong materials through ``lighting.feeds.feeds``; no exporter imports an importer.
 """
 
 from __future__ import annotations

@@ -7,7 +7,7 @@ importers write them and the exporters read them here: no exporter imports an im
 from __future__ import annotations
 
 from ...core import fbx, x3d
-from ..lighting import materials as recipe
+from ..lighting import recipe
 
 # -- MTL (obj_import → mtl_export) ------------------------------------------------------------
 #: material: the MTL illumination model it was read as (0, 1 or 2).
@@ -24,11 +24,9 @@ COLLADA_TRANSPARENT = "phong_collada_transparent"
 COLLADA_TRANSPARENCY = "phong_collada_transparency"
 #: Image Texture node of an imported <texture>: + the lights-group input (or "transparent").
 COLLADA_TEXTURE_NODE = "phong_dae_map:"
-#: lights-group input -> (COLLADA element, control node).
-COLLADA_INPUTS = {"Irradiant Color": ("emission", "phong_irradiant_color"),
-                  recipe.AMBIENT_INPUT: ("ambient", recipe.AMBIENT_CONTROL),
-                  "Object Color": ("diffuse", "phong_object_color"),
-                  "Specular Color": ("specular", "phong_specular_color")}
+#: lights-group input -> COLLADA element.
+COLLADA_INPUTS = {"Irradiant Color": "emission", recipe.AMBIENT_INPUT: "ambient",
+                  "Object Color": "diffuse", "Specular Color": "specular"}
 
 # -- FBX (fbx_import → fbx_export) -------------------------------------------------------------
 #: material: the maps of the file whose image was not there ({FBX property: {"path": the

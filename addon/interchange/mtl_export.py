@@ -28,7 +28,8 @@ import os
 import bpy
 
 from ...core import mtl, outputs
-from ..lighting import materials as recipe
+from ..lighting import feeds as feed_reader
+from ..lighting import recipe, sources
 from .keys import MTL_ILLUM
 
 HEADER = "Phong materials written by Phong Nodes (docs/model.md: MTL illum 2 with Ka = Kd)"
@@ -38,7 +39,7 @@ def mtl_name(material) -> str:
     """The name of *material* in an MTL file: the name of the material it was made from (its
     source, so that import ▸ export keeps the file's names), spaces replaced by underscores as
     Blender's OBJ exporter writes them in usemtl."""
-    source = recipe.source_of(material)
+    source = sources.source_of(material)
     return (source.name if source is not None else material.name).replace(" ", "_")
 
 
@@ -119,7 +120,7 @@ def to_mtl(material, mtl_folder, name=None):
     out = mtl.Material(name or mtl_name(material), "", 0)
     warnings = []
     read_as = material.get(MTL_ILLUM)      # the model an imported material was read as
-    feeds = recipe.feeds(material)
+    feeds = feed_reader.feeds(material)
     only = _colour_only(material, feeds, mtl_folder) if read_as in (None, 0) else None
     if only is not None:      # MTL illum 0: Kd is the colour, lights play no part
         out.colors["Kd"], image, options = only

@@ -8,7 +8,7 @@ take their geometry from Blender's own importers, which make Principled material
 replaced here: the Phong material takes every user of the importer's material
 (``user_remap``), the importer's material is removed and the Phong material takes its name.
 An imported material has no "original" to restore (Apply Phong Material on a user's own
-materials keeps its source, see ``lighting/materials.py``).
+materials keeps its source, see ``lighting/sources.py``).
 
 Only data blocks that did not exist before the import are ever touched (:func:`snapshot`).
 
@@ -30,7 +30,8 @@ from dataclasses import dataclass, field
 import bpy
 
 from .. import compat
-from ..lighting import materials as recipe
+from ..lighting import opacity as opacity_nodes
+from ..lighting import recipe, sources, writer
 
 @dataclass
 class ImportResult:
@@ -120,9 +121,9 @@ def take_place(old, new) -> None:
 
 def forget_source(material, source) -> None:
     """A Phong material made from the importer's material *source*
-    (``materials.from_source``, which keeps the source with a fake user) as a material of its
+    (``sources.from_source``, which keeps the source with a fake user) as a material of its
     own: it names no source to restore, and the source keeps no fake user (it is removed)."""
-    for key in (recipe.SOURCE_KEY, recipe.SOURCE_TOKEN, recipe.EMPTY_SOURCE_KEY):
+    for key in (sources.SOURCE_KEY, sources.SOURCE_TOKEN, sources.EMPTY_SOURCE_KEY):
         if key in material.keys():
             del material[key]
     if source is not None:
@@ -146,7 +147,7 @@ def remove_unused(before: dict) -> list:
 # -- maps on the opacity and the exponent ------------------------------------------------------
 
 #: Node names of the map chains (+ a suffix per chain); the chain of the opacity ends in
-#: ``materials.OPACITY_MAP``.
+#: ``recipe.OPACITY_MAP``.
 MAP_NODE = "phong_map:"
 MEAN = (1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0)
 NON_COLOR = "Non-Color"
@@ -249,7 +250,7 @@ def exponent_map(material, image) -> None:
     texture = image_node(tree, "exponent map", image, (-1450.0, -1400.0))
     mean = mean_rgb(tree, "exponent map mean", compat.output_socket(texture, "Color"),
                     (-1150.0, -1400.0))
-    value = compat.value_output(tree.nodes["phong_exponent"])
+    value = writer.control_output(material, "Exponent")
     product = math(tree, MAP_NODE + "exponent x map", "MULTIPLY", value, mean,
                    (-900.0, -1400.0))
     tree.links.new(product, lights.inputs["Exponent"])
@@ -257,12 +258,12 @@ def exponent_map(material, image) -> None:
 
 def opacity_map(material, opacity, location=(-400.0, 600.0)) -> None:
     """*opacity* (an output socket: the file's formula of its maps) clamped to [0, 1] as the
-    material's opacity map (``materials.OPACITY_MAP``): it feeds the Mix Shader's Fac in place
+    material's opacity map (``recipe.OPACITY_MAP``): it feeds the Mix Shader's Fac in place
     of the Opacity control, which keeps the file's value."""
     tree = material.node_tree
     math(tree, recipe.OPACITY_MAP, "MULTIPLY", opacity, 1.0, location, clamp=True)
     tree.nodes[recipe.OPACITY_MAP].label = "Opacity map"
-    recipe.apply_opacity(material)
+    opacity_nodes.apply_opacity(material)
 
 
 # -- Blender's own FBX add-on and image files (read by importers and exporters alike) -------

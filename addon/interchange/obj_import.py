@@ -10,7 +10,7 @@ material with the MTL's values, term by term:
     illum 1   Ka ambient + Kd Lambert: Specular Color black
     illum 2   + Ks (h·n)^Ns highlight: Blinn = 1 (MTL's highlight is Blinn's)
     Ke        Irradiant Color (illum 1 and 2)
-    d / Tr    Opacity (d, else 1 - Tr; ``materials.set_opacity``): the pixel is
+    d / Tr    Opacity (d, else 1 - Tr; ``opacity.set_opacity``): the pixel is
               d × Phong colour + (1 - d) × what is behind
 
 A colour missing from the MTL is black (MTL's formula has no other default); a missing Ns
@@ -35,20 +35,19 @@ import os
 import bpy
 
 from ...core import mtl
-from .. import compat
-from ..lighting import materials as recipe
+from ..lighting import opacity, recipe, writer
 from ..lighting import sync as sync_mod
 from . import keys, native
 
-#: lights-group input -> (MTL colour, MTL map, control node of the recipe or our own)
+#: lights-group input -> (MTL colour, MTL map)
 COLOR_INPUTS = {
-    "Object Color": ("Kd", "map_Kd", "phong_object_color"),
-    recipe.AMBIENT_INPUT: ("Ka", "map_Ka", recipe.AMBIENT_CONTROL),
-    "Specular Color": ("Ks", "map_Ks", "phong_specular_color"),
-    "Irradiant Color": ("Ke", "map_Ke", "phong_irradiant_color"),
+    "Object Color": ("Kd", "map_Kd"),
+    recipe.AMBIENT_INPUT: ("Ka", "map_Ka"),
+    "Specular Color": ("Ks", "map_Ks"),
+    "Irradiant Color": ("Ke", "map_Ke"),
 }
-MAP_NODE = "phong_mtl_map:"        # + input name: the Image Texture of a map
-MULTIPLY_NODE = "phong_mtl_mul:"   # + input name: colour x map
+MAP_NODE = writer.MAP_NODE         # + input name: the Image Texture of a map
+MULTIPLY_NODE = writer.TIMES_NODE  # + input name: colour x map
 BUMP_NODE = "phong_mtl_bump"
 MAPPING_NODE = "phong_mtl_place:"  # + input name: the map's -o / -s (a Mapping node)
 UV_NODE = "phong_mtl_uv"           # the UV coordinates the Mapping nodes read
@@ -69,9 +68,9 @@ def _mtl_name(material, by_name):
 def values(source: mtl.Material) -> dict:
     """{lights-group input: colour}, {lights-group input: TextureMap or None} and the
     scalars of *source*, term by term."""
-    colors = {name: tuple(source.colors.get(key, BLACK)) for name, (key, _m, _c) in
+    colors = {name: tuple(source.colors.get(key, BLACK)) for name, (key, _m) in
               COLOR_INPUTS.items()}
-    maps = {name: source.maps.get(map_key) for name, (_k, map_key, _c) in COLOR_INPUTS.items()}
+    maps = {name: source.maps.get(map_key) for name, (_k, map_key) in COLOR_INPUTS.items()}
     illum = 2 if source.illum is None else source.illum
     if illum == 0:  # colour only: Kd and its map, as light the object gives itself
         colors = {name: BLACK for name in colors}
@@ -127,24 +126,19 @@ def apply_mtl(material, source: mtl.Material, warnings: list, missing: dict) -> 
     tree = material.node_tree
     lights = tree.nodes[recipe.LIGHTS_NODE]
     wanted = values(source)
-    keep = set(recipe.RECIPE_NODES)
     where = f"{source.path}:{source.line} ({source.name})"
     user = (where, source.name)
-    for index, (name, (_key, _map_key, control)) in enumerate(COLOR_INPUTS.items()):
-        color = wanted["colors"][name]
-        node = recipe.color_control(tree, control, color)
-        keep.add(control)
-        socket = compat.value_output(node)
+    controls = writer.write(material, writer.Values(
+        wanted["colors"], exponent=30.0 if wanted["exponent"] is None else wanted["exponent"],
+        blinn=wanted["blinn"]))
+    keep = set(recipe.RECIPE_NODES) | {socket.node.name for socket in controls.values()}
+    for index, name in enumerate(COLOR_INPUTS):
         texture = wanted["maps"][name]
         image = _image(texture, missing, user) if texture is not None else None
         if image is not None:
-            socket = _multiplied(tree, name, socket, image, index)
+            writer.colour_times_map(material, name, image, index)
             keep |= {MAP_NODE + name, MULTIPLY_NODE + name}
             keep |= _placed(tree, name, texture.placement())
-        tree.links.new(socket, lights.inputs[name])
-    compat.value_output(tree.nodes["phong_exponent"]).default_value = (
-        30.0 if wanted["exponent"] is None else wanted["exponent"])
-    compat.value_output(tree.nodes["phong_blinn"]).default_value = wanted["blinn"]
     material[ILLUM_KEY] = min(wanted["illum"], 2)
     bump = source.maps.get("bump")
     image = _image(bump, missing, user, non_color=True) if bump is not None else None
@@ -153,7 +147,7 @@ def apply_mtl(material, source: mtl.Material, warnings: list, missing: dict) -> 
         keep |= _placed(tree, "bump", bump.placement())
     elif lights.inputs["Normal"].is_linked:
         tree.links.remove(lights.inputs["Normal"].links[0])
-    recipe.set_opacity(material, 1.0 - source.transparency())  # d, else 1 - Tr
+    opacity.set_opacity(material, 1.0 - source.transparency())  # d, else 1 - Tr
     _prune(tree, keep)
     problems = [p for p in source.unsupported() if not p.endswith("(transparency)")]
     if source.illum is not None and source.illum > 2:
@@ -161,21 +155,6 @@ def apply_mtl(material, source: mtl.Material, warnings: list, missing: dict) -> 
             f"illum {source.illum} (imported as illum 2)"]
     if problems:
         warnings.append(f"{where}: not representable, left out: " + ", ".join(problems))
-
-
-def _multiplied(tree, name, color_socket, image, index):
-    texture = tree.nodes.get(MAP_NODE + name) or tree.nodes.new("ShaderNodeTexImage")
-    texture.name = MAP_NODE + name
-    texture.label = f"{name} map"
-    texture.image = image
-    texture.location = (-1150.0, 200.0 - 300.0 * index)
-    multiply = tree.nodes.get(MULTIPLY_NODE + name) or tree.nodes.new("ShaderNodeVectorMath")
-    multiply.name = MULTIPLY_NODE + name
-    multiply.operation = "MULTIPLY"
-    multiply.location = (-600.0, 200.0 - 300.0 * index)
-    tree.links.new(color_socket, compat.input_socket(multiply, "Vector"))
-    tree.links.new(texture.outputs["Color"], compat.input_socket(multiply, "Vector_001"))
-    return multiply.outputs["Vector"]
 
 
 def _placed(tree, name, placement) -> set:
@@ -264,7 +243,7 @@ def _replace_materials(context, filepath, before, by_name, warnings) -> native.I
             source = _mtl_name(made, by_name)
             if made.users == 0 or group is None:
                 continue   # a material no object uses: removed below
-            phong = recipe.new_material(made.name, group)
+            phong = writer.new_material(made.name, group)
             if source is not None:
                 apply_mtl(phong, source, warnings, missing)
             else:  # a usemtl name that no library defines: Blender's default, as Phong

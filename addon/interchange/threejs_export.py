@@ -34,8 +34,9 @@ import numpy as np
 from ...core import threejs
 from ...node_groups import models
 from .. import compat
+from ..lighting import feeds as feed_reader
+from ..lighting import recipe
 from ..scene import describe
-from ..lighting import materials
 
 #: The control that feeds each three.js material field (by the lights group's input).
 FIELDS = {"color": "Object Color", "specular": "Specular Color", "shininess": "Exponent",
@@ -47,7 +48,7 @@ def _column_major(matrix) -> list:
 
 
 def _value(feeds, name, warnings, material):
-    """The value of input *name* of the lights group (``materials.feeds``): the value the
+    """The value of input *name* of the lights group (``feed_reader.feeds``): the value the
     material states; a texture or other nodes feeding it are named in a warning."""
     feed = feeds[name]
     if feed.other is not None:
@@ -58,11 +59,11 @@ def _value(feeds, name, warnings, material):
 
 
 def material_dict(material, warnings: list) -> dict:
-    """The three.js material of a Phong material: its values (``materials.feeds``) mapped by
+    """The three.js material of a Phong material: its values (``feeds.feeds``) mapped by
     ``threejs.material_of``."""
-    feeds = materials.feeds(material)
+    feeds = feed_reader.feeds(material)
     values = {key: _value(feeds, name, warnings, material) for key, name in FIELDS.items()}
-    values["ambient"] = _value(feeds, materials.AMBIENT_INPUT, warnings, material)
+    values["ambient"] = _value(feeds, recipe.AMBIENT_INPUT, warnings, material)
     values["blinn"] = _value(feeds, "Blinn", warnings, material)
     out, notes = threejs.material_of(material.name, values)
     warnings.extend(f"{material.name}: {note}" for note in notes)
@@ -137,7 +138,7 @@ def scene_dict(scene, view_layer, width: int, height: int, objects=None,
         for slot_index in np.unique(slots):
             slot = obj.material_slots[int(slot_index)] if obj.material_slots else None
             material = slot.material if slot is not None else None
-            if not materials.is_phong_material(material):
+            if not recipe.is_phong_material(material):
                 warnings.append(f"{obj.name}: faces without a Phong material are not exported")
                 continue
             if material.name not in index:

@@ -47,10 +47,11 @@ import numpy as np
 from ...core import x3d
 from ...node_groups import models
 from .. import compat
+from ..lighting import feeds as feed_reader
 from ..lighting import headlight as headlight_mod
 from ..lighting import lights as lights_mod
-from ..lighting import materials as recipe
-from ..lighting import properties, rig
+from ..lighting import properties, recipe, rig
+from ..lighting import sources as source_materials
 from . import keys, native
 
 #: Blender's Z up to the file's Y up (the inverse of x3d.Y_UP_TO_Z_UP: a rotation).
@@ -329,7 +330,7 @@ class _Writer:
         if material is None:
             result = (x3d.Appearance(material=x3d.Material(name="Material")), "", False)
         elif not recipe.is_phong_material(material):
-            color = recipe.base_color(material) or (0.8, 0.8, 0.8)
+            color = source_materials.base_color(material) or (0.8, 0.8, 0.8)
             self.warnings.add(f"materials that are not Phong materials written as a Material "
                               f"of their base colour: {material.name}")
             result = (x3d.Appearance(material=x3d.Material(name=material.name,
@@ -342,7 +343,7 @@ class _Writer:
     def phong(self, material):
         tree = material.node_tree
         name = material.name
-        feeds = recipe.feeds(material)
+        feeds = feed_reader.feeds(material)
         kd_feed = _feed(feeds["Object Color"])
         ka_feed = _feed(feeds[recipe.AMBIENT_INPUT])
         ks_feed = _feed(feeds["Specular Color"])
@@ -675,7 +676,7 @@ class _Writer:
 
 
 class _Feed:
-    """What X3D can say of a lights-group input's ``materials.Feed``: a constant colour (a
+    """What X3D can say of a lights-group input's ``feeds.Feed``: a constant colour (a
     control's or the socket's), an Image Texture, the colour attribute, their product, × a
     scale."""
 
@@ -697,7 +698,7 @@ class _Feed:
 
 
 def _feed(feed) -> _Feed:
-    """The _Feed of the ``materials.Feed`` *feed*."""
+    """The _Feed of the ``feeds.Feed`` *feed*."""
     out = _Feed(feed.socket)
     if feed.other is None:   # a value: the socket's own, or an RGB node's (a control)
         value = feed.value if isinstance(feed.value, tuple) else (float(feed.value),) * 3
@@ -719,7 +720,7 @@ def _feed(feed) -> _Feed:
 
 
 def _texture_alpha(product, node) -> bool:
-    """Whether the opacity map *product* (``materials.OPACITY_MAP``) is the alpha of the Image
+    """Whether the opacity map *product* (``recipe.OPACITY_MAP``) is the alpha of the Image
     Texture *node* (the one written) times the Opacity control: what X3D says with the
     texture's alpha and transparency (``x3d_import._Builder.texture_alpha``)."""
     if node is None or product is None or product.operation != "MULTIPLY":

@@ -61,8 +61,8 @@ from mathutils import Matrix, Vector
 from ...core import x3d
 from .. import compat
 from ..lighting import headlight as headlight_mod
-from ..lighting import materials as recipe
-from ..lighting import properties, rig
+from ..lighting import opacity as opacity_nodes
+from ..lighting import properties, recipe, rig, writer
 from ..lighting import sync as sync_mod
 from ..lighting import world_copies
 from . import keys, native
@@ -715,17 +715,13 @@ class _Builder:
 
     def material(self, name, group, source, image, components, colors, transform, texture):
         values = x3d.phong_values(source, components, colors)
-        material = recipe.new_material(name, group)
+        material = writer.new_material(name, group)
         tree = material.node_tree
         lights = tree.nodes[recipe.LIGHTS_NODE]
-        controls = {"phong_object_color": values["Kd"], "phong_specular_color": values["Ks"],
-                    "phong_irradiant_color": values["Ke"], recipe.AMBIENT_CONTROL: values["Ka"]}
-        nodes = {name_: recipe.color_control(tree, name_, color)
-                 for name_, color in controls.items()}
-        compat.value_output(tree.nodes["phong_exponent"]).default_value = values["exponent"]
-        compat.value_output(tree.nodes["phong_blinn"]).default_value = values["blinn"]
-        tree.links.new(compat.value_output(nodes[recipe.AMBIENT_CONTROL]),
-                       lights.inputs[recipe.AMBIENT_INPUT])
+        controls = writer.write(material, writer.Values(
+            {"Object Color": values["Kd"], "Specular Color": values["Ks"],
+             "Irradiant Color": values["Ke"], recipe.AMBIENT_INPUT: values["Ka"]},
+            exponent=values["exponent"], blinn=values["blinn"]))
         if source is not None:
             material[AMBIENT_KEY] = float(source.ambient_intensity)
             material[SHININESS_KEY] = float(source.shininess)
@@ -738,7 +734,6 @@ class _Builder:
         if not values["lit"]:
             material[UNLIT_KEY] = 1
         # the texture and colours act on Kd (lit) or Ke (unlit), as phong_values says
-        term = "phong_object_color" if values["lit"] else "phong_irradiant_color"
         socket_name = "Object Color" if values["lit"] else "Irradiant Color"
         base = None     # what replaces the term: the texture, the colours or their product
         if image is not None:
@@ -757,15 +752,14 @@ class _Builder:
             self.texture_alpha(material, values["opacity"])
         if values["source"] == "texture*material":   # a grey texture multiplies the term
             feed = self.vector(tree, "texture x colour", "MULTIPLY", base,
-                               compat.value_output(nodes[term]), (-700.0, 300.0))
+                               controls[socket_name], (-700.0, 300.0))
         else:
             feed = base
         tree.links.new(feed, lights.inputs[socket_name])
         if values["lit"]:
             if values["source"] == "texture*material":   # Ka = texture × the Ka control
                 ambient = self.vector(tree, "texture x ambient", "MULTIPLY", base,
-                                      compat.value_output(nodes[recipe.AMBIENT_CONTROL]),
-                                      (-700.0, 100.0))
+                                      controls[recipe.AMBIENT_INPUT], (-700.0, 100.0))
             else:   # Ka = ambientIntensity × the colour that replaces diffuseColor
                 node = recipe.named_node(tree, CHAIN + "ambient", "ShaderNodeVectorMath",
                                          (-500.0, 100.0))
@@ -781,24 +775,24 @@ class _Builder:
     @staticmethod
     def finish(material, values):
         if values["opacity"] < 1.0 and material.node_tree.nodes.get(recipe.OPACITY_MAP) is None:
-            recipe.set_opacity(material, values["opacity"])
+            opacity_nodes.set_opacity(material, values["opacity"])
         return material
 
     @staticmethod
     def texture_alpha(material, opacity):
         """A two- or four-channel texture's alpha as the material's opacity (cut-out leaves,
-        labels): the opacity map (``materials.OPACITY_MAP``) = the texture's alpha × the
+        labels): the opacity map (``recipe.OPACITY_MAP``) = the texture's alpha × the
         Opacity control, which keeps the file's 1 − transparency (X3D 4's texturing table:
         A × (1 − transparency); VRML97 and X3D 3 say A alone, the same where transparency
         is 0, as it mostly is)."""
         tree = material.node_tree
-        recipe.set_opacity(material, opacity)   # the control: kept for the export
+        opacity_nodes.set_opacity(material, opacity)   # the control: kept for the export
         alpha = compat.output_socket(tree.nodes[TEXTURE_NODE], "Alpha")
         control = compat.value_output(tree.nodes[recipe.OPACITY])
         native.math(tree, recipe.OPACITY_MAP, "MULTIPLY", alpha, control, (-400.0, 600.0),
                     clamp=True)
         tree.nodes[recipe.OPACITY_MAP].label = "texture alpha x Opacity"
-        recipe.apply_opacity(material)
+        opacity_nodes.apply_opacity(material)
 
     @staticmethod
     def has_alpha(image) -> bool:

@@ -24,7 +24,7 @@ import bpy
 import numpy as np
 
 from . import lights as lights_mod
-from . import materials, properties
+from . import properties, sources
 from . import sync as sync_mod
 
 #: Object types whose data holds materials that render as surfaces.
@@ -337,7 +337,7 @@ def _remove_hierarchy(collection) -> None:
 def restore(obj, names=None) -> int:
     """Restore Original Materials on *obj*: the source materials back in its slots, and the
     slots Apply linked to the object linked to the data again; returns how many slots."""
-    changed = materials.restore(obj, names)
+    changed = sources.restore(obj, names)
     if obj.get(OBJECT_SLOTS_KEY):
         unlink_slots(obj)
     return changed

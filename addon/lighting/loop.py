@@ -18,7 +18,7 @@ this part, which does not depend on the lights at all:
   0), and Light Accumulation, every colour of which is linked from outside the loop (a colour
   left unlinked there is compiled into the shader: one shader per material);
 * Emission(irradiant + ambient) added to it: the group's output "Eevee Shader", which the
-  material's second Material Output (target EEVEE) shows (``materials.py``).
+  material's second Material Output (target EEVEE) shows (``engine_outputs.py``).
 
 So a light added, removed, retyped, relinked or moved changes nothing of the material for
 Eevee, and every material has the same few nodes whatever the number of lights.  What Light

@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Copy the nodes upstream of a socket from one node tree into another: a material's texture
-chain into a copy of the Phong template (``materials.from_source``).
+chain into a copy of the Phong template (``sources.from_source``).
 
 Why not copy the whole source material and add the Phong nodes to it: each of those nodes
 needs its name (the recipe's identity), and naming a node walks every ID of the file

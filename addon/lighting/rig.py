@@ -114,7 +114,7 @@ if compat.HAS_LIGHT_LOOP:  # last: the sockets before it keep their identifiers 
     OUTPUTS += ((light_loop.EEVEE_SHADER, "NodeSocketShader"),)
 if compat.HAS_RAYCAST:  # the Shader with shadow rays, for Cycles (``shadows.py``)
     OUTPUTS += ((shadow_rays.CYCLES_SHADER, "NodeSocketShader"),)
-#: The AOVs of the term passes (``materials.AOVS``, ``phong.add_term_passes``).
+#: The AOVs of the term passes (``recipe.AOVS``, ``phong.add_term_passes``).
 PASS_NAMES = ("Phong Color",) + tuple(f"Phong {t}" for t in TERMS)
 
 
@@ -159,7 +159,7 @@ def group_name(scene, lights, key: str) -> str:
 def ensure(scene, lights, key: str, blends: bool = False):
     """The lights group of *scene* for *lights* (key *key*), created or rebuilt.  *blends*:
     a Phong material of the scene blends (Opacity below 1): Eevee then compiles its group
-    (``materials._eevee_shader``), which so reads at most ``compat.VIEW_LAYER_LOOKUPS``."""
+    (``engine_outputs.eevee_shader``), which so reads at most ``compat.VIEW_LAYER_LOOKUPS``."""
     loop = wants_loop(scene)
     lookups = compat.view_layer_lookups(loop and not blends)
     tree = find(scene, key)

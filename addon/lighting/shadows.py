@@ -94,7 +94,7 @@ def material_notes(shading: str, blends: bool, rays: bool, loop: bool) -> list:
     """What the material panel says of a Phong material's shadows: in *shading* (PIXEL, or
     Per Vertex / Per Face), blending (*blends*: Opacity below 1, an opacity map), in a scene
     with shadow rays (*rays*) and the light loop (*loop*).  Eevee shows the loop's shadows
-    only where it shows the loop (``materials._eevee_shader``); the light panel says the
+    only where it shows the loop (``engine_outputs.eevee_shader``); the light panel says the
     rest."""
     if not supported() or not rays:
         return []

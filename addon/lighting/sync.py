@@ -21,7 +21,8 @@ from bpy.app.handlers import persistent
 from .. import compat, loader
 from . import lights as lights_mod
 from . import loop as light_loop
-from . import materials, rig, shadows, world_copies
+from . import engine_outputs, opacity, recipe, rig, shadows, world_copies, writer
+from . import sources as source_materials
 
 
 #: The name of a template made for textured sources only (``Sync.convert``; removed at the
@@ -45,11 +46,11 @@ class Sync:
         self.names = {m.name: m for m in bpy.data.materials}
         self.scratch: list = []  # templates made for textured sources, removed at the end
         self.blends = False  # a Phong material blends: Eevee compiles the lights groups
-        for material in materials.phong_materials():
-            self.index.setdefault((self._origin(material), materials.lights_key(material)),
+        for material in recipe.phong_materials():
+            self.index.setdefault((self._origin(material), recipe.lights_key(material)),
                                   material)
-            self.blends = self.blends or materials.blends(material)
-        materials.STALE.discard(scene.as_pointer())
+            self.blends = self.blends or recipe.blends(material)
+        engine_outputs.STALE.discard(scene.as_pointer())
         self.changed: set = set()
 
     # -- light sets and their groups ------------------------------------------------
@@ -67,10 +68,11 @@ class Sync:
 
     # -- materials --------------------------------------------------------------------
     def _origin(self, material):
-        source = materials.source_of(material, self.names)
+        source = source_materials.source_of(material, self.names)
         if source is not None:
             return source.as_pointer()
-        return "empty" if material.get(materials.EMPTY_SOURCE_KEY) else material.as_pointer()
+        return ("empty" if material.get(source_materials.EMPTY_SOURCE_KEY)
+                else material.as_pointer())
 
     def _name(self, base, reach, key):
         name = f"Phong {base}"
@@ -86,12 +88,12 @@ class Sync:
             return self.rewire(material, key, reach)
         group = self.group(key, reach)
         base = source.name if source is not None else "Material"
-        textured = materials.base_color_link(source) is not None
+        textured = source_materials.base_color_link(source) is not None
         template = self.templates.get(key)
         if template is None and textured:
-            template = self.templates[key] = materials.new_material(SCRATCH, group)
+            template = self.templates[key] = writer.new_material(SCRATCH, group)
             self.scratch.append(template)
-        material = materials.from_source(source, self._name(base, reach, key), group,
+        material = source_materials.from_source(source, self._name(base, reach, key), group,
                                          template=template)
         if template is None:  # untextured: the first of its light set is the template
             self.templates[key] = material
@@ -109,7 +111,7 @@ class Sync:
         for obj in objects:
             key, reach = self.light_set(obj)
             for material in [s.material for s in obj.material_slots] or [None]:
-                if materials.is_phong_material(material):
+                if recipe.is_phong_material(material):
                     continue
                 origin = material.as_pointer() if material is not None else "empty"
                 if (origin, (self.scene.as_pointer(), key)) in self.index:
@@ -126,7 +128,7 @@ class Sync:
         gets one per scene: each scene has its own lights groups).  *only_set*: every user of
         *material* in this scene wants this set, so when its set changed (a light renamed,
         linking edited) the material itself moves to the new set instead of being copied."""
-        current = materials.lights_key(material)
+        current = recipe.lights_key(material)
         wanted = (self.scene.as_pointer(), key)
         if current is not None and current != wanted:
             origin = self._origin(material)
@@ -140,7 +142,7 @@ class Sync:
                     material.name = self._name(base, reach, key)
             elif variant is None:
                 variant = material.copy()
-                source = materials.source_of(material)
+                source = source_materials.source_of(material)
                 base = source.name if source is not None else material.name.removeprefix("Phong ")
                 compat.rename(variant, self._name(base.split(" [")[0], reach, key))
                 self.index[(origin, wanted)] = variant
@@ -148,18 +150,18 @@ class Sync:
             else:
                 material = variant
         group = self.group(key, reach)
-        node = material.node_tree.nodes.get(materials.LIGHTS_NODE)
+        node = material.node_tree.nodes.get(recipe.LIGHTS_NODE)
         if material.name in self.changed and node is not None and node.node_tree is group:
             return material  # made or wired by this run: nothing to check again
-        if (materials.upgrade(material) or node is None or node.node_tree is not group
-                or int(material.get(materials.MATERIAL_TAG, 0)) < materials.LAYOUT):
-            materials.wire(material, group)
+        if (source_materials.upgrade(material) or node is None or node.node_tree is not group
+                or int(material.get(recipe.MATERIAL_TAG, 0)) < recipe.LAYOUT):
+            writer.wire(material, group)
             self.changed.add(material.name)
-        elif not materials.eevee_in_step(material):  # the loop part came or went (5.3+)
-            materials.wire(material, group)
+        elif not engine_outputs.eevee_in_step(material):  # the loop part came or went (5.3+)
+            writer.wire(material, group)
             self.changed.add(material.name)
-        elif not materials.opacity_in_step(material):  # its Opacity node written directly
-            materials.apply_opacity(material)
+        elif not opacity.opacity_in_step(material):  # its Opacity node written directly
+            opacity.apply_opacity(material)
         return material
 
     # -- objects --------------------------------------------------------------------------
@@ -171,7 +173,7 @@ class Sync:
         done = []
         for slot in obj.material_slots:
             material = slot.material
-            if materials.is_phong_material(material):
+            if recipe.is_phong_material(material):
                 new = self.rewire(material, key, reach)
             else:
                 new = self.convert(material, key, reach)
@@ -188,7 +190,7 @@ class Sync:
         for obj in objects:
             if obj.type != "MESH" and not hasattr(obj.data, "materials"):
                 continue
-            slots = [s for s in obj.material_slots if materials.is_phong_material(s.material)]
+            slots = [s for s in obj.material_slots if recipe.is_phong_material(s.material)]
             if not slots:
                 continue
             key, reach = self.light_set(obj)
@@ -337,7 +339,7 @@ def on_depsgraph_update(scene, depsgraph=None):
     """Relink *scene* when its lights changed (added, deleted, hidden, retyped, relinked)."""
     if _BUSY or scene is None:
         return
-    stale = scene.as_pointer() in materials.STALE  # a material began to blend (5.3+)
+    stale = scene.as_pointer() in engine_outputs.STALE  # a material began to blend (5.3+)
     if depsgraph is not None and not stale and not any(
             depsgraph.id_type_updated(kind)
             for kind in ("OBJECT", "LIGHT", "COLLECTION", "SCENE", "WORLD")):
@@ -390,7 +392,7 @@ def forget(*_args):
 def upgrade_on_load(*_args):
     """A file of an earlier version: each scene whose lights groups are older than
     ``rig.RIG_VERSION`` is relinked, which rebuilds its groups and upgrades its Phong
-    materials (``materials.upgrade``); nothing is lost.  So is a scene whose groups have the
+    materials (``source_materials.upgrade``); nothing is lost.  So is a scene whose groups have the
     loop part where this Blender has no light loop (a file of 5.3 opened by 5.2: its EEVEE
     Material Outputs, of nodes 5.2 does not know, are removed) or lack it where it should
     be (a file of 5.2 opened by 5.3).  Files of version 0.1 (no lights
@@ -424,7 +426,7 @@ def _renew() -> None:
     the materials' group nodes evaluate wrongly here (``compat.file_from_newer_release``), so
     the groups get a new interface and are rebuilt for this release (the loop part goes where
     there is no loop), the nodes are made again, the links into them kept."""
-    links = {m.as_pointer(): materials.group_links(m) for m in materials.phong_materials()}
+    links = {m.as_pointer(): source_materials.group_links(m) for m in recipe.phong_materials()}
     scenes = [s for s in bpy.data.scenes if s.library is None and rig.groups_of(s)]
     for scene in scenes:
         for tree in rig.groups_of(scene):
@@ -433,8 +435,8 @@ def _renew() -> None:
     try:
         for scene in scenes:
             relink_scene(scene)
-        for material in materials.phong_materials():
-            materials.renew_group_node(material, links.get(material.as_pointer()))
+        for material in recipe.phong_materials():
+            source_materials.renew_group_node(material, links.get(material.as_pointer()))
         for scene in scenes:  # what reads the lights nodes' links (Per Vertex / Per Face)
             for follow in AFTER_FINISH:  # shading.modes.refresh: ran in the relink, before
                 # the links were back
@@ -449,7 +451,7 @@ def _renew() -> None:
 #: depsgraph's updates: a relink frees and edits data blocks (groups, the World's drivers)
 #: that those updates still name (Blender 4.2 crashed in follow_opacity after it); on
 #: load_post the upgrade (a relink) comes last too (tests/test_register.py).
-HANDLERS = (("depsgraph_update_post", materials.follow_opacity),
+HANDLERS = (("depsgraph_update_post", opacity.follow_opacity),
             ("depsgraph_update_post", light_loop.follow_lights),
             ("depsgraph_update_post", shadows.follow_shadow_visibility),
             ("depsgraph_update_post", on_depsgraph_update), ("load_post", forget),

@@ -24,7 +24,7 @@ import numpy as np
 from ...core import outputs
 from ..lighting import lights as lights_mod
 from .. import compat
-from ..lighting import materials, properties, rig, shadows
+from ..lighting import properties, recipe, rig, shadows
 from . import render
 
 #: Custom property on a scene built from a scene file (``demos/builder.py``): the file's dict
@@ -74,7 +74,7 @@ def phong_objects(scene, view_layer) -> list:
     return [obj for obj in view_layer.objects
             if not obj.hide_render and hasattr(obj.data, "materials")
             and lights_mod.visible(obj, view_layer, collections)
-            and any(materials.is_phong_material(slot.material) for slot in obj.material_slots)]
+            and any(recipe.is_phong_material(slot.material) for slot in obj.material_slots)]
 
 
 def folder_name(scene) -> str:
@@ -111,13 +111,13 @@ def describe(scene, view_layer, objects) -> dict:
             "name": obj.name,
             "lights": [k for k, rule in enumerate(rules) if lights_mod.reaches(rule, obj)],
             "materials": sorted({slot.material.name for slot in obj.material_slots
-                                 if materials.is_phong_material(slot.material)}),
+                                 if recipe.is_phong_material(slot.material)}),
             # Opacity below 1 or an opacity map (a texture's alpha): the picture blends what
             # is behind, which the reference (from the nearest surface's probes) cannot
             # know: its pixels are left out
-            "transparent": any(materials.blends(slot.material)
+            "transparent": any(recipe.blends(slot.material)
                                for slot in obj.material_slots
-                               if materials.is_phong_material(slot.material)),
+                               if recipe.is_phong_material(slot.material)),
         } for obj in objects],
         "light_names": [obj.name for obj in lights],
     }

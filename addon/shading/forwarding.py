@@ -40,7 +40,7 @@ _on_opacity = None
 
 
 def set_opacity_callback(callback) -> None:
-    """*callback(material, value)* sets a material's Opacity (``lighting.materials.set_opacity``;
+    """*callback(material, value)* sets a material's Opacity (``lighting.opacity.set_opacity``;
     None: nothing)."""
     global _on_opacity
     _on_opacity = None if callback is None else weakref.ref(callback)
@@ -59,7 +59,7 @@ def opacity_getter(node_name):
 
 def opacity_setter():
     def set_(self, value):
-        # lighting.materials.set_opacity (addon/__init__.py, connect)
+        # lighting.opacity.set_opacity (addon/__init__.py, connect)
         callback = _on_opacity() if _on_opacity is not None else None
         if callback is not None:
             callback(self.id_data, value)

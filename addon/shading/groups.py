@@ -23,7 +23,7 @@ from ...node_groups import models
 from ...node_groups import shading_modes as model
 from ...node_groups.expr import VECTOR, input_
 from .. import compat, loader
-from ..lighting import drivers, materials, properties, rig, world_copies
+from ..lighting import drivers, properties, recipe, rig, world_copies
 from ..lighting.lights import SUPPORTED
 from .geometry import FACE_CENTRE, FACE_NORMAL, VERTEX_NORMALS, VERTEX_POSITIONS, WEIGHTS
 
@@ -79,7 +79,7 @@ def shading_group(material, mode, cache=None):
 
 def _lights_group(material):
     """The lights group *material* uses, or None."""
-    node = material.node_tree.nodes.get(materials.LIGHTS_NODE)
+    node = material.node_tree.nodes.get(recipe.LIGHTS_NODE)
     return node.node_tree if node is not None else None
 
 

@@ -25,7 +25,7 @@ import bpy
 from bpy.app.handlers import persistent
 
 from ...node_groups import shading_modes as model
-from ..lighting import materials, world_copies
+from ..lighting import opacity, recipe, world_copies
 from . import geometry as geometry_nodes
 from .geometry import (GEOMETRY_TREE, MODIFIER_NAME, ensure_geometry_tree, geometry_tree,
                        modifiers_off)
@@ -37,7 +37,7 @@ MODES = model.MODES
 PIXEL, VERTEX, FACE = MODES
 #: Nodes of the material in these modes: the shading group and the Emission it feeds.
 SHADING_NODE = "phong_shading_group"
-EMISSION_NODE = materials.SHADING_EMISSION  # "phong_shading_emission"
+EMISSION_NODE = recipe.SHADING_EMISSION  # "phong_shading_emission"
 #: The design before (a Geometry Nodes group per material storing a colour attribute that an
 #: Attribute node showed): removed on load and by Relink.
 LEGACY_TREE_KEY = "phong_shading_material"
@@ -74,7 +74,7 @@ def users(material) -> list:
 def needs_modifier(obj) -> bool:
     """Whether a material of *obj* is a Phong material shaded Per Vertex or Per Face."""
     return obj.type == "MESH" and any(
-        mode_of(s.material) != PIXEL and materials.is_phong_material(s.material)
+        mode_of(s.material) != PIXEL and recipe.is_phong_material(s.material)
         for s in obj.material_slots)
 
 
@@ -84,7 +84,7 @@ def update(material, objects=None, groups=None) -> None:
     """Make *material* and its objects show its shading mode; *objects* (its users) when the
     caller has looked them up, *groups* a cache of shading groups shared by the calls of one
     refresh."""
-    if not materials.is_phong_material(material):
+    if not recipe.is_phong_material(material):
         return
     _remove_legacy_nodes(material)
     mode = mode_of(material)
@@ -111,7 +111,7 @@ def refresh(scene=None) -> int:
     remove what no material needs any more; returns how many materials.  Run after the lights
     groups changed (``sync``) and on load."""
     legacy = _remove_legacy_trees()
-    todo = [m for m in materials.phong_materials()
+    todo = [m for m in recipe.phong_materials()
             if mode_of(m) != PIXEL or group_of(m) is not None
             or (legacy and LEGACY_ATTRIBUTE_NODE in m.node_tree.nodes)]
     if todo:
@@ -236,12 +236,12 @@ def _surface_per_pixel(material) -> None:
         node = tree.nodes.get(name)
         if node is not None:
             tree.nodes.remove(node)
-    lights = tree.nodes.get(materials.LIGHTS_NODE)
-    output = tree.nodes.get(materials.OUTPUT)
+    lights = tree.nodes.get(recipe.LIGHTS_NODE)
+    output = tree.nodes.get(recipe.OUTPUT)
     if lights is None or output is None:
         return
-    materials.apply_opacity(material)  # the lights group's Shader into the output (or mix)
-    for aov_name, socket in materials.AOVS.items():  # every AOV from the lights group again
+    opacity.apply_opacity(material)  # the lights group's Shader into the output (or mix)
+    for aov_name, socket in recipe.AOVS.items():  # every AOV from the lights group again
         aov = tree.nodes.get(f"phong_aov:{aov_name}")
         if aov is not None:
             tree.links.new(lights.outputs[socket], aov.inputs["Color"])
@@ -249,12 +249,12 @@ def _surface_per_pixel(material) -> None:
 
 def _surface_per_mesh(material, group) -> None:
     tree = material.node_tree
-    node = materials.named_node(tree, SHADING_NODE, "ShaderNodeGroup", (-20.0, 420.0))
+    node = recipe.named_node(tree, SHADING_NODE, "ShaderNodeGroup", (-20.0, 420.0))
     if node.node_tree != group:
         node.node_tree = group
     node.label = "Phong Per Vertex" if group.get(GROUP_MODE_KEY) == VERTEX else "Phong Per Face"
     node.width = 200.0
-    lights = tree.nodes.get(materials.LIGHTS_NODE)
+    lights = tree.nodes.get(recipe.LIGHTS_NODE)
     for socket in node.inputs:  # the material's controls, as its lights group node has them
         source = lights.inputs.get(socket.name) if lights is not None else None
         for link in list(socket.links):
@@ -268,16 +268,16 @@ def _surface_per_mesh(material, group) -> None:
                 tree.links.new(source.links[0].from_socket, socket)
         else:
             socket.default_value = source.default_value
-    emission = materials.named_node(tree, EMISSION_NODE, "ShaderNodeEmission", (260.0, 420.0))
+    emission = recipe.named_node(tree, EMISSION_NODE, "ShaderNodeEmission", (260.0, 420.0))
     emission.inputs["Strength"].default_value = 1.0
     if not any(l.from_socket == node.outputs["Color"] for l in emission.inputs["Color"].links):
         tree.links.new(node.outputs["Color"], emission.inputs["Color"])
-    materials.apply_opacity(material)  # the emission into the output (or the opacity mix)
-    for aov_name in materials.AOVS:
+    opacity.apply_opacity(material)  # the emission into the output (or the opacity mix)
+    for aov_name in recipe.AOVS:
         aov = tree.nodes.get(f"phong_aov:{aov_name}")
         if aov is None:
             continue
-        if aov_name == materials.AOV_NAME:  # Phong Color: the colour shown
+        if aov_name == recipe.AOV_NAME:  # Phong Color: the colour shown
             tree.links.new(node.outputs["Color"], aov.inputs["Color"])
         else:  # the per-pixel terms are not computed in this mode (and not compiled by Eevee)
             for link in list(aov.inputs["Color"].links):

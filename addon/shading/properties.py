@@ -6,7 +6,7 @@ custom property ``phong_shading``, so a file keeps it without the extension) and
 import bpy
 from bpy.props import EnumProperty, FloatProperty, PointerProperty
 
-from ..lighting import materials
+from ..lighting import recipe
 from . import forwarding, modes
 
 SHADING_ITEMS = (
@@ -29,7 +29,7 @@ class PhongMaterialSettings(bpy.types.PropertyGroup):
                     "(interpolated across faces) or once per face")
     opacity: FloatProperty(
         name="Opacity", min=0.0, max=1.0, default=1.0, subtype="FACTOR",
-        get=forwarding.opacity_getter(materials.OPACITY), set=forwarding.opacity_setter(),
+        get=forwarding.opacity_getter(recipe.OPACITY), set=forwarding.opacity_setter(),
         description="Opacity × Phong colour + (1 − opacity) × what is behind (the Opacity "
                     "control node; below 1 the material blends)")
 

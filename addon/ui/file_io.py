@@ -11,7 +11,7 @@ from bpy.props import StringProperty
 from bpy_extras.io_utils import ImportHelper
 
 from ..interchange import formats
-from ..lighting import materials
+from ..lighting import recipe
 
 
 def lights_report(op, sync) -> None:
@@ -28,7 +28,7 @@ def lights_report(op, sync) -> None:
         if rule is None or not rule[0]:
             continue
         collection = light.light_linking.receiver_collection
-        if not any(materials.is_phong_material(slot.material) for obj in collection.all_objects
+        if not any(recipe.is_phong_material(slot.material) for obj in collection.all_objects
                    for slot in obj.material_slots):
             op.report({"WARNING"}, f"Phong: light {light.name!r} lights only the objects of "
                                    f"collection {collection.name!r}, and none of them has a "

@@ -18,7 +18,7 @@ from .. import loader
 from ..comparison import engine
 from ..demos import builder
 from ..scene import describe, framing
-from ..lighting import convert, loop, materials, rig, shadows
+from ..lighting import convert, engine_outputs, loop, recipe, rig, shadows
 from ..lighting import sync as sync_mod
 from . import file_io
 
@@ -215,7 +215,7 @@ in the file until unused)"""
         slots = sum(convert.restore(obj, names) for obj in objects)
         scene = context.scene
         slots += convert.drop_overrides(scene, list(context.selected_objects or []))
-        if not any(materials.is_phong_material(slot.material) for obj in scene.objects
+        if not any(recipe.is_phong_material(slot.material) for obj in scene.objects
                    for slot in getattr(obj, "material_slots", ())):
             shadows.give_back_raycast(scene)  # no Phong shadows left: Ray Cast as it was
         if not slots:
@@ -236,7 +236,7 @@ compositor"""
 
     def execute(self, context):
         layer = context.view_layer
-        added = materials.add_view_layer_aovs(layer, materials.AOVS)
+        added = engine_outputs.add_view_layer_aovs(layer, recipe.AOVS)
         if added and any(loop.has_loop(t) or shadows.has_shadows(t)
                          for t in rig.groups_of(context.scene)):
             sync_mod.relink_scene(context.scene, layer)  # 5.3+: the materials write them again

@@ -6,7 +6,7 @@ import bpy
 from ...node_groups import models
 from ..lighting import properties, rig, shadows
 from ..lighting.lights import SUPPORTED
-from ..lighting.materials import OPACITY, blends, is_phong_material
+from ..lighting.recipe import OPACITY, blends, is_phong_material
 from .operators import (PHONG_OT_add_term_passes, PHONG_OT_apply_material,
                         PHONG_OT_relink_lights, PHONG_OT_restore_materials)
 
