@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Two controls the COLLADA and FBX importers set: a Phong material's Opacity
-(``opacity_nodes.set_opacity``, MTL ``d``) and a light's power falloff i0/d^k
+(``opacity.set_opacity``, MTL ``d``) and a light's power falloff i0/d^k
 (``light["phong_falloff"] = "POWER"``, ``light["phong_power_k"]``).
 
 Rendered pixels against the numpy reference, worked out here: the blend
@@ -37,9 +37,9 @@ def _ref():
 
 def _materials():
     from phong_nodes.addon.lighting import recipe, writer  # noqa: PLC0415  (needs bpy)
-    from phong_nodes.addon.lighting import opacity as opacity_nodes
+    from phong_nodes.addon.lighting import opacity as opacity_nodes  # noqa: PLC0415
 
-    return materials
+    return recipe, writer, opacity_nodes
 
 
 def _properties():
@@ -143,7 +143,7 @@ def _eevee_share(got, expected, mask):
 @pytest.mark.parametrize("opacity", [0.5, 0.2])
 def test_opacity_blends_the_phong_colour_over_what_is_behind(bpy_clean, blender_tmp, opacity):
     bpy = bpy_clean
-    materials = _materials()
+    recipe, writer, opacity_nodes = _materials()
     scene, back, front, point = _opacity_scene(bpy, "cycles")
     material = front.active_material
     nodes = material.node_tree.nodes
@@ -178,7 +178,7 @@ def test_opacity_blends_the_phong_colour_over_what_is_behind(bpy_clean, blender_
 
 def test_opacity_is_clamped_and_bad_values_are_refused(bpy_clean):
     bpy = bpy_clean
-    materials = _materials()
+    recipe, writer, opacity_nodes = _materials()
     _scene_, _back, front, _point = _opacity_scene(bpy, "cycles")
     material = front.active_material
     assert opacity_nodes.set_opacity(material, 1.7) == 1.0 and recipe.opacity(material) == 1.0
@@ -196,7 +196,7 @@ def test_an_opaque_material_renders_as_before(bpy_clean, blender_tmp):
     """Opacity 1 (the default, or set back): the same pixels as a material never touched,
     in Eevee (whose shader the Mix/Transparent nodes would change)."""
     bpy = bpy_clean
-    materials = _materials()
+    recipe, writer, opacity_nodes = _materials()
     scene, _back, front, _point = _opacity_scene(bpy, "eevee")
     _eevee(scene, keep=("Phong Color",))
     before, _s = render(bpy, scene, str(blender_tmp / "opaque_before.exr"))
@@ -209,7 +209,7 @@ def test_an_opaque_material_renders_as_before(bpy_clean, blender_tmp):
 
 def test_relink_and_edits_of_the_control_keep_the_nodes_in_step(bpy_clean):
     bpy = bpy_clean
-    materials = _materials()
+    recipe, writer, opacity_nodes = _materials()
     _scene_, _back, front, _point = _opacity_scene(bpy, "cycles")
     material = front.active_material
     opacity_nodes.set_opacity(material, 0.4)
@@ -263,7 +263,7 @@ def test_mtl_d_imports_as_opacity_and_exports_as_d(bpy_clean, tmp_path, capfd):
     assert bpy.ops.phong.import_obj(filepath=str(tmp_path / "m.obj")) == {"FINISHED"}
     logged = "".join(capfd.readouterr())
     assert "transparency" not in logged, logged
-    materials = _materials()
+    recipe, writer, opacity_nodes = _materials()
     got = {name: recipe.opacity(bpy.data.materials[name])
            for name in ("glass", "window", "wall")}
     assert got == {"glass": 0.5, "window": 0.75, "wall": 1.0}
@@ -423,7 +423,7 @@ def test_bad_falloff_is_refused_with_a_clear_message(bpy_clean):
 
 def test_saved_file_reopens_and_renders_the_same(bpy_clean, blender_tmp, tmp_path):
     bpy = bpy_clean
-    materials = _materials()
+    recipe, writer, opacity_nodes = _materials()
     scene, back, front, point = _opacity_scene(bpy, "cycles")
     opacity_nodes.set_opacity(front.active_material, 0.5)
     _set_power(bpy, point, 1.5)
@@ -559,7 +559,7 @@ def test_compare_phong_scene_checks_power_lights_and_leaves_out_see_through_obje
     first = engine.run(scene, str(tmp_path / "quadratic"), engines=("cycles",))
     assert first["ok"], first["verdict"]
     _set_power(bpy, scene.objects["green"], 1.3)
-    _materials().set_opacity(scene.objects["both"].active_material, 0.5)
+    _materials()[2].set_opacity(scene.objects["both"].active_material, 0.5)
     second = engine.run(scene, str(tmp_path / "power"), engines=("cycles",))
     assert second["ok"], second["verdict"]
     green = next(l for l in second["parameters"]["lights"] if l["name"] == "green")

@@ -37,10 +37,10 @@ def loop_bpy(bpy_clean):
 
 
 def _modules():
-    from phong_nodes.addon.lighting import loop, opacity, properties, recipe, rig, sync  # noqa: PLC0415
+    from phong_nodes.addon.lighting import loop, properties, recipe, rig, sync  # noqa: PLC0415
     from phong_nodes.addon.lighting import world_copies  # noqa: PLC0415
 
-    return loop, materials, properties, rig, sync, world_copies
+    return loop, recipe, properties, rig, sync, world_copies
 
 
 #: Lights cycled by the scenes: (type, falloff or None).  Positions and angles from the index.
@@ -147,7 +147,7 @@ def _check(label, eevee, cycles, clamped, unclamped, mask):
     return over
 
 
-def _loop_materials(materials, loop, objects):
+def _loop_materials(recipe, loop, objects):
     for obj in objects:
         tree = obj.active_material.node_tree
         lights = tree.nodes[recipe.LIGHTS_NODE]
@@ -165,11 +165,11 @@ def _loop_materials(materials, loop, objects):
                                       pytest.param(16, marks=pytest.mark.slow)])
 def test_the_loop_matches_the_reference_and_cycles(loop_bpy, blender_tmp, n_lights):
     bpy = loop_bpy
-    loop, materials, _properties, rig, _sync, copies = _modules()
+    loop, recipe, _properties, rig, _sync, copies = _modules()
     # the sphere's highlight Blinn's (1), a blend (0.35); the plane's Phong's (0)
     scene, plane, sphere, lights = _scene(bpy, f"Loop {n_lights}", n_lights,
                                           blinn=1.0 if n_lights == 1 else 0.35)
-    _loop_materials(materials, loop, (plane, sphere))
+    _loop_materials(recipe, loop, (plane, sphere))
     group = plane.active_material.node_tree.nodes[recipe.LIGHTS_NODE].node_tree
     assert len(copies.listed(group)) + len(copies.listed(group, loop=True)) == sum(
         2 if o.data.type == "SPOT" else 1 for o in lights), "every transform from the World"
@@ -207,7 +207,7 @@ def test_lights_added_removed_retyped_and_set_need_no_relink(loop_bpy, blender_t
     packed settings follow by the light handler alone): Eevee shows the new lights, Cycles
     still the lights group's."""
     bpy = loop_bpy
-    loop, materials, _properties, _rig, sync, copies = _modules()
+    loop, recipe, _properties, _rig, sync, copies = _modules()
     scene, plane, sphere, lights = _scene(bpy, "Loop edits", 4)
     group = plane.active_material.node_tree.nodes[recipe.LIGHTS_NODE].node_tree
     built = list(group["phong_lights"])
@@ -254,7 +254,7 @@ def test_light_linking_in_the_loop(loop_bpy, blender_tmp):
     Linking itself (Cycles' side has a lights group per light set); changed with the handler
     held, Eevee follows."""
     bpy = loop_bpy
-    _loop, _materials_mod, _properties, _rig, sync, copies = _modules()
+    _loop, _recipe, _properties, _rig, sync, copies = _modules()
     scene, plane, sphere, lights = _scene(bpy, "Loop linking", 4)
     receivers = bpy.data.collections.new("receivers")
     receivers.objects.link(sphere)
@@ -283,11 +283,11 @@ def test_what_keeps_the_lights_group_in_eevee(loop_bpy):
     below 1 (a blend of more than 1 is another picture) keep the lights group's Shader in
     Eevee; back again, the loop."""
     bpy = loop_bpy
-    loop, materials, _properties, rig, _sync, copies = _modules()
+    loop, recipe, _properties, rig, _sync, copies = _modules()
     scene, plane, sphere, _lights = _scene(bpy, "Loop switches", 2)
     material = sphere.active_material
     nodes = material.node_tree.nodes
-    from phong_nodes.addon.lighting import shadows  # noqa: PLC0415
+    from phong_nodes.addon.lighting import opacity, shadows  # noqa: PLC0415
 
     opacity.set_opacity(material, 0.5)
     assert recipe.OPACITY_MIX in nodes
@@ -314,7 +314,7 @@ def test_what_keeps_the_lights_group_in_eevee(loop_bpy):
     for name in rig.PASS_NAMES:
         layer.aovs.remove(layer.aovs[name])
     assert bpy.ops.phong.relink_lights() == {"FINISHED"}
-    _loop_materials(materials, loop, (plane, sphere))
+    _loop_materials(recipe, loop, (plane, sphere))
 
 
 def test_a_file_of_5_3_without_the_loop(loop_bpy, blender_tmp, monkeypatch):
@@ -323,7 +323,7 @@ def test_a_file_of_5_3_without_the_loop(loop_bpy, blender_tmp, monkeypatch):
     the loop part and the materials lose their EEVEE Material Output: the lights group's
     Shader again in both engines, the term AOVs back."""
     bpy = loop_bpy
-    loop, materials, _properties, rig, sync, copies = _modules()
+    loop, recipe, _properties, rig, sync, copies = _modules()
     scene, plane, sphere, _lights = _scene(bpy, "Loop old", 3)
     from phong_nodes.addon import compat  # noqa: PLC0415
 
@@ -408,7 +408,7 @@ def test_the_comparison_of_a_demo_scene_on_the_loop(loop_bpy, tmp_path, name):
     term passes (from AOVs in the comparison's copy of the lights group: the materials have
     none) within 1e-4."""
     bpy = loop_bpy
-    loop, materials, _properties, _rig, _sync, copies = _modules()
+    loop, recipe, _properties, _rig, _sync, copies = _modules()
     from phong_nodes.addon.comparison import engine  # noqa: PLC0415
 
     bpy.ops.phong.build_demo_scene(name=name, resolution=48)
@@ -447,7 +447,7 @@ def test_before_5_3_the_material_is_the_one_of_5_2(bpy_clean):
     5.2: one Material Output of target ALL showing the lights group, the term AOVs, no loop
     part in the group, the lights' transforms within compat.VIEW_LAYER_LOOKUPS."""
     bpy = bpy_clean
-    loop, materials, _properties, rig, _sync, copies = _modules()
+    loop, recipe, _properties, rig, _sync, copies = _modules()
     compat = be.compat()
     scene = be.new_scene("Recipe", 8, 8, "cycles")
     bpy.context.window.scene = scene
