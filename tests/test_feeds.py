@@ -145,8 +145,8 @@ def test_the_importers_chains(bpy_clean):
 def test_what_the_writer_writes_the_reader_reads_back(bpy_clean):
     """The round trip of the one writer and the one reader: a new Phong material given
     values (binary fractions: float32 keeps them exactly) and a map on Specular Color by
-    ``writer.write`` / ``writer.colour_times_map`` reads back through ``feeds`` as those
-    values, the map as the Specular Color's texture, the Ka its own (not Object Color's)."""
+    ``writer.write`` reads back through ``feeds`` as those values, the map as the Specular
+    Color's texture, the Ka its own (not Object Color's)."""
     bpy = bpy_clean
     from phong_nodes.addon.lighting import recipe, writer
     from phong_nodes.addon.lighting import feeds as feed_reader
@@ -154,10 +154,10 @@ def test_what_the_writer_writes_the_reader_reads_back(bpy_clean):
     material = writer.new_material("Written", group)
     colours = {"Object Color": (0.25, 0.5, 0.75), recipe.AMBIENT_INPUT: (0.125, 0.0625, 0.5),
                "Specular Color": (0.5, 0.375, 0.25), "Irradiant Color": (0.0, 0.125, 0.25)}
-    writer.write(material, writer.Values(colours, exponent=17.5, blinn=1.0,
-                                         specular_strength=0.0, opacity=0.625))
     image = bpy.data.images.new("specular map", 4, 4)
-    writer.colour_times_map(material, "Specular Color", image, 2)
+    writer.write(material, writer.Values(colours, exponent=17.5, blinn=1.0,
+                                         specular_strength=0.0, opacity=0.625,
+                                         maps={"Specular Color": image}))
     feeds = feed_reader.feeds(material)
     for target, colour in colours.items():
         assert feeds[target].value == colour, target
@@ -173,3 +173,16 @@ def test_what_the_writer_writes_the_reader_reads_back(bpy_clean):
     again = feed_reader.feeds(material)
     assert again["Object Color"].value == (1.0, 0.0, 0.5) and again["Exponent"].value == 3.0
     assert again["Specular Color"].texture.image == image and not recipe.blends(material)
+
+
+def test_the_writer_refuses_a_colour_of_another_input(bpy_clean):
+    """A colour handed for an input that no colour control feeds (a typo, a scalar) is
+    refused with a message naming it, and the material is left as it was."""
+    bpy = bpy_clean
+    from phong_nodes.addon.lighting import writer
+    material = _phong_material(bpy)
+    before = sorted(n.name for n in material.node_tree.nodes)
+    for colors in ({"Object Colour": (1.0, 0.0, 0.0)}, {"Exponent": (1.0, 1.0, 1.0)}):
+        with pytest.raises(ValueError, match="not a colour input of a Phong material: Ex|Obj"):
+            writer.write(material, writer.Values(colors))
+    assert sorted(n.name for n in material.node_tree.nodes) == before

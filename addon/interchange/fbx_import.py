@@ -237,18 +237,19 @@ def apply_material(material, source: fbx.Material, warnings: list, images: dict,
     tree = material.node_tree
     lights = tree.nodes[recipe.LIGHTS_NODE]
     where = f"{path} ({source.name})"
-    values = fbx.material_values(source)   # the FBX values as Phong values (core/fbx/phong)
-    controls = writer.write(material, writer.Values(
-        {name: values[name] for name in fbx.COLOURS}, exponent=values["Exponent"],
-        blinn=values["Blinn"], specular_strength=values.get("Specular Strength")))
-    keep = set(recipe.RECIPE_NODES) | {socket.node.name for socket in controls.values()}
-    for index, name in enumerate(fbx.COLOURS):
+    maps = {}
+    for name in fbx.COLOURS:
         texture = source.textures.get(name)
         image = _image(texture, images, warnings, where, _data(source, texture)) \
             if texture is not None else None
         if image is not None:
-            writer.colour_times_map(material, name, image, index)
-            keep |= {writer.MAP_NODE + name, writer.TIMES_NODE + name}
+            maps[name] = image
+    values = fbx.material_values(source)   # the FBX values as Phong values (core/fbx/phong)
+    controls = writer.write(material, writer.Values(
+        {name: values[name] for name in fbx.COLOURS}, exponent=values["Exponent"],
+        blinn=values["Blinn"], specular_strength=values.get("Specular Strength"), maps=maps))
+    keep = set(recipe.RECIPE_NODES) | {socket.node.name for socket in controls.values()}
+    keep |= {writer.MAP_NODE + name for name in maps} | {writer.TIMES_NODE + name for name in maps}
     opacity_nodes.set_opacity(material, source.opacity)
     if lights.inputs["Normal"].is_linked:
         tree.links.remove(lights.inputs["Normal"].links[0])

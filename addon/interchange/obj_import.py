@@ -128,17 +128,16 @@ def apply_mtl(material, source: mtl.Material, warnings: list, missing: dict) -> 
     wanted = values(source)
     where = f"{source.path}:{source.line} ({source.name})"
     user = (where, source.name)
+    images = {name: _image(texture, missing, user) for name, texture in wanted["maps"].items()
+              if texture is not None}
+    images = {name: image for name, image in images.items() if image is not None}
     controls = writer.write(material, writer.Values(
         wanted["colors"], exponent=30.0 if wanted["exponent"] is None else wanted["exponent"],
-        blinn=wanted["blinn"]))
+        blinn=wanted["blinn"], maps=images))
     keep = set(recipe.RECIPE_NODES) | {socket.node.name for socket in controls.values()}
-    for index, name in enumerate(COLOR_INPUTS):
-        texture = wanted["maps"][name]
-        image = _image(texture, missing, user) if texture is not None else None
-        if image is not None:
-            writer.colour_times_map(material, name, image, index)
-            keep |= {MAP_NODE + name, MULTIPLY_NODE + name}
-            keep |= _placed(tree, name, texture.placement())
+    for name in images:
+        keep |= {MAP_NODE + name, MULTIPLY_NODE + name}
+        keep |= _placed(tree, name, wanted["maps"][name].placement())
     material[ILLUM_KEY] = min(wanted["illum"], 2)
     bump = source.maps.get("bump")
     image = _image(bump, missing, user, non_color=True) if bump is not None else None

@@ -48,7 +48,7 @@ def _column_major(matrix) -> list:
 
 
 def _value(feeds, name, warnings, material):
-    """The value of input *name* of the lights group (``feed_reader.feeds``): the value the
+    """The value of input *name* of the lights group (``feeds.feeds``): the value the
     material states; a texture or other nodes feeding it are named in a warning."""
     feed = feeds[name]
     if feed.other is not None:

@@ -392,7 +392,7 @@ def forget(*_args):
 def upgrade_on_load(*_args):
     """A file of an earlier version: each scene whose lights groups are older than
     ``rig.RIG_VERSION`` is relinked, which rebuilds its groups and upgrades its Phong
-    materials (``source_materials.upgrade``); nothing is lost.  So is a scene whose groups have the
+    materials (``sources.upgrade``); nothing is lost.  So is a scene whose groups have the
     loop part where this Blender has no light loop (a file of 5.3 opened by 5.2: its EEVEE
     Material Outputs, of nodes 5.2 does not know, are removed) or lack it where it should
     be (a file of 5.2 opened by 5.3).  Files of version 0.1 (no lights

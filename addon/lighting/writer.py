@@ -126,6 +126,10 @@ def new_material(name, lights_group, base=None):
 
 # -- values and texture chains: what importers and the demos hand the writer -------------------
 
+#: The lights-group inputs a colour control feeds (their controls are RGB nodes).
+COLOR_INPUTS = tuple(target for target, control in recipe.FEED_CONTROLS.items()
+                     if control not in recipe.CONTROLS or recipe.CONTROLS[control][0] ==
+                     "ShaderNodeRGB")
 #: lights-group input of each scalar control -> its field in :class:`Values`.
 SCALARS = {"Exponent": "exponent", "Blinn": "blinn", "Specular Strength": "specular_strength"}
 #: Node names of a colour × map chain (+ the lights-group input it feeds): the Image Texture
@@ -143,13 +147,16 @@ class Values:
     Color" and "Ambient Object Color" (the material's own ambient colour, MTL's Ka; left out,
     the ambient light sees whatever feeds Object Color), written in their order; *exponent*,
     *blinn*, *specular_strength* (three.js's specularStrength), *opacity*: None leaves the
-    control as it is."""
+    control as it is; *maps*: {lights-group input: Blender image (loaded in its colour space
+    by the importer)}: the colour × the map feeds the input (:func:`colour_times_map`, in
+    the row of the input among *colors*)."""
 
     colors: dict = field(default_factory=dict)
     exponent: float | None = None
     blinn: float | None = None
     specular_strength: float | None = None
     opacity: float | None = None
+    maps: dict = field(default_factory=dict)
 
 
 def write(material, values: Values, link=True, ambient_label=None) -> dict:
@@ -158,7 +165,12 @@ def write(material, values: Values, link=True, ambient_label=None) -> dict:
     written, for the caller's chains (a texture × the colour).  *link*: each colour's control
     feeds its input (what fed it before no longer does); False leaves the links as they are
     (a copy whose Object Color a texture feeds).  *ambient_label*: the label of a new
-    Ambient Object Color control (``recipe.AMBIENT_LABEL`` when None)."""
+    Ambient Object Color control (``recipe.AMBIENT_LABEL`` when None).  A colour or map of
+    another input is refused (ValueError), before anything is written."""
+    unknown = sorted((set(values.colors) | set(values.maps)) - set(COLOR_INPUTS))
+    if unknown:
+        raise ValueError(f"not a colour input of a Phong material: {', '.join(unknown)} "
+                         f"(the colour inputs: {', '.join(COLOR_INPUTS)})")
     tree = material.node_tree
     lights = tree.nodes[recipe.LIGHTS_NODE]
     sockets = {}
@@ -172,6 +184,10 @@ def write(material, values: Values, link=True, ambient_label=None) -> dict:
         value = getattr(values, name)
         if value is not None:
             recipe.set_quietly(control_output(material, target), [float(value)])
+    rows = list(values.colors)
+    for target, image in values.maps.items():
+        colour_times_map(material, target, image,
+                         rows.index(target) if target in rows else len(rows))
     if values.opacity is not None:
         opacity.set_opacity(material, values.opacity)
     return sockets
