@@ -30,8 +30,8 @@ def add_view_layer_aovs(layer, names) -> list:
 def term_aovs(tree, lights, relink=False) -> None:
     """The term AOV outputs of a material: none where it shows the loop in Eevee (they would
     make Eevee evaluate the per-light part: ``loop.py``), else each of ``recipe.AOVS``, made
-    when missing and linked from the lights group (*relink*: every one of them; Per Vertex / Per Face link
-    their own: ``shading/modes.py``)."""
+    when missing and linked from the lights group (*relink*: every one of them; Per Vertex /
+    Per Face link their own: ``shading/modes.py``)."""
     shows_loop = eevee_shader(tree, lights) is not None
     for index, (aov_name, socket) in enumerate(recipe.AOVS.items()):
         aov = tree.nodes.get(f"phong_aov:{aov_name}")
