@@ -3,7 +3,7 @@
 rewritten (``core/fbx``: ``phong`` the mapping, ``write`` the splice) and the file is put in
 place atomically.  This module reads Blender; what each value becomes is ``core/fbx/phong``'s.
 
-Each Phong material (read by ``materials.feeds``, the one reader of a Phong material) becomes
+Each Phong material (read by ``feeds.feeds``, the one reader of a Phong material) becomes
 an FBX Phong material, or a Lambert where its Specular Color is black (as a Lambert imports):
 
     DiffuseColor = Object Color        AmbientColor = Ambient Object Color
