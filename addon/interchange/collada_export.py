@@ -28,7 +28,7 @@ from . import keys
 
 def _feed(feed, name, material, warnings):
     """(colour, image texture node or None) of the lights-group input *name* fed by *feed*
-    (``materials.feeds``): its value, or an image texture alone (colour white)."""
+    (``feeds.feeds``): its value, or an image texture alone (colour white)."""
     if feed.other is None:
         value = feed.value
         return (value if isinstance(value, tuple) else (float(value),) * 3), None
@@ -97,7 +97,7 @@ def material_of(material, warnings) -> collada.Material:
 
 def _transparent_texture(tree, feed):
     """The collada.Texture of an imported ``<transparent><texture>`` that still feeds the
-    material's opacity map (*feed*: its Opacity in ``materials.feeds``;
+    material's opacity map (*feed*: its Opacity in ``feeds.feeds``;
     ``collada_import.transparent_map``), or None."""
     node = tree.nodes.get(keys.COLLADA_TEXTURE_NODE + "transparent")
     mix = tree.nodes.get(recipe.OPACITY_MIX)

@@ -241,7 +241,7 @@ def _exponent_map(feed, textures, out, warnings, where) -> bool:
 
 
 def _opacity_map(node, textures, out, warnings, where) -> None:
-    """The opacity map *node* (``materials.OPACITY_MAP``) as FBX textures: a texel's alpha
+    """The opacity map *node* (``recipe.OPACITY_MAP``) as FBX textures: a texel's alpha
     times k (X3D's texture alpha × Opacity, COLLADA's A_ONE) on TransparencyFactor, as
     Blender's exporter writes its alpha texture (k kept as ``OpacityAlphaScale`` where it is
     not 1); 1 − k × mean(TC ⊗ t_c) × mean(t_f) (the FBX SDK's rule, COLLADA's RGB_ZERO) on

@@ -71,7 +71,7 @@ def _image_path(image, mtl_folder) -> str:
 
 def _map_or_value(material, input_name, feed, mtl_folder, warnings):
     """(colour, image path or None, map options) of the colour input *input_name* fed by
-    *feed* (``materials.feeds``): its value, or an image texture's file (alone: colour 1,
+    *feed* (``feeds.feeds``): its value, or an image texture's file (alone: colour 1,
     since MTL multiplies a map by its colour; the importers' colour × map: that colour) with
     the ``-o`` / ``-s`` of its placement (:func:`_placement`)."""
     if feed.other is None:
