@@ -47,7 +47,7 @@ from ..lighting import opacity as opacity_nodes
 from ..lighting import properties, recipe, writer
 from ..lighting import sources as source_materials
 from ..lighting import sync as sync_mod
-from . import keys, native, obj_import
+from . import keys, native
 from .native import ensure_fbx_addon
 
 FbxError = fbx.FbxError
@@ -253,7 +253,7 @@ def apply_material(material, source: fbx.Material, warnings: list, images: dict,
     opacity_nodes.set_opacity(material, source.opacity)
     if lights.inputs["Normal"].is_linked:
         tree.links.remove(lights.inputs["Normal"].links[0])
-    obj_import._prune(tree, keep)
+    native.prune_unused(tree, keep)
     texture = source.textures.get("Exponent")
     image = _image(texture, images, warnings, where, non_color=True) \
         if texture is not None else None

@@ -320,3 +320,17 @@ def image_components(path: str) -> int | None:
                 return head[at + 9] if at + 9 < len(head) else None
             at += 2 + length
     return None
+
+
+def prune_unused(tree, keep) -> None:
+    """Remove the nodes an importer's own material left in *tree* that feed nothing any more
+    (their names not in *keep*; frames and Material Outputs stay): what the OBJ and FBX
+    imports do after the writer has made the tree a Phong material."""
+    while True:
+        doomed = [n for n in tree.nodes if n.name not in keep and n.bl_idname != "NodeFrame"
+                  and not n.bl_idname.startswith("ShaderNodeOutput")
+                  and not any(o.is_linked for o in n.outputs)]
+        if not doomed:
+            return
+        for node in doomed:
+            tree.nodes.remove(node)

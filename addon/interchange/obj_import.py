@@ -108,18 +108,6 @@ def missing_warnings(missing) -> list:
     return out
 
 
-def _prune(tree, keep) -> None:
-    """Remove nodes left over from the importer's material that feed nothing any more."""
-    while True:
-        doomed = [n for n in tree.nodes if n.name not in keep and n.bl_idname != "NodeFrame"
-                  and not n.bl_idname.startswith("ShaderNodeOutput")
-                  and not any(o.is_linked for o in n.outputs)]
-        if not doomed:
-            return
-        for node in doomed:
-            tree.nodes.remove(node)
-
-
 def apply_mtl(material, source: mtl.Material, warnings: list, missing: dict) -> None:
     """Give the Phong material *material* the values and maps of *source* (missing texture
     files are recorded in *missing*, see :func:`missing_warnings`)."""
@@ -147,7 +135,7 @@ def apply_mtl(material, source: mtl.Material, warnings: list, missing: dict) -> 
     elif lights.inputs["Normal"].is_linked:
         tree.links.remove(lights.inputs["Normal"].links[0])
     opacity.set_opacity(material, 1.0 - source.transparency())  # d, else 1 - Tr
-    _prune(tree, keep)
+    native.prune_unused(tree, keep)
     problems = [p for p in source.unsupported() if not p.endswith("(transparency)")]
     if source.illum is not None and source.illum > 2:
         problems = [p for p in problems if not p.startswith("illum")] + [
