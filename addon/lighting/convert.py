@@ -112,10 +112,14 @@ def expand(objects) -> tuple:
     return found, skipped
 
 
+def _rendering_layer(scene):
+    """*scene*'s first view layer that renders (its first where none does)."""
+    return next((v for v in scene.view_layers if v.use), scene.view_layers[0])
+
+
 def rendered_objects(scene, view_layer=None) -> list:
     """The objects of *scene* that render in *view_layer* (default its first that renders)."""
-    view_layer = view_layer or next((v for v in scene.view_layers if v.use),
-                                    scene.view_layers[0])
+    view_layer = view_layer or _rendering_layer(scene)
     view_layer = lights_mod.synced(scene, view_layer)
     collections = lights_mod.render_collections(view_layer)
     return [obj for obj in view_layer.objects if lights_mod.visible(obj, view_layer, collections)]
@@ -241,8 +245,7 @@ def override_linked(scene, objects, view_layer=None) -> list:
     collection made to instance a library override of that collection's hierarchy (one per
     collection, ``INSTANCE_OVERRIDE_KEY`` on the Empty).  The library files are not written.
     What Blender cannot override stays as it is (``why_not`` names it)."""
-    view_layer = view_layer or next((v for v in scene.view_layers if v.use),
-                                    scene.view_layers[0])
+    view_layer = view_layer or _rendering_layer(scene)
     out, by_collection = [], {}
     for obj in objects:
         collection = obj.instance_collection if obj.instance_type == "COLLECTION" else None

@@ -358,9 +358,10 @@ def follow(scene) -> None:
     written by a script, would keep a wrong value)."""
     if compat.HAS_LIGHT_LOOP:
         world = getattr(scene, "world", None)
-        _live_if_read(world)
-        if world is None or not can_park(world):
+        if world is None:  # groups parked before the World went: nothing parks them now
             _groups_live(scene)
+        else:
+            _live_if_read(world)  # the World's copies and its scenes' groups
 
 
 def follow_readers() -> None:
@@ -369,9 +370,9 @@ def follow_readers() -> None:
     them): live again."""
     if compat.HAS_LIGHT_LOOP:
         for world in bpy.data.worlds:
-            _live_if_read(world)
+            _live_if_read(world)  # the copies and the groups of the World's scenes
         for scene in bpy.data.scenes:
-            if scene.world is None or not can_park(scene.world):
+            if scene.world is None:
                 _groups_live(scene)
 
 
