@@ -445,8 +445,11 @@ def _surface(g):
 # v (so that r·v is one dot product), the normal scaled for the gate below, the ray's lift.
 #
 # Three identities carry it, every term being ≥ 0:
-# * m = -ℓ, the unit vector from the light to the point: r·v = m·reflect(v, n), and a
-#   spot's cos ω = m·û, with no negation per light;
+# * ℓ·r = S - P is also the shadow ray's direction (Length 1 from the lifted origin), and
+#   r·v = ℓ·(2(n·v)n - v), the view vector reflected once per material (the three.js and
+#   X3D groups read m = -ℓ, the unit vector from the light to the point: r·v =
+#   m·reflect(v, n), their spot's cos ω = m·û); where β = 0 (i0 from a light's Power) 5.3's
+#   Switch leaves αr² + γ with r² one dot product;
 # * ℓ·n ≥ 0 and r·v ≥ 0 (the highlight's condition) as one clamped minimum,
 #   saturate(min(r·v, G·(ℓ·n))), G = 2⁴⁰: r·v where ℓ·n ≥ 2⁻⁴⁰·r·v, 0 where either is
 #   negative; then x^max(e, 10⁻³⁰) is 0 at x = 0 and x^e elsewhere, so the condition costs
@@ -489,12 +492,15 @@ def rig_light_group(model: str, kind: str, falloff: str = "QUADRATIC",
 @group("Phong Surface Rays", "What every light of a lights group reads of the shaded point, "
        "once for all lights", into=RIG_GROUPS)
 def _surface_rays(g):
-    """The mirror image of the view vector about the normal, the normal times -G (the gate,
-    see above) and the shaded point's position."""
+    """The view vector reflected about the normal, the normal times G (the gate, see above)
+    and the shaded point's position; the same with the opposite sign for the groups that
+    read m = -ℓ (three.js, X3D)."""
     n = g.vector("Normal", (0.0, 0.0, 1.0), "Unit surface normal n (Phong Surface)")
     v = g.vector("View Vector", (0.0, 0.0, 1.0), "Unit vector v toward the viewer (Phong Surface)")
     g.output("Mirror View", reflect_about(v, n), "v - 2(n·v)n: r·v = m·(this), m = -ℓ")
     g.output("Gate Normal", n * -GATE_SCALE, "-G·n: G·(ℓ·n) = m·(this)")
+    g.output("Reflected View", -reflect_about(v, n), "2(n·v)n - v: r·v = ℓ·(this)")
+    g.output("Light Gate Normal", n * GATE_SCALE, "G·n: G·(ℓ·n) = ℓ·(this)")
     g.output("Position", geometry("Position"), "The shaded point P")
 
 
@@ -525,12 +531,12 @@ def _light_of(g, kind, falloff, shadows, switched):
                     max=1.0, subtype="FACTOR")
     n = g.vector("Normal", (0.0, 0.0, 1.0), "Unit surface normal n (Phong Surface)")
     v = g.vector("View Vector", (0.0, 0.0, 1.0), "Unit vector v toward the viewer (Phong Surface)")
-    mirror = g.vector("Mirror View", (0.0, 0.0, -1.0), "v - 2(n·v)n (Phong Surface Rays)")
-    gate_n = g.vector("Gate Normal", (0.0, 0.0, -GATE_SCALE), "-G·n (Phong Surface Rays)")
+    reflected = g.vector("Reflected View", (0.0, 0.0, 1.0), "2(n·v)n - v (Phong Surface Rays)")
+    gate_n = g.vector("Light Gate Normal", (0.0, 0.0, GATE_SCALE), "G·n (Phong Surface Rays)")
     p = g.vector("Surface Position", ZERO, "The shaded point P (Phong Surface Rays)")
     if shadows:
         ng = g.vector("True Normal", (0.0, 0.0, 1.0), "The true (geometric) normal Ng")
-        drop = g.vector("Ray Drop", ZERO, "-offset·Ng: the ray starts at P + sign(Ng·ℓ)·"
+        lift = g.vector("Ray Lift", ZERO, "offset·Ng: the ray starts at P + sign(Ng·ℓ)·"
                         "offset·Ng, on the light's side of the surface")
         casts = g.value("Cast Shadow", 1.0, "1: the light casts shadows, 0: it does not",
                         min=0.0, max=1.0)
@@ -538,22 +544,21 @@ def _light_of(g, kind, falloff, shadows, switched):
             for name, what in _SUMS[:4 if shadows else 2]}
 
     if near:
-        away = p - s
-        r = length(away)
-        m = normalize(away)  # m = -ℓ
+        toward = s - p  # ℓ·r: the light vector and the shadow ray's direction
+        r = length(toward)
+        ell = normalize(toward)
     else:
-        m = normalize(u)
+        ell = -normalize(u)
     numerator = i0
-    if kind == "SPOT":  # cos ω = -ℓ·û = m·û; [cos ω ≥ cos θ]·max(cos ω, 0)^e_att (above)
-        cos_w = dot(m, normalize(u))
+    if kind == "SPOT":  # cos ω = -ℓ·û; [cos ω ≥ cos θ]·max(cos ω, 0)^e_att (above)
+        cos_w = -dot(ell, normalize(u))
         base = saturate(minimum(cos_w, multiply_add(cos_w, GATE_SCALE, -GATE_SCALE * cos(theta))))
         numerator = i0 * power(base, maximum(e_att, MIN_GATED_EXPONENT))
     hit = None
     if shadows:
-        side = sign(dot(ng, m))  # -sign(Ng·ℓ): the origin P - sign(Ng·m)·offset·Ng
-        origin = scale_add(drop, side, p)
-        hit = (raycast(origin, s - origin, 1.0) if near  # the segment to the light: Length 1
-               else raycast(origin, -m, SUN_RAY_LENGTH))
+        origin = scale_add(lift, sign(dot(ng, ell)), p)  # P + sign(Ng·ℓ)·offset·Ng
+        hit = (raycast(origin, toward, 1.0) if near  # from the origin, as far as ℓ·r
+               else raycast(origin, ell, SUN_RAY_LENGTH))
 
     def intensity(shade):
         """i0 (times a spot's cone and edge) over the falloff; *shade*: the denominator plus
@@ -564,15 +569,18 @@ def _light_of(g, kind, falloff, shadows, switched):
 
         if near and falloff == "QUADRATIC":
             denominator = multiply_add(multiply_add(a, r, b), r, more(c))
+            if switched:  # β = 0 (i0 from the Power: i0/r²): αr² + γ, r² one dot product
+                denominator = switch(equal(b, 0.0), denominator,
+                                     multiply_add(a, dot(toward, toward), more(c)))
             return numerator / maximum(denominator, MIN_DENOMINATOR)
         if near:
             return numerator / maximum(more(power(r, maximum(k, 0.0))), MIN_DENOMINATOR)
         return numerator / more(1.0) if shade else numerator
 
-    ln_g = dot(m, gate_n)  # G·(ℓ·n)
+    ln_g = dot(ell, gate_n)  # G·(ℓ·n)
     e_1 = maximum(e, MIN_GATED_EXPONENT)
-    phong = power(saturate(minimum(dot(m, mirror), ln_g)), e_1)
-    blinn_f = power(saturate(minimum(dot(normalize(v - m), n), ln_g)), e_1)
+    phong = power(saturate(minimum(dot(ell, reflected), ln_g)), e_1)
+    blinn_f = power(saturate(minimum(dot(normalize(v + ell), n), ln_g)), e_1)
     factor = (1.0 - blinn) * phong + blinn * blinn_f
     if switched:
         factor = switch(equal(blinn, 0.0), switch(equal(blinn, 1.0), factor, blinn_f), phong)

@@ -201,9 +201,11 @@ def test_a_constant_blinn_leaves_no_dead_highlight_in_cycles(bpy_clean):
     assert blend_total - total == 3 * BLEND_MORE
 
 
-#: What the blend of the highlights leaves a light in Cycles on 5.3 where Blinn is 0: the
-#: Blinn-Phong highlight's nodes, dead (they reach no output), and in all.
-BLEND_DEAD, BLEND_MORE = 5, 7
+#: What the light group as releases before 5.3 write it leaves a light in Cycles on 5.3 where
+#: Blinn is 0 and the falloff i0/(αr² + γ): the Blinn-Phong highlight's nodes, dead (they
+#: reach no output), and in all (the blend's 7, and r as a length with its multiply-add
+#: where 5.3 takes r² as one dot product).
+BLEND_DEAD, BLEND_MORE = 5, 8
 
 
 def test_a_file_with_the_former_light_group_gets_the_switch_on_load(bpy_clean, blender_tmp):

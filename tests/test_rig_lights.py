@@ -32,14 +32,14 @@ def _case(rng, kind, falloff):
     p = rng.uniform(-4, 4, (N, 3))
     n, v = _unit(rng.normal(size=(N, 3))), _unit(rng.normal(size=(N, 3)))
     inputs = {"Surface Position": p, "Normal": n, "View Vector": v,
-              "Mirror View": v - 2.0 * np.sum(n * v, axis=-1, keepdims=True) * n,
-              "Gate Normal": -library.GATE_SCALE * n,
+              "Reflected View": 2.0 * np.sum(n * v, axis=-1, keepdims=True) * n - v,
+              "Light Gate Normal": library.GATE_SCALE * n,
               "Intensity": _setting(rng, -0.5, 4.0), "Light Color": rng.uniform(-0.2, 1.5, (N, 3)),
               "Diffuse Strength": _setting(rng, -0.5, 2.0),
               "Specular Strength": _setting(rng, -0.5, 2.0),
               "Exponent": _setting(rng, -1.0, 200.0), "Blinn": rng.uniform(0.0, 1.0, N),
               "Diffuse Sum": rng.uniform(0, 1, (N, 3)), "Specular Sum": rng.uniform(0, 1, (N, 3)),
-              "True Normal": n, "Ray Drop": -1e-5 * n, "Cast Shadow": np.ones(N)}
+              "True Normal": n, "Ray Lift": 1e-5 * n, "Cast Shadow": np.ones(N)}
     inputs["Plain Diffuse Sum"], inputs["Plain Specular Sum"] = (
         inputs["Diffuse Sum"] + 1.0, inputs["Specular Sum"] + 2.0)
     if kind != "SUN":
