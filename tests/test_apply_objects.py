@@ -153,3 +153,39 @@ def test_apply_converts_every_object_that_renders(bpy_clean, tmp_path):
         "Stone"
     assert "phong_object_slots" not in floor.keys()
     assert (os.path.getmtime(library), os.path.getsize(library)) == before_library
+
+
+def test_restore_after_a_reload_gives_a_users_override_its_library_slots_back(bpy_clean,
+                                                                             tmp_path):
+    """An override the user made of a library's collection keeps its mesh linked: Apply puts
+    the Phong material in the object's slot (linked to the object) and notes it; a reload
+    drops that note (an override keeps no custom property its library's object lacks), yet
+    Restore after the reload links the slot to the library's mesh again, as it was."""
+    bpy = bpy_clean
+    library = str(tmp_path / "library.blend")
+    _library(bpy, library)
+    scene = be.new_scene("Override", 16, 16)
+    bpy.context.window.scene = scene
+    with bpy.data.libraries.load(library, link=True) as (_, data_to):
+        data_to.collections = ["Props"]
+    scene.collection.children.link(data_to.collections[0])
+    layer = scene.view_layers[0]
+    data_to.collections[0].override_hierarchy_create(scene, layer)
+    crate = next(o for o in bpy.data.objects if o.override_library is not None)
+    assert crate.data.library is not None, "the user's override keeps the library's mesh"
+    be.apply_phong(scene, [crate])
+    slot = crate.material_slots[0]
+    assert slot.link == "OBJECT" and slot.material.name.startswith("Phong "), slot.material
+    path = str(tmp_path / "override.blend")
+    bpy.ops.wm.save_as_mainfile(filepath=path)
+    bpy.ops.wm.open_mainfile(filepath=path)
+    crate = next(o for o in bpy.data.objects if o.override_library is not None)
+    assert crate.material_slots[0].material.name.startswith("Phong "), "kept by the override"
+    assert "phong_object_slots" not in crate.keys(), "Blender drops the note (else: no test)"
+
+    from phong_nodes.addon.lighting import convert  # noqa: PLC0415  (needs bpy)
+
+    assert convert.restore(crate) == 1
+    slot = crate.material_slots[0]
+    assert slot.link == "DATA" and slot.material.name == "Wood" and \
+        slot.material.library is not None, (slot.link, slot.material)

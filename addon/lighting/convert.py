@@ -141,18 +141,34 @@ def _link_slots_to_object(obj) -> None:
         obj[OBJECT_SLOTS_KEY] = sorted(set(switched))
 
 
+def _switched_slots(obj) -> list:
+    """The slots of *obj* that Apply linked to the object: its record, or, for a library
+    override whose record a reload dropped (an override keeps no custom property its library's
+    object lacks), every slot linked to the object that holds what its library data's slot
+    holds (after Restore: the source material), which linked to the data shows the same."""
+    switched = obj.get(OBJECT_SLOTS_KEY)
+    if switched:
+        return list(switched)
+    data = obj.data
+    if obj.override_library is None or data is None or data.library is None:
+        return []
+    materials = getattr(data, "materials", ())
+    return [index for index, slot in enumerate(obj.material_slots)
+            if slot.link == "OBJECT" and index < len(materials)
+            and slot.material is not None and slot.material == materials[index]]
+
+
 def unlink_slots(obj) -> None:
     """Restore's side of ``_link_slots_to_object``: the slots Apply linked to the object
     are linked to the data again (their object material cleared)."""
-    switched = obj.get(OBJECT_SLOTS_KEY)
-    if not switched:
-        return
+    switched = _switched_slots(obj)
     slots = obj.material_slots
     for index in switched:
         if index < len(slots) and slots[index].link == "OBJECT":
             slots[index].material = None
             slots[index].link = "DATA"
-    del obj[OBJECT_SLOTS_KEY]
+    if OBJECT_SLOTS_KEY in obj.keys():
+        del obj[OBJECT_SLOTS_KEY]
 
 
 def apply(scene, objects=None, view_layer=None) -> Report:
@@ -341,8 +357,7 @@ def restore(obj, names=None) -> int:
     """Restore Original Materials on *obj*: the source materials back in its slots, and the
     slots Apply linked to the object linked to the data again; returns how many slots."""
     changed = sources.restore(obj, names)
-    if obj.get(OBJECT_SLOTS_KEY):
-        unlink_slots(obj)
+    unlink_slots(obj)
     return changed
 
 

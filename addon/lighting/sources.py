@@ -7,7 +7,8 @@ Materials are converted, not objects: one Phong material per distinct source mat
 (and light set), so objects that shared a material share its Phong version.  The source
 material is kept with a fake user (so it is not purged on save) and named by its Phong
 version: ``material["phong_source"]`` its name, ``material["phong_source_key"]`` a token the
-source carries too (``source["phong_source_key"]``: the source is found again after a rename);
+source carries too (``source["phong_source_key"]``: the source is found again after a rename;
+a library's source, whose token is not saved, by its name and ``material["phong_source_library"]``);
 ``restore`` puts it back.  Not an ID pointer: the depsgraph follows those, and each Phong
 material would bring its source material and node tree into every update (layout 4
 and earlier held a pointer, ``upgrade`` turns it into the name and token).
@@ -15,6 +16,7 @@ and earlier held a pointer, ``upgrade`` turns it into the name and token).
 
 from __future__ import annotations
 
+import os
 import uuid
 
 import bpy
@@ -25,6 +27,10 @@ from . import drivers, node_copy, recipe, writer
 
 SOURCE_KEY = "phong_source"
 SOURCE_TOKEN = "phong_source_key"
+#: The library file (its path as Blender holds it) of a source material linked from a library:
+#: the token written on it is not saved (a library's data is saved by its own file), so after
+#: a reload the source is found by its name in that library.
+SOURCE_LIBRARY_KEY = "phong_source_library"
 #: Marks a Phong material made for a slot that had no material.
 EMPTY_SOURCE_KEY = "phong_source_empty"
 OLD_GENERATED = "phong_gen:"  # prefix of the per-light nodes of layout 1
@@ -49,8 +55,26 @@ def source_of(material, names=None):
         named = bpy.data.materials.get(source)
     if named is not None and named.get(SOURCE_TOKEN) == token and named is not material:
         return named
-    return next((m for m in bpy.data.materials if m.get(SOURCE_TOKEN) == token
-                 and m is not material and not recipe.is_phong_material(m)), None)
+    found = next((m for m in bpy.data.materials if m.get(SOURCE_TOKEN) == token
+                  and m is not material and not recipe.is_phong_material(m)), None)
+    library = material.get(SOURCE_LIBRARY_KEY)
+    if found is None and isinstance(source, str) and isinstance(library, str):
+        found = _linked(source, library)
+    return found
+
+
+def _linked(name, library):
+    """The material *name* of a library, the one of file *library* where several libraries
+    hold one of that name (paths compared absolute: a save may make them relative)."""
+    def where(path, owner=None):
+        return os.path.normpath(bpy.path.abspath(path, library=owner))
+
+    found = [m for m in bpy.data.materials if m.library is not None and m.name == name]
+    if len(found) > 1:
+        wanted = where(library)
+        found = [m for m in found if where(m.library.filepath, m.library.library) == wanted] \
+            or found
+    return found[0] if found else None
 
 
 def keep_source(material, source) -> None:
@@ -63,6 +87,10 @@ def keep_source(material, source) -> None:
         source.use_fake_user = True
     material[SOURCE_KEY] = source.name
     material[SOURCE_TOKEN] = token
+    if source.library is not None:
+        material[SOURCE_LIBRARY_KEY] = source.library.filepath
+    elif SOURCE_LIBRARY_KEY in material.keys():
+        del material[SOURCE_LIBRARY_KEY]
 
 
 def _principled(material):
