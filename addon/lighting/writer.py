@@ -26,12 +26,9 @@ def control_nodes(tree, base=None) -> dict:
     nodes = {}
     for index, (name, (kind, label, default, target)) in enumerate(
             recipe.CONTROLS.items()):
-        node = tree.nodes.get(name)
-        if node is None or node.bl_idname != kind:
-            if node is not None:
-                tree.nodes.remove(node)
-            node = tree.nodes.new(kind)
-            node.name = name
+        before = tree.nodes.get(name)
+        node = recipe.named_node(tree, name, kind, (-880.0, 260.0 - 190.0 * index))
+        if node != before:  # made now: its label, first value and frame
             node.label = label
             value = default
             if target == "Object Color" and base is not None:
@@ -68,11 +65,7 @@ def control_node(tree, name, label, color):
 
 
 def _output(tree):
-    node = tree.nodes.get(recipe.OUTPUT)
-    if node is None:
-        node = tree.nodes.new("ShaderNodeOutputMaterial")
-        node.name = recipe.OUTPUT
-        node.location = (400.0, 100.0)
+    node = recipe.named_node(tree, recipe.OUTPUT, "ShaderNodeOutputMaterial", (400.0, 100.0))
     for other in tree.nodes:
         if other.bl_idname == "ShaderNodeOutputMaterial" and other.name != recipe.OUTPUT_EEVEE:
             other.is_active_output = other is node
