@@ -33,6 +33,8 @@ import sys
 import tempfile
 import time
 
+from .table import publish
+
 CASES = ("principled", "phong")
 
 
@@ -173,10 +175,7 @@ def main(argv=None) -> int:
             print(table(json.load(handle)))
         return 0
     result = run(args.objects, args.res, args.lights, args.repeats)
-    if args.out:
-        with open(args.out, "w", encoding="utf-8") as handle:
-            json.dump(result, handle, indent=1)
-    print(table(result))
+    publish(result, args.out, table(result))
     return 0
 
 

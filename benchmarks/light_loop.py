@@ -36,6 +36,8 @@ import subprocess
 import sys
 import time
 
+from .table import publish
+
 CASES = ("principled", "phong", "phong_lights_group")
 #: The goals of issue 38 (on 5.3): F12 within 2x Principled at 4 and 16 lights, a drag of any
 #: of 16 lights within 1.3x.
@@ -153,16 +155,11 @@ def main(argv=None) -> int:
         result["drag"] = drag(args.objects, max(args.lights), args.moves, args.rounds)
         result["drag_note"] = (f"the drag part rerun alone ({time.strftime('%Y-%m-%d')}, "
                                f"light_move --files {args.rounds}, bpy {result['drag']['bpy']})")
-        with open(args.drag_only, "w", encoding="utf-8") as handle:
-            json.dump(result, handle, indent=1)
-        print(table(result))
+        publish(result, args.drag_only, table(result))
         return 0
     result = run(args.objects, args.lights, args.repeats, args.renders, args.moves,
                  args.rounds)
-    if args.out:
-        with open(args.out, "w", encoding="utf-8") as handle:
-            json.dump(result, handle, indent=1)
-    print(table(result))
+    publish(result, args.out, table(result))
     return 0
 
 

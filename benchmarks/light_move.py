@@ -58,6 +58,7 @@ import sys
 import time
 
 from .measure import apply_phong, artist_scene, worker_setup
+from .table import publish
 
 
 def _timed(view_layer, change, moves, untimed=2) -> list:
@@ -531,18 +532,12 @@ def main(argv=None) -> int:
         os._exit(0)
     if args.files:
         result = run_files(args.objects, args.lights, args.moves, args.passes, args.files)
-        if args.out:
-            with open(args.out, "w", encoding="utf-8") as handle:
-                json.dump(result, handle, indent=1)
-        print(json.dumps(result, indent=1), flush=True)
+        publish(result, args.out, json.dumps(result, indent=1))
         return 0
     if args.parts or args.power:
         result = (run_parts(args.objects, args.lights, args.moves, args.parts) if args.parts
                   else run_power(args.objects, args.lights, args.moves))
-        if args.out:
-            with open(args.out, "w", encoding="utf-8") as handle:
-                json.dump(result, handle, indent=1)
-        print(json.dumps(result, indent=1), flush=True)
+        publish(result, args.out, json.dumps(result, indent=1))
         sys.stderr.flush()
         os._exit(0)
     if args.each:

@@ -36,6 +36,8 @@ import subprocess
 import sys
 import time
 
+from .table import publish
+
 CASES = ("principled", "phong")
 #: (engine, lights, samples) of each F12 figure, and its goal (None: reported only).
 FIGURES = (("cycles", 4, 16, 1.6), ("cycles", 16, 64, 2.0), ("cycles", 16, 16, None),
@@ -332,13 +334,10 @@ def main(argv=None) -> int:
         figure = f12(engine, args.objects, int(n_lights), int(samples), args.res,
                      args.repeats, args.renders, variant=args.variant)
         figure["variant"] = args.variant
-        print(json.dumps(figure, indent=1))
+        publish(figure, args.out, json.dumps(figure, indent=1))
         return 0
     result = run(args.objects, args.res, args.repeats, args.renders, args.rounds, args.moves)
-    if args.out:
-        with open(args.out, "w", encoding="utf-8") as handle:
-            json.dump(result, handle, indent=1)
-    print(table(result))
+    publish(result, args.out, table(result))
     return 0
 
 

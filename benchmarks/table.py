@@ -24,6 +24,16 @@ def merge_figure(path, name, figure) -> None:
         handle.write(markdown(data["figures"], data["meta"]) + "\n")
 
 
+def publish(result, out, text) -> None:
+    """What a benchmark's command line ends with: *result* written as JSON to *out* (a path,
+    or None: not written), then *text* (its table, or the JSON itself) printed."""
+    if out:
+        with open(out, "w", encoding="utf-8") as handle:
+            json.dump(result, handle, indent=1)
+            handle.write("\n")
+    print(text, flush=True)
+
+
 def fmt(s, digits=2, unit=""):
     return (f"{s['median']:.{digits}f}{unit} ({s['min']:.{digits}f}–{s['max']:.{digits}f})")
 

@@ -2,6 +2,7 @@
 """The benchmarks' analysis and table without Blender: synthetic worker results with values
 worked out by hand, so a wrong ratio, goal or verdict fails here and not in a 10-minute run."""
 
+import json
 import subprocess
 import sys
 
@@ -172,3 +173,14 @@ def test_finished_picture_ratio_and_samples_are_each_case_s_medians():
     row = text.splitlines()[-1]
     assert "**0.70×**" in row
     assert "| 1000 (4096) | 200 (1024) |" in row
+
+
+def test_publish_writes_the_json_it_is_given_and_prints_the_text(tmp_path, capsys):
+    from phong_nodes.benchmarks import table  # noqa: PLC0415
+
+    out = tmp_path / "run.json"
+    table.publish({"ratio": 1.5, "runs": [1, 2]}, str(out), "| table |")
+    assert json.loads(out.read_text(encoding="utf-8")) == {"ratio": 1.5, "runs": [1, 2]}
+    assert capsys.readouterr().out == "| table |\n"
+    table.publish({"ratio": 2.0}, None, "printed only")
+    assert capsys.readouterr().out == "printed only\n"
