@@ -164,6 +164,11 @@ def _reflect(i, n):
     return i - 2.0 * _dot(unit, i)[..., None] * unit
 
 
+def _faceforward(a, incident, reference):
+    """Vector Math FACEFORWARD: *a* where reference·incident < 0, else -*a*."""
+    return np.where((_dot(reference, incident) < 0.0)[..., None], a, -a)
+
+
 def _multiply_add(a, b, c):
     return a * b + c
 
@@ -211,6 +216,8 @@ OPERATIONS = (
     Op("length", FLOAT, (VECTOR,), _length, VECTOR_MATH, "LENGTH", output="Value"),
     Op("normalize", VECTOR, (VECTOR,), _normalize, VECTOR_MATH, "NORMALIZE"),
     Op("reflect", VECTOR, _VV, _reflect, VECTOR_MATH, "REFLECT", output="Vector"),
+    Op("faceforward", VECTOR, (VECTOR, VECTOR, VECTOR), _faceforward, VECTOR_MATH,
+       "FACEFORWARD", output="Vector"),
     Op("combine", VECTOR, (FLOAT, FLOAT, FLOAT), _combine, COMBINE_XYZ, inputs=("X", "Y", "Z"),
        output="Vector"),
     Op("emission", SHADER, (COLOR,), _identity, EMISSION, inputs=("Color",), output="Emission",
@@ -466,6 +473,12 @@ def reflect_about(i, n) -> Expr:
     return operation("reflect", i, n)
 
 
+def faceforward(a, incident, reference) -> Expr:
+    """*a* where reference·incident < 0, else -*a*, in one node (Vector Math FACEFORWARD):
+    a vector turned to one side of a surface by the sign of a dot product."""
+    return operation("faceforward", a, incident, reference)
+
+
 _CLAMPED: dict = {}
 
 
@@ -537,5 +550,5 @@ __all__ = [
     "scale_add", "SCALE_ADD",
     "acos",
     "dot", "length", "normalize", "select", "emission", "evaluate", "multiply_add",
-    "reflect_about", "saturate",
+    "reflect_about", "saturate", "faceforward",
 ]

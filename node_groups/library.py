@@ -20,7 +20,7 @@ from dataclasses import dataclass, field
 from . import models
 from .expr import (
     COLOR, FLOAT, SHADER, VECTOR, Expr, acos, at_least, combine, cos, dot, emission, equal,
-    evaluate, geometry, greater_than, input_, raycast, scale_add, sign, switch,
+    evaluate, faceforward, geometry, greater_than, input_, raycast, scale_add, sign, switch,
     length, less_than, maximum, minimum, multiply_add, normalize, power, reflect_about, saturate,
     select,
 )
@@ -747,108 +747,107 @@ def _threejs_phong(g):
 
 # -- one three.js light of a lights group, whole (addon/lighting/rig.py) --------------------
 #
-# As the seeds' model's (``_light_of``): one group per light type and shadow ray, m = -ℓ,
-# saturate(n·ℓ) read through G·(n·ℓ) (its ≤ 1 needs no node for unit vectors), the shadow
-# ray's hit in the denominator max(d^decay, 0.01).  The light's colour times F = f0 + (1 -
-# f0)·fresnel is split over two sums, Σ lc·i·(n·h)^s and Σ lc·i·(n·h)^s·fresnel, which the
-# material's colours multiply once (three.js Rig Material), as they do the diffuse sum.  On
-# 5.3 Switches on the light's and the material's constants keep only what is used: the
-# cut-off window where the light's distance is above 0, a smoothstep penumbra where its
-# penumbra is above 0 (else the hard edge cos ω > cos angle), the highlight where the
-# material's Specular Strength is above 0 (MeshLambertMaterial: 0).
+# Its model's part of the one shape of the three.js and X3D light groups (``_rig_light_of``
+# below: ℓ, the shadow ray).  saturate(n·ℓ) is max(ℓ·n, 0) (unit vectors); the shadow
+# ray's hit goes into the denominator max(d^decay, 0.01) (a sun's: into n·ℓ before its max,
+# so that a shadowed point's n·ℓ is -10³⁰).  The highlight reads the half vector's length:
+# for unit v and ℓ, |v + ℓ| = 2 v·h, so n·h = n·(v + ℓ)/|v + ℓ| (its clamp the division's)
+# and Schlick's v·h is half that length, with no second normalisation nor dot product.  The
+# light's colour times F = f0 + (1 - f0)·fresnel is split over two sums, Σ lc·i·(n·h)^s and
+# Σ lc·i·(n·h)^s·fresnel, which the material's colours multiply once (three.js Rig
+# Material), as they do the diffuse sum: the material's colours are not constants where the
+# lights group is inlined (its RGB nodes are not folded), so a product with them per light
+# would cost nodes.  A spot's hard edge (penumbra 0) and n·ℓ are one clamped minimum,
+# saturate(min(n·ℓ, E·(cos ω - cos angle))): E = 2¹⁰⁰, a power of two, so that the
+# product's sign is exact and any positive difference a float can hold gives at least 1.
+# On 5.3 Switches on the light's and the material's constants keep only what is used: the
+# cut-off window where the light's distance is above 0, d² as one dot product where its
+# decay is 2, a smoothstep penumbra where its penumbra is above 0 (else the hard edge), the
+# highlight where the material's Specular Strength is above 0 (MeshLambertMaterial: 0).
 
-def _threejs_light_of(g, kind, shadows, switched):
-    """One three.js light, whole: its diffuse light and its highlight's two sums."""
-    near = kind in ("POINT", "SPOT")
-    s = g.vector("Position", ZERO, _POS) if near else None
-    u = g.vector("Direction", DOWN, "Direction u of the light's -Z axis (normalized inside)") \
-        if kind != "POINT" else None
+#: The spot's hard edge as a clamped minimum with n·ℓ (above): 2¹⁰⁰.
+EDGE_SCALE = 2.0 ** 100
+
+
+def _threejs_settings(g, kind):
+    """The three.js light group's own inputs: the light's settings, the material's."""
+    own = {}
     if kind == "SPOT":
-        angle = g.value("Angle", math.pi / 3.0, "three.js angle: half angle of the cone",
-                        min=0.0, max=math.pi / 2.0, subtype="ANGLE")
-        penumbra = g.value("Penumbra", 0.0, "three.js penumbra: share of the cone that fades",
-                           min=0.0, max=1.0, subtype="FACTOR")
-    i = g.value("Intensity", 1.0, "three.js light intensity (the light's colour is multiplied "
-                "by it)", min=0.0)
-    if near:
-        cutoff = g.value("Distance", 0.0, _T_CUTOFF, min=0.0)
-        decay = g.value("Decay", 2.0, _T_DECAY, min=0.0, max=16.0)
-    lc = g.color("Light Color", WHITE, _LC)
-    shininess = g.value("Exponent", 30.0, "three.js shininess", min=0.0, max=10000.0)
-    strength = g.value("Specular Strength", 1.0, "three.js specularStrength (0: no highlight)",
-                       min=0.0, max=1.0, subtype="FACTOR")
-    n = g.vector("Normal", (0.0, 0.0, 1.0), "Unit surface normal n (Phong Surface)")
-    v = g.vector("View Vector", (0.0, 0.0, 1.0), "Unit vector v toward the viewer (Phong Surface)")
-    gate_n = g.vector("Gate Normal", (0.0, 0.0, -GATE_SCALE), "-G·n (Phong Surface Rays)")
-    p = g.vector("Surface Position", ZERO, "The shaded point P (Phong Surface Rays)")
-    if shadows:
-        ng = g.vector("True Normal", (0.0, 0.0, 1.0), "The true (geometric) normal Ng")
-        drop = g.vector("Ray Drop", ZERO, "-offset·Ng: the ray starts at P + sign(Ng·ℓ)·"
-                        "offset·Ng, on the light's side of the surface")
-        casts = g.value("Cast Shadow", 1.0, "1: the light casts shadows, 0: it does not",
-                        min=0.0, max=1.0)
-    names = ("Diffuse Sum", "Specular Sum", "Fresnel Sum")
-    names += tuple("Plain " + name for name in names) if shadows else ()
-    sums = {name: g.vector(name, ZERO, f"The lights before: their {name.lower()}")
-            for name in names}
+        own["angle"] = g.value("Angle", math.pi / 3.0, "three.js angle: half angle of the cone",
+                               min=0.0, max=math.pi / 2.0, subtype="ANGLE")
+        own["penumbra"] = g.value("Penumbra", 0.0, "three.js penumbra: share of the cone that "
+                                  "fades", min=0.0, max=1.0, subtype="FACTOR")
+    own["i"] = g.value("Intensity", 1.0, "three.js light intensity (the light's colour is "
+                       "multiplied by it)", min=0.0)
+    if kind != "SUN":
+        own["cutoff"] = g.value("Distance", 0.0, _T_CUTOFF, min=0.0)
+        own["decay"] = g.value("Decay", 2.0, _T_DECAY, min=0.0, max=16.0)
+    own["lc"] = g.color("Light Color", WHITE, _LC)
+    own["shininess"] = g.value("Exponent", 30.0, "three.js shininess", min=0.0, max=10000.0)
+    own["strength"] = g.value("Specular Strength", 1.0, "three.js specularStrength (0: no "
+                              "highlight)", min=0.0, max=1.0, subtype="FACTOR")
+    return own
 
+
+def _threejs_light(g, light, own, sums, switched):
+    """One three.js light's diffuse light and its highlight's two sums."""
     def choose(condition, if_true, if_false):  # a Switch on a constant on 5.3
         return switch(condition, if_false, if_true) if switched \
             else select(condition, if_true, if_false)
 
-    if near:
-        away = p - s
-        d = length(away)
-        m = normalize(away)  # m = -ℓ
-    else:
-        m = normalize(u)
-    numerator = i
-    if kind == "SPOT":  # smoothstep(cos angle, cos(angle·(1 - penumbra)), cos ω), cos ω = m·û
-        cos_w = dot(m, normalize(u))
-        e0, e1 = cos(angle), cos(angle * (1.0 - penumbra))
+    ln = dot(light.l, light.n)
+    numerator, gate = own["i"], maximum(ln, 0.0)  # saturate(n·ℓ)
+    if light.kind == "SPOT":  # smoothstep(cos angle, cos(angle·(1 - penumbra)), cos ω)
+        c = dot(light.l, normalize(light.u))  # ℓ·û = -cos ω
+        e0, e1 = cos(own["angle"]), cos(own["angle"] * (1.0 - own["penumbra"]))
         slope = 1.0 / (e1 - e0)
-        t = saturate(multiply_add(cos_w, slope, -e0 * slope))
-        soft = (t * t) * multiply_add(t, -2.0, 3.0)
-        numerator = i * choose(less_than(e0, e1), soft, greater_than(cos_w, e0))
-    if near:  # the cut-off window (saturate(1 - (d/distance)⁴))², 1 where distance is 0
-        # (1/0 is 0 in a Math node: the window is then 1, and on 5.3 a Switch drops it)
-        window = saturate(multiply_add(power(d, 4.0), -power(1.0 / cutoff, 4.0), 1.0))
+        t = saturate(multiply_add(c, -slope, -e0 * slope))
+        smooth = (t * t) * multiply_add(t, -2.0, 3.0)
+        if switched:  # penumbra 0: the hard edge in n·ℓ's clamp (above)
+            edge = saturate(minimum(ln, multiply_add(c, -EDGE_SCALE, -EDGE_SCALE * e0)))
+            numerator = choose(less_than(e0, e1), numerator * smooth, numerator)
+            gate = choose(less_than(e0, e1), gate, edge)
+        else:
+            numerator = numerator * choose(less_than(e0, e1), smooth, less_than(c, -e0))
+    falloff = None
+    if light.to_light is not None:
+        d2 = dot(light.to_light, light.to_light)
+        d = length(light.to_light)
+        # the cut-off window (saturate(1 - (d/distance)⁴))², 1 where distance is 0 (1/0 is 0
+        # in a Math node: the window is then 1, and on 5.3 a Switch drops it)
+        window = saturate(multiply_add(d2 * d2 if switched else power(d, 4.0),
+                                       -power(1.0 / own["cutoff"], 4.0), 1.0))
         windowed = numerator * (window * window)
-        numerator = switch(less_than(0.0, cutoff), numerator, windowed) if switched \
+        numerator = choose(less_than(0.0, own["cutoff"]), windowed, numerator) if switched \
             else windowed
-    hit = None
-    if shadows:
-        side = sign(dot(ng, m))  # -sign(Ng·ℓ): the origin P - sign(Ng·m)·offset·Ng
-        origin = scale_add(drop, side, p)
-        hit = (raycast(origin, s - origin, 1.0) if near
-               else raycast(origin, -m, SUN_RAY_LENGTH))
+        falloff = power(d, own["decay"])
+        if switched:  # decay 2: d² is the dot product
+            falloff = switch(equal(own["decay"], 2.0), falloff, d2)
 
-    def intensity(shade):
-        """i (times a spot's cone, the window) / max(d^decay, 0.01); *shade*: plus
-        hit·cast·10³⁰ in the denominator."""
-        def more(denominator):
-            return multiply_add(hit, casts * SHADOW_DENOMINATOR, denominator) if shade \
-                else denominator
+    def weight(shade):
+        """i (times a spot's cone, the window) / max(d^decay, 0.01) · saturate(n·ℓ); *shade*:
+        the shadow ray's hit in the denominator (a sun's: in n·ℓ)."""
+        if falloff is None:
+            return numerator * (maximum(light.shade(ln, -SHADOW_DENOMINATOR), 0.0)
+                                if shade else gate)
+        return numerator / maximum(light.shade(falloff) if shade else falloff, 0.01) * gate
 
-        if near:
-            return numerator / maximum(more(power(d, decay)), 0.01)
-        return numerator / more(1.0) if shade else numerator
-
-    h = normalize(v - m)
-    highlight = power(maximum(dot(h, n), 0.0), maximum(shininess, 1e-4))
-    vh = dot(v, h)  # in [0, 1] for unit v and ℓ: v·(v + ℓ) = 1 + v·ℓ ≥ 0
-    fresnel = power(2.0, multiply_add(vh, -5.55473, -6.98316) * vh)
-    color = (1.0 / GATE_SCALE) * lc  # G·(n·ℓ) times 2⁻⁴⁰: n·ℓ, exactly
-    for prefix, shade in (("", shadows), ("Plain ", False))[:2 if shadows else 1]:
-        w = intensity(shade) * maximum(dot(m, gate_n), 0.0)  # i·G·saturate(n·ℓ)
+    half = light.v + light.l  # v + ℓ: |v + ℓ| = 2 v·h
+    size = length(half)
+    highlight = power(saturate(dot(light.n, half) / size), maximum(own["shininess"], 1e-4))
+    fresnel = power(2.0, multiply_add(size, -5.55473 / 4.0, -6.98316 / 2.0) * size)
+    lc = own["lc"]
+    for prefix, shade in _passes(light.hit is not None):
+        w = weight(shade)
         lit = w * highlight
-        sum_in = {name: sums[prefix + name] for name in names[:3]}
-        specular = scale_add(color, lit, sum_in["Specular Sum"])
-        fresnel_sum = scale_add(color, lit * fresnel, sum_in["Fresnel Sum"])
+        specular = scale_add(lc, lit, sums[prefix + "Specular Sum"])
+        fresnel_sum = scale_add(lc, lit * fresnel, sums[prefix + "Fresnel Sum"])
         if switched:  # Specular Strength 0 (MeshLambertMaterial): no highlight
-            specular = switch(equal(strength, 0.0), specular, sum_in["Specular Sum"])
-            fresnel_sum = switch(equal(strength, 0.0), fresnel_sum, sum_in["Fresnel Sum"])
-        g.output(f"{prefix}Diffuse Sum", scale_add(color, w, sum_in["Diffuse Sum"]),
+            specular = switch(equal(own["strength"], 0.0), specular,
+                              sums[prefix + "Specular Sum"])
+            fresnel_sum = switch(equal(own["strength"], 0.0), fresnel_sum,
+                                 sums[prefix + "Fresnel Sum"])
+        g.output(f"{prefix}Diffuse Sum", scale_add(lc, w, sums[prefix + "Diffuse Sum"]),
                  "+ i·saturate(n·ℓ)·light", color=True)
         g.output(f"{prefix}Specular Sum", specular, "+ i·saturate(n·ℓ)·light·saturate(n·h)^s",
                  color=True)
@@ -876,22 +875,6 @@ def _threejs_rig_material(g):
     g.output("Diffuse", diffuse * (RECIPROCAL_PI * c), "Σ irradiance ⊗ color/π", color=True)
     g.output("Specular", (specular * f0 + fresnel * (WHITE - f0)) * k,
              "Σ irradiance ⊗ F·0.25·D·specularStrength", color=True)
-
-
-def _register_threejs_lights():
-    for kind in LIGHT_KINDS:
-        for shadows in (False, True):
-            name = rig_light_group("threejs", kind, "QUADRATIC", shadows)
-            what = (f"One three.js {LIGHT_KINDS[kind].lower()} light of a lights group: its "
-                    "diffuse light and its highlight's sums" +
-                    (", shadowed by its shadow ray" if shadows else ""))
-            group(name, what, into=RIG_GROUPS)(
-                lambda g, k=kind, s=shadows: _threejs_light_of(g, k, s, False))
-            variant(name, SWITCH_FEATURE, what)(
-                lambda g, k=kind, s=shadows: _threejs_light_of(g, k, s, True))
-
-
-_register_threejs_lights()
 
 
 # -- X3D / VRML97 (docs/x3d.md: ISO/IEC 19775-1 §17.2.2.4, ISO/IEC 14772-1 §4.14.4) ------
@@ -1003,121 +986,194 @@ def _x3d_light_terms(g):
 
 # -- one X3D light of a lights group, whole (addon/lighting/rig.py) -------------------------
 #
-# As the seeds' model's (``_light_of``): one group per light type and shadow ray, with m = -ℓ
-# and the diffuse light read through G·(N·L) (Phong Surface Rays).  The radius's cut-off is
-# a denominator too: a point beyond it has 10³⁰ added to its attenuation's, so that
-# 1/max(a0 + a1·d + a2·d², 1) becomes 10⁻³⁰; so is the shadow ray's hit, added before the
-# clamp at 1.  A spot's ramp is saturate((ω - cutOffAngle)/(beamWidth - cutOffAngle)), which is
-# 1 within the beam and 0 beyond the cut-off, or, where beamWidth ≥ cutOffAngle, the hard
-# edge [ω < cutOffAngle] = [cos ω > cos cutOffAngle] (on 5.3 a Switch on the two constants
-# keeps only the one in use).
-# The light's own ambient light costs no node where its ambientIntensity is 0 (5.3: Switch).
+# Its model's part of the one shape of the three.js and X3D light groups (``_rig_light_of``
+# below).  The radius's cut-off is a denominator: a point beyond it has 10³⁰ added to its
+# attenuation's, so that 1/max(a0 + a1·d + a2·d², 1) becomes 10⁻³⁰; so is the shadow ray's
+# hit, added before the clamp at 1.  The light's colour times its attenuated intensity is
+# one vector, which scales both max(N·L, 0) and the highlight (X3D's has no N·L
+# condition).  A spot's ramp is saturate((ω - cutOffAngle)/(beamWidth - cutOffAngle)) with
+# ω = π - acos(ℓ·û), which is 1 within the beam and 0 beyond the cut-off, or, where
+# beamWidth ≥ cutOffAngle, the hard edge [ω < cutOffAngle] = [ℓ·û < -cos cutOffAngle] (on
+# 5.3 a Switch on the two constants keeps only the one in use).  The light's own ambient
+# light costs no node where its ambientIntensity is 0 (5.3: Switch).
 
-def _x3d_light_of(g, kind, shadows, switched):
-    """One X3D light, whole: its diffuse, specular and ambient light added to the sums."""
+
+def _x3d_settings(g, kind):
+    """The X3D light group's own inputs: the light's settings, the material's exponent."""
+    own = {}
+    if kind == "SPOT":
+        own["beam"] = g.value("Beam Width", X3D_BEAM_WIDTH, "X3D beamWidth: full intensity "
+                              "within this angle of the axis", min=0.0, max=math.pi,
+                              subtype="ANGLE")
+        own["cut"] = g.value("Cut Off Angle", X3D_CUT_OFF_ANGLE, "X3D cutOffAngle: no light "
+                             "beyond this angle of the axis", min=0.0, max=math.pi,
+                             subtype="ANGLE")
+    own["i"] = g.value("Intensity", 1.0, "X3D intensity of the direct light", min=0.0)
+    own["ia"] = g.value("Ambient Intensity", 0.0, _X_IA, min=0.0)
+    if kind != "SUN":
+        own["a0"] = g.value("Constant", 1.0, "a0 of 1/max(a0 + a1·d + a2·d², 1)", min=0.0)
+        own["a1"] = g.value("Linear", 0.0, "a1 of 1/max(a0 + a1·d + a2·d², 1)", min=0.0)
+        own["a2"] = g.value("Quadratic", 0.0, "a2 of 1/max(a0 + a1·d + a2·d², 1)", min=0.0)
+        own["radius"] = g.value("Radius", X3D_RADIUS, "The light reaches only the points "
+                                "within this distance (negative: everywhere)")
+    own["lc"] = g.color("Light Color", WHITE, _LC)
+    own["e"] = g.value("Exponent", 25.6, "128 × the X3D shininess", min=0.0, max=10000.0)
+    return own
+
+
+def _x3d_light(g, light, own, sums, switched):
+    """One X3D light's diffuse, specular and ambient light added to the sums."""
+    spot = 1.0
+    if light.kind == "SPOT":  # ω = acos(-ℓ·û) = π - acos(ℓ·û)
+        c = dot(light.l, normalize(light.u))
+        beam, cut = own["beam"], own["cut"]
+        slope = 1.0 / (beam - cut)
+        ramp = saturate(multiply_add(acos(c), -slope, (math.pi - cut) * slope))
+        hard = less_than(c, -cos(cut))  # ω < cutOffAngle, no arccosine
+        soft = less_than(beam, cut)  # the two constants: the ramp, or the hard edge
+        spot = switch(soft, hard, ramp) if switched else select(soft, ramp, hard)
+    d = length(light.to_light) if light.to_light is not None else None
+
+    def attenuated(numerator, shade):
+        """numerator · spot/max(a0 + a1·d + a2·d², 1) within the radius, else 0 (10⁻³⁰ of
+        it); *shade*: also where the shadow ray hits."""
+        if d is None:  # a sun: no attenuation (its denominator is at least 1 already)
+            return numerator / light.shade(1.0) if shade else numerator
+        beyond = greater_than(d, select(less_than(own["radius"], 0.0),
+                                        2.0 * SHADOW_DENOMINATOR, own["radius"]))
+        denominator = multiply_add(multiply_add(own["a2"], d, own["a1"]), d,
+                                   multiply_add(beyond, SHADOW_DENOMINATOR, own["a0"]))
+        if shade:
+            denominator = light.shade(denominator)
+        return (numerator * spot if light.kind == "SPOT" else numerator) / \
+            maximum(denominator, 1.0)
+
+    ln = dot(light.l, light.n)
+    highlight = power(maximum(dot(normalize(light.v + light.l), light.n), 0.0),
+                      maximum(own["e"], 0.0))
+    for prefix, shade in _passes(light.hit is not None):
+        lit = own["lc"] * attenuated(own["i"], shade)  # IL · I · attenuation · spot
+        g.output(f"{prefix}Diffuse Sum",
+                 scale_add(lit, maximum(ln, 0.0), sums[prefix + "Diffuse Sum"]),
+                 "+ I·max(N·L, 0)·IL", color=True)
+        g.output(f"{prefix}Specular Sum", scale_add(lit, highlight, sums[prefix + "Specular Sum"]),
+                 "+ I·max(N·H, 0)^e·IL", color=True)
+    ambient = scale_add(own["ia"] * own["lc"], attenuated(1.0, False), sums["Ambient Sum"])
+    if switched:  # ambientIntensity 0 (its default): nothing to add
+        ambient = switch(equal(own["ia"], 0.0), ambient, sums["Ambient Sum"])
+    g.output("Ambient Sum", ambient, "+ Ia·IL, attenuated and spotted (not shadowed)",
+             color=True)
+
+
+# -- one light of a lights group in the three.js and X3D models: one shape ------------------
+#
+# Each model's light group (``rig_light_group``) is this shape with its model's settings and
+# light (the table ``RIG_MODELS``): the light's position and axis, the model's inputs, what
+# the lights group hands every light (Phong Surface's n and v, the shaded point; with shadow
+# rays the true normal, the ray's drop and the light's Cast Shadow), the sums of the lights
+# before it.  Computed here for every model: ℓ = (S - P)/|S - P| (a sun's -û) and the
+# shadow ray, from P lifted to the light's side of the surface (faceforward of the
+# material's -offset·Ng by Ng·ℓ, one node) along S - P itself (Length 1: it ends at the
+# light, lifted as its origin) or along a sun's ℓ.
+
+
+@dataclass(frozen=True)
+class RigLight:
+    """What a model's light reads of the shape: its type, n, v, unit ℓ toward the light,
+    S - P (a point or spot light; None for a sun), the light's axis input (None for a point
+    light) and its shadow ray's hit (None: no shadow ray) times its Cast Shadow."""
+
+    kind: str
+    n: Expr
+    v: Expr
+    l: Expr
+    to_light: Expr | None
+    u: Expr | None
+    hit: Expr | None
+    casts: Expr | None
+
+    def shade(self, x, scale=SHADOW_DENOMINATOR):
+        """x + hit·cast·*scale*: one node (cast·scale is the light's constant)."""
+        return multiply_add(self.hit, self.casts * scale, x)
+
+
+def _passes(shadows):
+    """(sum prefix, shadowed) of the outputs: the sums with the shadow ray, and the Plain
+    ones without it (what Eevee shows before 5.3)."""
+    return (("", shadows), ("Plain ", False))[:2 if shadows else 1]
+
+
+@dataclass(frozen=True)
+class RigModel:
+    """A model's light group: *what* it adds (the group's description), its *settings*
+    (g, kind) -> its own inputs, its *light* (g, RigLight, inputs, sums, switched) that
+    writes the outputs, its *sums* and of them the *shadowed* ones (also Plain)."""
+
+    label: str
+    what: str
+    settings: object
+    light: object
+    sums: tuple
+    shadowed: tuple = ("Diffuse Sum", "Specular Sum")
+
+
+#: The models whose light groups have this shape (the seeds' is ``_light_of``).
+RIG_MODELS = {
+    "threejs": RigModel("three.js", "its diffuse light and its highlight's sums",
+                        _threejs_settings, _threejs_light,
+                        ("Diffuse Sum", "Specular Sum", "Fresnel Sum"),
+                        ("Diffuse Sum", "Specular Sum", "Fresnel Sum")),
+    "x3d": RigModel("X3D", "its diffuse, specular and ambient light added to the sums",
+                    _x3d_settings, _x3d_light, ("Diffuse Sum", "Specular Sum", "Ambient Sum")),
+}
+
+
+def _rig_light_of(g, model, kind, shadows, switched):
+    """One light of *model* (``RIG_MODELS``), whole: the shape above around its model's
+    light."""
+    spec = RIG_MODELS[model]
     near = kind in ("POINT", "SPOT")
     s = g.vector("Position", ZERO, _POS) if near else None
     u = g.vector("Direction", DOWN, "Direction u of the light's -Z axis (normalized inside)") \
         if kind != "POINT" else None
-    if kind == "SPOT":
-        beam = g.value("Beam Width", X3D_BEAM_WIDTH, "X3D beamWidth: full intensity within "
-                       "this angle of the axis", min=0.0, max=math.pi, subtype="ANGLE")
-        cut = g.value("Cut Off Angle", X3D_CUT_OFF_ANGLE, "X3D cutOffAngle: no light beyond "
-                      "this angle of the axis", min=0.0, max=math.pi, subtype="ANGLE")
-    i = g.value("Intensity", 1.0, "X3D intensity of the direct light", min=0.0)
-    ia = g.value("Ambient Intensity", 0.0, _X_IA, min=0.0)
-    if near:
-        a0 = g.value("Constant", 1.0, "a0 of 1/max(a0 + a1·d + a2·d², 1)", min=0.0)
-        a1 = g.value("Linear", 0.0, "a1 of 1/max(a0 + a1·d + a2·d², 1)", min=0.0)
-        a2 = g.value("Quadratic", 0.0, "a2 of 1/max(a0 + a1·d + a2·d², 1)", min=0.0)
-        radius = g.value("Radius", X3D_RADIUS, "The light reaches only the points within this "
-                         "distance (negative: everywhere)")
-    lc = g.color("Light Color", WHITE, _LC)
-    e = g.value("Exponent", 25.6, "128 × the X3D shininess", min=0.0, max=10000.0)
+    own = spec.settings(g, kind)
     n = g.vector("Normal", (0.0, 0.0, 1.0), "Unit surface normal n (Phong Surface)")
     v = g.vector("View Vector", (0.0, 0.0, 1.0), "Unit vector v toward the viewer (Phong Surface)")
-    gate_n = g.vector("Gate Normal", (0.0, 0.0, -GATE_SCALE), "-G·n (Phong Surface Rays)")
     p = g.vector("Surface Position", ZERO, "The shaded point P (Phong Surface Rays)")
+    ng = drop = casts = None
     if shadows:
         ng = g.vector("True Normal", (0.0, 0.0, 1.0), "The true (geometric) normal Ng")
         drop = g.vector("Ray Drop", ZERO, "-offset·Ng: the ray starts at P + sign(Ng·ℓ)·"
                         "offset·Ng, on the light's side of the surface")
         casts = g.value("Cast Shadow", 1.0, "1: the light casts shadows, 0: it does not",
                         min=0.0, max=1.0)
-    names = ("Diffuse Sum", "Specular Sum", "Ambient Sum") + (
-        ("Plain Diffuse Sum", "Plain Specular Sum") if shadows else ())
+    names = spec.sums + (tuple("Plain " + name for name in spec.shadowed) if shadows else ())
     sums = {name: g.vector(name, ZERO, f"The lights before: their {name.lower()}")
             for name in names}
-
-    if near:
-        away = p - s
-        d = length(away)
-        m = normalize(away)  # m = -ℓ
-    else:
-        m = normalize(u)
-    spot = 1.0
-    if kind == "SPOT":  # ω = acos(-ℓ·û) = acos(m·û)
-        cos_w = dot(m, normalize(u))
-        w = acos(cos_w)
-        slope = 1.0 / (beam - cut)
-        ramp = saturate(multiply_add(w, slope, -cut * slope))
-        hard = greater_than(cos_w, cos(cut))  # ω < cutOffAngle, no arccosine
-        soft = less_than(beam, cut)  # the two constants: the ramp, or the hard edge
-        spot = switch(soft, hard, ramp) if switched else select(soft, ramp, hard)
+    to_light = s - p if near else None
+    l = normalize(to_light) if near else -normalize(u)
     hit = None
-    if shadows:
-        side = sign(dot(ng, m))  # -sign(Ng·ℓ): the origin P - sign(Ng·m)·offset·Ng
-        origin = scale_add(drop, side, p)
-        hit = (raycast(origin, s - origin, 1.0) if near
-               else raycast(origin, -m, SUN_RAY_LENGTH))
-
-    def attenuated(numerator, shade):
-        """numerator · spot/max(a0 + a1·d + a2·d², 1) within the radius, else 0 (10⁻³⁰ of
-        it); *shade*: also where the shadow ray hits."""
-        if near:
-            beyond = greater_than(d, select(less_than(radius, 0.0), 2.0 * SHADOW_DENOMINATOR,
-                                            radius))
-            denominator = multiply_add(multiply_add(a2, d, a1), d,
-                                       multiply_add(beyond, SHADOW_DENOMINATOR, a0))
-        else:
-            denominator = 1.0
-        if shade:
-            denominator = multiply_add(hit, casts * SHADOW_DENOMINATOR, denominator)
-        if not near:  # a sun: no attenuation (its denominator is at least 1 already)
-            return numerator / denominator if shade else numerator
-        return (numerator * spot if kind == "SPOT" else numerator) / maximum(denominator, 1.0)
-
-    ln_g = dot(m, gate_n)  # G·(N·L)
-    highlight = power(maximum(dot(normalize(v - m), n), 0.0), maximum(e, 0.0))
-    for prefix, shade in (("", shadows), ("Plain ", False))[:2 if shadows else 1]:
-        direct = attenuated(i, shade)
-        g.output(f"{prefix}Diffuse Sum",
-                 scale_add((1.0 / GATE_SCALE) * lc, direct * maximum(ln_g, 0.0),
-                           sums[f"{prefix}Diffuse Sum"]), "+ I·max(N·L, 0)·IL", color=True)
-        g.output(f"{prefix}Specular Sum",
-                 scale_add(lc, direct * highlight, sums[f"{prefix}Specular Sum"]),
-                 "+ I·max(N·H, 0)^e·IL", color=True)
-    ambient = scale_add(ia * lc, attenuated(1.0, False), sums["Ambient Sum"])
-    if switched:  # ambientIntensity 0 (its default): nothing to add
-        ambient = switch(equal(ia, 0.0), ambient, sums["Ambient Sum"])
-    g.output("Ambient Sum", ambient, "+ Ia·IL, attenuated and spotted (not shadowed)",
-             color=True)
+    if shadows:  # from P + sign(Ng·ℓ)·offset·Ng: faceforward(-offset·Ng, ℓ, Ng)
+        origin = p + faceforward(drop, l, ng)
+        hit = raycast(origin, to_light, 1.0) if near else raycast(origin, l, SUN_RAY_LENGTH)
+    spec.light(g, RigLight(kind, n, v, l, to_light, u, hit, casts), own, sums, switched)
 
 
-def _register_x3d_lights():
-    for kind in LIGHT_KINDS:
-        for shadows in (False, True):
-            name = rig_light_group("x3d", kind, "QUADRATIC", shadows)
-            what = (f"One X3D {LIGHT_KINDS[kind].lower()} light of a lights group: its diffuse, "
-                    "specular and ambient light added to the sums" +
-                    (", shadowed by its shadow ray" if shadows else ""))
-            group(name, what, into=RIG_GROUPS)(
-                lambda g, k=kind, s=shadows: _x3d_light_of(g, k, s, False))
-            variant(name, SWITCH_FEATURE, what)(
-                lambda g, k=kind, s=shadows: _x3d_light_of(g, k, s, True))
+def _register_rig_models():
+    for model, spec in RIG_MODELS.items():
+        for kind in LIGHT_KINDS:
+            for shadows in (False, True):
+                name = rig_light_group(model, kind, "QUADRATIC", shadows)
+                what = (f"One {spec.label} {LIGHT_KINDS[kind].lower()} light of a lights "
+                        f"group: {spec.what}" + (", shadowed by its shadow ray" if shadows
+                                                 else ""))
+                group(name, what, into=RIG_GROUPS)(
+                    lambda g, m=model, k=kind, s=shadows: _rig_light_of(g, m, k, s, False))
+                variant(name, SWITCH_FEATURE, what)(
+                    lambda g, m=model, k=kind, s=shadows: _rig_light_of(g, m, k, s, True))
 
 
-_register_x3d_lights()
+_register_rig_models()
 
 
 # -- Eevee's light loop (Blender 5.3+; addon/lighting/loop.py) -------------------------------
