@@ -468,6 +468,10 @@ SHADOW_DENOMINATOR = 1.0e30
 #: A sun's shadow ray's length (in units of its unit direction): "to infinity" within float
 #: range.
 SUN_RAY_LENGTH = 1.0e8
+#: The scale of the normal that three.js's lights read saturate(n·ℓ) with (``_threejs_light``):
+#: 2⁻⁷, a power of two, so that n·ℓ·2⁻⁷ over the falloff's denominator (at least 0.01) stays
+#: below 1 and one clamped division is max(n·ℓ, 0)/denominator·2⁻⁷ exactly.
+LAMBERT_SCALE = 2.0 ** -7
 #: The rig's light types (a Blender light's: ``models.drawn_as``), falloffs and shadows, and
 #: the name of each group.
 LIGHT_KINDS = {"POINT": "Point", "SPOT": "Spot", "SUN": "Sun"}
@@ -748,9 +752,11 @@ def _threejs_phong(g):
 # -- one three.js light of a lights group, whole (addon/lighting/rig.py) --------------------
 #
 # Its model's part of the one shape of the three.js and X3D light groups (``_rig_light_of``
-# below: ℓ, the shadow ray).  saturate(n·ℓ) is max(ℓ·n, 0) (unit vectors); the shadow
-# ray's hit goes into the denominator max(d^decay, 0.01) (a sun's: into n·ℓ before its max,
-# so that a shadowed point's n·ℓ is -10³⁰).  The highlight reads the half vector's length:
+# below: ℓ, the shadow ray).  saturate(n·ℓ) over the falloff max(d^decay, 0.01) is one
+# clamped division of ℓ·(n·2⁻⁷) (n·2⁻⁷ once per material, ``rig.py``; a power of two, so
+# that the quotient stays below 1 and the clamp is the max(·, 0); the light's colour times
+# 2⁷, a constant); the shadow ray's hit goes into that denominator (a sun's: into n·ℓ before its clamp, so
+# that a shadowed point's n·ℓ is -10³⁰).  The highlight reads the half vector's length:
 # for unit v and ℓ, |v + ℓ| = 2 v·h, so n·h = n·(v + ℓ)/|v + ℓ| (its clamp the division's)
 # and Schlick's v·h is half that length, with no second normalisation nor dot product.  The
 # light's colour times F = f0 + (1 - f0)·fresnel is split over two sums, Σ lc·i·(n·h)^s and
@@ -786,6 +792,8 @@ def _threejs_settings(g, kind):
     own["shininess"] = g.value("Exponent", 30.0, "three.js shininess", min=0.0, max=10000.0)
     own["strength"] = g.value("Specular Strength", 1.0, "three.js specularStrength (0: no "
                               "highlight)", min=0.0, max=1.0, subtype="FACTOR")
+    own["n_s"] = g.vector("Lambert Normal", (0.0, 0.0, LAMBERT_SCALE),
+                          "n·2⁻⁷, once per material (the lights group)")
     return own
 
 
@@ -795,8 +803,8 @@ def _threejs_light(g, light, own, sums, switched):
         return switch(condition, if_false, if_true) if switched \
             else select(condition, if_true, if_false)
 
-    ln = dot(light.l, light.n)
-    numerator, gate = own["i"], maximum(ln, 0.0)  # saturate(n·ℓ)
+    ln = dot(light.l, own["n_s"])  # n·ℓ·2⁻⁷
+    numerator, gate = own["i"], ln  # saturate(n·ℓ)·2⁻⁷: clamped with the falloff (below)
     if light.kind == "SPOT":  # smoothstep(cos angle, cos(angle·(1 - penumbra)), cos ω)
         c = dot(light.l, normalize(light.u))  # ℓ·û = -cos ω
         e0, e1 = cos(own["angle"]), cos(own["angle"] * (1.0 - own["penumbra"]))
@@ -804,7 +812,7 @@ def _threejs_light(g, light, own, sums, switched):
         t = saturate(multiply_add(c, -slope, -e0 * slope))
         smooth = (t * t) * multiply_add(t, -2.0, 3.0)
         if switched:  # penumbra 0: the hard edge in n·ℓ's clamp (above)
-            edge = saturate(minimum(ln, multiply_add(c, -EDGE_SCALE, -EDGE_SCALE * e0)))
+            edge = minimum(ln, multiply_add(c, -EDGE_SCALE, -EDGE_SCALE * e0))
             numerator = choose(less_than(e0, e1), numerator * smooth, numerator)
             gate = choose(less_than(e0, e1), gate, edge)
         else:
@@ -825,18 +833,20 @@ def _threejs_light(g, light, own, sums, switched):
             falloff = switch(equal(own["decay"], 2.0), falloff, d2)
 
     def weight(shade):
-        """i (times a spot's cone, the window) / max(d^decay, 0.01) · saturate(n·ℓ); *shade*:
-        the shadow ray's hit in the denominator (a sun's: in n·ℓ)."""
+        """i (times a spot's cone, the window) · saturate(n·ℓ) / max(d^decay, 0.01) · 2⁻⁷
+        (n·ℓ·2⁻⁷ ≤ 2⁻⁷ over at least 0.01 is below 1: the division's clamp is max(·, 0));
+        *shade*: the shadow ray's hit in the denominator (a sun's: in n·ℓ)."""
         if falloff is None:
-            return numerator * (maximum(light.shade(ln, -SHADOW_DENOMINATOR), 0.0)
-                                if shade else gate)
-        return numerator / maximum(light.shade(falloff) if shade else falloff, 0.01) * gate
+            return numerator * (saturate(light.shade(ln, -SHADOW_DENOMINATOR)) if shade
+                                else maximum(gate, 0.0))
+        return numerator * saturate(
+            gate / maximum(light.shade(falloff) if shade else falloff, 0.01))
 
     half = light.v + light.l  # v + ℓ: |v + ℓ| = 2 v·h
     size = length(half)
     highlight = power(saturate(dot(light.n, half) / size), maximum(own["shininess"], 1e-4))
     fresnel = power(2.0, multiply_add(size, -5.55473 / 4.0, -6.98316 / 2.0) * size)
-    lc = own["lc"]
+    lc = own["lc"] * (1.0 / LAMBERT_SCALE)  # the weight's 2⁻⁷ undone: a constant
     for prefix, shade in _passes(light.hit is not None):
         w = weight(shade)
         lit = w * highlight

@@ -176,7 +176,7 @@ def _threejs_case(rng, kind):
     p = rng.uniform(-4, 4, (N, 3))
     n, v = _unit(rng.normal(size=(N, 3))), _unit(rng.normal(size=(N, 3)))
     inputs = {"Surface Position": p, "Normal": n, "View Vector": v,
-              "Gate Normal": -library.GATE_SCALE * n, "Intensity": _setting(rng, 0.0, 4.0),
+              "Lambert Normal": n / 128.0, "Intensity": _setting(rng, 0.0, 4.0),
               "Light Color": rng.uniform(0.0, 1.5, (N, 3)), "Exponent": _setting(rng, -1.0, 200.0),
               "Specular Strength": rng.choice([0.0, 0.3, 1.0], N),
               "True Normal": n, "Ray Drop": -1e-5 * n, "Cast Shadow": np.ones(N)}

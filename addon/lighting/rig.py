@@ -264,6 +264,15 @@ def _build_lean(tree, lights, world, budget, model, loop=False, shadows=False) -
                               "Ray Lift": shared["lift"]})
     entry = models.MODELS[model]
     sums = {}
+    lambert = []  # n·2⁻⁷ (three.js's lights: library.LAMBERT_SCALE), made for the first
+
+    def lambert_normal():
+        if not lambert:
+            lambert.append(_vector_node(tree, "MULTIPLY", "surface:lambert normal",
+                                        (-300.0, 1000.0), surface.outputs["Normal"],
+                                        (library.LAMBERT_SCALE,) * 3))
+        return lambert[0]
+
     for index, obj in enumerate(lights):
         light = obj.data
         falloff = "POWER" if _is_power(light, model) else "QUADRATIC"
@@ -273,6 +282,8 @@ def _build_lean(tree, lights, world, budget, model, loop=False, shadows=False) -
             if socket in node.inputs and not (socket == "Specular Strength"
                                               and entry.rig_material is None):
                 tree.links.new(source, node.inputs[socket])  # the seeds' is the light's
+        if "Lambert Normal" in node.inputs:
+            tree.links.new(lambert_normal(), node.inputs["Lambert Normal"])
         drivers.light_color(node.inputs["Light Color"], light)
         for attr, socket in (("diffuse", "Diffuse Strength"), ("specular", "Specular Strength"),
                              ("power_k", "Falloff Exponent")):
