@@ -447,8 +447,7 @@ def _surface(g):
 # Three identities carry it, every term being ≥ 0:
 # * ℓ·r = S - P is also the shadow ray's direction (Length 1 from the lifted origin), and
 #   r·v = ℓ·(2(n·v)n - v), the view vector reflected once per material (the three.js and
-#   X3D groups read m = -ℓ, the unit vector from the light to the point: r·v =
-#   m·reflect(v, n), their spot's cos ω = m·û); where β = 0 (i0 from a light's Power) 5.3's
+#   X3D groups read ℓ too: ``_rig_light_of``); where β = 0 (i0 from a light's Power) 5.3's
 #   Switch leaves αr² + γ with r² one dot product;
 # * ℓ·n ≥ 0 and r·v ≥ 0 (the highlight's condition) as one clamped minimum,
 #   saturate(min(r·v, G·(ℓ·n))), G = 2⁴⁰: r·v where ℓ·n ≥ 2⁻⁴⁰·r·v, 0 where either is
@@ -497,12 +496,9 @@ def rig_light_group(model: str, kind: str, falloff: str = "QUADRATIC",
        "once for all lights", into=RIG_GROUPS)
 def _surface_rays(g):
     """The view vector reflected about the normal, the normal times G (the gate, see above)
-    and the shaded point's position; the same with the opposite sign for the groups that
-    read m = -ℓ (three.js, X3D)."""
+    and the shaded point's position."""
     n = g.vector("Normal", (0.0, 0.0, 1.0), "Unit surface normal n (Phong Surface)")
     v = g.vector("View Vector", (0.0, 0.0, 1.0), "Unit vector v toward the viewer (Phong Surface)")
-    g.output("Mirror View", reflect_about(v, n), "v - 2(n·v)n: r·v = m·(this), m = -ℓ")
-    g.output("Gate Normal", n * -GATE_SCALE, "-G·n: G·(ℓ·n) = m·(this)")
     g.output("Reflected View", -reflect_about(v, n), "2(n·v)n - v: r·v = ℓ·(this)")
     g.output("Light Gate Normal", n * GATE_SCALE, "G·n: G·(ℓ·n) = ℓ·(this)")
     g.output("Position", geometry("Position"), "The shaded point P")
@@ -1080,11 +1076,11 @@ def _x3d_light(g, light, own, sums, switched):
 # Each model's light group (``rig_light_group``) is this shape with its model's settings and
 # light (the table ``RIG_MODELS``): the light's position and axis, the model's inputs, what
 # the lights group hands every light (Phong Surface's n and v, the shaded point; with shadow
-# rays the true normal, the ray's drop and the light's Cast Shadow), the sums of the lights
+# rays the true normal, the ray's lift and the light's Cast Shadow), the sums of the lights
 # before it.  Computed here for every model: ℓ = (S - P)/|S - P| (a sun's -û) and the
 # shadow ray, from P lifted to the light's side of the surface (faceforward of the
-# material's -offset·Ng by Ng·ℓ, one node) along S - P itself (Length 1: it ends at the
-# light, lifted as its origin) or along a sun's ℓ.
+# material's offset·Ng by Ng·ℓ, one node, subtracted) along S - P itself (Length 1: it ends
+# at the light, lifted as its origin) or along a sun's ℓ.
 
 
 @dataclass(frozen=True)
@@ -1150,10 +1146,10 @@ def _rig_light_of(g, model, kind, shadows, switched):
     n = g.vector("Normal", (0.0, 0.0, 1.0), "Unit surface normal n (Phong Surface)")
     v = g.vector("View Vector", (0.0, 0.0, 1.0), "Unit vector v toward the viewer (Phong Surface)")
     p = g.vector("Surface Position", ZERO, "The shaded point P (Phong Surface Rays)")
-    ng = drop = casts = None
+    ng = lift = casts = None
     if shadows:
         ng = g.vector("True Normal", (0.0, 0.0, 1.0), "The true (geometric) normal Ng")
-        drop = g.vector("Ray Drop", ZERO, "-offset·Ng: the ray starts at P + sign(Ng·ℓ)·"
+        lift = g.vector("Ray Lift", ZERO, "offset·Ng: the ray starts at P + sign(Ng·ℓ)·"
                         "offset·Ng, on the light's side of the surface")
         casts = g.value("Cast Shadow", 1.0, "1: the light casts shadows, 0: it does not",
                         min=0.0, max=1.0)
@@ -1163,8 +1159,8 @@ def _rig_light_of(g, model, kind, shadows, switched):
     to_light = s - p if near else None
     l = normalize(to_light) if near else -normalize(u)
     hit = None
-    if shadows:  # from P + sign(Ng·ℓ)·offset·Ng: faceforward(-offset·Ng, ℓ, Ng)
-        origin = p + faceforward(drop, l, ng)
+    if shadows:  # from P + sign(Ng·ℓ)·offset·Ng: P - faceforward(offset·Ng, ℓ, Ng)
+        origin = p - faceforward(lift, l, ng)
         hit = raycast(origin, to_light, 1.0) if near else raycast(origin, l, SUN_RAY_LENGTH)
     spec.light(g, RigLight(kind, n, v, l, to_light, u, hit, casts), own, sums, switched)
 

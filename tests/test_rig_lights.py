@@ -111,10 +111,9 @@ def _x3d_case(rng, kind):
     p = rng.uniform(-4, 4, (N, 3))
     n, v = _unit(rng.normal(size=(N, 3))), _unit(rng.normal(size=(N, 3)))
     inputs = {"Surface Position": p, "Normal": n, "View Vector": v,
-              "Gate Normal": -library.GATE_SCALE * n,
               "Intensity": _setting(rng, -0.5, 4.0), "Ambient Intensity": _setting(rng, 0.0, 1.0),
               "Light Color": rng.uniform(-0.2, 1.5, (N, 3)), "Exponent": _setting(rng, -1.0, 128.0),
-              "True Normal": n, "Ray Drop": -1e-5 * n, "Cast Shadow": np.ones(N)}
+              "True Normal": n, "Ray Lift": 1e-5 * n, "Cast Shadow": np.ones(N)}
     for name in ("Diffuse Sum", "Specular Sum", "Ambient Sum", "Plain Diffuse Sum",
                  "Plain Specular Sum"):
         inputs[name] = rng.uniform(0, 1, (N, 3))
@@ -179,7 +178,7 @@ def _threejs_case(rng, kind):
               "Lambert Normal": n / 128.0, "Intensity": _setting(rng, 0.0, 4.0),
               "Light Color": rng.uniform(0.0, 1.5, (N, 3)), "Exponent": _setting(rng, -1.0, 200.0),
               "Specular Strength": rng.choice([0.0, 0.3, 1.0], N),
-              "True Normal": n, "Ray Drop": -1e-5 * n, "Cast Shadow": np.ones(N)}
+              "True Normal": n, "Ray Lift": 1e-5 * n, "Cast Shadow": np.ones(N)}
     if kind != "SUN":
         inputs["Position"] = p + rng.normal(size=(N, 3)) * rng.choice([0.3, 2.0, 6.0], (N, 1))
         inputs["Distance"] = rng.choice([0.0, 3.0, 8.0], N)

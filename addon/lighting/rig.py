@@ -251,8 +251,6 @@ def _build_lean(tree, lights, world, budget, model, loop=False, shadows=False) -
     shared = shadow_rays.surface(tree, (-1800.0, 900.0)) if shadows else None
     shared_inputs = {"Normal": surface.outputs["Normal"],
                      "View Vector": surface.outputs["View Vector"],
-                     "Mirror View": rays.outputs["Mirror View"],
-                     "Gate Normal": rays.outputs["Gate Normal"],
                      "Reflected View": rays.outputs["Reflected View"],
                      "Light Gate Normal": rays.outputs["Light Gate Normal"],
                      "Surface Position": shared["P"] if shared else rays.outputs["Position"],
@@ -260,8 +258,7 @@ def _build_lean(tree, lights, world, budget, model, loop=False, shadows=False) -
                      "Blinn": group_in.outputs["Blinn"],
                      "Specular Strength": group_in.outputs["Specular Strength"]}
     if shared:
-        shared_inputs.update({"True Normal": shared["Ng"], "Ray Drop": shared["drop"],
-                              "Ray Lift": shared["lift"]})
+        shared_inputs.update({"True Normal": shared["Ng"], "Ray Lift": shared["lift"]})
     entry = models.MODELS[model]
     sums = {}
     lambert = []  # n·2⁻⁷ (three.js's lights: library.LAMBERT_SCALE), made for the first

@@ -251,7 +251,7 @@ def _math(tree, operation, name, location, a, b=None, c=None):
 
 def surface(tree, location) -> dict:
     """The shaded point's nodes every light's ray shares: {"P": Position, "Ng": True Normal,
-    "offset": OFFSET · (1 + max |P|), "lift": offset · Ng, "drop": -lift}."""
+    "offset": OFFSET · (1 + max |P|), "lift": offset · Ng}."""
     x, y = location
     geometry = _node(tree, "ShaderNodeNewGeometry", "geometry", (x, y))
     position = compat.output_socket(geometry, "Position")
@@ -267,8 +267,4 @@ def surface(tree, location) -> dict:
     normal = compat.output_socket(geometry, "True Normal")
     offset = compat.output_socket(offset, "Value")
     lift = _vector(tree, "SCALE", "lift", (x + 1080.0, y), normal, scale=offset)
-    drop = _node(tree, "ShaderNodeVectorMath", "drop", (x + 1260.0, y), "SCALE")
-    tree.links.new(lift, compat.input_socket(drop, "Vector"))
-    compat.input_socket(drop, "Scale").default_value = -1.0
-    return {"P": position, "Ng": normal, "offset": offset, "lift": lift,
-            "drop": compat.output_socket(drop, "Vector")}
+    return {"P": position, "Ng": normal, "offset": offset, "lift": lift}
