@@ -110,6 +110,16 @@ def worker(engine, case, objects, n_lights, samples, res, renders, variant="") -
 
             for group in _light_groups(meshes):
                 loader._write(group, library.RIG_GROUPS[group.name])
+        elif part == "nosources":  # the kept source materials removed (one tree a material)
+            for material in [m for m in bpy.data.materials if m.use_fake_user
+                             and m not in materials]:
+                bpy.data.materials.remove(material)
+        elif part == "nocontrols":  # each material's controls folded into its group node
+            _fold_controls(materials)
+        elif part == "extranodes":  # 8 more nodes in each material, linked to nothing
+            for material in materials:
+                for _ in range(8):
+                    material.node_tree.nodes.new("ShaderNodeValue")
         elif part.startswith("chain"):  # chain<K>: a Cycles node budget (no Phong nodes)
             _chain_materials(bpy, materials, int(part[5:]), len(_lights))
         elif part == "shared":
@@ -190,6 +200,24 @@ def _chain_materials(bpy, materials, k, rays) -> None:
         output = tree.nodes.new("ShaderNodeOutputMaterial")
         tree.links.new(node.outputs[0], emission.inputs["Color"])
         tree.links.new(emission.outputs[0], output.inputs["Surface"])
+
+
+def _fold_controls(materials) -> None:
+    """Each material's control nodes (Value, RGB) removed, the lights group node's inputs
+    they fed set to their values, the frame removed: the same picture, 8 nodes fewer a
+    material."""
+    for material in materials:
+        tree = material.node_tree
+        for node in [n for n in tree.nodes if n.bl_idname in ("ShaderNodeValue", "ShaderNodeRGB")]:
+            value = node.outputs[0].default_value
+            for link in list(node.outputs[0].links):
+                target = link.to_socket
+                tree.links.remove(link)
+                target.default_value = value if node.bl_idname == "ShaderNodeValue" \
+                    else tuple(value)[:len(target.default_value)]
+            tree.nodes.remove(node)
+        for node in [n for n in tree.nodes if n.bl_idname == "NodeFrame"]:
+            tree.nodes.remove(node)
 
 
 def _light_groups(meshes) -> list:
