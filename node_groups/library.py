@@ -20,7 +20,7 @@ from dataclasses import dataclass, field
 from . import models
 from .expr import (
     COLOR, FLOAT, SHADER, VECTOR, Expr, acos, at_least, combine, cos, dot, emission, equal,
-    evaluate, faceforward, geometry, greater_than, input_, raycast, scale_add, sign, switch,
+    evaluate, faceforward, geometry, greater_than, input_, raycast, scale_add, switch,
     length, less_than, maximum, minimum, multiply_add, normalize, power, reflect_about, saturate,
     select,
 )
@@ -556,7 +556,7 @@ def _light_of(g, kind, falloff, shadows, switched):
         numerator = i0 * power(base, maximum(e_att, MIN_GATED_EXPONENT))
     hit = None
     if shadows:
-        origin = scale_add(lift, sign(dot(ng, ell)), p)  # P + sign(Ng·ℓ)·offset·Ng
+        origin = p - faceforward(lift, ell, ng)  # P + sign(Ng·ℓ)·offset·Ng, Ng·ℓ = 0: + too
         hit = (raycast(origin, toward, 1.0) if near  # from the origin, as far as ℓ·r
                else raycast(origin, ell, SUN_RAY_LENGTH))
 

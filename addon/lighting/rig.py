@@ -83,13 +83,14 @@ from . import world_copies
 SCENE_KEY, SET_KEY = ownership.SCENE_KEY, ownership.SET_KEY
 owner, groups_of, find = ownership.owner, ownership.groups_of, ownership.find
 #: Bump when the layout of the lights group changes.
-RIG_VERSION = 9  # 4: lights' transforms from World custom properties (View Layer attributes);
+RIG_VERSION = 10  # 4: lights' transforms from World custom properties (View Layer attributes);
 # 5: one Phong Surface and a Phong Light Terms per light instead of a Phong Shading per light;
 # 6: a light's i0 from the fourth component of its World copy (its Power: live);
 # 7: one group per light, its shadow ray inside (library.rig_light_group): the fewest nodes
 # 8: the seeds' light groups read ℓ (its ray's direction is the light vector) and, on 5.3,
 #    draw an i0/(αr² + γ) falloff with r² as one dot product
 # 9: the three.js and X3D light groups leaner (ℓ toward the light, the ray's side in one node)
+# 10: the seeds' shadow ray's side in one node too (Faceforward)
 VERSION_KEY = "phong_lights_version"
 ALL = "*"
 #: The lighting models (``node_groups/models.py``: docs/model.md, docs/threejs.md,
