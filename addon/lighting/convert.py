@@ -200,7 +200,7 @@ def apply(scene, objects=None, view_layer=None) -> Report:
             report.converted.append(obj.name)
     report.materials = list(done)
     report.lights = [o.name for o in sync.lights]
-    report.notes = notes(scene, sync.lights, world_new)
+    report.notes = notes(scene, sync.lights, world_new) + ambient_note(sync.ambient_linked)
     report.sync = sync
     return report
 
@@ -235,6 +235,21 @@ def notes(scene, lights, world_new=False) -> list:
         if note:
             out.append(note)
     return out
+
+
+def ambient_note(linked) -> list:
+    """One line naming the source materials whose ambient colour (what their Principled
+    specular layer adds under the World) read an input that a node feeds at the input's own
+    value ([(material name, input names)]); none when there are none."""
+    if not linked:
+        return []
+    names = sorted({name for name, _inputs in linked})
+    inputs = sorted({i for _name, found in linked for i in found})
+    shown = ", ".join(repr(n) for n in names[:5]) + (f" and {len(names) - 5} more"
+                                                     if len(names) > 5 else "")
+    return [f"Ambient colour of {len(names)} material(s) ({shown}): {', '.join(inputs)} "
+            "fed by nodes, read at the input's own value (the Phong ambient does not follow "
+            "the texture)"]
 
 
 def _box_corners(scene) -> np.ndarray:
@@ -361,5 +376,5 @@ def restore(obj, names=None) -> int:
     return changed
 
 
-__all__ = ["KINDS", "Report", "apply", "drop_overrides", "expand", "notes",
+__all__ = ["KINDS", "Report", "ambient_note", "apply", "drop_overrides", "expand", "notes",
            "override_linked", "rendered_objects", "restore", "why_not"]

@@ -81,7 +81,8 @@ def feeds(material) -> dict:
     Blinn, Irradiant Color, Specular Strength), and "Opacity": the Opacity control, *other*
     the opacity map (``recipe.OPACITY_MAP``) where one feeds the blend.  An Ambient Object
     Color fed by the socket that feeds Object Color (the seeds' model) is Object Color's
-    feed."""
+    feed; one fed by the ambient layer of a converted Principled material holds the colour
+    that layer makes of Object Color's value."""
     tree = material.node_tree
     lights = tree.nodes[recipe.LIGHTS_NODE]
     out = {}
@@ -119,5 +120,33 @@ def feeds(material) -> dict:
             ambient.socket == colour.socket:   # the seeds' model: what feeds Object Color
         out[recipe.AMBIENT_INPUT] = Feed(colour.value, colour.other, colour.texture, colour.socket,
                                   colour.chain)
+    layer = _ambient_layer(lights, colour)
+    if layer is not None:
+        out[recipe.AMBIENT_INPUT] = layer
     out["Opacity"] = Feed(recipe.opacity(material), tree.nodes.get(recipe.OPACITY_MAP))
     return out
+
+
+def _ambient_layer(lights, colour):
+    """The Feed of an Ambient Object Color that the ambient layer of a converted Principled
+    material feeds (``writer.ambient_layer``: Object Color's feed × scale + offset): its
+    value Object Color's value × scale + offset; *other* the layer node where a texture or
+    chain feeds Object Color (its value is then the control's colour's), else None: a
+    plain colour.  None when the input is fed otherwise."""
+    socket = lights.inputs.get(recipe.AMBIENT_INPUT)
+    if socket is None or not socket.is_linked or colour is None:
+        return None
+    node = socket.links[0].from_node
+    if node.name != recipe.AMBIENT_LAYER or node.bl_idname != "ShaderNodeVectorMath":
+        return None
+    vector = compat.input_socket(node, "Vector")
+    if not vector.is_linked or vector.links[0].from_socket != colour.socket:
+        return None
+    scale, offset = (tuple(compat.input_socket(node, k).default_value)
+                     for k in ("Vector_001", "Vector_002"))
+    kd = colour.value if isinstance(colour.value, tuple) else (colour.value,) * 3
+    value = tuple(float(k) * float(a) + float(b) for k, a, b in zip(kd, scale, offset))
+    if colour.other is None:
+        return Feed(value, socket=socket.links[0].from_socket)
+    return Feed(value, node, socket=socket.links[0].from_socket,
+                chain=Chain(socket.links[0].from_socket))

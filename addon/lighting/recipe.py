@@ -8,7 +8,8 @@ A Phong material holds, and nothing else:
   material's Base Color (the whole chain of nodes before it) is kept and feeds Object Color;
 * one node of the scene's lights group (``rig.py``) for the light set of its objects; its
   Ambient Object Color is linked from whatever feeds Object Color (the seeds' model), unless
-  the material links its own (an MTL ``Ka``);
+  the material links its own (an MTL ``Ka``) or was converted from a Principled BSDF whose
+  specular layer reflects the World (one Vector Math node, ``AMBIENT_LAYER``, between them);
 * the control Opacity (in the frame): at 1 it feeds nothing; below 1 (``opacity.py``) a Mix
   Shader of a Transparent BSDF and the group's Shader feeds the output, and Eevee blends;
 * the Material Output (the group's Shader: an emission of the model's colour) and AOV
@@ -82,10 +83,15 @@ OPACITY_TRANSPARENT = "phong_opacity_transparent"
 #: Value output feeds the Mix Shader's Fac in place of the Opacity control, and the material
 #: blends whatever the control's value (the value the file states, kept for export).
 OPACITY_MAP = "phong_opacity_map"
+#: A material converted from a Principled BSDF whose specular layer reflects the World: the
+#: Vector Math Multiply Add between what feeds Object Color and the Ambient Object Color,
+#: Ka = Kd × scale + offset (``core/specular_albedo.py``; ``writer.ambient_layer``).
+AMBIENT_LAYER = "phong_ambient_layer"
 #: The nodes of the recipe itself (controls, lights group, output, opacity): what an importer
 #: that strips the nodes it replaced must keep.
 RECIPE_NODES = frozenset(CONTROLS) | {LIGHTS_NODE, OUTPUT, OPACITY, OPACITY_MIX,
-                                      OPACITY_TRANSPARENT, OUTPUT_EEVEE, OPACITY_MIX_EEVEE}
+                                      OPACITY_TRANSPARENT, OUTPUT_EEVEE, OPACITY_MIX_EEVEE,
+                                      AMBIENT_LAYER}
 #: Input of the lights group for the colour the ambient light sees (MTL's Ka).  Linked from
 #: whatever feeds Object Color unless the material has its own (layout 3).
 AMBIENT_INPUT = "Ambient Object Color"

@@ -22,6 +22,7 @@ import uuid
 import bpy
 
 from .. import compat
+from ...core import specular_albedo
 from . import drivers, node_copy, recipe, writer
 
 
@@ -144,6 +145,41 @@ def source_controls(material) -> dict:
     return {"Specular Color": specular, "Irradiant Color": irradiant}
 
 
+#: The Principled inputs the ambient colour reads (``ambient_terms``).
+AMBIENT_INPUTS = ("Roughness", "IOR", "Specular IOR Level", "Specular Tint", "Metallic")
+
+
+def _value(node, name, default):
+    """The default value of *node*'s input *name* (linked or not), else *default*."""
+    socket = node.inputs.get(name)
+    if socket is None:
+        return default
+    value = socket.default_value
+    return tuple(value)[:3] if hasattr(value, "__len__") else float(value)
+
+
+def ambient_terms(material):
+    """((scale, offset), linked): a Principled source's ambient colour Ka = Kd × scale +
+    offset, what a uniform World gives its diffuse base under its specular layer plus that
+    layer (and a metal's lobe) (``core/specular_albedo.py``), and the names of the inputs it
+    read that something feeds (their own values were used); ((1, 1, 1), (0, 0, 0)) and ()
+    for any other material (Ka = Kd)."""
+    node = _principled(material) if material is not None else None
+    if node is None:
+        return ((1.0, 1.0, 1.0), (0.0, 0.0, 0.0)), ()
+    linked = tuple(name for name in (*AMBIENT_INPUTS, "Base Color")
+                   if node.inputs.get(name) is not None and node.inputs[name].is_linked
+                   and (name != "Base Color" or _value(node, "Metallic", 0.0) > 0.0))
+    terms = specular_albedo.principled_ambient(
+        roughness=_value(node, "Roughness", 0.5), ior=_value(node, "IOR", 1.5),
+        level=_value(node, "Specular IOR Level", 0.5),
+        tint=_value(node, "Specular Tint", (1.0, 1.0, 1.0)),
+        metallic=_value(node, "Metallic", 0.0),
+        base=_value(node, "Base Color", (0.8, 0.8, 0.8)),
+        multiscatter=getattr(node, "distribution", "MULTI_GGX") != "GGX")
+    return terms, linked
+
+
 def base_color_link(material):
     """The output socket that feeds the Principled Base Color (a texture), or None."""
     node = _principled(material)
@@ -153,7 +189,7 @@ def base_color_link(material):
     return None
 
 
-def from_source(source, name, lights_group, template=None):
+def from_source(source, name, lights_group, template=None, linked=None):
     """The Phong version of *source* (a material, or None for an empty slot).
 
     Without a texture chain on the source's Base Color: a copy of *template* (the same
@@ -161,7 +197,9 @@ def from_source(source, name, lights_group, template=None):
     new material when there is no template.  With one: the same copy with the chain copied
     in (``node_copy``) feeding Object Color; where the chain cannot be copied (or there is
     no template), a copy of the source whose other nodes are removed, given the recipe's
-    nodes (each named: slower in a large file, see ``_textured_from_template``).
+    nodes (each named: slower in a large file, see ``_textured_from_template``).  Its
+    Ambient Object Color: ``ambient_terms`` of the source (``writer.ambient_layer``); where
+    an input it reads is fed by a node, (source name, input names) is appended to *linked*.
     """
     texture = base_color_link(source) if source is not None else None
     if texture is not None:
@@ -185,6 +223,10 @@ def from_source(source, name, lights_group, template=None):
         control = writer.control_output(material, target)
         if tuple(control.default_value) != value:
             recipe.set_quietly(control, value)
+    (scale, offset), inputs = ambient_terms(source)
+    writer.ambient_layer(material, scale, offset)
+    if inputs and linked is not None:
+        linked.append((source.name, inputs))
     for key in list(material.keys()):
         if key.startswith("phong_") and key != recipe.MATERIAL_TAG:
             del material[key]

@@ -52,6 +52,9 @@ class Sync:
             self.blends = self.blends or recipe.blends(material)
         engine_outputs.STALE.discard(scene.as_pointer())
         self.changed: set = set()
+        #: (source material name, its inputs) whose ambient colour read a linked input's
+        #: own value (``sources.ambient_terms``)
+        self.ambient_linked: list = []
 
     # -- light sets and their groups ------------------------------------------------
     def light_set(self, obj):
@@ -94,7 +97,7 @@ class Sync:
             template = self.templates[key] = writer.new_material(SCRATCH, group)
             self.scratch.append(template)
         material = source_materials.from_source(source, self._name(base, reach, key), group,
-                                         template=template)
+                                                template=template, linked=self.ambient_linked)
         if template is None:  # untextured: the first of its light set is the template
             self.templates[key] = material
         self.index[(origin, (self.scene.as_pointer(), key))] = material

@@ -107,6 +107,43 @@ def wire(material, lights_group, object_color=None) -> None:
     material[recipe.MATERIAL_TAG] = recipe.LAYOUT
 
 
+def ambient_layer(material, scale, offset) -> None:
+    """Feed the Ambient Object Color of *material* with what feeds its Object Color (Kd)
+    × *scale* + *offset* (3 floats each): one Vector Math Multiply Add
+    (``recipe.AMBIENT_LAYER``), which follows a texture on Object Color.  Scale 1 and offset
+    0 (no specular layer to speak of): no node, Ka is whatever feeds Object Color (the seeds'
+    model).  A material with its own Ambient Object Color control is left as it is."""
+    tree = material.node_tree
+    lights = tree.nodes[recipe.LIGHTS_NODE]
+    ambient = lights.inputs[recipe.AMBIENT_INPUT]
+    if ambient.is_linked and ambient.links[0].from_node.name == recipe.AMBIENT_CONTROL:
+        return
+    colour = lights.inputs["Object Color"]
+    feed = colour.links[0].from_socket if colour.is_linked else None
+    node = tree.nodes.get(recipe.AMBIENT_LAYER)
+    if all(abs(v - 1.0) < 1e-7 for v in scale) and all(abs(v) < 1e-7 for v in offset):
+        if node is not None:
+            tree.nodes.remove(node)
+        if feed is not None:
+            tree.links.new(feed, ambient)
+        return
+    node = recipe.named_node(tree, recipe.AMBIENT_LAYER, "ShaderNodeVectorMath",
+                             (-600.0, -260.0))
+    if node.operation != "MULTIPLY_ADD":
+        node.operation = "MULTIPLY_ADD"
+        node.label = "Ambient: Kd × scale + offset"
+    for key, value in (("Vector_001", scale), ("Vector_002", offset)):
+        socket = compat.input_socket(node, key)
+        if tuple(socket.default_value) != tuple(value):
+            socket.default_value = tuple(float(v) for v in value)
+    vector = compat.input_socket(node, "Vector")
+    if feed is not None and not (vector.is_linked and vector.links[0].from_socket == feed):
+        tree.links.new(feed, vector)
+    output = compat.output_socket(node, "Vector")
+    if not (ambient.is_linked and ambient.links[0].from_socket == output):
+        tree.links.new(output, ambient)
+
+
 def new_material(name, lights_group, base=None):
     """A new Phong material around *lights_group* with the Object Color *base*."""
     material = bpy.data.materials.new(name)
