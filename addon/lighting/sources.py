@@ -94,10 +94,29 @@ def keep_source(material, source) -> None:
         del material[SOURCE_LIBRARY_KEY]
 
 
-def _principled(material):
+def _cycles_output(tree):
+    """The Material Output Cycles renders: one of target Cycles (the active one first), else
+    the active one of target All."""
+    outputs = [n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputMaterial"]
+    cycles = sorted((n for n in outputs if n.target == "CYCLES"),
+                    key=lambda n: not n.is_active_output)
+    if cycles:
+        return cycles[0]
+    return next((n for n in outputs if n.target == "ALL" and n.is_active_output), None)
+
+
+def _principled(material, rendered=False):
+    """The Principled BSDF of *material*: the one its active Material Output shows, else
+    (unless *rendered*) its first; *rendered*: the one Cycles renders, else None."""
     tree = material.node_tree if material is not None and compat.uses_nodes(material) else None
     if tree is None:
         return None
+    if rendered:
+        output = _cycles_output(tree)
+        node = output.inputs["Surface"].links[0].from_node \
+            if output is not None and output.inputs["Surface"].is_linked else None
+        return node if node is not None and node.bl_idname == "ShaderNodeBsdfPrincipled" \
+            else None
     output = next((n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputMaterial"
                    and n.is_active_output), None)
     if output is not None and output.inputs["Surface"].is_linked:
@@ -163,8 +182,10 @@ def ambient_terms(material):
     offset, what a uniform World gives its diffuse base under its specular layer plus that
     layer (and a metal's lobe) (``core/specular_albedo.py``), and the names of the inputs it
     read that something feeds (their own values were used); ((1, 1, 1), (0, 0, 0)) and ()
-    for any other material (Ka = Kd)."""
-    node = _principled(material) if material is not None else None
+    for any other material (Ka = Kd), one whose Principled BSDF is not what Cycles renders
+    included (Blender's versioning of a material without nodes gives Cycles a Diffuse BSDF
+    and Eevee a Principled one)."""
+    node = _principled(material, rendered=True) if material is not None else None
     if node is None:
         return ((1.0, 1.0, 1.0), (0.0, 0.0, 0.0)), ()
     linked = tuple(name for name in (*AMBIENT_INPUTS, "Base Color")
