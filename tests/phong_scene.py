@@ -145,7 +145,40 @@ def _controls(material):
             "Specular Color": col("phong_specular_color"),
             "Irradiant Color": col("phong_irradiant_color"),
             "Exponent": float(nodes["phong_exponent"].outputs[0].default_value),
-            "Blinn": float(nodes["phong_blinn"].outputs[0].default_value)}
+            "Blinn": float(nodes["phong_blinn"].outputs[0].default_value),
+            "Ambient Object Color": _ambient_object_color(material, col("phong_object_color"))}
+
+
+def _ambient_object_color(material, object_color):
+    """The colour the material states for its Ambient Object Color, read from its nodes: an
+    RGB node's colour; Object Color × scale + offset where a Vector Math Multiply Add of
+    the Object Color's feed does it (a converted Principled material: its values are
+    checked against Cycles in test_principled_ambient.py); else the Object Color."""
+    socket = material.node_tree.nodes["phong_lights"].inputs["Ambient Object Color"]
+    if not socket.is_linked:
+        return object_color
+    node = socket.links[0].from_node
+    if node.bl_idname == "ShaderNodeRGB":
+        return np.array(node.outputs[0].default_value[:3], dtype=np.float64)
+    if node.bl_idname == "ShaderNodeVectorMath" and node.operation == "MULTIPLY_ADD":
+        scale, offset = (np.array(node.inputs[i].default_value[:3], dtype=np.float64)
+                         for i in (1, 2))
+        return object_color * scale + offset
+    return object_color
+
+
+def _own_ambient(out, controls, ambient_intensity, ambient_color):
+    """*out* of a Phong Shading whose ambient light sees the material's Ambient Object Color
+    (the reference's Phong Shading has the seeds' Ka = Kd): its Ambient term and Color
+    (the sum of the terms, at most 1) made again."""
+    ka = controls.get("Ambient Object Color")
+    if ka is None:
+        return out
+    out = dict(out)
+    out["Ambient"] = ambient_intensity * np.asarray(ambient_color, dtype=np.float64) * ka \
+        * np.ones_like(out["Ambient"])
+    out["Color"] = np.minimum(sum(out[t] for t in TERMS), 1.0)
+    return out
 
 
 #: i0 per watt (per unit of a sun's strength) of a light that takes it from its Power: what
@@ -214,17 +247,21 @@ def reference_color(world, lights, controls, P, N, I, terms=None):
                    "Ambient Color": np.array(world.phong.ambient_color, dtype=np.float64)}
         if not first:
             shading["Irradiant Color"] = np.zeros(3)
+        shading.pop("Ambient Object Color", None)
         out = ref.GROUPS["Phong Shading"](shading, geo)
+        out = _own_ambient(out, controls, shading["Ambient Intensity"], shading["Ambient Color"])
         color = out["Color"]
         if terms is not None:
             for t in TERMS:
                 terms[t] = terms[t] + out[t]
         total = color if total is None else ref.GROUPS["Phong Color Add"]({"A": total, "B": color})["Color"]
     if total is None:  # no light: one Phong Shading with Light Intensity 0
-        out = ref.GROUPS["Phong Shading"]({
-            **controls, "Light Intensity": 0.0,
-            "Ambient Intensity": world.phong.ambient_intensity,
-            "Ambient Color": np.array(world.phong.ambient_color, dtype=np.float64)}, geo)
+        shading = {**controls, "Light Intensity": 0.0,
+                   "Ambient Intensity": world.phong.ambient_intensity,
+                   "Ambient Color": np.array(world.phong.ambient_color, dtype=np.float64)}
+        shading.pop("Ambient Object Color", None)
+        out = _own_ambient(ref.GROUPS["Phong Shading"](shading, geo), controls,
+                           shading["Ambient Intensity"], shading["Ambient Color"])
         total = out["Color"]
         if terms is not None:
             terms.update({t: out[t] for t in TERMS})

@@ -16,9 +16,14 @@ import blender_env as be
 
 
 def _principled(bpy, name, color):
+    """A Principled material of base colour *color* and Specular IOR Level 0: no specular
+    layer, so under the ambient light alone its Phong version shows the base colour itself
+    (Ka = Kd), which the picture is searched for."""
     material = bpy.data.materials.new(name)
     be.compat().new_material_tree(material)
-    material.node_tree.nodes["Principled BSDF"].inputs["Base Color"].default_value = (*color, 1)
+    node = material.node_tree.nodes["Principled BSDF"]
+    node.inputs["Base Color"].default_value = (*color, 1)
+    node.inputs["Specular IOR Level"].default_value = 0.0
     return material
 
 

@@ -9,11 +9,19 @@ from __future__ import annotations
 import pytest
 
 
-def _phong_material(bpy):
-    """A Phong material made by Apply Phong Material on a plane."""
+def _phong_material(bpy, level=0.0):
+    """A Phong material made by Apply Phong Material on a plane, from a material whose
+    Principled BSDF (where Blender gives a new material one) has Specular IOR Level *level*
+    (0: no specular layer, the seeds' Ka = Kd)."""
     mesh = bpy.data.meshes.new("Plane")
     mesh.from_pydata([(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0)], [], [(0, 1, 2, 3)])
-    mesh.materials.append(bpy.data.materials.new("Paint"))
+    source = bpy.data.materials.new("Paint")
+    from phong_nodes.addon import compat  # noqa: PLC0415  (needs bpy)
+
+    tree = compat.new_material_tree(source)
+    tree.nodes["Principled BSDF"].inputs["Specular IOR Level"].default_value = level
+    tree.nodes["Principled BSDF"].inputs["Base Color"].default_value = (0.05, 0.1, 0.2, 1.0)
+    mesh.materials.append(source)
     obj = bpy.data.objects.new("Plane", mesh)
     bpy.context.scene.collection.objects.link(obj)
     obj.select_set(True)
@@ -62,6 +70,26 @@ def test_plain_controls_and_the_seeds_ambient(bpy_clean):
     assert ambient.socket == feeds["Object Color"].socket
     assert ambient.socket.node.name == "phong_object_color"
     assert feeds["Opacity"].value == 1.0 and feeds["Opacity"].other is None
+
+
+def test_the_ambient_layer_of_a_principled_source(bpy_clean):
+    """A Principled source with a specular layer: the Ambient Object Color is a plain colour
+    (no texture), brighter than the Object Color in every channel (the layer adds what it
+    reflects of the World; a dark base gains the most), and it follows the Object Color's
+    control: a brighter control, a brighter ambient."""
+    bpy = bpy_clean
+    from phong_nodes.addon.lighting import recipe
+    from phong_nodes.addon.lighting import feeds as feed_reader
+    material = _phong_material(bpy, level=0.5)
+    feeds = feed_reader.feeds(material)
+    ambient, colour = feeds[recipe.AMBIENT_INPUT], feeds["Object Color"]
+    assert colour.value == pytest.approx((0.05, 0.1, 0.2))
+    assert ambient.other is None and ambient.texture is None
+    assert ambient.socket != colour.socket
+    assert all(a > k + 0.01 for a, k in zip(ambient.value, colour.value))
+    material.node_tree.nodes["phong_object_color"].outputs[0].default_value = (0.5, 0.6, 0.7, 1)
+    brighter = feed_reader.feeds(material)[recipe.AMBIENT_INPUT].value
+    assert all(b > a + 0.3 for a, b in zip(ambient.value, brighter))
 
 
 def test_a_texture_on_object_color_and_ambient(bpy_clean):

@@ -33,10 +33,16 @@ def _drivers_in_file(bpy):
     return sum(len(t.animation_data.drivers) for t in trees if t.animation_data)
 
 
-def _principled(bpy, name, color):
+def _principled(bpy, name, color, level=None):
+    """A Principled material of base colour *color*; *level*: its Specular IOR Level (0: no
+    specular layer, so its Phong version's ambient light sees the base colour itself, Ka =
+    Kd; with one, Ka holds what the layer reflects of the World: test_principled_ambient)."""
     material = bpy.data.materials.new(name)
     be.compat().new_material_tree(material)
-    material.node_tree.nodes["Principled BSDF"].inputs["Base Color"].default_value = color
+    node = material.node_tree.nodes["Principled BSDF"]
+    node.inputs["Base Color"].default_value = color
+    if level is not None:
+        node.inputs["Specular IOR Level"].default_value = level
     return material
 
 
@@ -311,10 +317,10 @@ def test_each_base_colour_reaches_the_render(bpy_clean, blender_tmp):
     bpy = bpy_clean
     scene = be.new_scene("Colours", 24, 8)
     bpy.context.window.scene = scene
-    scene.world.phong.ambient_intensity = 1.0   # no light: Phong Color = Object Color
+    scene.world.phong.ambient_intensity = 1.0   # no light, no specular layer: Color = Kd
     colours = [(0.9, 0.1, 0.1, 1.0), (0.1, 0.8, 0.3, 1.0), (0.2, 0.3, 0.9, 1.0)]
     planes = [be.add_uv_plane(scene, f"P{i}", -3.0 + 2.0 * i, -1.0, 2.0,
-                              _principled(bpy, f"C{i}", colour))
+                              _principled(bpy, f"C{i}", colour, level=0.0))
               for i, colour in enumerate(colours)]
     be.add_ortho_camera(scene, (0.0, 0.0), 6.0, 2.0)
     _select(bpy, scene, planes)
@@ -329,7 +335,7 @@ def test_a_material_used_in_two_scenes_gets_each_scenes_lights(bpy_clean, blende
     """Lights groups are per scene: converting a material in a second scene must not point
     the first scene's Phong materials at the second scene's lights."""
     bpy = bpy_clean
-    shared = _principled(bpy, "Shared", (0.8, 0.4, 0.2, 1.0))
+    shared = _principled(bpy, "Shared", (0.8, 0.4, 0.2, 1.0), level=0.0)
     scenes, planes = [], []
     for name, ambient in (("Bright", 1.0), ("Dim", 0.25)):
         scene = be.new_scene(name, 8, 8)
@@ -485,15 +491,16 @@ def test_a_drag_skips_the_lights_signature_and_a_rename_still_relinks(bpy_clean,
 
 
 def test_ambient_object_color_follows_object_color_or_its_own_link(bpy_clean, blender_tmp):
-    """The ambient light sees the Object Color (the seeds' model) unless the material links
-    its own colour into Ambient Object Color (MTL's Ka): exact in Cycles, kept on Relink."""
+    """The ambient light sees the Object Color (the seeds' model, a source without a specular
+    layer) unless the material links its own colour into Ambient Object Color (MTL's Ka):
+    exact in Cycles, kept on Relink."""
     bpy = bpy_clean
     scene = be.new_scene("Ka", 16, 8)
     bpy.context.window.scene = scene
     scene.world.phong.ambient_intensity = 0.5
     scene.world.phong.ambient_color = (1.0, 0.5, 0.25)
     planes = [be.add_uv_plane(scene, f"P{i}", -2.0 + 2.0 * i, -1.0, 2.0,
-                              _principled(bpy, f"M{i}", (0.9, 0.8, 0.7, 1.0)))
+                              _principled(bpy, f"M{i}", (0.9, 0.8, 0.7, 1.0), level=0.0))
               for i in range(2)]
     be.add_ortho_camera(scene, (0.0, 0.0), 4.0, 2.0)
     _select(bpy, scene, planes)
