@@ -138,15 +138,19 @@ def linked_controls(material):
 
 # -- reference ------------------------------------------------------------------
 
-def _controls(material):
+def _controls(material, ambient=False):
+    """The material's controls as the reference's Phong Shading reads them; *ambient*: with
+    its "Ambient Object Color" too (for :func:`reference_color`)."""
     nodes = material.node_tree.nodes
     col = lambda n: np.array(nodes[n].outputs[0].default_value[:3], dtype=np.float64)  # noqa: E731
-    return {"Object Color": col("phong_object_color"),
-            "Specular Color": col("phong_specular_color"),
-            "Irradiant Color": col("phong_irradiant_color"),
-            "Exponent": float(nodes["phong_exponent"].outputs[0].default_value),
-            "Blinn": float(nodes["phong_blinn"].outputs[0].default_value),
-            "Ambient Object Color": _ambient_object_color(material, col("phong_object_color"))}
+    out = {"Object Color": col("phong_object_color"),
+           "Specular Color": col("phong_specular_color"),
+           "Irradiant Color": col("phong_irradiant_color"),
+           "Exponent": float(nodes["phong_exponent"].outputs[0].default_value),
+           "Blinn": float(nodes["phong_blinn"].outputs[0].default_value)}
+    if ambient:
+        out["Ambient Object Color"] = _ambient_object_color(material, out["Object Color"])
+    return out
 
 
 def _ambient_object_color(material, object_color):
@@ -165,6 +169,16 @@ def _ambient_object_color(material, object_color):
                          for i in (1, 2))
         return object_color * scale + offset
     return object_color
+
+
+def phong_shading(inputs, geo):
+    """The reference's Phong Shading of *inputs* (``_controls(material, ambient=True)`` and
+    the light's), its ambient light seeing their "Ambient Object Color"."""
+    shading = dict(inputs)
+    shading.pop("Ambient Object Color", None)
+    out = _ref().GROUPS["Phong Shading"](shading, geo)
+    return _own_ambient(out, inputs, shading.get("Ambient Intensity", 0.1),
+                        shading.get("Ambient Color", np.ones(3)))
 
 
 def _own_ambient(out, controls, ambient_intensity, ambient_color):
@@ -293,7 +307,8 @@ def compare(bpy, scene, passes, lights, label, tol=CY_TOL, objects=None):
     for key, (mat, reach) in objects.items():
         m = ident == key
         terms = {}
-        exp, near = reference_color(world, reach, _controls(mat), P[m], N[m], I[m], terms)
+        exp, near = reference_color(world, reach, _controls(mat, ambient=True), P[m], N[m], I[m],
+                                    terms)
         expected["Color"][m] = expected["Combined"][m] = exp
         for t in TERMS:
             expected[t][m] = terms[t]

@@ -19,7 +19,8 @@ import pytest
 import blender_env as be
 from blender_env import report
 from phong_nodes.core import mtl
-from phong_scene import _add_probe_aovs, _controls, _light, reference_color, render
+from phong_scene import (_add_probe_aovs, _controls, _light, phong_shading, reference_color,
+                         render)
 
 SIZE = 32
 CY_TOL = 1e-4
@@ -108,14 +109,17 @@ def _blend_reference(scene, back, front, point, opacity, probes):
     combined = np.zeros(ident.shape + (3,))
     phong = np.zeros_like(combined)
     P, N, I = _geometry(probes, back_px)
-    combined[back_px], _ = reference_color(scene.world, [point], _controls(back.active_material),
+    combined[back_px], _ = reference_color(scene.world, [point],
+                                           _controls(back.active_material, ambient=True),
                                            P, N, I)
     phong[back_px] = combined[back_px]
     P, N, I = _geometry(probes, front_px)
-    seen, _ = reference_color(scene.world, [point], _controls(front.active_material), P, N, I)
+    seen, _ = reference_color(scene.world, [point], _controls(front.active_material, ambient=True),
+                              P, N, I)
     behind = P.copy()
     behind[:, 2] = 0.0
-    under, _ = reference_color(scene.world, [point], _controls(back.active_material),
+    under, _ = reference_color(scene.world, [point],
+                               _controls(back.active_material, ambient=True),
                                behind, N, I)
     combined[front_px] = opacity * seen + (1.0 - opacity) * under
     phong[front_px] = seen
@@ -301,7 +305,6 @@ def _falloff_scene(bpy, kind, light_type):
 def _power_reference(scene, plane, light, probes, k):
     """i0/max(d^k, 1e-6) (times max(cos ω, 0)^e inside a spot's cone) at each pixel's point,
     then the Phong terms of the reference.  Returns (colour, mask, pixels near the cone edge)."""
-    ref = _ref()
     ident = np.rint(probes["id"][..., 0]).astype(int)
     mask = ident == 1
     P, N, I = _geometry(probes, mask)
@@ -319,8 +322,8 @@ def _power_reference(scene, plane, light, probes, k):
                              intensity * np.maximum(cos_w, 0.0) ** light.data.phong.edge_exponent,
                              0.0)
         near = np.abs(cos_w - cos_t) < 1e-5
-    controls = _controls(plane.active_material)
-    out = ref.GROUPS["Phong Shading"]({
+    controls = _controls(plane.active_material, ambient=True)
+    out = phong_shading({
         **controls, "Light Vector": ell, "Light Intensity": intensity,
         "Light Color": np.array(light.data.color, dtype=np.float64),
         "Ambient Intensity": AMBIENT, "Ambient Color": np.ones(3)},
@@ -401,7 +404,8 @@ def test_switching_the_falloff_updates_the_picture(bpy_clean, blender_tmp):
     # the quadratic picture is the quadratic formula's (α = 0.5, β = 0, γ = 0.3)
     ref = _ref()
     P, N, I = _geometry(back, mask)
-    expected_q, _ = reference_color(scene.world, [light], _controls(plane.active_material),
+    expected_q, _ = reference_color(scene.world, [light],
+                                    _controls(plane.active_material, ambient=True),
                                     P, N, I)
     assert np.abs(back["Combined"][..., :3][mask] - expected_q).max() <= CY_TOL
     assert ref is not None
@@ -442,14 +446,13 @@ def test_saved_file_reopens_and_renders_the_same(bpy_clean, blender_tmp, tmp_pat
     front_px = ident == 2
     P, N, I = _geometry(after, front_px)
     light = bpy.data.objects["Point"]
-    ref = _ref()
     mw = np.array(light.matrix_world, dtype=np.float64)
 
     def colour(material, P):
         to_light = mw[:3, 3] - P
         d = np.linalg.norm(to_light, axis=-1)
-        out = ref.GROUPS["Phong Shading"]({
-            **_controls(material), "Light Vector": to_light / d[:, None],
+        out = phong_shading({
+            **_controls(material, ambient=True), "Light Vector": to_light / d[:, None],
             "Light Intensity": light.data.phong.intensity / d ** 1.5,
             "Light Color": np.array(light.data.color, dtype=np.float64),
             "Ambient Intensity": AMBIENT, "Ambient Color": np.ones(3)},

@@ -20,11 +20,14 @@ def _f32(values):
     return tuple(float(np.float32(v)) for v in values)
 
 
-def _principled(bpy, name, color, image=None):
+def _principled(bpy, name, color, image=None, level=0.0):
+    """A Principled source; *level* its Specular IOR Level (0: no specular layer, so its
+    Phong version keeps the seeds' Ka = Kd, which these tests write and read)."""
     material = bpy.data.materials.new(name)
     tree = be.compat().new_material_tree(material)
     bsdf = tree.nodes["Principled BSDF"]
     bsdf.inputs["Base Color"].default_value = color
+    bsdf.inputs["Specular IOR Level"].default_value = level
     if image is not None:
         tex = tree.nodes.new("ShaderNodeTexImage")
         tex.image = image
@@ -122,6 +125,31 @@ def test_own_ambient_object_color_is_written_as_ka(bpy_clean, tmp_path):
     clay = {m.name: m for m in mtl.load(str(out))}["Red_clay"]
     assert _f32(clay.colors["Ka"]) == _f32((0.05, 0.1, 0.15))
     assert _f32(clay.colors["Kd"]) == _f32((0.7, 0.3, 0.1))
+
+
+def test_a_principled_sources_ambient_colour_is_written_as_ka(bpy_clean, tmp_path):
+    """A Principled source with a specular layer: MTL's Ka is the colour the Phong ambient
+    light sees, read off the render (the Phong Ambient pass under a white ambient light of
+    intensity 1), not the Kd."""
+    bpy = bpy_clean
+    scene = be.new_scene("Glossy", 8, 8)
+    bpy.context.window.scene = scene
+    scene.world.phong.ambient_intensity = 1.0
+    scene.world.phong.ambient_color = (1.0, 1.0, 1.0)
+    ball = be.add_uv_sphere(scene, "Ball", (0, 0, 0), 0.5,
+                            _principled(bpy, "Glaze", (0.1, 0.2, 0.4, 1), level=0.5))
+    be.add_ortho_camera(scene, (0.0, 0.0), 1.2, 1.2)
+    be.apply_phong(scene, [ball])
+    assert bpy.ops.phong.add_term_passes() == {"FINISHED"}
+    path = str(tmp_path / "glaze.exr")
+    be.render_exr(scene, path)
+    seen = be.read_multilayer_exr(path)["Phong Ambient"][4, 4, :3]
+    out = tmp_path / "glaze.mtl"
+    assert bpy.ops.phong.export_mtl(filepath=str(out)) == {"FINISHED"}
+    glaze = {m.name: m for m in mtl.load(str(out))}["Glaze"]
+    assert _f32(glaze.colors["Kd"]) == _f32((0.1, 0.2, 0.4))
+    assert glaze.colors["Ka"] == pytest.approx(tuple(seen), abs=1e-6)
+    assert all(a > d for a, d in zip(glaze.colors["Ka"], glaze.colors["Kd"]))
 
 
 def test_obj_export_option_writes_exact_phong_entries_and_keeps_the_others(bpy_clean,

@@ -45,8 +45,10 @@ SET = {"Phong Clay": {"phong_specular_color": (0.9, 0.8, 0.6), "phong_exponent":
        "Phong Enamel": {"phong_blinn": 1.0, "phong_exponent": 60.0,
                         "phong_specular_color": (0.6, 0.7, 1.0),
                         "phong_object_color": (0.1, 0.35, 0.8)},
-       "Phong Jade": {"phong_exponent": 12.0, "phong_object_color": (0.2, 0.7, 0.4)},
-       "Phong Floor Paint": {"phong_object_color": (0.5, 0.55, 0.6)}}
+       "Phong Jade": {"phong_exponent": 12.0, "phong_object_color": (0.2, 0.7, 0.4),
+                      "phong_specular_color": (1.0, 1.0, 1.0)},
+       "Phong Floor Paint": {"phong_object_color": (0.5, 0.55, 0.6),
+                             "phong_specular_color": (1.0, 1.0, 1.0)}}
 
 
 def _version(release: str) -> tuple:

@@ -40,9 +40,14 @@ scene.world.phong.ambient_color = (0.9, 0.95, 1.0)
 
 
 def principled(name, color):
+    """A Principled source of base colour *color* with Specular IOR Level 0: no specular
+    layer, so its Phong version's ambient light sees the Object Color itself (Ka = Kd), as
+    Apply made every Phong material of the files saved here; its Specular Color is set below."""
     material = bpy.data.materials.new(name)
     compat.new_material_tree(material)
-    material.node_tree.nodes["Principled BSDF"].inputs["Base Color"].default_value = color
+    node = material.node_tree.nodes["Principled BSDF"]
+    node.inputs["Base Color"].default_value = color
+    node.inputs["Specular IOR Level"].default_value = 0.0
     return material
 
 
@@ -129,6 +134,8 @@ control(enamel, "phong_blinn", 1.0)
 control(enamel, "phong_exponent", 60.0)
 control(enamel, "phong_specular_color", (0.6, 0.7, 1.0, 1.0))
 control(jade, "phong_exponent", 12.0)
+control(jade, "phong_specular_color", (1.0, 1.0, 1.0, 1.0))
+control(floor.active_material, "phong_specular_color", (1.0, 1.0, 1.0, 1.0))
 jade.phong.shading = "VERTEX"
 assert bpy.ops.phong.relink_lights() == {"FINISHED"}
 print("saved by bpy", bpy.app.version_string, "materials",
