@@ -138,9 +138,10 @@ def linked_controls(material):
 
 # -- reference ------------------------------------------------------------------
 
-def _controls(material, ambient=False):
-    """The material's controls as the reference's Phong Shading reads them; *ambient*: with
-    its "Ambient Object Color" too (for :func:`reference_color`)."""
+def _controls(material, ambient=True):
+    """The material's controls as :func:`reference_color` and :func:`phong_shading` read
+    them, its "Ambient Object Color" included unless not *ambient* (the reference's own
+    Phong Shading group has none)."""
     nodes = material.node_tree.nodes
     col = lambda n: np.array(nodes[n].outputs[0].default_value[:3], dtype=np.float64)  # noqa: E731
     out = {"Object Color": col("phong_object_color"),
