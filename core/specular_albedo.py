@@ -199,7 +199,18 @@ def principled_ambient(roughness=0.5, ior=1.5, level=0.5, tint=(1.0, 1.0, 1.0), 
                        base=(0.8, 0.8, 0.8), multiscatter=True):
     """(scale, offset), 3 floats each: a Principled BSDF's ambient colour under a uniform
     World is Ka = Kd * scale + offset (module text), Kd its Base Color.  The metal part is
-    linear in the base colour only up to its multiple scattering, taken at *base*."""
+    linear in the base colour only up to its multiple scattering, taken at *base* (which
+    only a metal reads).  Remembered per distinct value (0.4 ms each otherwise: a file's
+    thousands of materials mostly share their settings)."""
+    metallic = float(np.clip(metallic, 0.0, 1.0))
+    base = tuple(float(v) for v in tuple(base)[:3]) if metallic > 0.0 else None
+    return _principled_ambient(float(roughness), float(ior), float(level),
+                               tuple(float(v) for v in tuple(tint)[:3]), metallic, base,
+                               bool(multiscatter))
+
+
+@functools.lru_cache(maxsize=4096)
+def _principled_ambient(roughness, ior, level, tint, metallic, base, multiscatter):
     t = tables()
     w = t["mu_weight"]
     roughness = float(np.clip(roughness, 0.0, 1.0))
