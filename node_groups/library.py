@@ -478,18 +478,27 @@ LIGHT_KINDS = {"POINT": "Point", "SPOT": "Spot", "SUN": "Sun"}
 _SUMS = (("Diffuse Sum", "diffuse"), ("Specular Sum", "specular"),
          ("Plain Diffuse Sum", "unshadowed diffuse"), ("Plain Specular Sum", "unshadowed specular"))
 FALLOFFS = {"QUADRATIC": "", "POWER": " (i0/d^k)"}
+#: The highlights of a light group of a model that blends Phong's and Blinn-Phong's by the
+#: material's Blinn (``models.LightingModel.blinn``): the blend (any Blinn; on 5.3 its Switch
+#: leaves one highlight where Blinn is 0 or 1), and a variant with only Phong's (Blinn 0) or
+#: only Blinn-Phong's (Blinn 1), what a lights group before 5.3 uses for a material whose Blinn
+#: is exactly 0 or 1 (the same values, the other highlight's and the blend's nodes fewer).
+BLEND, PHONG, BLINN = "BLEND", "PHONG", "BLINN"
+HIGHLIGHTS = {BLEND: "", PHONG: " (Phong highlight)", BLINN: " (Blinn-Phong highlight)"}
 
 
 def rig_light_group(model: str, kind: str, falloff: str = "QUADRATIC",
-                    shadows: bool = False) -> str:
+                    shadows: bool = False, highlight: str = BLEND) -> str:
     """The light group a lights group of *model* (``models.MODELS``: its ``rig``) draws a
-    light of *kind* (POINT, SPOT, SUN) and *falloff* with, with a shadow ray or not: e.g.
-    "Phong Rig Spot (i0/d^k) with Shadow"."""
+    light of *kind* (POINT, SPOT, SUN) and *falloff* with, with a shadow ray or not, with
+    *highlight* (``HIGHLIGHTS``; ignored by a model without the blend): e.g.
+    "Phong Rig Spot (i0/d^k) with Shadow (Phong highlight)"."""
     entry = models.get(model)
     name = f"{entry.rig} {LIGHT_KINDS[kind]}"
     if kind != "SUN" and entry.power_falloff:
         name += FALLOFFS[falloff]
-    return name + (" with Shadow" if shadows else "")
+    name += " with Shadow" if shadows else ""
+    return name + (HIGHLIGHTS[highlight] if entry.blinn else "")
 
 
 @group("Phong Surface Rays", "What every light of a lights group reads of the shaded point, "
@@ -504,8 +513,9 @@ def _surface_rays(g):
     g.output("Position", geometry("Position"), "The shaded point P")
 
 
-def _light_of(g, kind, falloff, shadows, switched):
-    """One light, whole (see above): its diffuse and specular light added to the sums."""
+def _light_of(g, kind, falloff, shadows, switched, highlight=BLEND):
+    """One light, whole (see above): its diffuse and specular light added to the sums;
+    *highlight*: the blend by Blinn, or only one highlight (``HIGHLIGHTS``: no Blinn input)."""
     near = kind in ("POINT", "SPOT")
     s = g.vector("Position", ZERO, _POS) if near else None
     u = g.vector("Direction", DOWN, "Direction u of the light's -Z axis (normalized inside)") \
@@ -528,7 +538,7 @@ def _light_of(g, kind, falloff, shadows, switched):
     ks = g.value("Specular Strength", 1.0, "i_source,spec / i_source (seed 000 §3.5)", min=0.0)
     e = g.value("Exponent", 30.0, _E, min=0.0, max=10000.0)
     blinn = g.value("Blinn", 0.0, "0 = Phong, 1 = Blinn-Phong, between = blend", min=0.0,
-                    max=1.0, subtype="FACTOR")
+                    max=1.0, subtype="FACTOR") if highlight == BLEND else None
     n = g.vector("Normal", (0.0, 0.0, 1.0), "Unit surface normal n (Phong Surface)")
     v = g.vector("View Vector", (0.0, 0.0, 1.0), "Unit vector v toward the viewer (Phong Surface)")
     reflected = g.vector("Reflected View", (0.0, 0.0, 1.0), "2(n·v)n - v (Phong Surface Rays)")
@@ -579,11 +589,16 @@ def _light_of(g, kind, falloff, shadows, switched):
 
     ln_g = dot(ell, gate_n)  # G·(ℓ·n)
     e_1 = maximum(e, MIN_GATED_EXPONENT)
-    phong = power(saturate(minimum(dot(ell, reflected), ln_g)), e_1)
-    blinn_f = power(saturate(minimum(dot(normalize(v + ell), n), ln_g)), e_1)
-    factor = (1.0 - blinn) * phong + blinn * blinn_f
-    if switched:
-        factor = switch(equal(blinn, 0.0), switch(equal(blinn, 1.0), factor, blinn_f), phong)
+    if highlight != BLINN:
+        phong = power(saturate(minimum(dot(ell, reflected), ln_g)), e_1)
+    if highlight != PHONG:
+        blinn_f = power(saturate(minimum(dot(normalize(v + ell), n), ln_g)), e_1)
+    if highlight == BLEND:
+        factor = (1.0 - blinn) * phong + blinn * blinn_f
+        if switched:
+            factor = switch(equal(blinn, 0.0), switch(equal(blinn, 1.0), factor, blinn_f), phong)
+    else:
+        factor = phong if highlight == PHONG else blinn_f
     diffuse_color = (kd * (1.0 / GATE_SCALE)) * lc  # G·(ℓ·n) times 2⁻⁴⁰: ℓ·n, exactly
     for prefix, shade in (("", shadows), ("Plain ", False))[:2 if shadows else 1]:
         i = intensity(shade)
@@ -593,7 +608,9 @@ def _light_of(g, kind, falloff, shadows, switched):
                  color=True)
         g.output(f"{prefix}Specular Sum",
                  scale_add(ks * lc, i * factor, sums[f"{prefix}Specular Sum"]),
-                 "+ i·[ℓ·n ≥ 0]·((1-Blinn)·(r·v)^e + Blinn·(h·n)^e)·k_s·Cl_source" +
+                  {BLEND: "+ i·[ℓ·n ≥ 0]·((1-Blinn)·(r·v)^e + Blinn·(h·n)^e)·k_s·Cl_source",
+                  PHONG: "+ i·[ℓ·n ≥ 0]·(r·v)^e·k_s·Cl_source",
+                  BLINN: "+ i·[ℓ·n ≥ 0]·(h·n)^e·k_s·Cl_source"}[highlight] +
                  (", unshadowed" if prefix else ""), color=True)
 
 
@@ -609,6 +626,12 @@ def _register_lights():
                     lambda g, k=kind, f=falloff, s=shadows: _light_of(g, k, f, s, False))
                 variant(name, SWITCH_FEATURE, what)(
                     lambda g, k=kind, f=falloff, s=shadows: _light_of(g, k, f, s, True))
+                for highlight in (PHONG, BLINN):  # before 5.3: Blinn exactly 0 or 1
+                    group(rig_light_group("seeds", kind, falloff, shadows, highlight),
+                          what + f", {HIGHLIGHTS[highlight].strip(' ()')} only",
+                          into=RIG_GROUPS)(
+                        lambda g, k=kind, f=falloff, s=shadows, h=highlight:
+                        _light_of(g, k, f, s, False, h))
 
 
 _register_lights()

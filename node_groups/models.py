@@ -118,6 +118,9 @@ class LightingModel:
     rig_material: str | None = None
     #: the World's ambient light: its group and the input the Ambient Object Color feeds
     ambient: tuple = ("Phong Ambient", "Object Color")
+    #: whether its light groups blend Phong's and Blinn-Phong's highlights by the material's
+    #: Blinn; they then have a variant with each highlight alone (``library.HIGHLIGHTS``)
+    blinn: bool = False
 
     @property
     def power_falloff(self) -> bool:
@@ -358,7 +361,7 @@ _TABLE = (
                   ("diffuse", EVERY, None, None),
                   ("specular", EVERY, None, None)),
         composition="phong", loop="Phong Loop Light",
-        area=(("edge_exponent", AREA_EDGE_EXPONENT),)),
+        area=(("edge_exponent", AREA_EDGE_EXPONENT),), blinn=True),
     ThreeJS(
         name="threejs", label="three.js",
         description="What three.js r181's MeshPhongMaterial / MeshLambertMaterial show: "

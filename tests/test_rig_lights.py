@@ -106,6 +106,40 @@ def test_a_light_adds_what_the_reference_gives(kind, falloff, shadows, blinn, sw
                                    err_msg=output)
 
 
+@pytest.mark.parametrize("highlight, blinn", [(library.PHONG, 0.0), (library.BLINN, 1.0)])
+@pytest.mark.parametrize("shadows", [False, True])
+@pytest.mark.parametrize("kind, falloff", [("POINT", "QUADRATIC"), ("POINT", "POWER"),
+                                           ("SPOT", "QUADRATIC"), ("SUN", "QUADRATIC")])
+def test_a_light_with_one_highlight_adds_what_the_reference_gives(kind, falloff, shadows,
+                                                                  highlight, blinn):
+    """The variant of one highlight (what a lights group before 5.3 gives a material whose
+    Blinn is exactly 0 or 1) reads no Blinn and adds that highlight alone: the reference's
+    Phong (r·v)^e or Blinn-Phong (h·n)^e, not a blend."""
+    rng = np.random.default_rng(hash((kind, falloff, shadows, highlight)) % 2**32)
+    inputs, light = _case(rng, kind, falloff)
+    del inputs["Blinn"]
+    name = library.rig_light_group("seeds", kind, falloff, shadows, highlight)
+    assert name != library.rig_light_group("seeds", kind, falloff, shadows)
+    group = library.definition(name)
+    assert "Blinn" not in [s.name for s in group.inputs]
+    got = group.evaluate(inputs)
+    ell, i = light["Light Vector"], light["Intensity"]
+    spec = dict(intensity=i * inputs["Specular Strength"], specular_color=(1.0, 1.0, 1.0),
+                exponent=inputs["Exponent"], view_vector=inputs["View Vector"],
+                light_color=inputs["Light Color"], normal=inputs["Normal"])
+    specular = (reference.blinn_specular if blinn else reference.specular)(ell, **spec)["Color"]
+    other = (reference.specular if blinn else reference.blinn_specular)(ell, **spec)["Color"]
+    assert np.abs(specular - other).max() > 0.01  # the two highlights differ here
+    for output in ("Specular Sum",) + (("Plain Specular Sum",) if shadows else ()):
+        np.testing.assert_allclose(got[output] - inputs[output], specular, rtol=1e-9,
+                                   atol=1e-9, err_msg=output)
+    blend = library.definition(library.rig_light_group("seeds", kind, falloff, shadows))
+    want = blend.evaluate({**inputs, "Blinn": np.full(N, blinn)})
+    for output in got:  # the diffuse light too: what the blend gives at that Blinn
+        np.testing.assert_allclose(got[output], want[output], rtol=1e-12, atol=0.0,
+                                   err_msg=output)
+
+
 def _x3d_case(rng, kind):
     """Random inputs of the X3D light group and the reference's light for them."""
     p = rng.uniform(-4, 4, (N, 3))
