@@ -185,6 +185,29 @@ def uses_nodes(id_block) -> bool:
     return VERSION >= (5, 0, 0) or id_block.use_nodes
 
 
+def animated_paths(id_block):
+    """The data paths that *id_block*'s drivers and active action animate (a set), or None
+    where that cannot be told (NLA strips).  Blender 4.4+ keeps an action's F-Curves per slot
+    (layered actions; 5.0 removed ``Action.fcurves``), earlier releases on the action."""
+    anim = id_block.animation_data
+    if anim is None:
+        return set()
+    paths = {driver.data_path for driver in anim.drivers}
+    if len(anim.nla_tracks):
+        return None
+    action = anim.action
+    if action is None:
+        return paths
+    if hasattr(anim, "action_slot"):
+        from bpy_extras import anim_utils  # noqa: PLC0415 (4.4+)
+
+        bag = anim_utils.action_get_channelbag_for_slot(action, anim.action_slot)
+        fcurves = bag.fcurves if bag is not None else ()
+    else:
+        fcurves = action.fcurves
+    return paths | {fcurve.data_path for fcurve in fcurves}
+
+
 def new_material_tree(material):
     """The node tree of a material, switched on where Blender still needs ``use_nodes``."""
     if not uses_nodes(material):

@@ -19,6 +19,9 @@ import blender_env as be
 DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "data", "node_counts.json")
 MODELS = ("seeds", "threejs", "x3d")
 KINDS = ("POINT", "SPOT", "SUN", "AREA")
+#: The seeds' model with a material's Blinn other than the default 0: exactly 1 (Blinn-Phong's
+#: highlight alone) and between (the blend of both), each counted as a model of its own.
+BLINNS = {"seeds, Blinn 1": 1.0, "seeds, Blinn 0.5": 0.5}
 
 
 def _inlined(material) -> int:
@@ -27,8 +30,9 @@ def _inlined(material) -> int:
         return len(tree.nodes)
 
 
-def _count(bpy, model, kind, lights=1) -> int:
-    """Inlined nodes of a Phong material lit by *lights* lights of *kind* in *model*."""
+def _count(bpy, model, kind, lights=1, blinn=None) -> int:
+    """Inlined nodes of a Phong material lit by *lights* lights of *kind* in *model*, its
+    Blinn control set to *blinn* (None: the default) as a user sets it."""
     be.reset_empty_file()
     scene = be.new_scene(f"{model} {kind}", 8, 8)
     bpy.context.window.scene = scene
@@ -43,16 +47,23 @@ def _count(bpy, model, kind, lights=1) -> int:
         light.location = (0.5 + index, 0.3, 3.0)
         scene.collection.objects.link(light)
     be.apply_phong(scene, [ball])
+    if blinn is not None:
+        ball.active_material.node_tree.nodes["phong_blinn"].outputs[0].default_value = blinn
+        bpy.context.view_layer.update()  # what Blender's UI does after each change
     return _inlined(ball.active_material)
 
 
 def _measured(bpy) -> dict:
-    """{model: {"no light": nodes, kind: nodes one more light of it adds (the second)}}."""
+    """{model: {"no light": nodes, kind: nodes one more light of it adds (the second)}}, and
+    the same per light for the seeds' model at each Blinn of ``BLINNS``."""
     out = {}
     for model in MODELS:
         out[model] = {"no light": _count(bpy, model, None)}
         out[model].update({kind.lower(): _count(bpy, model, kind, 2) - _count(bpy, model, kind, 1)
                            for kind in KINDS})
+    for name, blinn in BLINNS.items():
+        out[name] = {kind.lower(): _count(bpy, "seeds", kind, 2, blinn)
+                     - _count(bpy, "seeds", kind, 1, blinn) for kind in KINDS}
     return out
 
 
@@ -79,3 +90,9 @@ def test_a_light_costs_cycles_no_more_nodes_than_measured(bpy_clean):
              if got[model][key] > value]
     assert not grown, "inlined nodes grew: " + "; ".join(grown)
     assert got["seeds"]["point"] > 0 and got["seeds"]["sun"] > 0, "a light costs nodes"
+    # a Blinn of exactly 0 or 1 leaves a light one highlight: 5.3's Switch, or before 5.3 the
+    # lights group of that highlight (lighting/rig.py, highlight_for)
+    blend = got["seeds, Blinn 0.5"]
+    for name in ("seeds", "seeds, Blinn 1"):
+        more = [kind for kind in blend if got[name][kind] >= blend[kind]]
+        assert not more, f"{name}: as many nodes as the blend for {more}"

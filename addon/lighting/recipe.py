@@ -128,6 +128,29 @@ def lights_key(material):
     return (scene.as_pointer(), tree.get(rig.SET_KEY))
 
 
+def blinn_constant(material):
+    """*material*'s Blinn where it is a constant, else None: the lights node's Blinn input
+    fed by the Blinn control (or by nothing), whose value no keyframe or driver changes; a
+    Blinn from any other node, or animated, may take any value (``rig.highlight_for``)."""
+    tree = material.node_tree
+    node = tree.nodes.get(LIGHTS_NODE) if tree is not None else None
+    socket = node.inputs.get("Blinn") if node is not None else None
+    if socket is None:
+        return None
+    if socket.is_linked:
+        source = socket.links[0].from_node
+        if source.name != FEED_CONTROLS["Blinn"] or source.bl_idname != CONTROLS[
+                source.name][0] or source.mute:
+            return None
+        socket, path = compat.value_output(source), f'nodes["{source.name}"]'
+    else:
+        path = f'nodes["{LIGHTS_NODE}"].inputs'
+    animated = compat.animated_paths(tree)
+    if animated is None or any(p.startswith(path) for p in animated):
+        return None
+    return float(socket.default_value)
+
+
 def set_quietly(socket, value) -> None:
     """``socket.default_value = value`` without Blender's per-assignment update, which
     walks every node tree of the file (Apply on 3,000 materials: 1.7 ms per value, growing

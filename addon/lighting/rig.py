@@ -69,6 +69,8 @@ its Raycast node is screen space only).
 
 from __future__ import annotations
 
+import dataclasses
+
 import bpy
 
 from ...node_groups import library, models
@@ -78,19 +80,35 @@ from . import loop as light_loop
 from . import shadows as shadow_rays
 from . import world_copies
 
-#: Custom properties of a lights group: the scene it belongs to and its light set
-#: (``ownership.py``, with the look-ups ``owner``, ``groups_of`` and ``find``).
+#: Custom properties of a lights group: the scene it belongs to, its light set and its
+#: highlight (``ownership.py``, with the look-ups ``owner``, ``groups_of``, ``find`` and
+#: ``highlight_of``).
 SCENE_KEY, SET_KEY = ownership.SCENE_KEY, ownership.SET_KEY
+HIGHLIGHT_KEY = ownership.HIGHLIGHT_KEY
 owner, groups_of, find = ownership.owner, ownership.groups_of, ownership.find
+highlight_of = ownership.highlight_of
 #: Bump when the layout of the lights group changes.
-RIG_VERSION = 10  # 4: lights' transforms from World custom properties (View Layer attributes);
+RIG_VERSION = 11  # 4: lights' transforms from World custom properties (View Layer attributes);
 # 5: one Phong Surface and a Phong Light Terms per light instead of a Phong Shading per light;
 # 6: a light's i0 from the fourth component of its World copy (its Power: live);
-# 7: one group per light, its shadow ray inside (library.rig_light_group): the fewest nodes
+# 7: one group per light, its shadow ray inside (library.rig_light_group): the fewest nodes;
 # 8: the seeds' light groups read ℓ (its ray's direction is the light vector) and, on 5.3,
 #    draw an i0/(αr² + γ) falloff with r² as one dot product
 # 9: the three.js and X3D light groups leaner (ℓ toward the light, the ray's side in one node)
-# 10: the seeds' shadow ray's side in one node too (Faceforward)
+# 10: the seeds' shadow ray's side in one node too (Faceforward);
+# 11: before 5.3, a lights group per highlight of its materials (``highlight_for``)
+#: Before Blender 5.3 (no Switch node, whose constant condition Blender's inliner folds), a
+#: light group of a model that blends the highlights by the material's Blinn computes both
+#: highlights and the blend, whatever the Blinn; so a scene's lights group for a light set
+#: comes in up to three highlights (``library.HIGHLIGHTS``), and each Phong material uses the
+#: one its Blinn asks for: Phong's alone where Blinn is the constant 0, Blinn-Phong's alone
+#: where it is the constant 1, the blend otherwise (any value between, or a Blinn that is
+#: linked, keyframed or driven).  On 5.3 the Switch does this inside the one group.
+HIGHLIGHT_VARIANTS = library.SWITCH_FEATURE not in compat.NODE_FEATURES
+#: What a lights group's name adds for a highlight that is not its model's usual one
+#: (``usual_highlight``: Blinn 0, the default, before 5.3).
+HIGHLIGHT_NAMES = {library.BLEND: " (Phong-Blinn blend)",
+                   library.BLINN: " (Blinn-Phong highlights)", library.PHONG: " (Phong highlights)"}
 VERSION_KEY = "phong_lights_version"
 ALL = "*"
 #: The lighting models (``node_groups/models.py``: docs/model.md, docs/threejs.md,
@@ -148,43 +166,97 @@ def model_of(scene) -> str:
     return model if model in models.MODELS else MODELS[0]
 
 
+def highlight_for(model: str, blinn) -> str:
+    """The highlight (``library.HIGHLIGHTS``) of the lights group of *model* for a material
+    whose Blinn is *blinn* (a number where it is a constant, ``recipe.blinn_constant``; None
+    where it is linked or animated): see ``HIGHLIGHT_VARIANTS``."""
+    if not HIGHLIGHT_VARIANTS or not models.MODELS[model].blinn:
+        return library.BLEND
+    return library.PHONG if blinn == 0.0 else library.BLINN if blinn == 1.0 else library.BLEND
+
+
+def highlights(model: str) -> tuple:
+    """The highlights *model*'s lights groups come in on this Blender."""
+    if HIGHLIGHT_VARIANTS and models.MODELS[model].blinn:
+        return tuple(library.HIGHLIGHTS)
+    return (library.BLEND,)
+
+
+def usual_highlight(model: str) -> str:
+    """The highlight of *model*'s lights group for a material at the default Blinn (0): the
+    one whose group is named without ``HIGHLIGHT_NAMES``."""
+    return highlight_for(model, next(d for n, _t, d in INPUTS if n == "Blinn"))
+
+
 def set_key(lights, everything: bool) -> str:
     """The key of a light set: "*" when it holds every light of the scene, else the names."""
     return ALL if everything else "\n".join(sorted(o.name for o in lights))
 
 
-def group_name(scene, lights, key: str) -> str:
-    name = f"{models.MODELS[model_of(scene)].prefix} Lights {scene.name}"
+def group_name(scene, lights, key: str, highlight: str | None = None) -> str:
+    """The name of *scene*'s lights group for *lights* (key *key*) and *highlight* (default:
+    its model's usual one, ``usual_highlight``)."""
+    model = model_of(scene)
+    name = f"{models.MODELS[model].prefix} Lights {scene.name}"
     if key != ALL:
         name += f" [{', '.join(o.name for o in lights) or 'no light'}]"
+    if highlight is not None and highlight != usual_highlight(model):
+        name += HIGHLIGHT_NAMES[highlight]
     return name
 
 
-def ensure(scene, lights, key: str, blends: bool = False):
-    """The lights group of *scene* for *lights* (key *key*), created or rebuilt.  *blends*:
-    a Phong material of the scene blends (Opacity below 1): Eevee then compiles its group
+def ensure(scene, lights, key: str, blends: bool = False, highlight: str | None = None):
+    """The lights group of *scene* for *lights* (key *key*) and *highlight* (``highlight_for``;
+    default: the model's usual one), created or rebuilt.  *blends*: a Phong material of the
+    scene blends (Opacity below 1): Eevee then compiles its group
     (``engine_outputs.eevee_shader``), which so reads at most ``compat.VIEW_LAYER_LOOKUPS``."""
+    if highlight is None:
+        highlight = usual_highlight(model_of(scene))
     loop = wants_loop(scene)
     lookups = compat.view_layer_lookups(loop and not blends)
-    tree = find(scene, key)
+    tree = find(scene, key, highlight)
+    name = group_name(scene, lights, key, highlight)
     if tree is None:
-        tree = bpy.data.node_groups.new(group_name(scene, lights, key), "ShaderNodeTree")
+        tree = bpy.data.node_groups.new(name, "ShaderNodeTree")
         tree[SCENE_KEY] = scene
         tree[SET_KEY] = key
-        build(tree, lights, scene.world, model_of(scene), loop, lookups, wants_shadows(scene))
+        build(tree, lights, scene.world, model_of(scene), loop, lookups, wants_shadows(scene),
+              highlight)
         return tree
     tree = rebuild(tree, lights, scene.world, model_of(scene), loop, lookups,
-                   wants_shadows(scene))
-    name = group_name(scene, lights, key)
+                   wants_shadows(scene), highlight)
     if not (tree.name == name or tree.name.startswith(name + ".")):  # the scene was renamed
         tree.name = name
     return tree
 
 
-def rebuild(tree, lights, world, model=MODELS[0], loop=False, lookups=None, shadows=False):
+def tidy_names(scene) -> None:
+    """Each lights group of *scene* under its own name where it is free: a group made while
+    another (of a highlight no material uses any more, since removed) had it was named
+    "<name>.001"."""
+    for tree in groups_of(scene):
+        key = tree.get(SET_KEY)
+        if key is None:
+            continue
+        lights = [_Named(str(n)) for n in tree.get("phong_lights", ())]
+        name = group_name(scene, lights, key, highlight_of(tree))
+        if tree.name != name and bpy.data.node_groups.get(name) is None:
+            tree.name = name
+
+
+@dataclasses.dataclass(frozen=True)
+class _Named:
+    """A light as ``group_name`` reads it: its name (a group's ``phong_lights``)."""
+
+    name: str
+
+
+def rebuild(tree, lights, world, model=MODELS[0], loop=False, lookups=None, shadows=False,
+            highlight=library.BLEND):
     """*tree* rewritten for *lights*; returns the group that now stands for it
     (``rewrite``)."""
-    return rewrite(tree, lambda t: build(t, lights, world, model, loop, lookups, shadows))
+    return rewrite(tree, lambda t: build(t, lights, world, model, loop, lookups, shadows,
+                                         highlight))
 
 
 def rewrite(tree, write):
@@ -213,8 +285,9 @@ def rewrite(tree, write):
 
 
 def build(tree, lights, world, model=MODELS[0], loop=False, lookups=None,
-          shadows=False) -> None:
-    """(Re)write *tree* for *lights* (supported light objects) and *world* in *model*;
+          shadows=False, highlight=library.BLEND) -> None:
+    """(Re)write *tree* for *lights* (supported light objects) and *world* in *model* with
+    *highlight* (``highlight_for``: the blend by Blinn, or one highlight alone);
     *loop*: with the loop part (Blender 5.3+: ``loop.py``), ignored where Eevee's light loop
     does not run *model*; *lookups*: the View Layer lookups it may hold (default
     ``compat.view_layer_lookups(loop)``); *shadows*: with a shadow ray per light
@@ -228,15 +301,18 @@ def build(tree, lights, world, model=MODELS[0], loop=False, lookups=None,
     if lookups is None:
         lookups = compat.view_layer_lookups(loop)
     budget = [world, lookups, compat.VIEW_LAYER_LOOKUPS]
-    COMPOSE[models.MODELS[model].composition](tree, lights, world, budget, model, loop, shadows)
+    COMPOSE[models.MODELS[model].composition](tree, lights, world, budget, model, loop, shadows,
+                                              highlight)
 
 
-def _build_lean(tree, lights, world, budget, model, loop=False, shadows=False) -> None:
+def _build_lean(tree, lights, world, budget, model, loop=False, shadows=False,
+                highlight=library.BLEND) -> None:
     """Every composition (``models.COMPOSITIONS``: the seeds' "phong", docs/contract.md
     "Several lights"; three.js's "chain"; X3D's "phong_light_ambient"): per light one group
     of its type, falloff and shadow ray (``library.rig_light_group``: the fewest exact nodes
     a light costs, benchmarks/README.md), each adding its light to the sums of the lights
-    before it; Diffuse = Σ diffuse light ⊗ Object Color, Specular = Σ specular light ⊗
+    before it (*highlight*: each light's group draws the blend, or that highlight alone,
+    ``highlight_for``); Diffuse = Σ diffuse light ⊗ Object Color, Specular = Σ specular light ⊗
     Specular Color (three.js: its ``rig_material`` applies the material's colours), Ambient =
     the World's ambient (+ X3D: Σ the lights' own ambient light ⊗ Ambient Object Color),
     Color = min(Irradiant + Ambient + Diffuse + Specular, 1).  With shadow rays each light
@@ -274,7 +350,8 @@ def _build_lean(tree, lights, world, budget, model, loop=False, shadows=False) -
     for index, obj in enumerate(lights):
         light = obj.data
         falloff = "POWER" if _is_power(light, model) else "QUADRATIC"
-        name = library.rig_light_group(model, models.drawn_as(light.type), falloff, shadows)
+        name = library.rig_light_group(model, models.drawn_as(light.type), falloff, shadows,
+                                       highlight)
         node = _light_node(tree, obj, (-600.0, -520.0 * index), model, budget, name)
         for socket, source in (*shared_inputs.items(), *sums.items()):
             if socket in node.inputs and not (socket == "Specular Strength"
@@ -339,7 +416,7 @@ def _build_lean(tree, lights, world, budget, model, loop=False, shadows=False) -
         light_loop.build(tree, model, group_in, group_out,
                          group_in.outputs["Irradiant Color"], world_ambient.outputs["Color"],
                          surface, shadows)
-    _stamp(tree, lights, model)
+    _stamp(tree, lights, model, highlight)
 
 
 def _color_sum(tree, base, totals, prefix=""):
@@ -367,9 +444,10 @@ def _shaders(tree, color, group_out, out_x, plain=None) -> None:
     _emission(tree, color, group_out, out_x, shadow_rays.CYCLES_SHADER)
 
 
-def _stamp(tree, lights, model) -> None:
+def _stamp(tree, lights, model, highlight=library.BLEND) -> None:
     tree[VERSION_KEY] = RIG_VERSION
     tree[MODEL_KEY] = model
+    tree[HIGHLIGHT_KEY] = highlight
     tree["phong_lights"] = [obj.name for obj in lights]
     tree[light_loop.LOOP_KEY] = tree.get(light_loop.LOOP_KEY) or ""
 
@@ -396,7 +474,7 @@ THREEJS_SHADING = {"Object Color": "Diffuse Color", "Specular Color": "Specular 
 
 
 #: composition (``models.COMPOSITIONS``) -> its builder(tree, lights, world, budget, model,
-#: loop, shadows).
+#: loop, shadows, highlight).
 COMPOSE = {"phong": _build_lean, "chain": _build_lean, "phong_light_ambient": _build_lean}
 
 

@@ -35,6 +35,7 @@ class Sync:
 
     def __init__(self, scene, view_layer=None):
         self.scene = scene
+        self.model = rig.model_of(scene)
         self.lights, self.unsupported = lights_mod.scene_lights(scene, view_layer)
         self.rules = [lights_mod.receivers(obj) for obj in self.lights]
         self.linked = any(rule is not None for rule in self.rules)
@@ -64,10 +65,20 @@ class Sync:
         reach = lights_mod.light_set(obj, self.lights, self.rules)
         return rig.set_key(reach, len(reach) == len(self.lights)), reach
 
-    def group(self, key, reach):
-        if key not in self.groups:
-            self.groups[key] = rig.ensure(self.scene, reach, key, self.blends)
-        return self.groups[key]
+    def group(self, key, reach, highlight=None):
+        """The lights group of the light set *key* (its lights *reach*) with *highlight*
+        (``rig.highlight_for``; default the model's usual one: a new material's, Blinn 0),
+        made or rebuilt once a run."""
+        if highlight is None:
+            highlight = rig.usual_highlight(self.model)
+        if (key, highlight) not in self.groups:
+            self.groups[(key, highlight)] = rig.ensure(self.scene, reach, key, self.blends,
+                                                       highlight)
+        return self.groups[(key, highlight)]
+
+    def highlight(self, material) -> str:
+        """The highlight of the lights group *material* wants (``rig.highlight_for``)."""
+        return rig.highlight_for(self.model, recipe.blinn_constant(material))
 
     # -- materials --------------------------------------------------------------------
     def _origin(self, material):
@@ -152,7 +163,7 @@ class Sync:
                 material = variant
             else:
                 material = variant
-        group = self.group(key, reach)
+        group = self.group(key, reach, self.highlight(material))
         node = material.node_tree.nodes.get(recipe.LIGHTS_NODE)
         if material.name in self.changed and node is not None and node.node_tree is group:
             return material  # made or wired by this run: nothing to check again
@@ -212,9 +223,10 @@ class Sync:
         """Rebuild the groups of this scene's light sets that exist (lights changed), and
         remove the scene's groups that no material uses any more."""
         for tree in rig.groups_of(self.scene):
-            key = tree.get(rig.SET_KEY)
-            if key == rig.ALL:
-                self.groups[key] = rig.ensure(self.scene, self.lights, key, self.blends)
+            key, highlight = tree.get(rig.SET_KEY), rig.highlight_of(tree)
+            if key == rig.ALL and highlight in rig.highlights(self.model):
+                self.groups[(key, highlight)] = rig.ensure(self.scene, self.lights, key,
+                                                           self.blends, highlight)
         for tree in rig.groups_of(self.scene):
             if tree.users == 0 and tree not in self.groups.values():
                 bpy.data.node_groups.remove(tree)
@@ -234,6 +246,7 @@ class Sync:
         for tree in rig.groups_of(self.scene):
             if tree.users == 0:
                 bpy.data.node_groups.remove(tree)
+        rig.tidy_names(self.scene)
         if prune:
             world_copies.prune()
         if shadows.casts_rays(self.scene):
@@ -337,12 +350,37 @@ def paused():
         _BUSY.pop()
 
 
+def highlight_changed(scene, depsgraph) -> bool:
+    """Whether a Phong material that *depsgraph* updated now wants a lights group of another
+    highlight than its own (before 5.3, ``rig.HIGHLIGHT_VARIANTS``: its Blinn set to or away
+    from exactly 0 or 1, linked, keyframed or driven).  Walks ``depsgraph.updates`` only when
+    a material was updated."""
+    if not rig.HIGHLIGHT_VARIANTS or not depsgraph.id_type_updated("MATERIAL"):
+        return False
+    model = rig.model_of(scene)
+    for update in depsgraph.updates:
+        material = getattr(update.id, "original", None)
+        if not isinstance(material, bpy.types.Material) or not recipe.is_phong_material(material):
+            continue
+        node = material.node_tree.nodes.get(recipe.LIGHTS_NODE)
+        tree = node.node_tree if node is not None else None
+        if tree is None or rig.owner(tree) != scene:
+            continue
+        if rig.highlight_of(tree) != rig.highlight_for(model, recipe.blinn_constant(material)):
+            return True
+    return False
+
+
 @persistent
 def on_depsgraph_update(scene, depsgraph=None):
-    """Relink *scene* when its lights changed (added, deleted, hidden, retyped, relinked)."""
+    """Relink *scene* when its lights changed (added, deleted, hidden, retyped, relinked),
+    or a Phong material's Blinn asks for a lights group of another highlight
+    (``highlight_changed``)."""
     if _BUSY or scene is None:
         return
     stale = scene.as_pointer() in engine_outputs.STALE  # a material began to blend (5.3+)
+    # or a material's Blinn wants a lights group of another highlight (before 5.3)
+    stale = stale or (depsgraph is not None and highlight_changed(scene, depsgraph))
     if depsgraph is not None and not stale and not any(
             depsgraph.id_type_updated(kind)
             for kind in ("OBJECT", "LIGHT", "COLLECTION", "SCENE", "WORLD")):
@@ -413,9 +451,11 @@ def upgrade_on_load(*_args):
             continue
         loop = light_loop.stamp(rig.model_of(scene)) if rig.wants_loop(scene) else ""
         rays = rig.wants_shadows(scene)
+        highlights = rig.highlights(rig.model_of(scene))
         if not any(int(t.get(rig.VERSION_KEY, 0)) < rig.RIG_VERSION
                    or (t.get(light_loop.LOOP_KEY) or "") != loop
-                   or shadows.has_shadows(t) != rays for t in rig.groups_of(scene)):
+                   or shadows.has_shadows(t) != rays or rig.highlight_of(t) not in highlights
+                   for t in rig.groups_of(scene)):
             continue
         _BUSY.append(True)
         try:
