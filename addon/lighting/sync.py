@@ -357,10 +357,16 @@ def highlight_changed(scene, depsgraph) -> bool:
     a material was updated."""
     if not rig.HIGHLIGHT_VARIANTS or not depsgraph.id_type_updated("MATERIAL"):
         return False
+    updated = (getattr(update.id, "original", None) for update in depsgraph.updates)
+    return _other_highlight(scene, [m for m in updated if isinstance(m, bpy.types.Material)])
+
+
+def _other_highlight(scene, materials) -> bool:
+    """Whether one of *materials* (Phong materials of *scene* among them) wants a lights group
+    of another highlight than the one it uses (``rig.highlight_for``)."""
     model = rig.model_of(scene)
-    for update in depsgraph.updates:
-        material = getattr(update.id, "original", None)
-        if not isinstance(material, bpy.types.Material) or not recipe.is_phong_material(material):
+    for material in materials:
+        if not recipe.is_phong_material(material):
             continue
         node = material.node_tree.nodes.get(recipe.LIGHTS_NODE)
         tree = node.node_tree if node is not None else None
@@ -480,9 +486,13 @@ def _renew() -> None:
             relink_scene(scene)
         for material in recipe.phong_materials():
             source_materials.renew_group_node(material, links.get(material.as_pointer()))
-        for scene in scenes:  # what reads the lights nodes' links (Per Vertex / Per Face)
-            for follow in AFTER_FINISH:  # shading.modes.refresh: ran in the relink, before
-                # the links were back
+        for scene in scenes:
+            if rig.HIGHLIGHT_VARIANTS and _other_highlight(scene, recipe.phong_materials()):
+                # the relink above chose by the Blinn of an unlinked input: again, as linked
+                relink_scene(scene)  # (its end follows, as below)
+                continue
+            for follow in AFTER_FINISH:  # what reads the lights nodes' links (Per Vertex /
+                # Per Face): shading.modes.refresh ran in the relink, before they were back
                 follow(scene)
     finally:
         _BUSY.pop()
