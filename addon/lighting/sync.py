@@ -354,11 +354,22 @@ def highlight_changed(scene, depsgraph) -> bool:
     """Whether a Phong material that *depsgraph* updated now wants a lights group of another
     highlight than its own (before 5.3, ``rig.HIGHLIGHT_VARIANTS``: its Blinn set to or away
     from exactly 0 or 1, linked, keyframed or driven).  Walks ``depsgraph.updates`` only when
-    a material was updated."""
-    if not rig.HIGHLIGHT_VARIANTS or not depsgraph.id_type_updated("MATERIAL"):
+    a material or node tree was updated; a material's own node tree (an edit of its nodes, a
+    driver removed) is named there as that tree, not as the material."""
+    if not rig.HIGHLIGHT_VARIANTS or not any(depsgraph.id_type_updated(kind)
+                                             for kind in ("MATERIAL", "NODETREE")):
         return False
-    updated = (getattr(update.id, "original", None) for update in depsgraph.updates)
-    return _other_highlight(scene, [m for m in updated if isinstance(m, bpy.types.Material)])
+    materials, trees = [], set()
+    for update in depsgraph.updates:
+        data = getattr(update.id, "original", None)
+        if isinstance(data, bpy.types.Material):
+            materials.append(data)
+        elif isinstance(data, bpy.types.ShaderNodeTree) and data.is_embedded_data:
+            trees.add(data.as_pointer())
+    if trees:
+        materials += [m for m in bpy.data.materials
+                      if m.node_tree is not None and m.node_tree.as_pointer() in trees]
+    return _other_highlight(scene, materials)
 
 
 def _other_highlight(scene, materials) -> bool:
