@@ -275,13 +275,34 @@ def _group_node_links(tree) -> list:
         for node in owner_tree.nodes:
             if node.bl_idname != "ShaderNodeGroup" or node.node_tree != tree:
                 continue
-            inputs = {s.name: [l.from_socket for l in s.links] for s in node.inputs}
-            outputs = {s.name: [l.to_socket for l in s.links] for s in node.outputs}
-            values = {s.name: (tuple(s.default_value) if hasattr(s.default_value, "__len__")
-                               else s.default_value)
-                      for s in node.inputs if hasattr(s, "default_value")}
-            saved.append((node, inputs, outputs, values))
+            saved.append((node, *_node_links(node)))
     return saved
+
+
+def _node_links(node) -> tuple:
+    """({input name: sources}, {output name: targets}, {input name: value}) of *node*."""
+    inputs = {s.name: [l.from_socket for l in s.links] for s in node.inputs}
+    outputs = {s.name: [l.to_socket for l in s.links] for s in node.outputs}
+    values = {s.name: (tuple(s.default_value) if hasattr(s.default_value, "__len__")
+                       else s.default_value)
+              for s in node.inputs if hasattr(s, "default_value")}
+    return inputs, outputs, values
+
+
+def set_group(node, group) -> None:
+    """``node.node_tree = group`` for the group node *node*, its links and input values kept
+    on the sockets of the same name: Blender keeps them by identifier, and two groups of the
+    same interface need not number their sockets alike (``keeping_links``: a lights group
+    upgraded from an older layout against one written afresh)."""
+    old = node.node_tree
+    if old is group:
+        return
+    moved = old is not None and any(_socket_ids(group).get(key, ident) != ident
+                                    for key, ident in _socket_ids(old).items())
+    saved = _node_links(node) if moved else None
+    node.node_tree = group
+    if saved is not None:
+        _put_back(node, *saved)
 
 
 def _put_back(node, inputs, outputs, values) -> None:

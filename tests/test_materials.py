@@ -52,6 +52,9 @@ def test_lights_drive_phong_materials_cycles(bpy_clean, blender_tmp):
     n_drivers = _assert_drivers_ok(tree)
     assert not be_drivers(sphere.active_material.node_tree), "no driver in the materials"
     bpy.context.view_layer.update()
+    # before 5.3 the sphere's Blinn 0.3 has moved it to the lights group of the blend
+    # (lighting/rig.py, highlight_for), the groups rebuilt: read its group again
+    tree = lights_tree(sphere.active_material)
     _assert_light_inputs(tree, lights)
     assert point.matrix_world.translation.z == pytest.approx(1.8), "constraint included"
 

@@ -10,7 +10,7 @@ from dataclasses import dataclass, field
 
 import bpy
 
-from .. import compat
+from .. import compat, loader
 from . import engine_outputs, opacity, recipe
 
 
@@ -85,8 +85,7 @@ def wire(material, lights_group, object_color=None) -> None:
         node.name = recipe.LIGHTS_NODE
         node.location = (-300.0, 100.0)
         node.width = 220.0
-    if node.node_tree is not lights_group:
-        node.node_tree = lights_group
+    loader.set_group(node, lights_group)  # links kept by name
     node.label = "Phong Lights"
     for control, (_kind, _label, _default, target) in recipe.CONTROLS.items():
         if not node.inputs[target].is_linked:
