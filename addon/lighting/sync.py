@@ -354,10 +354,9 @@ def highlight_changed(scene, depsgraph) -> bool:
     """Whether a Phong material that *depsgraph* updated now wants a lights group of another
     highlight than its own (before 5.3, ``rig.HIGHLIGHT_VARIANTS``: its Blinn set to or away
     from exactly 0 or 1, linked, keyframed or driven).  Walks ``depsgraph.updates`` only when
-    a material or node tree was updated; a material's own node tree (an edit of its nodes, a
-    driver removed) is named there as that tree, not as the material."""
-    if not rig.HIGHLIGHT_VARIANTS or not any(depsgraph.id_type_updated(kind)
-                                             for kind in ("MATERIAL", "NODETREE")):
+    a material was updated (not when only node groups were: the lights groups' drivers); an
+    edit of a material's own nodes (a driver removed) is named there as its node tree."""
+    if not rig.HIGHLIGHT_VARIANTS or not depsgraph.id_type_updated("MATERIAL"):
         return False
     materials, trees = [], set()
     for update in depsgraph.updates:
