@@ -121,6 +121,9 @@ def test_a_blinn_changed_linked_keyframed_or_driven_gets_its_group_without_a_cli
     bpy.context.view_layer.update()
     assert _highlight(material) == library.BLEND, "a driven Blinn may take any value"
     control.outputs[0].driver_remove("default_value")
+    # Blender's Delete Driver tags the material for an update; driver_remove from a script
+    # does not on 4.2 (a blend left in place is still exact: it only costs nodes)
+    material.update_tag()
     bpy.context.view_layer.update()
     assert _highlight(material) == library.PHONG
 
@@ -159,7 +162,7 @@ def test_a_file_of_the_former_layout_gets_the_highlights_on_load(bpy_clean):
     library = _library()
     from phong_nodes.addon.lighting import recipe, rig  # noqa: PLC0415
 
-    bpy.ops.wm.open_mainfile(filepath=os.path.join(DATA, "upgrade", "phong_5.0.1.blend"))
+    bpy.ops.wm.open_mainfile(filepath=os.path.join(DATA, "upgrade", "phong_4.2.23.blend"))
     phong = {m.name: m for m in bpy.data.materials if recipe.is_phong_material(m)}
     got = {name: _highlight(m) for name, m in phong.items()}
     if not _variants():
