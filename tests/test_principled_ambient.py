@@ -54,7 +54,7 @@ def _principled(bpy, name, roughness, level, metallic, distribution, color):
 def _scene(bpy):
     scene = be.new_scene("Ambient", SIZE * 4, SIZE * 2, "cycles")
     bpy.context.window.scene = scene
-    background = scene.world.node_tree.nodes["Background"]
+    background = be.compat().new_material_tree(scene.world).nodes["Background"]  # 4.x: use_nodes
     background.inputs["Color"].default_value = (*WORLD, 1.0)
     background.inputs["Strength"].default_value = 1.0
     scene.cycles.samples = SAMPLES
