@@ -38,6 +38,7 @@ import sys
 import tempfile
 import time
 
+from ..node_groups import library
 from .measure import (build_scene, read_image, remove_scene, render, rotated, set_cycles,
                       worker_setup)
 
@@ -63,7 +64,10 @@ def _values(material):
         raise ValueError("the minimal chain is Phong's (Blinn 0)")
     lights = []
     for light in [n for n in group if n.name.startswith("light:")]:
-        if light.node_tree.name.removesuffix(" with Shadow") != "Phong Rig Point":
+        if light.node_tree.name not in {library.rig_light_group("seeds", "POINT", "QUADRATIC",
+                                                                 shadows, highlight)
+                                        for shadows in (False, True)
+                                        for highlight in library.HIGHLIGHTS}:
             raise ValueError("the minimal chain is for point lights (i0/(αr²+βr+γ))")
         shading = light  # the lights group's one group a light: its colour and strengths
         falloff = tuple(light.inputs[k].default_value for k in ("Quadratic", "Linear", "Constant"))

@@ -231,6 +231,20 @@ def add_uv_plane(scene, name, x0, y0, size, material):
     return obj
 
 
+def plain_source(name):
+    """A new material with no specular layer (its Principled BSDF, where it has one, at
+    Specular IOR Level 0): a source to which Apply gives Ka = Kd, for tests that set a Phong
+    material's values by hand and expect its Ambient Object Color to be its Object Color (a
+    Principled layer's own ambient colour: tests/test_principled_ambient.py)."""
+    bpy = import_bpy()
+    material = bpy.data.materials.new(name)
+    tree = compat().new_material_tree(material)
+    node = tree.nodes.get("Principled BSDF") if tree is not None else None
+    if node is not None:
+        node.inputs["Specular IOR Level"].default_value = 0.0
+    return material
+
+
 def add_uv_sphere(scene, name, location, radius, material, segments=48, rings=24):
     """Smooth-shaded UV sphere (the add-on's mesh helper, no operator context needed)."""
     bpy = import_bpy()

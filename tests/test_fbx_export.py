@@ -129,7 +129,8 @@ def _hand_scene(bpy):
     for index, name in enumerate([*MATERIALS, "Plastic"]):
         mesh = bpy.data.meshes.new(name)
         mesh.from_pydata([(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0)], [], [(0, 1, 2, 3)])
-        mesh.materials.append(bpy.data.materials.new(name))
+        mesh.materials.append(be.plain_source(name) if name in MATERIALS
+                              else bpy.data.materials.new(name))
         obj = bpy.data.objects.new(name, mesh)
         obj.location = (2.0 * index, 0.0, 0.0)
         scene.collection.objects.link(obj)

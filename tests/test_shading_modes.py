@@ -35,8 +35,7 @@ BAKE_TOL = 2e-4
 
 
 def _principled(bpy, name, color):
-    material = bpy.data.materials.new(name)
-    be.compat().new_material_tree(material)
+    material = be.plain_source(name)
     material.node_tree.nodes["Principled BSDF"].inputs["Base Color"].default_value = color
     return material
 

@@ -197,7 +197,7 @@ def _seeds_scene(bpy):
     for index, name in enumerate(("Plain", "Own Ka", "Odd Ka")):
         mesh = bpy.data.meshes.new(name)
         mesh.from_pydata([(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0)], [], [(0, 1, 2, 3)])
-        mesh.materials.append(bpy.data.materials.new(name))   # its own source material
+        mesh.materials.append(be.plain_source(name))   # its own source material
         obj = bpy.data.objects.new(name, mesh)
         obj.location = (3.0 * index, 2.0, 1.0)
         scene.collection.objects.link(obj)

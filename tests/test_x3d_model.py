@@ -69,8 +69,7 @@ def _x3d_scene(bpy):
     scene.world.phong.ambient_intensity = 0.0   # X3D has no global ambient light
     be.add_persp_camera(scene, (0.0, -6.0, 4.5), (0.0, 0.0, 0.0))
     floor = be.add_quad(scene, "Floor", -4, -3, 4, 3)
-    old = bpy.data.materials.new("Ball")
-    be.compat().new_material_tree(old)
+    old = be.plain_source("Ball")
     ball = be.add_uv_sphere(scene, "Ball", (0.5, 0.5, 0.8), 0.8, old, segments=32, rings=16)
 
     def light(name, kind, location, rotation=(0.0, 0.0, 0.0)):
