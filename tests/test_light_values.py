@@ -382,9 +382,9 @@ def test_a_renamed_source_is_still_found_and_restored(bpy_clean, tmp_path):
 
 
 @pytest.mark.slow
-def test_the_light_move_benchmark_runs_and_shows_the_difference(bpy_clean):
+def test_the_light_move_benchmark_runs(bpy_clean):
     """benchmarks/light_move.py at a tiny size (a fresh process): both designs measured beside
-    Principled; on 5.2+ the previous rig's update (every material re-evaluated) is the slower."""
+    Principled, every figure a positive time."""
     code = ("import json, os, sys; from phong_nodes.benchmarks import light_move; "
             "print('RESULT ' + json.dumps(light_move.run(60, 4, 5)), flush=True); "
             "os._exit(0)")  # bpy 4.2's clean-up at exit crashed after this run (signal 11)
@@ -397,8 +397,9 @@ def test_the_light_move_benchmark_runs_and_shows_the_difference(bpy_clean):
                             "world_attributes_again"}
     assert all(v > 0 for case in updates.values() for v in case.values())
     assert result["ratio_to_principled"]["principled"] == {"move": 1.0, "turn": 1.0}
-    if _lookups():
-        assert updates["previous"]["move"] > updates["world_attributes"]["move"], updates
+    # Which design is faster is a benchmark's figure (benchmarks/light_move.py at full size),
+    # not a timed assertion: at 60 objects the two differ by less than the machine's noise.
+    # What a move updates is asserted by test_moving_a_light_tags_the_world_not_the_materials.
 
 
 @pytest.mark.slow
