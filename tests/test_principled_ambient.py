@@ -148,3 +148,39 @@ def test_ambient_stays_object_color_without_a_specular_layer(bpy_clean):
     assert objects[2].material_slots[0].material.node_tree.nodes.get(recipe.AMBIENT_LAYER)
     lines = [line for line in report.notes if line.startswith("Ambient colour")]
     assert len(lines) == 1 and "'Scratched'" in lines[0] and "Roughness" in lines[0], lines
+
+
+def test_the_ambient_layer_comes_with_the_template_copy(bpy_clean, monkeypatch):
+    """Apply makes the ambient layer's node once per light set, not once per material (a node
+    named or a link made walks every node tree of the file, as the values' assignment did
+    before ``recipe.set_quietly`` wrote them: Apply at 10,000 Principled materials took
+    140 s): the other materials are copies that carry it, each with its own scale and
+    offset, read back as its own Ka."""
+    bpy = bpy_clean
+    from phong_nodes.addon.lighting import convert, feeds, recipe  # noqa: PLC0415
+    from phong_nodes.addon.lighting import sources as source_materials
+
+    scene = be.new_scene("Layers", 8, 8, "cycles")
+    bpy.context.window.scene = scene
+    made = []
+    real = recipe.named_node
+    monkeypatch.setattr(recipe, "named_node", lambda tree, name, *args: (
+        made.append(name) if tree.nodes.get(name) is None else None) or real(tree, name, *args))
+    # the first material converted (by name) has no layer: the layered ones still share one
+    spheres = [("a plain one", 0.5, 0.0, 0.0, "MULTI_GGX", (0.3, 0.2, 0.6)), *SPHERES]
+    objects = []
+    for index, (name, *values) in enumerate(spheres):
+        obj = be.add_quad(scene, name, index, 0, index + 1, 1)
+        obj.data.materials.append(_principled(bpy, name, *values[:-1], values[-1]))
+        objects.append(obj)
+    convert.apply(scene, objects)
+    assert made.count(recipe.AMBIENT_LAYER) == 1, made
+    for obj, (name, *values) in zip(objects, spheres):
+        material = obj.material_slots[0].material
+        (scale, offset), _linked = source_materials.ambient_terms(
+            source_materials.source_of(material))
+        kd = np.array(values[-1])
+        ka = feeds.feeds(material)[recipe.AMBIENT_INPUT].value
+        assert np.allclose(np.array(ka)[:3], kd * scale + offset, atol=1e-6), name
+        assert (material.node_tree.nodes.get(recipe.AMBIENT_LAYER) is None) == \
+            (name in ("level_zero", "a plain one")), name

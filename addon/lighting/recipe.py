@@ -154,10 +154,13 @@ def blinn_constant(material):
 def set_quietly(socket, value) -> None:
     """``socket.default_value = value`` without Blender's per-assignment update, which
     walks every node tree of the file (Apply on 3,000 materials: 1.7 ms per value, growing
-    with the file); the tree is tagged once instead."""
+    with the file); the tree is tagged once instead.  An output of a node of one output (an
+    RGB or Value node) or a vector or colour input; any other socket is assigned."""
     outputs = socket.node.outputs
     if socket.is_output and len(outputs) == 1:
         outputs.foreach_set("default_value", [float(v) for v in value])
+    elif hasattr(socket.default_value, "foreach_set"):  # a vector or colour input
+        socket.default_value.foreach_set([float(v) for v in value])
     else:
         socket.default_value = value
     socket.id_data.update_tag()

@@ -94,17 +94,6 @@ def keep_source(material, source) -> None:
         del material[SOURCE_LIBRARY_KEY]
 
 
-def _cycles_output(tree):
-    """The Material Output Cycles renders: one of target Cycles (the active one first), else
-    the active one of target All."""
-    outputs = [n for n in tree.nodes if n.bl_idname == "ShaderNodeOutputMaterial"]
-    cycles = sorted((n for n in outputs if n.target == "CYCLES"),
-                    key=lambda n: not n.is_active_output)
-    if cycles:
-        return cycles[0]
-    return next((n for n in outputs if n.target == "ALL" and n.is_active_output), None)
-
-
 def _principled(material, rendered=False):
     """The Principled BSDF of *material*: the one its active Material Output shows, else
     (unless *rendered*) its first; *rendered*: the one Cycles renders, else None."""
@@ -112,7 +101,7 @@ def _principled(material, rendered=False):
     if tree is None:
         return None
     if rendered:
-        output = _cycles_output(tree)
+        output = tree.get_output_node("CYCLES")  # Blender's own choice of output
         node = output.inputs["Surface"].links[0].from_node \
             if output is not None and output.inputs["Surface"].is_linked else None
         return node if node is not None and node.bl_idname == "ShaderNodeBsdfPrincipled" \
@@ -210,7 +199,7 @@ def base_color_link(material):
     return None
 
 
-def from_source(source, name, lights_group, template=None, linked=None):
+def from_source(source, name, lights_group, template=None, linked=None, ambient=None):
     """The Phong version of *source* (a material, or None for an empty slot).
 
     Without a texture chain on the source's Base Color: a copy of *template* (the same
@@ -220,7 +209,8 @@ def from_source(source, name, lights_group, template=None, linked=None):
     no template), a copy of the source whose other nodes are removed, given the recipe's
     nodes (each named: slower in a large file, see ``_textured_from_template``).  Its
     Ambient Object Color: ``ambient_terms`` of the source (``writer.ambient_layer``); where
-    an input it reads is fed by a node, (source name, input names) is appended to *linked*.
+    an input it reads is fed by a node, (source name, input names) is appended to *linked*;
+    *ambient*: ``ambient_terms(source)`` where the caller has it already.
     """
     texture = base_color_link(source) if source is not None else None
     if texture is not None:
@@ -244,7 +234,7 @@ def from_source(source, name, lights_group, template=None, linked=None):
         control = writer.control_output(material, target)
         if tuple(control.default_value) != value:
             recipe.set_quietly(control, value)
-    (scale, offset), inputs = ambient_terms(source)
+    (scale, offset), inputs = ambient if ambient is not None else ambient_terms(source)
     writer.ambient_layer(material, scale, offset)
     if inputs and linked is not None:
         linked.append((source.name, inputs))
@@ -261,7 +251,8 @@ def from_source(source, name, lights_group, template=None, linked=None):
 def _textured_from_template(source, texture, template, name):
     """A copy of *template* (the recipe's named nodes kept: naming a node walks the whole
     file) with *source*'s texture chain copied in (``node_copy``) feeding Object Color (and
-    the ambient light where the template's ambient sees the Object Color control); None
+    the ambient light, or the template's ambient layer, where they see the Object Color
+    control); None
     when the chain cannot be copied faithfully."""
     material = template.copy()
     tree = material.node_tree
@@ -280,6 +271,10 @@ def _textured_from_template(source, texture, template, name):
     ambient = lights.inputs[recipe.AMBIENT_INPUT]
     if ambient.is_linked and ambient.links[0].from_socket == control:
         tree.links.new(feed, ambient)
+    layer = tree.nodes.get(recipe.AMBIENT_LAYER)  # the template's ambient layer
+    vector = compat.input_socket(layer, "Vector") if layer is not None else None
+    if vector is not None and vector.is_linked and vector.links[0].from_socket == control:
+        tree.links.new(feed, vector)
     return material
 
 

@@ -106,12 +106,19 @@ def wire(material, lights_group, object_color=None) -> None:
     material[recipe.MATERIAL_TAG] = recipe.LAYOUT
 
 
+def ambient_is_kd(scale, offset) -> bool:
+    """Whether Ka = Kd × *scale* + *offset* is Kd itself (no ambient layer node)."""
+    return all(abs(v - 1.0) < 1e-7 for v in scale) and all(abs(v) < 1e-7 for v in offset)
+
+
 def ambient_layer(material, scale, offset) -> None:
     """Feed the Ambient Object Color of *material* with what feeds its Object Color (Kd)
     × *scale* + *offset* (3 floats each): one Vector Math Multiply Add
     (``recipe.AMBIENT_LAYER``), which follows a texture on Object Color.  Scale 1 and offset
     0 (no specular layer to speak of): no node, Ka is whatever feeds Object Color (the seeds'
-    model).  A material with its own Ambient Object Color control is left as it is."""
+    model).  A material with its own Ambient Object Color control is left as it is.  On a
+    copy of a material that has the node, linked as here (``sync.Sync.convert``'s templates:
+    a node named or a link made walks every node tree of the file), only the values change."""
     tree = material.node_tree
     lights = tree.nodes[recipe.LIGHTS_NODE]
     ambient = lights.inputs[recipe.AMBIENT_INPUT]
@@ -120,7 +127,7 @@ def ambient_layer(material, scale, offset) -> None:
     colour = lights.inputs["Object Color"]
     feed = colour.links[0].from_socket if colour.is_linked else None
     node = tree.nodes.get(recipe.AMBIENT_LAYER)
-    if all(abs(v - 1.0) < 1e-7 for v in scale) and all(abs(v) < 1e-7 for v in offset):
+    if ambient_is_kd(scale, offset):
         if node is not None:
             tree.nodes.remove(node)
         if feed is not None:
@@ -134,7 +141,7 @@ def ambient_layer(material, scale, offset) -> None:
     for key, value in (("Vector_001", scale), ("Vector_002", offset)):
         socket = compat.input_socket(node, key)
         if tuple(socket.default_value) != tuple(value):
-            socket.default_value = tuple(float(v) for v in value)
+            recipe.set_quietly(socket, value)
     vector = compat.input_socket(node, "Vector")
     if feed is not None and not (vector.is_linked and vector.links[0].from_socket == feed):
         tree.links.new(feed, vector)
