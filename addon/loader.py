@@ -347,15 +347,19 @@ def _sync_interface(tree, definition: GroupDef) -> None:
     for position, (in_out, spec) in enumerate(wanted):
         item = existing.get((in_out, spec.name))
         if item is None:
-            item = tree.interface.new_socket(spec.name, in_out=in_out, socket_type=spec.socket_type)
-        item.description = spec.description
+            item = tree.interface.new_socket(spec.name, description=spec.description,
+                                             in_out=in_out, socket_type=spec.socket_type)
         _set_socket_values(item, spec)
-    # Order: inputs then outputs, each as declared.
-    for index, spec in enumerate(definition.outputs):
-        tree.interface.move(_find(tree, "OUTPUT", spec.name), index)
-    n_out = len(definition.outputs)
-    for index, spec in enumerate(definition.inputs):
-        tree.interface.move(_find(tree, "INPUT", spec.name), n_out + index)
+    # Order: outputs then inputs, each as declared; an item already in place is not moved
+    # (each change of an interface walks every node tree of the file: 7 ms a change in a
+    # file of 20,000 materials)
+    wanted_order = [("OUTPUT", s.name) for s in definition.outputs] + \
+                   [("INPUT", s.name) for s in definition.inputs]
+    for index, (in_out, name) in enumerate(wanted_order):
+        items = [i for i in tree.interface.items_tree if i.item_type == "SOCKET"]
+        if index < len(items) and (items[index].in_out, items[index].name) == (in_out, name):
+            continue
+        tree.interface.move(_find(tree, in_out, name), index)
 
 
 def _find(tree, in_out, name):
@@ -366,17 +370,34 @@ def _find(tree, in_out, name):
 
 
 def _set_socket_values(item, spec) -> None:
-    if spec.subtype and hasattr(item, "subtype"):
+    """The interface item *item* as *spec* declares it; only what differs is written (each
+    write walks every node tree of the file)."""
+    if item.description != spec.description:
+        item.description = spec.description
+    if spec.subtype and hasattr(item, "subtype") and item.subtype != spec.subtype:
         try:
             item.subtype = spec.subtype
         except TypeError:  # older Blender: subtype not settable on this socket type
             pass
-    if spec.min is not None and hasattr(item, "min_value"):
+    if spec.min is not None and hasattr(item, "min_value") and item.min_value != spec.min:
         item.min_value = spec.min
-    if spec.max is not None and hasattr(item, "max_value"):
+    if spec.max is not None and hasattr(item, "max_value") and item.max_value != spec.max:
         item.max_value = spec.max
-    if spec.default is not None:
+    if spec.default is not None and not _same_value(item.default_value, spec.default):
         item.default_value = spec.default
+
+
+def _same_value(current, wanted) -> bool:
+    """Whether a socket's *current* value already is *wanted* (to float precision)."""
+    if hasattr(current, "__len__"):
+        wanted = tuple(wanted) if hasattr(wanted, "__len__") else (wanted,)
+        return len(current) == len(wanted) and all(
+            abs(float(a) - float(b)) <= 1e-7 * max(1.0, abs(float(b)))
+            for a, b in zip(current, wanted))
+    try:
+        return abs(float(current) - float(wanted)) <= 1e-7 * max(1.0, abs(float(wanted)))
+    except (TypeError, ValueError):
+        return current == wanted
 
 
 
