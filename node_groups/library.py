@@ -14,6 +14,7 @@ No ``bpy`` here.
 from __future__ import annotations
 
 import hashlib
+import itertools
 import math
 from dataclasses import dataclass, field
 
@@ -487,18 +488,47 @@ BLEND, PHONG, BLINN = "BLEND", "PHONG", "BLINN"
 HIGHLIGHTS = {BLEND: "", PHONG: " (Phong highlight)", BLINN: " (Blinn-Phong highlight)"}
 
 
+#: Before Blender 5.3 (no Switch node): the constants of a light that choose nodes of its
+#: light group in the three.js and X3D models, each a fact that holds or not, by the light
+#: types it concerns, with what a group's name says where it holds and where it does not.  On
+#: 5.3 a Switch on the constant keeps one branch inside the one group; before, the lights group
+#: takes the group of the light's facts (``rig_light_group``: *facts*), which has only that
+#: branch, or, where a setting is animated or driven, the general one, which has both.
+#: A fact holds where the condition of its Switch does.  (fact, light types, name where it
+#: holds, name where it does not)
+LIGHT_FACTS = {
+    "threejs": (("cut-off", ("POINT", "SPOT"), "cut-off", "no cut-off"),
+                ("decay 2", ("POINT", "SPOT"), "decay 2", "any decay"),
+                ("penumbra", ("SPOT",), "penumbra", "hard edge")),
+    "x3d": (("ramp", ("SPOT",), "ramp", "hard edge"),
+            ("ambient 0", ("POINT", "SPOT", "SUN"), "no ambient", "own ambient")),
+}
+
+
+def light_facts(model: str, kind: str) -> tuple:
+    """The facts (``LIGHT_FACTS``) that choose nodes of *model*'s light group of *kind*."""
+    return tuple(fact for fact, kinds, _yes, _no in LIGHT_FACTS.get(model, ()) if kind in kinds)
+
+
 def rig_light_group(model: str, kind: str, falloff: str = "QUADRATIC",
-                    shadows: bool = False, highlight: str = BLEND) -> str:
+                    shadows: bool = False, highlight: str = BLEND, facts=None) -> str:
     """The light group a lights group of *model* (``models.MODELS``: its ``rig``) draws a
     light of *kind* (POINT, SPOT, SUN) and *falloff* with, with a shadow ray or not, with
-    *highlight* (``HIGHLIGHTS``; ignored by a model without the blend): e.g.
-    "Phong Rig Spot (i0/d^k) with Shadow (Phong highlight)"."""
+    *highlight* (``HIGHLIGHTS``; ignored by a model without the blend), and *facts* (a
+    {fact: bool} of ``light_facts``, or None: the general group, where any value goes): e.g.
+    "Phong Rig Spot (i0/d^k) with Shadow (Phong highlight)", "three.js Rig Point with
+    Shadow [no cut-off, decay 2]"."""
     entry = models.get(model)
     name = f"{entry.rig} {LIGHT_KINDS[kind]}"
     if kind != "SUN" and entry.power_falloff:
         name += FALLOFFS[falloff]
     name += " with Shadow" if shadows else ""
-    return name + (HIGHLIGHTS[highlight] if entry.blinn else "")
+    name += HIGHLIGHTS[highlight] if entry.blinn else ""
+    if facts:
+        words = {fact: (yes, no) for fact, _kinds, yes, no in LIGHT_FACTS[model]}
+        name += " [" + ", ".join(words[fact][0 if facts[fact] else 1]
+                                 for fact in light_facts(model, kind)) + "]"
+    return name
 
 
 @group("Phong Surface Rays", "What every light of a lights group reads of the shaded point, "
@@ -816,11 +846,23 @@ def _threejs_settings(g, kind):
     return own
 
 
-def _threejs_light(g, light, own, sums, switched):
-    """One three.js light's diffuse light and its highlight's two sums."""
-    def choose(condition, if_true, if_false):  # a Switch on a constant on 5.3
+def _constant_choice(switched, facts):
+    """``choose(fact, condition, if_true, if_false)`` of a light group: the branch of the
+    light's *facts* where they are known (a group of its facts, before 5.3: ``LIGHT_FACTS``),
+    a Switch on the constant *condition* on 5.3 (*switched*), else both branches selected by
+    the condition."""
+    def choose(fact, condition, if_true, if_false):
+        if facts:
+            return if_true if facts[fact] else if_false
         return switch(condition, if_false, if_true) if switched \
             else select(condition, if_true, if_false)
+    return choose
+
+
+def _threejs_light(g, light, own, sums, switched, facts=None):
+    """One three.js light's diffuse light and its highlight's two sums (*facts*: the
+    light's, ``LIGHT_FACTS``, or None)."""
+    choose = _constant_choice(switched, facts)
 
     ln = dot(light.l, own["n_s"])  # n·ℓ·2⁻⁷
     numerator, gate = own["i"], ln  # saturate(n·ℓ)·2⁻⁷: clamped with the falloff (below)
@@ -830,26 +872,28 @@ def _threejs_light(g, light, own, sums, switched):
         slope = 1.0 / (e1 - e0)
         t = saturate(multiply_add(c, -slope, -e0 * slope))
         smooth = (t * t) * multiply_add(t, -2.0, 3.0)
-        if switched:  # penumbra 0: the hard edge in n·ℓ's clamp (above)
+        if switched or facts:  # penumbra 0: the hard edge in n·ℓ's clamp (above)
             edge = minimum(ln, multiply_add(c, -EDGE_SCALE, -EDGE_SCALE * e0))
-            numerator = choose(less_than(e0, e1), numerator * smooth, numerator)
-            gate = choose(less_than(e0, e1), gate, edge)
+            numerator = choose("penumbra", less_than(e0, e1), numerator * smooth, numerator)
+            gate = choose("penumbra", less_than(e0, e1), gate, edge)
         else:
-            numerator = numerator * choose(less_than(e0, e1), smooth, less_than(c, -e0))
+            numerator = numerator * choose("penumbra", less_than(e0, e1), smooth,
+                                           less_than(c, -e0))
     falloff = None
     if light.to_light is not None:
         d2 = dot(light.to_light, light.to_light)
         d = length(light.to_light)
         # the cut-off window (saturate(1 - (d/distance)⁴))², 1 where distance is 0 (1/0 is 0
         # in a Math node: the window is then 1, and on 5.3 a Switch drops it)
-        window = saturate(multiply_add(d2 * d2 if switched else power(d, 4.0),
+        squared = switched or (facts and facts["decay 2"])  # d not needed but here
+        window = saturate(multiply_add(d2 * d2 if squared else power(d, 4.0),
                                        -power(1.0 / own["cutoff"], 4.0), 1.0))
         windowed = numerator * (window * window)
-        numerator = choose(less_than(0.0, own["cutoff"]), windowed, numerator) if switched \
-            else windowed
+        numerator = choose("cut-off", less_than(0.0, own["cutoff"]), windowed, numerator) \
+            if switched or facts else windowed
         falloff = power(d, own["decay"])
-        if switched:  # decay 2: d² is the dot product
-            falloff = switch(equal(own["decay"], 2.0), falloff, d2)
+        if switched or facts:  # decay 2: d² is the dot product
+            falloff = choose("decay 2", equal(own["decay"], 2.0), d2, falloff)
 
     def weight(shade):
         """i (times a spot's cone, the window) · saturate(n·ℓ) / max(d^decay, 0.01) · 2⁻⁷
@@ -1050,8 +1094,10 @@ def _x3d_settings(g, kind):
     return own
 
 
-def _x3d_light(g, light, own, sums, switched):
-    """One X3D light's diffuse, specular and ambient light added to the sums."""
+def _x3d_light(g, light, own, sums, switched, facts=None):
+    """One X3D light's diffuse, specular and ambient light added to the sums (*facts*: the
+    light's, ``LIGHT_FACTS``, or None)."""
+    choose = _constant_choice(switched, facts)
     spot = 1.0
     if light.kind == "SPOT":  # ω = acos(-ℓ·û) = π - acos(ℓ·û)
         c = dot(light.l, normalize(light.u))
@@ -1060,7 +1106,7 @@ def _x3d_light(g, light, own, sums, switched):
         ramp = saturate(multiply_add(acos(c), -slope, (math.pi - cut) * slope))
         hard = less_than(c, -cos(cut))  # ω < cutOffAngle, no arccosine
         soft = less_than(beam, cut)  # the two constants: the ramp, or the hard edge
-        spot = switch(soft, hard, ramp) if switched else select(soft, ramp, hard)
+        spot = choose("ramp", soft, ramp, hard)
     d = length(light.to_light) if light.to_light is not None else None
 
     def attenuated(numerator, shade):
@@ -1088,8 +1134,8 @@ def _x3d_light(g, light, own, sums, switched):
         g.output(f"{prefix}Specular Sum", scale_add(lit, highlight, sums[prefix + "Specular Sum"]),
                  "+ I·max(N·H, 0)^e·IL", color=True)
     ambient = scale_add(own["ia"] * own["lc"], attenuated(1.0, False), sums["Ambient Sum"])
-    if switched:  # ambientIntensity 0 (its default): nothing to add
-        ambient = switch(equal(own["ia"], 0.0), ambient, sums["Ambient Sum"])
+    if switched or facts:  # ambientIntensity 0 (its default): nothing to add
+        ambient = choose("ambient 0", equal(own["ia"], 0.0), sums["Ambient Sum"], ambient)
     g.output("Ambient Sum", ambient, "+ Ia·IL, attenuated and spotted (not shadowed)",
              color=True)
 
@@ -1157,9 +1203,9 @@ RIG_MODELS = {
 }
 
 
-def _rig_light_of(g, model, kind, shadows, switched):
+def _rig_light_of(g, model, kind, shadows, switched, facts=None):
     """One light of *model* (``RIG_MODELS``), whole: the shape above around its model's
-    light."""
+    light (*facts*: the light's, ``LIGHT_FACTS``, or None)."""
     spec = RIG_MODELS[model]
     near = kind in ("POINT", "SPOT")
     s = g.vector("Position", ZERO, _POS) if near else None
@@ -1185,7 +1231,7 @@ def _rig_light_of(g, model, kind, shadows, switched):
     if shadows:  # from P + sign(Ng·ℓ)·offset·Ng: P - faceforward(offset·Ng, ℓ, Ng)
         origin = p - faceforward(lift, l, ng)
         hit = raycast(origin, to_light, 1.0) if near else raycast(origin, l, SUN_RAY_LENGTH)
-    spec.light(g, RigLight(kind, n, v, l, to_light, u, hit, casts), own, sums, switched)
+    spec.light(g, RigLight(kind, n, v, l, to_light, u, hit, casts), own, sums, switched, facts)
 
 
 def _register_rig_models():
@@ -1200,6 +1246,13 @@ def _register_rig_models():
                     lambda g, m=model, k=kind, s=shadows: _rig_light_of(g, m, k, s, False))
                 variant(name, SWITCH_FEATURE, what)(
                     lambda g, m=model, k=kind, s=shadows: _rig_light_of(g, m, k, s, True))
+                facts = light_facts(model, kind)
+                for values in itertools.product((False, True), repeat=len(facts)):
+                    known = dict(zip(facts, values))  # before 5.3: one group per light's facts
+                    group(rig_light_group(model, kind, "QUADRATIC", shadows, facts=known),
+                          what + ", for a light whose constants are these", into=RIG_GROUPS)(
+                        lambda g, m=model, k=kind, s=shadows, f=known:
+                        _rig_light_of(g, m, k, s, False, f))
 
 
 _register_rig_models()

@@ -7,6 +7,7 @@ blend), added to the sums they are given.  numpy has no scene, so the shadow ray
 nothing there: a light with its ray gives its light unshadowed (the rays themselves are
 rendered by tests/test_shadows.py).  No Blender here."""
 
+import itertools
 import math
 
 import numpy as np
@@ -140,7 +141,7 @@ def test_a_light_with_one_highlight_adds_what_the_reference_gives(kind, falloff,
                                    err_msg=output)
 
 
-def _x3d_case(rng, kind):
+def _x3d_case(rng, kind, facts=None):
     """Random inputs of the X3D light group and the reference's light for them."""
     p = rng.uniform(-4, 4, (N, 3))
     n, v = _unit(rng.normal(size=(N, 3))), _unit(rng.normal(size=(N, 3)))
@@ -161,6 +162,13 @@ def _x3d_case(rng, kind):
     if kind == "SPOT":  # both orders: a ramp, or a hard edge at the cut-off
         inputs["Beam Width"] = rng.uniform(0.0, math.pi / 2.0, N)
         inputs["Cut Off Angle"] = rng.uniform(0.0, math.pi / 2.0, N)
+    for fact, holds in (facts or {}).items():  # inputs that hold *facts* (LIGHT_FACTS)
+        if fact == "ramp":
+            low, high = np.sort([inputs["Beam Width"], inputs["Cut Off Angle"]], axis=0)
+            high = high + 0.01
+            inputs["Beam Width"], inputs["Cut Off Angle"] = (low, high) if holds else (high, low)
+        elif fact == "ambient 0":
+            inputs["Ambient Intensity"] = np.zeros(N) if holds else rng.uniform(0.1, 1.0, N)
     near = {k: inputs[k] for k in ("Constant", "Linear", "Quadratic", "Radius")} \
         if kind != "SUN" else {}
     args = dict(intensity=inputs["Intensity"], ambient_intensity=inputs["Ambient Intensity"],
@@ -188,6 +196,10 @@ def test_an_x3d_light_adds_what_the_reference_gives(kind, shadows, switched):
     inputs, light = _x3d_case(rng, kind)
     name = library.rig_light_group("x3d", kind, "QUADRATIC", shadows)
     group = library.definition(name, (library.SWITCH_FEATURE,) if switched else ())
+    _check_x3d(group, inputs, light, shadows)
+
+
+def _check_x3d(group, inputs, light, shadows, ambient=True):
     got = group.evaluate(inputs)
     terms = reference.x3d_light_terms(light["Light Vector"], light["Intensity"],
                                       light["Ambient"], inputs["Light Color"],
@@ -199,13 +211,16 @@ def test_an_x3d_light_adds_what_the_reference_gives(kind, shadows, switched):
                          "Plain Specular Sum": terms["Specular Light"]})
     assert set(got) == set(expected)
     for output, term in expected.items():
-        assert np.abs(term).max() > 0.01 and np.mean(np.abs(term).max(axis=-1) > 1e-6) > 0.002
+        if ambient or output != "Ambient Sum":  # (an ambientIntensity of 0 adds nothing)
+            assert np.abs(term).max() > 0.01 and \
+                np.mean(np.abs(term).max(axis=-1) > 1e-6) > 0.002
         np.testing.assert_allclose(got[output] - inputs[output], term, rtol=1e-9, atol=1e-9,
                                    err_msg=output)
 
 
-def _threejs_case(rng, kind):
-    """Random inputs of the three.js light group and the reference's light for them."""
+def _threejs_case(rng, kind, facts=None):
+    """Random inputs of the three.js light group and the reference's light for them (*facts*:
+    the inputs made to hold them, ``library.LIGHT_FACTS``)."""
     p = rng.uniform(-4, 4, (N, 3))
     n, v = _unit(rng.normal(size=(N, 3))), _unit(rng.normal(size=(N, 3)))
     inputs = {"Surface Position": p, "Normal": n, "View Vector": v,
@@ -222,6 +237,14 @@ def _threejs_case(rng, kind):
     if kind == "SPOT":
         inputs["Angle"] = rng.uniform(0.0, math.pi / 2.0, N)
         inputs["Penumbra"] = rng.choice([0.0, 0.2, 1.0], N)
+    for fact, holds in (facts or {}).items():
+        if fact == "cut-off":
+            inputs["Distance"] = rng.choice([3.0, 8.0], N) if holds else np.zeros(N)
+        elif fact == "decay 2":
+            inputs["Decay"] = np.full(N, 2.0) if holds else rng.uniform(0.0, 3.0, N)
+        elif fact == "penumbra":
+            inputs["Angle"] = rng.uniform(0.1, math.pi / 2.0, N)
+            inputs["Penumbra"] = rng.choice([0.2, 1.0], N) if holds else np.zeros(N)
     args = dict(intensity=inputs["Intensity"], geometry_position=p)
     if kind == "SUN":
         light = reference.directional_light(inputs["Direction"], **args)
@@ -246,6 +269,10 @@ def test_a_threejs_light_gives_what_the_reference_gives(kind, shadows, switched)
     inputs, light = _threejs_case(rng, kind)
     group = library.definition(library.rig_light_group("threejs", kind, "QUADRATIC", shadows),
                                (library.SWITCH_FEATURE,) if switched else ())
+    _check_threejs(rng, group, inputs, light, shadows)
+
+
+def _check_threejs(rng, group, inputs, light, shadows):
     got = group.evaluate(inputs)
     colours = {"Diffuse Color": rng.uniform(0, 1, (N, 3)),
                "Specular Color": rng.uniform(0, 1, (N, 3)), "Shininess": inputs["Exponent"],
@@ -264,3 +291,60 @@ def test_a_threejs_light_gives_what_the_reference_gives(kind, shadows, switched)
             assert np.abs(term).max() > 0.01 and np.mean(np.abs(term).max(axis=-1) > 1e-6) > 0.002
             np.testing.assert_allclose(terms[output], term, rtol=1e-9, atol=1e-9,
                                        err_msg=prefix + output)
+
+
+def _operations(group, outputs) -> int:
+    """The nodes *group* computes its *outputs* with (each formula once: ``Expr.key``)."""
+    seen = set()
+
+    def walk(expr):
+        if expr.is_leaf or expr.key in seen:
+            return
+        seen.add(expr.key)
+        for arg in expr.args:
+            walk(arg)
+
+    for name in outputs:
+        walk(group.expressions[name])
+    return len(seen)
+
+
+_FACT_CASES = [(model, kind, shadows, dict(zip(facts, values)))
+               for model in ("threejs", "x3d") for kind in ("POINT", "SPOT", "SUN")
+               for facts in [library.light_facts(model, kind)] if facts
+               for shadows in (False, True)
+               for values in itertools.product((False, True), repeat=len(facts))]
+
+
+@pytest.mark.parametrize("model, kind, shadows, facts", _FACT_CASES,
+                         ids=[f"{m}-{k}-{s}-{sorted(f.items())}" for m, k, s, f in _FACT_CASES])
+def test_a_light_of_known_constants_gives_the_reference_with_fewer_nodes(model, kind, shadows,
+                                                                         facts):
+    """Before 5.3 (no Switch), a three.js or X3D light whose constants hold *facts*
+    (``library.LIGHT_FACTS``: a cut-off distance, decay 2, a penumbra; an X3D ramp, an
+    ambientIntensity of 0) gets the group of those facts: the reference's light for every
+    input that holds them, with fewer nodes than the general group, which computes both
+    branches and selects one."""
+    rng = np.random.default_rng(hash((model, kind, shadows, tuple(facts.items()))) % 2**32)
+    name = library.rig_light_group(model, kind, "QUADRATIC", shadows, facts=facts)
+    general = library.rig_light_group(model, kind, "QUADRATIC", shadows)
+    assert name != general and name in library.RIG_GROUPS
+    group = library.definition(name)
+    if model == "threejs":
+        inputs, light = _threejs_case(rng, kind, facts)
+        _check_threejs(rng, group, inputs, light, shadows)
+    else:
+        inputs, light = _x3d_case(rng, kind, facts)
+        _check_x3d(group, inputs, light, shadows, ambient=not facts["ambient 0"])
+    sums = [s for s in library.RIG_MODELS[model].sums]
+    fewer, more = (_operations(library.definition(n), sums) for n in (name, general))
+    assert fewer <= more, f"{name}: {fewer} nodes, the general group {more}"
+    if facts == {f: _USUAL[model][f] for f in facts}:  # a light as Blender makes it: nodes fewer
+        assert fewer < more, f"{name}: {fewer} nodes, the general group {more}"
+
+
+#: The facts of a light as Blender makes it, in each model (no three.js cut-off, decay 2, no
+#: penumbra; X3D: a Spot Size of 45° is a cut-off angle below the default beamWidth, no
+#: ambientIntensity).
+_USUAL = {"threejs": {"cut-off": False, "decay 2": True, "penumbra": False},
+          "x3d": {"ramp": False, "ambient 0": True}}

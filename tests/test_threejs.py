@@ -140,9 +140,12 @@ def test_apply_with_the_threejs_model_and_switching_back(bpy_clean):
     assert tree.name == "three.js Lights Switch"
     shadowed = be.compat().HAS_RAYCAST
     plain = ["three.js Rig Material"] if shadowed else []  # the sums without shadows: Eevee's
+    # before 5.3 (no Switch) the group of a spot whose constants are three.js's defaults
+    switched = "switch" in be.compat().NODE_FEATURES
+    facts = "" if switched else " [no cut-off, decay 2, hard edge]"
     assert types == sorted(["Phong Surface", "Phong Surface Rays", "three.js Ambient",
                             "three.js Rig Material"] + plain + [
-        "three.js Rig Spot" + (" with Shadow" if shadowed else "")])
+        "three.js Rig Spot" + (" with Shadow" if shadowed else "") + facts])
     assert material.node_tree.nodes["phong_specular_strength"].outputs[0].default_value == 1.0
     out = next(n for n in tree.nodes if n.bl_idname == "NodeGroupOutput")
     for name in ("Color", "Irradiant", "Ambient", "Diffuse", "Specular", "Shader"):
@@ -152,6 +155,9 @@ def test_apply_with_the_threejs_model_and_switching_back(bpy_clean):
     light.data.phong.penumbra = 0.4
     light.data.phong.decay = 1.0
     bpy.context.view_layer.update()
+    tree, types = _group_types(material)
+    assert ("three.js Rig Spot" + (" with Shadow" if shadowed else "") + (
+        "" if switched else " [no cut-off, any decay, penumbra]")) in types
     spot = next(n for n in tree.nodes if n.name == "light:lamp")
     assert spot.inputs["Penumbra"].default_value == pytest.approx(0.4)
     assert spot.inputs["Decay"].default_value == pytest.approx(1.0)
@@ -165,6 +171,39 @@ def test_apply_with_the_threejs_model_and_switching_back(bpy_clean):
     assert any(t.startswith("Phong Rig Spot") for t in types)
     assert not any(t.startswith("three.js") for t in types)
     assert sphere.material_slots[0].material is material, "the material itself is kept"
+
+
+@pytest.mark.cycles
+def test_a_lights_constants_change_its_nodes_and_the_picture_follows(bpy_clean, tmp_path):
+    """Before 5.3 a three.js light's group is the one of its constants (a cut-off distance or
+    none, decay 2 or another, a penumbra or a hard edge: ``library.LIGHT_FACTS``), and a
+    change of them relinks the scene; on 5.3 a Switch inside the one group chooses.  Either
+    way Cycles renders the reference after each change."""
+    from phong_nodes.addon.comparison import engine
+
+    bpy = bpy_clean
+    scene, sphere, light = _one_sphere_scene(bpy)
+    be.add_ortho_camera(scene, (0.0, 0.0), 2.4, 2.4)
+    light.location = (0.0, -1.0, 3.0)  # pointing down: its cone's edge across the ball
+    light.data.spot_size = 1.2
+    bpy.ops.phong.apply_material(model="THREEJS")
+    material = sphere.material_slots[0].material
+    switched = "switch" in be.compat().NODE_FEATURES
+    for step, (settings, words) in enumerate((
+            ({}, "no cut-off, decay 2, hard edge"),
+            ({"penumbra": 0.5, "decay": 1.5}, "no cut-off, any decay, penumbra"),
+            ({"distance": 4.0, "decay": 2.0}, "cut-off, decay 2, penumbra"),
+            ({"penumbra": 0.0, "distance": 0.0}, "no cut-off, decay 2, hard edge"))):
+        for name, value in settings.items():
+            setattr(light.data.phong, name, value)
+        bpy.context.view_layer.update()
+        _tree, types = _group_types(material)
+        spot = next(t for t in types if t.startswith("three.js Rig Spot"))
+        assert spot.endswith("" if switched else f" [{words}]"), spot
+        metrics = engine.run(scene, str(tmp_path / f"step{step}"), engines=("cycles",))
+        pair = metrics["pairs"]["cycles-reference"]
+        assert pair["pixels"] > 100 and pair["max_abs"] <= 1e-4, (words, pair)
+    be.report(f"[light facts] {bpy.app.version_string}: 4 steps, Cycles = reference")
 
 
 # -- three.js in Chromium ---------------------------------------------------------------

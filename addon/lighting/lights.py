@@ -126,14 +126,20 @@ def light_set(obj, lights, rules) -> tuple:
 def signature(scene, view_layer=None, candidates=None) -> tuple:
     """Everything the lights groups of *scene* are built from, except values that drivers
     carry (transforms, colours, Phong settings): which lights, their types and falloffs
-    (``phong_falloff`` chooses nodes), and linking."""
+    (``phong_falloff`` chooses nodes), before 5.3 the constants that choose a three.js or X3D
+    light's nodes (``properties.facts_of``), and linking."""
     supported, unsupported = scene_lights(scene, view_layer, candidates)
+    model = scene.get(properties.MODEL_KEY)
+    model = model if model in models.MODELS else models.DEFAULT
     parts = []
     for obj in supported:
         rule = receivers(obj)
-        # power_scale: the constant of the i0 driver (an Area light's Normalize and shape)
+        # power_scale: the constant of the i0 driver (an Area light's Normalize and shape);
+        # facts_of: the constants that choose its group before 5.3
+        facts = properties.facts_of(obj.data, model)
         parts.append((obj.name, obj.data.name, obj.data.type, properties.falloff_of(obj.data),
                       properties.power_scale(obj.data),
+                      None if facts is None else tuple(sorted(facts.items())),
                       None if rule is None else (tuple(sorted(rule[0])), tuple(sorted(rule[1])))))
     return (tuple(parts), tuple(o.name for o in unsupported),
             scene.world.name if scene.world else None)

@@ -11,11 +11,12 @@ setters live in ``forwarding``, a module that holds no ``bpy`` (see there why).
 """
 
 import math
+import struct
 
 import bpy
 from bpy.props import BoolProperty, FloatProperty, FloatVectorProperty, PointerProperty
 
-from ...node_groups import models
+from ...node_groups import library, models
 from ...node_groups.library import FALLOFF_DEFAULTS, X3D_BEAM_WIDTH, X3D_RADIUS
 from .. import compat
 from . import forwarding
@@ -185,6 +186,58 @@ def settings_of(light) -> dict:
         for model in models.MODELS.values():
             values.update(model.area)
     return values
+
+
+#: Before Blender 5.3 (no Switch node) a three.js or X3D light's group is chosen by its
+#: constants (``library.LIGHT_FACTS``): what each fact reads of the light.
+FACT_SETTINGS = {"cut-off": ("distance",), "decay 2": ("decay",), "penumbra": ("penumbra",),
+                 "ramp": ("beam_width",), "ambient 0": ("ambient",)}
+#: A penumbra that leaves the cone's two cosines closer than this (float32, as the light group
+#: computes them) may read as none in Blender: such a light keeps the general group.
+PENUMBRA_MARGIN = 1.0e-6
+
+
+def facts_of(light, model: str):
+    """{fact: bool} of ``library.LIGHT_FACTS`` that *light* (a Light) holds in *model*, as
+    its light group's sockets carry them (float32: a fact holds where the condition of its
+    Switch does), or None: the light takes its model's general group (Blender 5.3+, whose
+    Switch chooses inside the one group; a model without facts for the light's type; a
+    setting the facts read, or the Spot Size, animated or driven; a penumbra too small to
+    tell, ``PENUMBRA_MARGIN``)."""
+    kind = models.drawn_as(light.type)
+    facts = library.light_facts(model, kind)
+    if not facts or library.SWITCH_FEATURE in compat.NODE_FEATURES:
+        return None
+    animated = compat.animated_paths(light)
+    keys = {f'["{LIGHT_KEYS[attr][0]}"]' for fact in facts for attr in FACT_SETTINGS[fact]}
+    if animated is None or animated & (keys | {"spot_size"}):
+        return None
+    values = settings_of(light)
+    f32 = _float32
+    half = f32(models.AREA_HALF_ANGLE if light.type == "AREA"
+               else 0.5 * float(getattr(light, "spot_size", math.pi)))
+    out = {}
+    for fact in facts:
+        if fact == "cut-off":  # less_than(0, distance)
+            out[fact] = f32(values["distance"]) > 0.0
+        elif fact == "decay 2":  # equal(decay, 2)
+            out[fact] = f32(values["decay"]) == 2.0
+        elif fact == "ambient 0":  # equal(ambientIntensity, 0)
+            out[fact] = f32(values["ambient"]) == 0.0
+        elif fact == "ramp":  # less_than(beamWidth, cutOffAngle)
+            out[fact] = f32(values["beam_width"]) < half
+        elif fact == "penumbra":  # less_than(cos angle, cos(angle·(1 - penumbra)))
+            inner = f32(half * f32(1.0 - f32(values["penumbra"])))
+            gap = math.cos(inner) - math.cos(half)
+            if 0.0 < gap <= PENUMBRA_MARGIN:
+                return None
+            out[fact] = gap > PENUMBRA_MARGIN
+    return out
+
+
+def _float32(value) -> float:
+    """*value* as a float32 socket holds it."""
+    return struct.unpack("f", struct.pack("f", float(value)))[0]
 
 
 def light_values(light) -> dict:

@@ -88,7 +88,7 @@ HIGHLIGHT_KEY = ownership.HIGHLIGHT_KEY
 owner, groups_of, find = ownership.owner, ownership.groups_of, ownership.find
 highlight_of = ownership.highlight_of
 #: Bump when the layout of the lights group changes.
-RIG_VERSION = 11  # 4: lights' transforms from World custom properties (View Layer attributes);
+RIG_VERSION = 12  # 4: lights' transforms from World custom properties (View Layer attributes);
 # 5: one Phong Surface and a Phong Light Terms per light instead of a Phong Shading per light;
 # 6: a light's i0 from the fourth component of its World copy (its Power: live);
 # 7: one group per light, its shadow ray inside (library.rig_light_group): the fewest nodes;
@@ -97,6 +97,7 @@ RIG_VERSION = 11  # 4: lights' transforms from World custom properties (View Lay
 # 9: the three.js and X3D light groups leaner (ℓ toward the light, the ray's side in one node)
 # 10: the seeds' shadow ray's side in one node too (Faceforward);
 # 11: before 5.3, a lights group per highlight of its materials (``highlight_for``)
+# 12: before 5.3, a three.js or X3D light's group by its constants (``properties.facts_of``)
 #: Before Blender 5.3 (no Switch node, whose constant condition Blender's inliner folds), a
 #: light group of a model that blends the highlights by the material's Blinn computes both
 #: highlights and the blend, whatever the Blinn; so a scene's lights group for a light set
@@ -351,7 +352,7 @@ def _build_lean(tree, lights, world, budget, model, loop=False, shadows=False,
         light = obj.data
         falloff = "POWER" if _is_power(light, model) else "QUADRATIC"
         name = library.rig_light_group(model, models.drawn_as(light.type), falloff, shadows,
-                                       highlight)
+                                       highlight, properties.facts_of(light, model))
         node = _light_node(tree, obj, (-600.0, -520.0 * index), model, budget, name)
         for socket, source in (*shared_inputs.items(), *sums.items()):
             if socket in node.inputs and not (socket == "Specular Strength"
