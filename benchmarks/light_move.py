@@ -286,7 +286,7 @@ def run_parts(objects: int, n_lights: int, moves: int, passes: int) -> dict:
     view_layer.update()
     phong = [[slot.material for slot in obj.material_slots] for obj in meshes]
     world = scene.world
-    keys = [(key, obj, kind) for obj in lights for kind in ("LOCATION", "AXIS")
+    keys = [(key, obj, kind) for obj in lights for kind in ("LOCATION", "AXIS", "UNIT_AXIS")
             if (key := world_copies.world_key(obj, kind)) in world.keys()]
     handlers = bpy.app.handlers.depsgraph_update_post
     ours = [h for h in handlers

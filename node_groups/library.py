@@ -37,6 +37,12 @@ BLACK = (0.0, 0.0, 0.0)
 GREY = (0.8, 0.8, 0.8)
 ZERO = (0.0, 0.0, 0.0)
 DOWN = (0.0, 0.0, -1.0)
+UP = (0.0, 0.0, 1.0)
+#: A lights group's light reads its light's axis as its unit +Z axis (the World copy
+#: "UNIT_AXIS", addon/lighting/world_copies.py), normalised by its drivers: a sun's ℓ itself,
+#: a spot's cos ω = ℓ·(this), with no node per light to normalise or negate the -Z axis.
+_REVERSED_AXIS = ("Reversed Axis", UP, "The light's unit +Z axis (its -Z axis reversed): "
+                  "toward a sun; a spot's cos ω is ℓ·(this)")
 BIG = 1.0e9
 
 
@@ -548,8 +554,7 @@ def _light_of(g, kind, falloff, shadows, switched, highlight=BLEND):
     *highlight*: the blend by Blinn, or only one highlight (``HIGHLIGHTS``: no Blinn input)."""
     near = kind in ("POINT", "SPOT")
     s = g.vector("Position", ZERO, _POS) if near else None
-    u = g.vector("Direction", DOWN, "Direction u of the light's -Z axis (normalized inside)") \
-        if kind != "POINT" else None
+    t = g.vector(*_REVERSED_AXIS) if kind != "POINT" else None
     if kind == "SPOT":
         theta = g.value("Half Angle", math.radians(30.0), "Half angle θ of the cone",
                         min=0.0, max=math.pi, subtype="ANGLE")
@@ -588,10 +593,10 @@ def _light_of(g, kind, falloff, shadows, switched, highlight=BLEND):
         r = length(toward)
         ell = normalize(toward)
     else:
-        ell = -normalize(u)
+        ell = t  # toward the sun, a unit vector
     numerator = i0
-    if kind == "SPOT":  # cos ω = -ℓ·û; [cos ω ≥ cos θ]·max(cos ω, 0)^e_att (above)
-        cos_w = -dot(ell, normalize(u))
+    if kind == "SPOT":  # cos ω = -ℓ·û = ℓ·t; [cos ω ≥ cos θ]·max(cos ω, 0)^e_att (above)
+        cos_w = dot(ell, t)
         base = saturate(minimum(cos_w, multiply_add(cos_w, GATE_SCALE, -GATE_SCALE * cos(theta))))
         numerator = i0 * power(base, maximum(e_att, MIN_GATED_EXPONENT))
     hit = None
@@ -867,18 +872,18 @@ def _threejs_light(g, light, own, sums, switched, facts=None):
     ln = dot(light.l, own["n_s"])  # n·ℓ·2⁻⁷
     numerator, gate = own["i"], ln  # saturate(n·ℓ)·2⁻⁷: clamped with the falloff (below)
     if light.kind == "SPOT":  # smoothstep(cos angle, cos(angle·(1 - penumbra)), cos ω)
-        c = dot(light.l, normalize(light.u))  # ℓ·û = -cos ω
+        cos_w = dot(light.l, light.t)  # cos ω = -ℓ·û, û the light's -Z axis
         e0, e1 = cos(own["angle"]), cos(own["angle"] * (1.0 - own["penumbra"]))
         slope = 1.0 / (e1 - e0)
-        t = saturate(multiply_add(c, -slope, -e0 * slope))
+        t = saturate(multiply_add(cos_w, slope, -e0 * slope))
         smooth = (t * t) * multiply_add(t, -2.0, 3.0)
         if switched or facts:  # penumbra 0: the hard edge in n·ℓ's clamp (above)
-            edge = minimum(ln, multiply_add(c, -EDGE_SCALE, -EDGE_SCALE * e0))
+            edge = minimum(ln, multiply_add(cos_w, EDGE_SCALE, -EDGE_SCALE * e0))
             numerator = choose("penumbra", less_than(e0, e1), numerator * smooth, numerator)
             gate = choose("penumbra", less_than(e0, e1), gate, edge)
         else:
             numerator = numerator * choose("penumbra", less_than(e0, e1), smooth,
-                                           less_than(c, -e0))
+                                           greater_than(cos_w, e0))
     falloff = None
     if light.to_light is not None:
         d2 = dot(light.to_light, light.to_light)
@@ -1099,12 +1104,12 @@ def _x3d_light(g, light, own, sums, switched, facts=None):
     light's, ``LIGHT_FACTS``, or None)."""
     choose = _constant_choice(switched, facts)
     spot = 1.0
-    if light.kind == "SPOT":  # ω = acos(-ℓ·û) = π - acos(ℓ·û)
-        c = dot(light.l, normalize(light.u))
+    if light.kind == "SPOT":  # ω = acos(-ℓ·û) = acos(ℓ·t), û the light's -Z axis
+        cos_w = dot(light.l, light.t)
         beam, cut = own["beam"], own["cut"]
         slope = 1.0 / (beam - cut)
-        ramp = saturate(multiply_add(acos(c), -slope, (math.pi - cut) * slope))
-        hard = less_than(c, -cos(cut))  # ω < cutOffAngle, no arccosine
+        ramp = saturate(multiply_add(acos(cos_w), slope, -cut * slope))
+        hard = greater_than(cos_w, cos(cut))  # ω < cutOffAngle, no arccosine
         soft = less_than(beam, cut)  # the two constants: the ramp, or the hard edge
         spot = choose("ramp", soft, ramp, hard)
     d = length(light.to_light) if light.to_light is not None else None
@@ -1146,8 +1151,8 @@ def _x3d_light(g, light, own, sums, switched, facts=None):
 # light (the table ``RIG_MODELS``): the light's position and axis, the model's inputs, what
 # the lights group hands every light (Phong Surface's n and v, the shaded point; with shadow
 # rays the true normal, the ray's lift and the light's Cast Shadow), the sums of the lights
-# before it.  Computed here for every model: ℓ = (S - P)/|S - P| (a sun's -û) and the
-# shadow ray, from P lifted to the light's side of the surface (faceforward of the
+# before it.  Computed here for every model: ℓ = (S - P)/|S - P| (a sun's: its unit +Z axis
+# t, from its World copy) and the shadow ray, from P lifted to the light's side of the surface (faceforward of the
 # material's offset·Ng by Ng·ℓ, one node, subtracted) along S - P itself (Length 1: it ends
 # at the light, lifted as its origin) or along a sun's ℓ.
 
@@ -1155,7 +1160,7 @@ def _x3d_light(g, light, own, sums, switched, facts=None):
 @dataclass(frozen=True)
 class RigLight:
     """What a model's light reads of the shape: its type, n, v, unit ℓ toward the light,
-    S - P (a point or spot light; None for a sun), the light's axis input (None for a point
+    S - P (a point or spot light; None for a sun), the light's unit +Z axis t (None for a point
     light) and its shadow ray's hit (None: no shadow ray) times its Cast Shadow."""
 
     kind: str
@@ -1163,7 +1168,7 @@ class RigLight:
     v: Expr
     l: Expr
     to_light: Expr | None
-    u: Expr | None
+    t: Expr | None
     hit: Expr | None
     casts: Expr | None
 
@@ -1209,8 +1214,7 @@ def _rig_light_of(g, model, kind, shadows, switched, facts=None):
     spec = RIG_MODELS[model]
     near = kind in ("POINT", "SPOT")
     s = g.vector("Position", ZERO, _POS) if near else None
-    u = g.vector("Direction", DOWN, "Direction u of the light's -Z axis (normalized inside)") \
-        if kind != "POINT" else None
+    t = g.vector(*_REVERSED_AXIS) if kind != "POINT" else None
     own = spec.settings(g, kind)
     n = g.vector("Normal", (0.0, 0.0, 1.0), "Unit surface normal n (Phong Surface)")
     v = g.vector("View Vector", (0.0, 0.0, 1.0), "Unit vector v toward the viewer (Phong Surface)")
@@ -1226,12 +1230,12 @@ def _rig_light_of(g, model, kind, shadows, switched, facts=None):
     sums = {name: g.vector(name, ZERO, f"The lights before: their {name.lower()}")
             for name in names}
     to_light = s - p if near else None
-    l = normalize(to_light) if near else -normalize(u)
+    l = normalize(to_light) if near else t
     hit = None
     if shadows:  # from P + sign(Ng·ℓ)·offset·Ng: P - faceforward(offset·Ng, ℓ, Ng)
         origin = p - faceforward(lift, l, ng)
         hit = raycast(origin, to_light, 1.0) if near else raycast(origin, l, SUN_RAY_LENGTH)
-    spec.light(g, RigLight(kind, n, v, l, to_light, u, hit, casts), own, sums, switched, facts)
+    spec.light(g, RigLight(kind, n, v, l, to_light, t, hit, casts), own, sums, switched, facts)
 
 
 def _register_rig_models():

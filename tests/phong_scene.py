@@ -383,4 +383,7 @@ def _assert_light_inputs(tree, lights):
             direction = input_value(node.inputs["Direction"])
             np.testing.assert_allclose(direction / np.linalg.norm(direction),
                                        -mw[:3, 2] / np.linalg.norm(mw[:3, 2]), atol=1e-6)
+        if "Reversed Axis" in node.inputs:  # a lights group's light: the unit +Z axis
+            np.testing.assert_allclose(input_value(node.inputs["Reversed Axis"]),
+                                       mw[:3, 2] / np.linalg.norm(mw[:3, 2]), atol=1e-6)
 

@@ -86,7 +86,8 @@ def test_lights_transforms_are_world_values_read_by_view_layer_attributes(bpy_cl
     for obj in lights:
         mw = np.array(obj.matrix_world)
         node = tree.nodes[f"light:{obj.name}"]
-        for socket, expected in (("Position", mw[:3, 3]), ("Direction", -mw[:3, 2])):
+        for socket, expected in (("Position", mw[:3, 3]),
+                                 ("Reversed Axis", mw[:3, 2] / np.linalg.norm(mw[:3, 2]))):
             if socket not in node.inputs:
                 continue
             attribute = node.inputs[socket].links[0].from_node
@@ -157,12 +158,12 @@ def test_a_group_reads_at_most_its_budget_of_view_layer_attributes(bpy_clean):
         if "Position" in node.inputs:
             np.testing.assert_allclose(input_value(node.inputs["Position"]), mw[:3, 3],
                                        atol=1e-6)
-        if "Direction" in node.inputs:
-            np.testing.assert_allclose(input_value(node.inputs["Direction"]), -mw[:3, 2],
-                                       atol=1e-6)
+        if "Reversed Axis" in node.inputs:  # the unit +Z axis, from the World or drivers
+            np.testing.assert_allclose(input_value(node.inputs["Reversed Axis"]),
+                                       mw[:3, 2] / np.linalg.norm(mw[:3, 2]), atol=1e-6)
     driven = sorted(o.name for o in lights
                     if not any(s.is_linked for s in tree.nodes[f"light:{o.name}"].inputs
-                               if s.name in ("Position", "Direction")))
+                               if s.name in ("Position", "Reversed Axis")))
     # by name: Extra 0 and Extra 1 (two lookups each) take the 4; the rest are driven
     assert driven == ["Extra 2", "Extra 3", "Extra 4", "Extra 5", "Point", "Spot", "Sun"]
 

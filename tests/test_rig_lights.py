@@ -47,6 +47,7 @@ def _case(rng, kind, falloff):
         inputs["Position"] = p + rng.normal(size=(N, 3)) * rng.choice([0.3, 2.0, 6.0], (N, 1))
     if kind != "POINT":
         inputs["Direction"] = rng.normal(size=(N, 3)) * rng.choice([0.5, 1.0, 3.0], (N, 1))
+        inputs["Reversed Axis"] = -_unit(inputs["Direction"])  # the group's: the unit +Z axis
     if kind == "SPOT":  # Blender's Spot Size is at most 180°: θ ≤ 90°
         inputs["Half Angle"] = rng.uniform(0.0, math.pi / 2.0, N)
         inputs["Edge Exponent"] = _setting(rng, -1.0, 40.0)
@@ -159,6 +160,7 @@ def _x3d_case(rng, kind, facts=None):
         inputs["Radius"] = rng.choice([-1.0, 2.0, 5.0, 100.0], N)
     if kind != "POINT":
         inputs["Direction"] = rng.normal(size=(N, 3)) * rng.choice([0.5, 1.0, 3.0], (N, 1))
+        inputs["Reversed Axis"] = -_unit(inputs["Direction"])  # the group's: the unit +Z axis
     if kind == "SPOT":  # both orders: a ramp, or a hard edge at the cut-off
         inputs["Beam Width"] = rng.uniform(0.0, math.pi / 2.0, N)
         inputs["Cut Off Angle"] = rng.uniform(0.0, math.pi / 2.0, N)
@@ -234,6 +236,7 @@ def _threejs_case(rng, kind, facts=None):
         inputs["Decay"] = _setting(rng, 0.0, 3.0)
     if kind != "POINT":
         inputs["Direction"] = rng.normal(size=(N, 3)) * rng.choice([0.5, 1.0, 3.0], (N, 1))
+        inputs["Reversed Axis"] = -_unit(inputs["Direction"])  # the group's: the unit +Z axis
     if kind == "SPOT":
         inputs["Angle"] = rng.uniform(0.0, math.pi / 2.0, N)
         inputs["Penumbra"] = rng.choice([0.0, 0.2, 1.0], N)

@@ -2,9 +2,10 @@
 """Drivers from lights and the world to node inputs, without any Python expression.
 
 Every driver is either an AVERAGE driver with one variable (a TRANSFORMS channel or a
-SINGLE_PROP custom property / colour channel / world-matrix entry) or a SCRIPTED driver
-``v * k`` that Blender evaluates itself (``driver.is_simple_expression`` is True), so Phong
-materials follow their lights with "Auto Run Python Scripts" off and without the extension.
+SINGLE_PROP custom property / colour channel / world-matrix entry) or a SCRIPTED driver of a
+simple expression (``v * k``, a light's i0, its colour, a unit axis) that Blender evaluates
+itself (``driver.is_simple_expression`` is True), so Phong materials follow their lights with
+"Auto Run Python Scripts" off and without the extension.
 """
 
 import bpy
@@ -65,6 +66,33 @@ def world_minus_z(socket, obj):
     light groups normalise it).  ``matrix_world[2][i]`` is column 2, row i."""
     return [prop(socket, i, "OBJECT", obj, f"matrix_world[2][{i}]", scale=-1.0)
             for i in range(3)]
+
+
+def unit_axis_expression(index: int) -> str:
+    """Component *index* of the unit +Z axis of an object's world matrix, of the variables
+    a, b, c (``matrix_world[2][0..2]``: column 2) as ``unit_z_axis`` names them: a simple
+    expression (Blender evaluates it without Python), 0 for a zero axis."""
+    return f"{'abc'[index]} / max(sqrt(a * a + b * b + c * c), 1e-30)"
+
+
+def unit_z_axis(driver, obj, index: int) -> None:
+    """Make *driver* (emptied) component *index* of *obj*'s unit world +Z axis: the third
+    column of its world matrix, normalised (parents, constraints, animation, scale and
+    mirrored rigs included): a sun's unit vector toward the light, a spot's axis reversed."""
+    driver.type = "SCRIPTED"
+    for row, name in enumerate("abc"):
+        _variable(driver, name, "OBJECT", obj, f"matrix_world[2][{row}]")
+    driver.expression = unit_axis_expression(index)
+
+
+def world_unit_z(socket, obj):
+    """Vector socket = *obj*'s unit world +Z axis (``unit_z_axis``)."""
+    drivers = []
+    for index in range(3):
+        _fcurve, driver = _fresh(socket, index)
+        unit_z_axis(driver, obj, index)
+        drivers.append(driver)
+    return drivers
 
 
 def _variable(driver, name, id_type, id_block, data_path) -> None:

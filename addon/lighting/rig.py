@@ -97,7 +97,8 @@ RIG_VERSION = 12  # 4: lights' transforms from World custom properties (View Lay
 # 9: the three.js and X3D light groups leaner (ℓ toward the light, the ray's side in one node)
 # 10: the seeds' shadow ray's side in one node too (Faceforward);
 # 11: before 5.3, a lights group per highlight of its materials (``highlight_for``)
-# 12: before 5.3, a three.js or X3D light's group by its constants (``properties.facts_of``)
+# 12: before 5.3, a three.js or X3D light's group by its constants (``properties.facts_of``);
+#     a sun's or spot's axis read as its unit +Z axis (World copy "UNIT_AXIS")
 #: Before Blender 5.3 (no Switch node, whose constant condition Blender's inliner folds), a
 #: light group of a model that blends the highlights by the material's Blinn computes both
 #: highlights and the blend, whatever the Blinn; so a scene's lights group for a light set
@@ -557,8 +558,8 @@ def _light_node(tree, obj, location, model, budget=(None, 0, 0), group=None):
     node = _group_node(tree, group or spec.light_groups[kind], f"light:{obj.name}", location)
     inputs = node.inputs
     keys = {attr: f'["{key}"]' for attr, (key, _default) in properties.LIGHT_KEYS.items()}
-    kinds = [name for name, types in (("LOCATION", ("POINT", "SPOT")), ("AXIS", ("SUN", "SPOT")))
-             if kind in types]
+    kinds = [name for name, types in (("LOCATION", ("POINT", "SPOT")),
+                                      ("UNIT_AXIS", ("SUN", "SPOT"))) if kind in types]
     world = budget[0]
     from_world = world is not None and world.library is None and budget[1] >= len(kinds)
     targets = {attr: target for attr, target in properties.model_settings(model, light)}
@@ -584,7 +585,7 @@ def _light_node(tree, obj, location, model, budget=(None, 0, 0), group=None):
                 if name in inputs:  # (the seeds' lights group's light has its own i0/d^k)
                     inputs[name].default_value = value
     if kind in ("SUN", "SPOT") and not from_world:
-        drivers.world_minus_z(inputs["Direction"], obj)
+        drivers.world_unit_z(inputs[world_copies.TRANSFORM_SOCKETS["UNIT_AXIS"]], obj)
     if light.type == "SPOT":
         drivers.prop(inputs[spec.spot_angle], None, "LIGHT", light, "spot_size", scale=0.5)
     elif light.type == "AREA":

@@ -39,6 +39,7 @@ Nothing here runs before 5.3 (``compat.HAS_LIGHT_LOOP``): there Eevee reads the 
 
 from __future__ import annotations
 
+import math
 import re
 import threading
 import zlib
@@ -54,10 +55,10 @@ from . import loop as light_loop
 #: Render engines that read no View Layer attribute of a Phong material whose lights
 #: groups have the loop part.
 LOOP_ENGINES = frozenset({"BLENDER_EEVEE", "BLENDER_EEVEE_NEXT", "BLENDER_WORKBENCH"})
-_KINDS = ("LOCATION", "AXIS")
+_KINDS = ("LOCATION", "AXIS", "UNIT_AXIS")
 
-#: A light's world location (Point, Spot) and world -Z axis (Sun, Spot) reach its lights
-#: group as World custom properties of 4 floats (``world_key``), written by drivers on the
+#: A light's world location (Point, Spot) and axis (Sun, Spot: ``TRANSFORM_SOCKETS``) reach
+#: its lights group as World custom properties of 4 floats (``world_key``), written by drivers on the
 #: World and read by Attribute nodes of type View Layer: moving a light then updates the
 #: World, not the node trees of the materials.  Each such Attribute node is a
 #: search loop in Eevee's shader, whose compile time grows steeply with their number (and
@@ -70,7 +71,12 @@ WORLD_KEYS = "phong_world_keys"
 #: compiles none of them); apart, so that the Per Vertex / Per Face groups, which Eevee
 #: compiles, read only those of ``WORLD_KEYS`` (``shading/groups.py``).
 LOOP_WORLD_KEYS = "phong_world_keys_loop"
-TRANSFORM_SOCKETS = {"LOCATION": "Position", "AXIS": "Direction"}
+#: The copies' kinds and the sockets they feed: a light's world location ("LOCATION"), its
+#: world -Z axis ("AXIS": the Per Vertex / Per Face groups' Direction, normalised there) and
+#: its unit world +Z axis ("UNIT_AXIS": a lights group's light groups, where a sun's is ℓ
+#: itself and a spot's cos ω = ℓ·(this), with no node to normalise or negate it).
+TRANSFORM_SOCKETS = {"LOCATION": "Position", "AXIS": "Direction", "UNIT_AXIS": "Reversed Axis"}
+_SUFFIXES = {"LOCATION": "p", "AXIS": "d", "UNIT_AXIS": "u"}
 
 
 # -- the keys and who reads them ---------------------------------------------------------
@@ -80,7 +86,7 @@ def carries_intensity(obj, kind: str) -> bool:
     the Attribute node's Alpha): the location of a point, spot or area light, the axis of a
     sun; so dragging its Power updates the World too, not the node trees of the materials."""
     drawn = models.drawn_as(obj.data.type) if obj.type == "LIGHT" else None
-    return drawn is not None and kind == ("AXIS" if drawn == "SUN" else "LOCATION")
+    return drawn is not None and kind == ("UNIT_AXIS" if drawn == "SUN" else "LOCATION")
 
 
 def _intensity_paths():
@@ -88,12 +94,12 @@ def _intensity_paths():
 
 
 def world_key(obj, kind: str) -> str:
-    """The World custom property that carries *obj*'s world location (*kind* "LOCATION") or
-    world -Z axis ("AXIS"): its name in letters, digits and underscores, and a checksum of the
-    exact name (two names that read the same stay apart)."""
+    """The World custom property that carries *obj*'s world location (*kind* "LOCATION"),
+    world -Z axis ("AXIS") or unit world +Z axis ("UNIT_AXIS"): its name in letters, digits
+    and underscores, and a checksum of the exact name (two names that read the same stay
+    apart)."""
     safe = re.sub(r"[^A-Za-z0-9]", "_", obj.name)[:40]
-    suffix = "p" if kind == "LOCATION" else "d"
-    return f"{WORLD_PREFIX}{safe}_{zlib.crc32(obj.name.encode()):08x}_{suffix}"
+    return f"{WORLD_PREFIX}{safe}_{zlib.crc32(obj.name.encode()):08x}_{_SUFFIXES[kind]}"
 
 
 def prune(worlds=None) -> int:
@@ -169,8 +175,8 @@ def _fresh_prop(id_block, key, index):
 
 
 def write(world, key, obj, kind) -> None:
-    """``world[key]`` (4 floats) = the object's world location (*kind* "LOCATION") or world
-    -Z axis (*kind* "AXIS") in its first three, in the fourth the light's i0 where the copy
+    """``world[key]`` (4 floats) = the object's world location (*kind* "LOCATION"), world
+    -Z axis ("AXIS") or unit world +Z axis ("UNIT_AXIS") in its first three, in the fourth the light's i0 where the copy
     carries it (``carries_intensity``), else 0; the drivers live on the World (its animation
     data), so a moved light, or one whose Power is dragged, updates the World, not the node
     trees that read it (Attribute nodes of type View Layer: docs/contract.md, "Several
@@ -178,8 +184,12 @@ def write(world, key, obj, kind) -> None:
     matrix = obj.matrix_world
     if kind == "LOCATION":
         value = [float(v) for v in matrix.translation]
-    else:
+    elif kind == "AXIS":
         value = [-float(matrix[i][2]) for i in range(3)]
+    else:
+        axis = [float(matrix[i][2]) for i in range(3)]
+        size = max(math.sqrt(sum(v * v for v in axis)), 1e-30)
+        value = [v / size for v in axis]
     carries = carries_intensity(obj, kind)
     value.append(properties.intensity(obj.data) if carries else 0.0)
     current = world.get(key)
@@ -203,6 +213,9 @@ def write(world, key, obj, kind) -> None:
                                      properties.power_scale(obj.data))
     for index in range(3):
         driver = _fresh_prop(world, key, index)
+        if kind == "UNIT_AXIS":
+            drivers.unit_z_axis(driver, obj, index)
+            continue
         var = driver.variables.new()
         var.name = "v"
         if kind == "LOCATION":
@@ -239,6 +252,15 @@ def _drivers_fit(world, key, obj, kind) -> bool:
             return False
     for index, fcurve in found.items():
         driver = fcurve.driver
+        if kind == "UNIT_AXIS":
+            if (fcurve.modifiers or driver.type != "SCRIPTED"
+                    or driver.expression != drivers.unit_axis_expression(index)
+                    or [(v.name, v.type, v.targets[0].id, v.targets[0].data_path)
+                        for v in driver.variables] != [
+                        (name, "SINGLE_PROP", obj, f"matrix_world[2][{row}]")
+                        for row, name in enumerate("abc")]):
+                return False
+            continue
         if len(driver.variables) != 1 or fcurve.modifiers:
             return False
         var = driver.variables[0]
