@@ -70,6 +70,8 @@ def test_lights_transforms_are_world_values_read_by_view_layer_attributes(bpy_cl
     bpy = bpy_clean
     _skip_without_lookups()
     scene, plane, sphere, lights = build_scene(bpy)
+    lights[1].scale = (0.5, 2.0, 3.0)  # the sun: its unit axis is its normalised +Z column
+    lights[2].scale = (-1.0, 1.0, 0.25)  # the spot, mirrored
     assert bpy.ops.phong.apply_material() == {"FINISHED"}
     tree = lights_tree(plane.active_material)
     attributes = [n for n in tree.nodes if n.bl_idname == "ShaderNodeAttribute"]
@@ -94,6 +96,10 @@ def test_lights_transforms_are_world_values_read_by_view_layer_attributes(bpy_cl
             value = np.array(list(world[attribute.attribute_name]))
             assert value.shape == (4,)
             np.testing.assert_allclose(value[:3], expected, atol=1e-6)
+    for fcurve in world.animation_data.drivers:  # Blender evaluates them without Python
+        assert fcurve.driver.is_valid and (fcurve.driver.type != "SCRIPTED"
+                                           or fcurve.driver.is_simple_expression), \
+            (fcurve.data_path, fcurve.driver.expression)
     for material in (plane.active_material, sphere.active_material):
         assert not [k for k, v in material.items() if isinstance(v, bpy.types.ID)], \
             "no ID pointer in a Phong material (the depsgraph would follow it)"
