@@ -251,12 +251,34 @@ def write_per_light_shading(lights_group) -> None:
     def copy_inputs(old, new):
         for socket in new.inputs:
             source = old.inputs.get(socket.name)
+            if socket.name == "Direction" and "Reversed Axis" in old.inputs:
+                axis_from(old, socket)  # 0.3 read the -Z axis; this version its unit +Z
+                continue
             if source is None:
                 continue
             if source.is_linked and source.links[0].from_node.bl_idname != "ShaderNodeGroup":
                 links.new(source.links[0].from_socket, socket)  # Attributes, the group input
             elif not source.is_linked:
                 socket.default_value = source.default_value
+
+    def axis_from(old, socket):
+        """*socket* (a library light group's Direction) = the -Z axis of *old*'s light: its
+        World copy of kind AXIS, as 0.3 read it, where *old* reads a copy, else the value."""
+        source = old.inputs["Reversed Axis"]
+        if not source.is_linked:
+            socket.default_value = [-v for v in source.default_value]
+            return
+        import bpy  # noqa: PLC0415
+
+        from phong_nodes.addon.lighting import world_copies  # noqa: PLC0415
+
+        obj = bpy.data.objects[old.name.removeprefix("light:")]
+        world = bpy.context.scene.world
+        key = world_copies.world_key(obj, "AXIS")
+        world_copies.write(world, key, obj, "AXIS")
+        attribute = nodes.new("ShaderNodeAttribute")
+        attribute.attribute_type, attribute.attribute_name = "VIEW_LAYER", key
+        links.new(attribute.outputs["Vector"], socket)
 
     for index, old in enumerate(rigged):
         kind = kinds[old.node_tree.name.split(" (")[0].removesuffix(" with Shadow")]
