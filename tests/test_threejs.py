@@ -206,6 +206,45 @@ def test_a_lights_constants_change_its_nodes_and_the_picture_follows(bpy_clean, 
     be.report(f"[light facts] {bpy.app.version_string}: 4 steps, Cycles = reference")
 
 
+def test_a_lights_facts_are_what_its_sockets_hold(bpy_clean):
+    """``properties.facts_of``: before 5.3 the facts of a three.js or X3D light as its light
+    group's float32 sockets hold them, and None (the general group) where a setting they read
+    is keyframed or a penumbra too small to tell; on 5.3 None always (the Switch chooses)."""
+    from phong_nodes.addon.lighting import properties
+
+    bpy = bpy_clean
+    light = bpy.data.lights.new("facts", "SPOT")
+    properties.ensure_light_props(light)
+    if "switch" in be.compat().NODE_FEATURES:
+        assert properties.facts_of(light, "threejs") is None
+        pytest.skip("5.3 and later: the Switch chooses inside the one group")
+    assert properties.facts_of(light, "threejs") == {"cut-off": False, "decay 2": True,
+                                                     "penumbra": False}
+    assert properties.facts_of(light, "seeds") is None  # no facts in the seeds' model
+    light.phong.decay = 2.0000000001  # float32: 2 exactly
+    light.phong.distance = 1e-30  # float32: above 0
+    light.phong.penumbra = 0.3
+    assert properties.facts_of(light, "threejs") == {"cut-off": True, "decay 2": True,
+                                                     "penumbra": True}
+    light.phong.penumbra = 1e-9  # float32: 1 - 1e-9 is 1, the two cosines equal: hard edge
+    assert properties.facts_of(light, "threejs")["penumbra"] is False
+    light.phong.penumbra = 1e-6  # the cone's cosines within 1e-6: the general group
+    assert properties.facts_of(light, "threejs") is None
+    light.phong.penumbra = 0.0
+    light.spot_size = 1.0  # X3D's cut-off angle 0.5, below the default beam width 0.7854
+    assert properties.facts_of(light, "x3d") == {"ramp": False, "ambient 0": True}
+    light.phong.beam_width = 0.3
+    light.phong.ambient = 0.2
+    assert properties.facts_of(light, "x3d") == {"ramp": True, "ambient 0": False}
+    light.keyframe_insert('["phong_decay"]', frame=1)  # animated: any value may come
+    assert properties.facts_of(light, "threejs") is None
+    assert properties.facts_of(light, "x3d") is not None  # X3D reads no decay
+    sun = bpy.data.lights.new("facts sun", "SUN")
+    assert properties.facts_of(sun, "threejs") is None  # a three.js sun has no facts
+    area = bpy.data.lights.new("facts area", "AREA")  # a spot of 90°, X3D beam 90°: no ramp
+    assert properties.facts_of(area, "x3d") == {"ramp": False, "ambient 0": True}
+
+
 # -- three.js in Chromium ---------------------------------------------------------------
 
 def test_exported_page_loads_in_chromium_without_console_errors(bpy_clean, tmp_path):
