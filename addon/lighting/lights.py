@@ -129,8 +129,7 @@ def signature(scene, view_layer=None, candidates=None) -> tuple:
     (``phong_falloff`` chooses nodes), before 5.3 the constants that choose a three.js or X3D
     light's nodes (``properties.facts_of``), and linking."""
     supported, unsupported = scene_lights(scene, view_layer, candidates)
-    model = scene.get(properties.MODEL_KEY)
-    model = model if model in models.MODELS else models.DEFAULT
+    model = properties.model_of(scene)
     parts = []
     for obj in supported:
         rule = receivers(obj)

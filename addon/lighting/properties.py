@@ -212,7 +212,9 @@ def facts_of(light, model: str):
     keys = {f'["{LIGHT_KEYS[attr][0]}"]' for fact in facts for attr in FACT_SETTINGS[fact]}
     if animated is None or animated & (keys | {"spot_size"}):
         return None
-    values = settings_of(light)
+    fixed = dict(models.MODELS[model].area) if light.type == "AREA" else {}
+    values = {attr: float(fixed[attr]) if attr in fixed else float(light.get(*LIGHT_KEYS[attr]))
+              for fact in facts for attr in FACT_SETTINGS[fact]}
     f32 = _float32
     half = f32(models.AREA_HALF_ANGLE if light.type == "AREA"
                else 0.5 * float(getattr(light, "spot_size", math.pi)))
@@ -313,6 +315,13 @@ class PhongWorldSettings(bpy.types.PropertyGroup):
 #: identifiers are the values of ``scene["phong_model"]`` and of the scene files' ``model``.
 MODEL_ITEMS = tuple((m.name, m.label, m.description) for m in models.MODELS.values())
 MODEL_KEY = "phong_model"
+
+
+def model_of(scene) -> str:
+    """The lighting model of *scene*: a name of ``models.MODELS`` (default the seeds')."""
+    model = scene.get(MODEL_KEY, models.DEFAULT) if scene is not None else models.DEFAULT
+    return model if model in models.MODELS else models.DEFAULT
+
 
 _MODEL_NAMES = tuple(item[0] for item in MODEL_ITEMS)
 

@@ -162,10 +162,7 @@ def wants_shadows(scene) -> bool:
     return shadow_rays.supported() and not wants_term_passes(scene)
 
 
-def model_of(scene) -> str:
-    """The lighting model of *scene*: a name of ``models.MODELS`` (default the seeds')."""
-    model = scene.get(MODEL_KEY, MODELS[0]) if scene is not None else MODELS[0]
-    return model if model in models.MODELS else MODELS[0]
+model_of = properties.model_of
 
 
 def highlight_for(model: str, blinn) -> str:
