@@ -194,3 +194,63 @@ def test_restore_after_a_reload_gives_a_users_override_its_library_slots_back(bp
     slot = crate.material_slots[0]
     assert slot.link == "DATA" and slot.material.name == "Wood" and \
         slot.material.library is not None, (slot.link, slot.material)
+
+
+def test_a_scene_instancing_another_scenes_phong_objects_follows_its_lights(bpy_clean,
+                                                                             tmp_path):
+    """Scene "B" holds a collection of converted objects (their Phong materials use B's lights
+    group) that scene "A" instances, beside A's own converted objects.  After a reload A's
+    lights change (an object moved, then a light added): the handler relinks A, which must
+    neither crash Blender (moving a lights group's users to a new group inside the handler
+    did, bpy 5.3.0: glTF-Blender-IO's 39_parenting_full_hierarchy.blend after Apply) nor
+    miss the new light."""
+    bpy = bpy_clean
+    from phong_nodes.addon.lighting import rig, sync
+
+    be.reset_empty_file()
+    scene_a = be.new_scene("A", 8, 8)
+    scene_b = be.new_scene("B", 8, 8)
+    props = bpy.data.collections.new("Props")
+    scene_b.collection.children.link(props)
+    for index in range(2):
+        card = be.add_quad(scene_b, f"Card {index}", 0.0, 0.0, 1.0, 1.0, 0.0)
+        scene_b.collection.objects.unlink(card)
+        props.objects.link(card)
+        card.location.x = 2.0 * index
+        card.data.materials.append(_principled(bpy, f"Card {index}", (0.2, 0.5, 0.8)))
+    own = []
+    for index in range(2):  # two materials: A's lights group has two users
+        tile = be.add_quad(scene_a, f"Tile {index}", 0.0, 0.0, 1.0, 1.0, 0.0)
+        tile.location.y = 3.0 + index
+        tile.data.materials.append(_principled(bpy, f"Tile {index}", (0.8, 0.5, 0.2)))
+        own.append(tile)
+    instancer = bpy.data.objects.new("Props here", None)
+    instancer.instance_type, instancer.instance_collection = "COLLECTION", props
+    scene_a.collection.objects.link(instancer)
+    light = bpy.data.objects.new("Lamp", bpy.data.lights.new("Lamp", "POINT"))
+    light.location = (0.0, 0.0, 3.0)
+    scene_a.collection.objects.link(light)
+    for scene, objects in ((scene_b, list(props.objects)), (scene_a, own)):
+        bpy.context.window.scene = scene
+        bpy.context.view_layer.update()
+        be.apply_phong(scene, objects)
+    assert sync.instances_phong(scene_a) and not sync.instances_phong(scene_b)
+    path = str(tmp_path / "instancing.blend")
+    bpy.ops.wm.save_as_mainfile(filepath=path)
+    bpy.ops.wm.open_mainfile(filepath=path)
+    scene_a = bpy.data.scenes["A"]
+    bpy.context.window.scene = scene_a
+    scene_a.objects["Tile 0"].location.x += 1.0
+    bpy.context.view_layer.update()  # the handler's first relink after the load: no crash
+    lamp = bpy.data.objects.new("Second lamp", bpy.data.lights.new("Second lamp", "SPOT"))
+    lamp.location = (1.0, 1.0, 3.0)
+    scene_a.collection.objects.link(lamp)
+    bpy.context.view_layer.update()
+    for name in ("Tile 0", "Tile 1"):
+        material = scene_a.objects[name].active_material
+        group = material.node_tree.nodes["phong_lights"].node_tree
+        assert rig.owner(group) == scene_a
+        assert sorted(str(n) for n in group.get("phong_lights", ())) == [
+            "Lamp", "Second lamp"], f"{name}: A's lights group follows its lights"
+    card = bpy.data.objects["Card 0"].active_material.node_tree.nodes["phong_lights"]
+    assert rig.owner(card.node_tree) == bpy.data.scenes["B"], "B's objects keep B's group"

@@ -443,9 +443,41 @@ def on_depsgraph_update(scene, depsgraph=None):
         return
     _BUSY.append(True)
     try:
-        relink_scene(scene, view_layer, prune=False)
+        if instances_phong(scene):  # moving a group's users here crashes Blender (5.3.0)
+            with rig.in_place():
+                relink_scene(scene, view_layer, prune=False)
+        else:
+            relink_scene(scene, view_layer, prune=False)
     finally:
         _BUSY.pop()
+
+
+def instances_phong(scene) -> bool:
+    """Whether *scene* instances a collection (an object's Instancing ▸ Collection, at any
+    depth) holding an object whose Phong material uses another scene's lights group (a
+    collection of another scene's converted objects instanced here: glTF-Blender-IO's
+    tests/scenes/39_parenting_full_hierarchy.blend after Apply).  A lights group of such a
+    scene that moves its users to a new group (``rig.rewrite``) inside a depsgraph handler
+    crashes Blender in the update that follows (bpy 5.3.0, ``deg_check_base_in_depsgraph``;
+    not where the instanced materials are the scene's own), so the handler rewrites such a
+    scene's groups in place."""
+    here = scene.as_pointer()
+    seen, stack = set(), [obj.instance_collection for obj in scene.objects
+                          if obj.instance_type == "COLLECTION" and obj.instance_collection]
+    while stack:
+        collection = stack.pop()
+        if collection.as_pointer() in seen:
+            continue
+        seen.add(collection.as_pointer())
+        for obj in collection.all_objects:
+            for slot in obj.material_slots:
+                key = recipe.lights_key(slot.material) \
+                    if recipe.is_phong_material(slot.material) else None
+                if key is not None and key[0] != here:
+                    return True
+            if obj.instance_type == "COLLECTION" and obj.instance_collection:
+                stack.append(obj.instance_collection)
+    return False
 
 
 @persistent
