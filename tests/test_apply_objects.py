@@ -254,3 +254,42 @@ def test_a_scene_instancing_another_scenes_phong_objects_follows_its_lights(bpy_
             "Lamp", "Second lamp"], f"{name}: A's lights group follows its lights"
     card = bpy.data.objects["Card 0"].active_material.node_tree.nodes["phong_lights"]
     assert rig.owner(card.node_tree) == bpy.data.scenes["B"], "B's objects keep B's group"
+
+
+def test_compare_sees_the_objects_of_an_instanced_collection(bpy_clean, tmp_path):
+    """A collection that only an Empty instances (no object of it in the view layer), its
+    objects converted by Apply: the comparison finds them (it said "no object with a Phong
+    material … Apply Phong Material first" after Apply itself had converted them), and
+    Cycles matches the reference on their instances' pixels."""
+    bpy = bpy_clean
+    from phong_nodes.addon.comparison import engine
+    from phong_nodes.addon.scene import describe
+
+    be.reset_empty_file()
+    scene = be.new_scene("Instances", 32, 32)
+    bpy.context.window.scene = scene
+    be.add_ortho_camera(scene, (0.0, 0.0), 4.0, 4.0)
+    props = bpy.data.collections.new("Props")  # not linked to the scene: instanced only
+    card = be.add_quad(scene, "Card", -0.8, -0.8, 0.8, 0.8, 0.0)
+    scene.collection.objects.unlink(card)
+    props.objects.link(card)
+    card.data.materials.append(_principled(bpy, "Card", (0.2, 0.5, 0.8)))
+    instancers = []
+    for index, x in enumerate((-1.0, 1.0)):
+        instancer = bpy.data.objects.new(f"Props {index}", None)
+        instancer.instance_type, instancer.instance_collection = "COLLECTION", props
+        instancer.location = (x, 0.0, 0.0)
+        scene.collection.objects.link(instancer)
+        instancers.append(instancer)
+    light = bpy.data.objects.new("Lamp", bpy.data.lights.new("Lamp", "POINT"))
+    light.location = (0.3, 0.2, 2.0)
+    scene.collection.objects.link(light)
+    bpy.context.view_layer.update()
+    be.apply_phong(scene, instancers)
+    layer = describe.view_layer_of(scene)
+    assert describe.phong_objects(scene, layer) == [], "nothing of it in the view layer"
+    assert describe.instanced_phong_objects(scene, layer) == [card]
+    metrics = engine.run(scene, str(tmp_path / "out"), engines=("cycles",))
+    assert metrics["ok"], metrics.get("verdict")
+    assert metrics["pairs"]["cycles-reference"]["max_abs"] <= 1e-4
+    assert metrics["pixels"]["compared"] > 200, "both instances' pixels are compared"

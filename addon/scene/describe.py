@@ -77,6 +77,42 @@ def phong_objects(scene, view_layer) -> list:
             and any(recipe.is_phong_material(slot.material) for slot in obj.material_slots)]
 
 
+def instanced_phong_objects(scene, view_layer) -> list:
+    """The objects that render in *view_layer* only through a collection instance (an
+    object's Instancing ▸ Collection, at any depth) with a Phong material of *scene*'s own
+    lights groups in some slot: what Apply converts of an instanced collection (a library's
+    through its override).  Their instances share the object's pass index, so the comparison
+    numbers them as the object.  A Phong material of another scene's lights group is lit by
+    that scene's lights, which this scene's reference does not hold: left out."""
+    view_layer = lights_mod.synced(scene, view_layer)
+    collections = lights_mod.render_collections(view_layer)
+    direct = {obj.as_pointer() for obj in view_layer.objects}
+    here = scene.as_pointer()
+    stack = [obj.instance_collection for obj in view_layer.objects
+             if obj.instance_type == "COLLECTION" and obj.instance_collection is not None
+             and lights_mod.visible(obj, view_layer, collections)]
+    seen, found = set(), []
+    while stack:
+        collection = stack.pop()
+        if collection.as_pointer() in seen or collection.hide_render:
+            continue
+        seen.add(collection.as_pointer())
+        stack.extend(collection.children)
+        for obj in collection.objects:
+            if obj.hide_render or obj.as_pointer() in direct:
+                continue
+            if obj.instance_type == "COLLECTION" and obj.instance_collection is not None:
+                stack.append(obj.instance_collection)
+            if obj.as_pointer() in seen or not hasattr(obj.data, "materials"):
+                continue
+            seen.add(obj.as_pointer())
+            if any(recipe.is_phong_material(slot.material)
+                   and (recipe.lights_key(slot.material) or (None,))[0] == here
+                   for slot in obj.material_slots):
+                found.append(obj)
+    return sorted(found, key=lambda o: o.name_full)
+
+
 def folder_name(scene) -> str:
     """The report folder of *scene*: its scene file's name, else its own name made safe
     (``outputs.clean_name``; a run keeps its scenes' folders apart with ``outputs.distinct``)."""
