@@ -191,9 +191,11 @@ def test_compare_after_apply(extension, name, tmp_path):
 
 #: (file, scene): the engines whose verdict fails on that scene today (measured with bpy
 #: 5.3.0 at 32 pixels high), each an open bug of the comparison or of Eevee's picture, not of
-#: the file, with its figures.  None today: the last three were a black pupil that the
-#: comparison's probes made vanish from Cycles' picture (now rendered apart), Blender's
-#: Specular factor 0 that Eevee's light loop honours (now read by Apply) and Eevee's shadow
-#: filter (now 0 in the exact settings).
+#: the file, with its figures.  The earlier three were a black pupil that the comparison's
+#: probes made vanish from Cycles' picture (now rendered apart), Blender's Specular factor 0
+#: that Eevee's light loop honours (now read by Apply) and Eevee's shadow filter (now 0 in the
+#: exact settings).  appleseed_linking's Eevee: 99.014% of the pixels within 1/255 (goal
+#: 99.5%) since the comparison also sees the objects of instanced collections (its
+#: TeapotGroup, instanced twice); Cycles matches there (max |Δ| ≤ 1e-4); not yet traced.
 EXPECTED_ON = "5.3.0"
-EXPECTED_FAILURES: dict = {}
+EXPECTED_FAILURES: dict = {("appleseed_linking.blend", "Scene"): {"eevee"}}
