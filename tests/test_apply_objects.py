@@ -11,6 +11,7 @@ from __future__ import annotations
 import os
 
 import numpy as np
+import pytest
 
 import blender_env as be
 
@@ -293,3 +294,55 @@ def test_compare_sees_the_objects_of_an_instanced_collection(bpy_clean, tmp_path
     assert metrics["ok"], metrics.get("verdict")
     assert metrics["pairs"]["cycles-reference"]["max_abs"] <= 1e-4
     assert metrics["pixels"]["compared"] > 200, "both instances' pixels are compared"
+
+
+def _points_modifier(bpy, obj, material=None):
+    """A Geometry Nodes modifier on *obj* that turns its mesh into points (Mesh to Points,
+    which drops the mesh's materials), given *material* by a Set Material node if any."""
+    tree = bpy.data.node_groups.new(f"{obj.name} points", "GeometryNodeTree")
+    tree.interface.new_socket("Geometry", in_out="INPUT", socket_type="NodeSocketGeometry")
+    tree.interface.new_socket("Geometry", in_out="OUTPUT", socket_type="NodeSocketGeometry")
+    group_in = tree.nodes.new("NodeGroupInput")
+    group_out = tree.nodes.new("NodeGroupOutput")
+    points = tree.nodes.new("GeometryNodeMeshToPoints")
+    tree.links.new(group_in.outputs[0], points.inputs["Mesh"])
+    out = points.outputs["Points"]
+    if material is not None:
+        setter = tree.nodes.new("GeometryNodeSetMaterial")
+        setter.inputs["Material"].default_value = material
+        tree.links.new(out, setter.inputs["Geometry"])
+        out = setter.outputs["Geometry"]
+    tree.links.new(out, group_out.inputs[0])
+    modifier = obj.modifiers.new("Points", "NODES")
+    modifier.node_group = tree
+    return modifier
+
+
+def test_compare_says_when_geometry_nodes_drop_the_phong_materials(bpy_clean):
+    """An object whose Geometry Nodes turn its mesh into points without its material renders
+    no Phong surface after Apply: the comparison says so (it failed with "the camera sees 0
+    pixels … frame the scene", from a camera it had framed itself); with a Set Material of
+    the object's Phong material on the points it has something to compare again."""
+    bpy = bpy_clean
+    from phong_nodes.addon.comparison import engine
+
+    be.reset_empty_file()
+    scene = be.new_scene("Points", 16, 16)
+    bpy.context.window.scene = scene
+    be.add_ortho_camera(scene, (0.0, 0.0), 2.0, 2.0)
+    card = be.add_quad(scene, "Card", -0.8, -0.8, 0.8, 0.8, 0.0)
+    card.data.materials.append(_principled(bpy, "Card", (0.2, 0.5, 0.8)))
+    modifier = _points_modifier(bpy, card)
+    light = bpy.data.objects.new("Lamp", bpy.data.lights.new("Lamp", "POINT"))
+    light.location = (0.3, 0.2, 2.0)
+    scene.collection.objects.link(light)
+    bpy.context.view_layer.update()
+    be.apply_phong(scene, [card])
+    with pytest.raises(engine.ComparisonError, match=r"'Card'\) render no Phong surface"):
+        engine.check(scene)
+    modifier.show_viewport = False  # hidden in the viewport: the render's geometry counts
+    with pytest.raises(engine.ComparisonError, match="render no Phong surface"):
+        engine.check(scene)
+    card.modifiers.remove(modifier)
+    _points_modifier(bpy, card, card.active_material)
+    assert engine.check(scene)[1] == [card]

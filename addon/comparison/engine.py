@@ -74,6 +74,14 @@ def check(scene, view_layer=None, camera=True):
     if not objects:
         raise ComparisonError(f"scene {scene.name!r} has no object with a Phong material in view "
                         f"layer {layer.name!r} (Apply Phong Material first)")
+    if not describe.rendering_phong(scene, layer, objects):
+        names = ", ".join(repr(obj.name) for obj in objects[:3]) + (
+            f" and {len(objects) - 3} more" if len(objects) > 3 else "")
+        raise ComparisonError(
+            f"scene {scene.name!r}: its Phong objects ({names}) render no Phong surface: what "
+            "renders of them (their Geometry Nodes output: points, instances) carries none of "
+            "their Phong materials; give that geometry the object's material (a Set Material "
+            "node) to compare it")
     if camera and scene.camera is None:
         raise ComparisonError(f"scene {scene.name!r} has no camera")
     return layer, objects

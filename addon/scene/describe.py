@@ -113,6 +113,38 @@ def instanced_phong_objects(scene, view_layer) -> list:
     return sorted(found, key=lambda o: o.name_full)
 
 
+def rendering_phong(scene, view_layer, objects) -> list:
+    """Those of *objects* (Phong objects of *scene*) whose rendered geometry may carry a
+    Phong material: the object's own evaluated geometry with faces (a mesh; any other kind
+    counts), or an instance it makes (Geometry Nodes, particles) or is made into, whose slots
+    hold one; an object the depsgraph does not evaluate counts too.  Geometry Nodes that turn
+    a mesh into points or instances without its materials leave an object that Apply
+    converted rendering no Phong surface at all.  The geometry is the render's
+    (``render_geometry``: an object hidden in the viewport renders)."""
+    wanted = {obj.as_pointer(): obj for obj in objects}
+    seen, found = set(), set()
+    with render_geometry(scene):
+        depsgraph = evaluated(scene, view_layer)
+        for inst in depsgraph.object_instances:
+            obj = inst.object
+            sources = {obj.original.as_pointer()}
+            if inst.is_instance and inst.parent is not None:
+                sources.add(inst.parent.original.as_pointer())
+            sources &= wanted.keys()
+            if not sources:
+                continue
+            seen |= sources
+            if sources <= found or (obj.type == "MESH" and not len(obj.data.polygons)):
+                continue
+            if any(slot.material is not None
+                   and recipe.is_phong_material(slot.material.original)
+                   for slot in obj.material_slots):
+                found |= sources
+    evaluated(scene, view_layer)  # back to the viewport's geometry
+    return [obj for obj in objects
+            if obj.as_pointer() in found or obj.as_pointer() not in seen]
+
+
 def folder_name(scene) -> str:
     """The report folder of *scene*: its scene file's name, else its own name made safe
     (``outputs.clean_name``; a run keeps its scenes' folders apart with ``outputs.distinct``)."""
