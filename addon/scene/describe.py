@@ -140,6 +140,8 @@ def rendering_phong(scene, view_layer, objects) -> list:
                    and recipe.is_phong_material(slot.material.original)
                    for slot in obj.material_slots):
                 found |= sources
+                if len(found) == len(wanted):  # the usual case: not every instance walked
+                    break
     evaluated(scene, view_layer)  # back to the viewport's geometry
     return [obj for obj in objects
             if obj.as_pointer() in found or obj.as_pointer() not in seen]
