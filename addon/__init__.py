@@ -23,7 +23,8 @@ import bpy
 
 from . import loader
 from .lighting import forwarding as lighting_forwarding
-from .lighting import opacity, properties, sync
+from .lighting import convert, opacity, properties, sync
+from .scene import describe
 from .shading import forwarding as shading_forwarding
 from .shading import modes
 from .shading import properties as shading_properties
@@ -49,12 +50,17 @@ def connect(on: bool = True) -> None:
       (the switch rebuilds the scene's lights groups; the settings never import the sync
       that builds on them);
     * ``shading.forwarding`` (the Shading's and Opacity's setters, which hold no ``bpy``):
-      ``shading.modes.update`` and ``lighting.opacity.set_opacity``.
+      ``shading.modes.update`` and ``lighting.opacity.set_opacity``;
+    * ``lighting.convert.AFTER_APPLY``: ``scene.describe.hollow_notes`` (Apply's report names
+      the converted objects that render no Phong surface).
     """
     if modes.refresh in sync.AFTER_FINISH:
         sync.AFTER_FINISH.remove(modes.refresh)
+    if describe.hollow_notes in convert.AFTER_APPLY:
+        convert.AFTER_APPLY.remove(describe.hollow_notes)
     if on:
         sync.AFTER_FINISH.append(modes.refresh)
+        convert.AFTER_APPLY.append(describe.hollow_notes)
     lighting_forwarding.set_model_callback(sync.relink_scene if on else None)
     shading_forwarding.set_callback(modes.update if on else None)
     shading_forwarding.set_opacity_callback(opacity.set_opacity if on else None)

@@ -320,11 +320,12 @@ def _points_modifier(bpy, obj, material=None):
 
 def test_compare_says_when_geometry_nodes_drop_the_phong_materials(bpy_clean):
     """An object whose Geometry Nodes turn its mesh into points without its material renders
-    no Phong surface after Apply: the comparison says so (it failed with "the camera sees 0
+    no Phong surface after Apply: Apply's report and the comparison say so (it failed with "the camera sees 0
     pixels … frame the scene", from a camera it had framed itself); with a Set Material of
     the object's Phong material on the points it has something to compare again."""
     bpy = bpy_clean
     from phong_nodes.addon.comparison import engine
+    from phong_nodes.addon.lighting import convert
 
     be.reset_empty_file()
     scene = be.new_scene("Points", 16, 16)
@@ -337,7 +338,10 @@ def test_compare_says_when_geometry_nodes_drop_the_phong_materials(bpy_clean):
     light.location = (0.3, 0.2, 2.0)
     scene.collection.objects.link(light)
     bpy.context.view_layer.update()
-    be.apply_phong(scene, [card])
+    report = convert.apply(scene, [card])  # what Object ▸ Apply Phong Material runs
+    assert report.converted == ["Card"]
+    assert any(note.startswith("'Card': renders no Phong surface") for note in report.notes), \
+        report.notes
     with pytest.raises(engine.ComparisonError, match=r"'Card'\) render no Phong surface"):
         engine.check(scene)
     modifier.show_viewport = False  # hidden in the viewport: the render's geometry counts
@@ -346,3 +350,4 @@ def test_compare_says_when_geometry_nodes_drop_the_phong_materials(bpy_clean):
     card.modifiers.remove(modifier)
     _points_modifier(bpy, card, card.active_material)
     assert engine.check(scene)[1] == [card]
+    assert not [n for n in convert.apply(scene, [card]).notes if "no Phong surface" in n]
