@@ -74,7 +74,11 @@ def check(scene, view_layer=None, camera=True):
     if not objects:
         raise ComparisonError(f"scene {scene.name!r} has no object with a Phong material in view "
                         f"layer {layer.name!r} (Apply Phong Material first)")
-    if not describe.rendering_phong(scene, layer, objects):
+    # the render's geometry is evaluated for it: no relink there (the comparison checks the
+    # lights groups as they are, a stale one too)
+    with sync_mod.paused():
+        rendering = describe.rendering_phong(scene, layer, objects)
+    if not rendering:
         names = ", ".join(repr(obj.name) for obj in objects[:3]) + (
             f" and {len(objects) - 3} more" if len(objects) > 3 else "")
         raise ComparisonError(
