@@ -181,7 +181,10 @@ def _scene_jobs(args):
                              f"materials first (--apply; the file is not written)")
     wanted = named
     if wanted is None:
-        wanted = [n for n in names if _has_phong(bpy.data.scenes[n])]
+        wanted = [n for n in names
+                  if describe.phong_objects(bpy.data.scenes[n],
+                                            describe.view_layer_of(bpy.data.scenes[n]),
+                                            instanced=True)]
         if not wanted:
             raise BadInput(f"{args.file}: no scene has an object with a Phong material "
                            "(Apply Phong Material first)")
@@ -216,15 +219,6 @@ def _scene_jobs(args):
 
 #: The note of a scene of a .blend that had no camera (``_file_scene``).
 FRAMED_SCENE = "framed: the scene has no camera"
-
-
-def _has_phong(scene) -> bool:
-    """Whether *scene* renders an object with a Phong material (an instanced one too)."""
-    from ..addon.scene import describe  # noqa: PLC0415
-
-    layer = describe.view_layer_of(scene)
-    return bool(describe.phong_objects(scene, layer)
-                or describe.instanced_phong_objects(scene, layer))
 
 
 def _file_scene(file, scene, job):

@@ -60,8 +60,7 @@ def check(scene, view_layer=None, camera=True):
         raise ComparisonError(f"scene {scene.name!r} is linked from the library "
                               f"{scene.library.filepath!r}: compare it in that file")
     layer = describe.view_layer_of(scene, view_layer)
-    phong = describe.phong_objects(scene, layer)
-    phong += describe.instanced_phong_objects(scene, layer)
+    phong = describe.phong_objects(scene, layer, instanced=True)
     # Per Vertex / Per Face materials are not the per-pixel model: shown, not compared
     objects = [obj for obj in phong
                if any(recipe.is_phong_material(slot.material)

@@ -443,10 +443,8 @@ def on_depsgraph_update(scene, depsgraph=None):
         return
     _BUSY.append(True)
     try:
-        if instances_phong(scene):  # moving a group's users here crashes Blender (5.3.0)
-            with rig.in_place():
-                relink_scene(scene, view_layer, prune=False)
-        else:
+        # moving a group's users to a new group here crashes Blender (5.3.0) in such a scene
+        with rig.in_place() if instances_phong(scene) else contextlib.nullcontext():
             relink_scene(scene, view_layer, prune=False)
     finally:
         _BUSY.pop()

@@ -67,14 +67,17 @@ def evaluated(scene, view_layer=None):
     return depsgraph
 
 
-def phong_objects(scene, view_layer) -> list:
-    """The objects of *view_layer* that render with a Phong material in some slot."""
+def phong_objects(scene, view_layer, instanced: bool = False) -> list:
+    """The objects of *view_layer* that render with a Phong material in some slot; with
+    *instanced*, then those that render only through a collection instance
+    (``instanced_phong_objects``: what the comparison compares)."""
     view_layer = lights_mod.synced(scene, view_layer)  # a scene just made has no objects yet
     collections = lights_mod.render_collections(view_layer)  # once, not per object
-    return [obj for obj in view_layer.objects
-            if not obj.hide_render and hasattr(obj.data, "materials")
-            and lights_mod.visible(obj, view_layer, collections)
-            and any(recipe.is_phong_material(slot.material) for slot in obj.material_slots)]
+    direct = [obj for obj in view_layer.objects
+              if not obj.hide_render and hasattr(obj.data, "materials")
+              and lights_mod.visible(obj, view_layer, collections)
+              and any(recipe.is_phong_material(slot.material) for slot in obj.material_slots)]
+    return direct + instanced_phong_objects(scene, view_layer) if instanced else direct
 
 
 def instanced_phong_objects(scene, view_layer) -> list:
