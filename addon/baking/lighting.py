@@ -48,6 +48,7 @@ from dataclasses import dataclass
 import bpy
 
 from ...core import outputs
+from ...core.wording import name_list
 from .. import compat
 from ..scene import describe, render
 from ..scene.render import Overrides
@@ -122,9 +123,7 @@ def has_phong(obj) -> bool:
 
 
 def _names(objects, limit=5) -> str:
-    names = [repr(o.name) for o in objects]
-    more = f" and {len(names) - limit} more" if len(names) > limit else ""
-    return ", ".join(names[:limit]) + more
+    return name_list((o.name for o in objects), limit)
 
 
 def check(scene, objects, settings: Settings) -> tuple:

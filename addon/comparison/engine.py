@@ -36,6 +36,7 @@ import time
 import bpy
 
 from ...core import browser, compare, outputs, report, threejs, x_ite
+from ...core.wording import name_list
 from .. import compat
 from ..lighting import loop as light_loop
 from ..lighting import engine_outputs, recipe, rig, shadows
@@ -78,8 +79,7 @@ def check(scene, view_layer=None, camera=True):
     with sync_mod.paused():
         rendering = describe.rendering_phong(scene, layer, objects)
     if not rendering:
-        names = ", ".join(repr(obj.name) for obj in objects[:3]) + (
-            f" and {len(objects) - 3} more" if len(objects) > 3 else "")
+        names = name_list(obj.name for obj in objects)
         raise ComparisonError(
             f"scene {scene.name!r}: its Phong objects ({names}) render no Phong surface: what "
             "renders of them (their Geometry Nodes output: points, instances) carries none of "

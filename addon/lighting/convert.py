@@ -23,6 +23,7 @@ from dataclasses import dataclass, field
 import bpy
 import numpy as np
 
+from ...core.wording import name_list
 from . import lights as lights_mod
 from . import properties, sources
 from . import sync as sync_mod
@@ -253,8 +254,7 @@ def ambient_note(linked) -> list:
         return []
     names = sorted({name for name, _inputs in linked})
     inputs = sorted({i for _name, found in linked for i in found})
-    shown = ", ".join(repr(n) for n in names[:5]) + (f" and {len(names) - 5} more"
-                                                     if len(names) > 5 else "")
+    shown = name_list(names, limit=5)
     return [f"Ambient colour of {len(names)} material(s) ({shown}): {', '.join(inputs)} "
             "fed by nodes, read at the input's own value (the Phong ambient does not follow "
             "the texture)"]

@@ -22,6 +22,7 @@ import bpy
 import numpy as np
 
 from ...core import outputs
+from ...core.wording import name_list
 from ..lighting import lights as lights_mod
 from .. import compat
 from ..lighting import properties, recipe, rig, shadows
@@ -166,8 +167,7 @@ def hollow_notes(scene, view_layer, objects) -> list:
     hollow = [obj.name for obj in candidates if obj.as_pointer() not in rendering]
     if not hollow:
         return []
-    names = ", ".join(repr(n) for n in hollow[:3]) + (
-        f" and {len(hollow) - 3} more" if len(hollow) > 3 else "")
+    names = name_list(hollow)
     return [f"{names}: {'renders' if len(hollow) == 1 else 'render'} no Phong surface: "
             "the Geometry Nodes output carries none of the object's materials (points, "
             "instances); a Set Material node gives it the Phong material"]

@@ -13,6 +13,7 @@ from bpy.props import BoolProperty, EnumProperty, IntProperty, StringProperty
 from bpy_extras.io_utils import ExportHelper, ImportHelper
 
 from ...core import compare, outputs, scenes
+from ...core.wording import name_list
 from ...node_groups.library import GROUPS
 from .. import loader
 from ..comparison import engine
@@ -175,7 +176,7 @@ that shared a material share its Phong version; the originals are kept)"""
         for note in report.notes:
             self.report({"WARNING"}, f"Phong: {note}")
         names = report.materials
-        shown = ", ".join(names[:8]) + (f" and {len(names) - 8} more" if len(names) > 8 else "")
+        shown = name_list(names, limit=8, quote=False)
         lights = len(report.lights)
         self.report({"INFO"}, f"Phong materials: {shown} ({lights} light"
                               f"{'s' if lights != 1 else ''})")

@@ -18,6 +18,7 @@ import os
 import xml.etree.ElementTree as ET
 
 from .. import xmlsafe
+from ..wording import name_list
 from ..xmlsafe import local as _local
 from .model import MAX_BYTES, UP_AXES, ColladaError, Document
 from .context import _Reading, _ref
@@ -119,8 +120,7 @@ def parse_bytes(data: bytes, path: str = "<bytes>") -> Document:
         doc.nodes = [read_node(ctx, n) for n in chosen.findall("node")]
     if ctx.commas:
         places = list(dict.fromkeys(ctx.commas))
-        more = f" and {len(places) - 3} more" if len(places) > 3 else ""
-        doc.warn(f"decimal commas read as decimal points ({', '.join(places[:3])}{more})")
+        doc.warn(f"decimal commas read as decimal points ({name_list(places, quote=False)})")
     return doc
 
 
