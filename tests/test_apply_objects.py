@@ -351,3 +351,55 @@ def test_compare_says_when_geometry_nodes_drop_the_phong_materials(bpy_clean):
     _points_modifier(bpy, card, card.active_material)
     assert engine.check(scene)[1] == [card]
     assert not [n for n in convert.apply(scene, [card]).notes if "no Phong surface" in n]
+
+
+def test_the_walk_of_collection_instances_takes_each_object_once_and_can_keep_to_the_render(
+        bpy_clean):
+    """``lights.instanced_objects``, the one walk of Apply, the relink handler and the
+    comparison: an Empty instancing collection "Set" (objects a, then b instancing "Inner";
+    a child collection "Off", disabled in renders, holding c) brings a, b, what b instances
+    (e) and then c, depth first; a second Empty of "Set" brings nothing again; keeping to the
+    render leaves "Off" out, and an object disabled in renders with what it instances."""
+    bpy = bpy_clean
+    from phong_nodes.addon.lighting import lights  # noqa: PLC0415  (needs bpy)
+
+    scene = bpy.context.scene
+
+    def collection(name, *objects, parent=None):
+        made = bpy.data.collections.new(name)
+        (parent.children if parent is not None else scene.collection.children).link(made)
+        for obj in objects:
+            made.objects.link(obj)
+        return made
+
+    def empty(name, instances=None):
+        obj = bpy.data.objects.new(name, None)
+        if instances is not None:
+            obj.instance_type, obj.instance_collection = "COLLECTION", instances
+        return obj
+
+    e = be.add_quad(scene, "e", 0, 0, 1, 1, 0)
+    scene.collection.objects.unlink(e)
+    inner = collection("Inner", e)
+    a, b = be.add_quad(scene, "a", 0, 0, 1, 1, 0), empty("b", inner)
+    scene.collection.objects.unlink(a)
+    c = be.add_quad(scene, "c", 0, 0, 1, 1, 0)
+    scene.collection.objects.unlink(c)
+    setting = collection("Set", a, b)
+    collection("Off", c, parent=setting).hide_render = True
+    for made in (setting, inner):
+        scene.collection.children.unlink(made)
+    first, second = empty("First", setting), empty("Second", setting)
+    for obj in (first, second):
+        scene.collection.objects.link(obj)
+
+    def names(objects, **kw):
+        return [obj.name for obj in lights.instanced_objects(objects, **kw)]
+
+    assert names([first, second]) == ["a", "b", "e", "c"]
+    assert names([first, second], with_objects=True) == ["First", "a", "b", "e", "c", "Second"]
+    assert names([first, second], rendering=True) == ["a", "b", "e"]
+    b.hide_render = True
+    assert names([first], rendering=True) == ["a"]
+    assert names([first]) == ["a", "b", "e", "c"]
+    assert names([a]) == []  # a plain object instances nothing

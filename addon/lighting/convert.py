@@ -92,19 +92,8 @@ def why_not(obj) -> str | None:
 def expand(objects) -> tuple:
     """(the objects of *objects* that can take Phong materials, with the objects of the
     collections their Empties instance; [(name, why)] of those that cannot), each once."""
-    found, skipped, seen = [], [], set()
-    stack = list(objects)[::-1]
-    visited_collections = set()
-    while stack:
-        obj = stack.pop()
-        pointer = obj.as_pointer()
-        if pointer in seen:
-            continue
-        seen.add(pointer)
-        collection = obj.instance_collection if obj.instance_type == "COLLECTION" else None
-        if collection is not None and collection.as_pointer() not in visited_collections:
-            visited_collections.add(collection.as_pointer())
-            stack.extend(reversed(list(collection.all_objects)))
+    found, skipped = [], []
+    for obj in lights_mod.instanced_objects(objects, with_objects=True):
         why = why_not(obj)
         if why is not None:
             skipped.append((obj.name, why))
@@ -287,7 +276,7 @@ def override_linked(scene, objects, view_layer=None) -> list:
     view_layer = view_layer or _rendering_layer(scene)
     out, by_collection = [], {}
     for obj in objects:
-        collection = obj.instance_collection if obj.instance_type == "COLLECTION" else None
+        collection = lights_mod.instance_of(obj)
         if (obj.library is None and collection is not None and collection.library is not None
                 and _has_surfaces(collection)):
             by_collection.setdefault(collection.as_pointer(), (collection, []))[1].append(obj)
@@ -346,7 +335,7 @@ def drop_overrides(scene, objects) -> int:
     registered = scene.get(OBJECT_OVERRIDES_KEY) or {}
     made = {value.as_pointer(): key for key, value in registered.items() if value is not None}
     for obj in objects:
-        collection = obj.instance_collection if obj.instance_type == "COLLECTION" else None
+        collection = lights_mod.instance_of(obj)
         if obj.get(INSTANCE_OVERRIDE_KEY) and collection is not None \
                 and collection.override_library is not None:
             obj.instance_collection = collection.override_library.reference

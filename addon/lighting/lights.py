@@ -9,6 +9,9 @@
   every object; otherwise only the included objects if there are any, minus the excluded
   ones (Blender manual, Light Linking ▸ Include & Exclude).  An object inside a child
   collection of the receiver collection takes the link state of that child collection.
+* :func:`instanced_objects`: the objects that collection instances bring into a scene (an
+  object's Instancing ▸ Collection, at any depth), the one walk Apply, the relink handler and
+  the comparison share.
 * :func:`signature`: a cheap fingerprint of everything above, so a depsgraph handler can
   tell in microseconds that nothing changed.
 """
@@ -88,6 +91,38 @@ def visible(obj, view_layer, collections=None) -> bool:
     if collections is None:
         collections = render_collections(view_layer)
     return any(c.as_pointer() in collections for c in obj.users_collection)
+
+
+def instance_of(obj):
+    """The collection *obj* instances (Instancing ▸ Collection), else None."""
+    return obj.instance_collection if obj.instance_type == "COLLECTION" else None
+
+
+def instanced_objects(objects, rendering: bool = False, with_objects: bool = False):
+    """The objects the collection instances of *objects* bring: each instanced collection's
+    objects, each followed by what it instances in turn, then its child collections', at any
+    depth, depth first, each object and collection once.  *with_objects*: *objects*
+    themselves too, each before what it instances.  *rendering*: what of it renders, a
+    collection or object disabled in renders left out with all it holds and instances (the
+    visibility of *objects* themselves is the caller's to judge)."""
+    seen = set()
+    stack = [(obj, True) for obj in reversed(list(objects))]
+    while stack:
+        item, root = stack.pop()
+        pointer = item.as_pointer()
+        if pointer in seen or (rendering and not root and item.hide_render):
+            continue
+        if isinstance(item, bpy.types.Collection):
+            seen.add(pointer)
+            stack.extend((child, False) for child in reversed(list(item.children)))
+            stack.extend((obj, False) for obj in reversed(list(item.objects)))
+            continue
+        if not root or with_objects:
+            seen.add(pointer)
+            yield item
+        collection = instance_of(item)
+        if collection is not None:
+            stack.append((collection, False))
 
 
 def receivers(light_obj):

@@ -460,21 +460,12 @@ def instances_phong(scene) -> bool:
     not where the instanced materials are the scene's own), so the handler rewrites such a
     scene's groups in place."""
     here = scene.as_pointer()
-    seen, stack = set(), [obj.instance_collection for obj in scene.objects
-                          if obj.instance_type == "COLLECTION" and obj.instance_collection]
-    while stack:
-        collection = stack.pop()
-        if collection.as_pointer() in seen:
-            continue
-        seen.add(collection.as_pointer())
-        for obj in collection.all_objects:
-            for slot in obj.material_slots:
-                key = recipe.lights_key(slot.material) \
-                    if recipe.is_phong_material(slot.material) else None
-                if key is not None and key[0] != here:
-                    return True
-            if obj.instance_type == "COLLECTION" and obj.instance_collection:
-                stack.append(obj.instance_collection)
+    for obj in lights_mod.instanced_objects(scene.objects):
+        for slot in obj.material_slots:
+            key = recipe.lights_key(slot.material) \
+                if recipe.is_phong_material(slot.material) else None
+            if key is not None and key[0] != here:
+                return True
     return False
 
 

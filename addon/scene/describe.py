@@ -92,28 +92,13 @@ def instanced_phong_objects(scene, view_layer) -> list:
     collections = lights_mod.render_collections(view_layer)
     direct = {obj.as_pointer() for obj in view_layer.objects}
     here = scene.as_pointer()
-    stack = [obj.instance_collection for obj in view_layer.objects
-             if obj.instance_type == "COLLECTION" and obj.instance_collection is not None
-             and lights_mod.visible(obj, view_layer, collections)]
-    seen, found = set(), []
-    while stack:
-        collection = stack.pop()
-        if collection.as_pointer() in seen or collection.hide_render:
-            continue
-        seen.add(collection.as_pointer())
-        stack.extend(collection.children)
-        for obj in collection.objects:
-            if obj.hide_render or obj.as_pointer() in direct:
-                continue
-            if obj.instance_type == "COLLECTION" and obj.instance_collection is not None:
-                stack.append(obj.instance_collection)
-            if obj.as_pointer() in seen or not hasattr(obj.data, "materials"):
-                continue
-            seen.add(obj.as_pointer())
-            if any(recipe.is_phong_material(slot.material)
-                   and (recipe.lights_key(slot.material) or (None,))[0] == here
-                   for slot in obj.material_slots):
-                found.append(obj)
+    instancers = [obj for obj in view_layer.objects if lights_mod.instance_of(obj) is not None
+                  and lights_mod.visible(obj, view_layer, collections)]
+    found = [obj for obj in lights_mod.instanced_objects(instancers, rendering=True)
+             if obj.as_pointer() not in direct and hasattr(obj.data, "materials")
+             and any(recipe.is_phong_material(slot.material)
+                     and (recipe.lights_key(slot.material) or (None,))[0] == here
+                     for slot in obj.material_slots)]
     return sorted(found, key=lambda o: o.name_full)
 
 
