@@ -58,6 +58,34 @@ SHOWN_MAX = 1.0
 COVERAGE_SHARE = 0.01
 
 
+#: A flat polygon whose triangles' normals part from its own by more than this (radians:
+#: about 0.22°, where n·ℓ can move by 1/255) is warped for the comparison.  Eevee
+#: shades a flat polygon with the polygon's one normal, Cycles (and the reference, from
+#: Cycles' probes) each of its triangles with the triangle's own: a plain Emission of
+#: Geometry ▸ Normal differs between them on such polygons (the warped quads of
+#: tests/data/blend/appleseed_linking.blend's Utah teapot: 374 of its 3,408 pixels at 160 px
+#: high, 6 once triangulated, bpy 5.3.0), Principled as much as Phong.
+WARP_ANGLE = 1.0 / 255.0
+
+
+def warped_polygons(polygon_normals: np.ndarray, flat: np.ndarray, triangle_normals: np.ndarray,
+                    triangle_polygons: np.ndarray, angle: float = WARP_ANGLE) -> int:
+    """How many flat polygons (*flat*: one bool per polygon; *polygon_normals* (P, 3)) have
+    a triangle (*triangle_normals* (T, 3) of the mesh's triangulation, *triangle_polygons*
+    the polygon of each) whose normal parts from the polygon's by more than *angle*.  A
+    degenerate triangle (no normal) is never hit by a ray: left out."""
+    if not len(triangle_polygons) or not np.any(flat):
+        return 0
+    triangle_normals = np.asarray(triangle_normals, np.float64)
+    owner = np.asarray(triangle_polygons, np.int64)
+    length = np.linalg.norm(triangle_normals, axis=1)
+    cosine = np.einsum("ij,ij->i", triangle_normals,
+                       np.asarray(polygon_normals, np.float64)[owner])
+    apart = (np.asarray(flat, bool)[owner] & (length > 0.5)
+             & (cosine < np.cos(angle) * length))
+    return int(np.unique(owner[apart]).size)
+
+
 def shown(image: np.ndarray) -> np.ndarray:
     """*image* (linear RGB) as the comparison takes Eevee's picture: min(x, SHOWN_MAX)."""
     return np.minimum(np.asarray(image, np.float64)[..., :3], SHOWN_MAX)

@@ -164,3 +164,42 @@ def test_phong_surfaces_in_view_that_cannot_be_compared_fail_with_their_own_reas
     assert message.startswith("the camera sees Phong surfaces on 3 of 210 pixels but only 2 "
                               "can be compared (0.95%, fewer than 1%)")
     assert "see-through" in message and "frame the scene" not in message
+
+
+def _quad(lift):
+    """A unit quad in z = 0 whose corner (1, 1) is lifted by *lift*, as Blender gives it: its
+    own normal (Newell's, the corners' average plane) and its two triangles' normals."""
+    corners = np.array([[0, 0, 0], [1, 0, 0], [1, 1, lift], [0, 1, 0]], float)
+    newell = np.zeros(3)
+    for k in range(4):
+        a, b = corners[k], corners[(k + 1) % 4]
+        newell += [(a[1] - b[1]) * (a[2] + b[2]), (a[2] - b[2]) * (a[0] + b[0]),
+                   (a[0] - b[0]) * (a[1] + b[1])]
+    triangles = [np.cross(corners[1] - corners[0], corners[2] - corners[0]),
+                 np.cross(corners[2] - corners[0], corners[3] - corners[0])]
+    unit = [t / np.linalg.norm(t) for t in triangles]
+    return newell / np.linalg.norm(newell), unit
+
+
+def test_a_flat_polygon_is_warped_where_its_triangles_turn_from_it_by_the_angle():
+    """A quad lifted by 0.01 at one corner turns its triangles by about 0.2° from its own
+    normal (under WARP_ANGLE: n·ℓ moves by less than 1/255), one lifted by 0.1 by about 2°:
+    warped where flat, not where smooth (the engines interpolate the same corner normals);
+    a degenerate triangle (no normal) does not count."""
+    polygons, triangles, owners = [], [], []
+    for index, lift in enumerate((0.0, 0.005, 0.1, 0.1)):
+        normal, (t1, t2) = _quad(lift)
+        polygons.append(normal)
+        triangles += [t1, t2]
+        owners += [index, index]
+        turned = math.acos(min(1.0, float(normal @ t1)))
+        assert (turned > compare.WARP_ANGLE) == (lift > 0.05), (lift, math.degrees(turned))
+    flat = np.array([True, True, True, False])
+    assert compare.warped_polygons(np.array(polygons), flat, np.array(triangles),
+                                   np.array(owners)) == 1
+    assert compare.warped_polygons(np.array(polygons), np.ones(4, bool), np.array(triangles),
+                                   np.array(owners)) == 2
+    assert compare.warped_polygons(np.array(polygons), np.ones(4, bool),
+                                   np.zeros((8, 3)), np.array(owners)) == 0
+    assert compare.warped_polygons(np.zeros((0, 3)), np.zeros(0, bool), np.zeros((0, 3)),
+                                   np.zeros(0, int)) == 0

@@ -196,7 +196,45 @@ def test_compare_after_apply(extension, name, tmp_path):
 #: that Eevee's light loop honours (now read by Apply) and Eevee's shadow filter (now 0 in the
 #: exact settings).  appleseed_linking's Eevee: 99.014% of the pixels within 1/255 (goal
 #: 99.5%) since the comparison also sees the objects of instanced collections (its
-#: TeapotGroup, instanced twice): 5 of 507 pixels, at the teapots' outlines (max |Δ| 0.28);
-#: Cycles matches there (max |Δ| 3.2e-06); not yet traced.
+#: TeapotGroup, instanced twice): 5 of 507 pixels on the teapots' spouts and handles (max |Δ|
+#: 0.28); Cycles matches there (max |Δ| 3.2e-06).  Blender's, not the comparison's: the
+#: teapot's flat quads are warped (130 of 760 by more than 1°), Eevee shades a flat polygon
+#: with its one normal and Cycles each triangle with its own; a plain Emission of
+#: Geometry ▸ Normal differs as much (test_eevee_misses_appleseed_only_on_its_warped_polygons).
 EXPECTED_ON = "5.3.0"
 EXPECTED_FAILURES: dict = {("appleseed_linking.blend", "Scene"): {"eevee"}}
+
+
+@pytest.mark.slow
+@pytest.mark.cycles
+@pytest.mark.eevee
+def test_eevee_misses_appleseed_only_on_its_warped_polygons(extension, tmp_path):
+    """appleseed_linking's Eevee failure (``EXPECTED_FAILURES``) is its teapot's warped flat
+    quads: the comparison's notes name the teapot, and with the teapot triangulated (each
+    engine then shades the same flat triangles) the note is gone and Eevee meets its goal
+    (measured 99.606% of 507 pixels at 32 px high, bpy 5.3.0; held on that release)."""
+    bpy = _open(os.path.join(DATA, "appleseed_linking.blend"))
+    from phong_nodes.addon.comparison import engine  # noqa: PLC0415
+    from phong_nodes.addon.lighting import convert  # noqa: PLC0415
+
+    scene = bpy.data.scenes["Scene"]
+    assert convert.apply(scene).converted
+    notes = _framed(os.path.join(DATA, "appleseed_linking.blend"), scene)
+    before = engine.run(scene, str(tmp_path / "warped"), engines=("cycles", "eevee"),
+                        resolution=RESOLUTION, notes=notes)
+    warped = [n for n in before.get("notes", []) if "flat polygon(s) not planar" in n]
+    assert len(warped) == 1 and "'Teapot'" in warped[0], before.get("notes")
+    teapots = [o for o in bpy.data.objects if o.name.startswith("Teapot") and o.type == "MESH"
+               and o.library is None]
+    assert teapots, "Apply made no local teapot (its override) to triangulate"
+    for obj in teapots:
+        obj.modifiers.new("Triangulate", "TRIANGULATE").quad_method = "FIXED"
+    after = engine.run(scene, str(tmp_path / "triangulated"), engines=("cycles", "eevee"),
+                       resolution=RESOLUTION, notes=notes)
+    assert not any("not planar" in n for n in after.get("notes", [])), after["notes"]
+    be.report(f"real blend appleseed_linking.blend: eevee {before['verdict']['eevee']['value']}"
+              f" with the warped teapot, {after['verdict']['eevee']['value']} triangulated")
+    assert after["verdict"]["cycles"]["ok"], after["verdict"]
+    if be.bpy_release() == EXPECTED_ON:
+        assert not before["verdict"]["eevee"]["ok"], before["verdict"]
+        assert after["verdict"]["eevee"]["ok"], after["verdict"]

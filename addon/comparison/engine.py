@@ -292,6 +292,8 @@ def run(scene, out_dir: str, engines=compare.ENGINES, progress=None, view_layer=
         t0 = time.perf_counter()
         with sync_mod.paused():
             data = describe.describe(scene, layer, objects)
+            if "eevee" in engines:
+                notes += describe.warped_notes(scene, layer, objects)
             images, passes, terms = render_all(scene, layer, objects, engines, tmp,
                                                resolution, progress)
         timings = {"renders_s": time.perf_counter() - t0}

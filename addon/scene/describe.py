@@ -21,7 +21,7 @@ import math
 import bpy
 import numpy as np
 
-from ...core import outputs
+from ...core import compare, outputs
 from ...core.wording import name_list
 from ..lighting import lights as lights_mod
 from .. import compat
@@ -209,6 +209,49 @@ def describe(scene, view_layer, objects) -> dict:
         depsgraph.update()
         out["eevee_shadows"] = render.eevee_shadows(scene)  # else Eevee is compared without
     return out
+
+
+def warped_notes(scene, view_layer, objects) -> list:
+    """The note of a comparison with Eevee when *objects* (Phong objects of *scene*) have flat
+    polygons that are not planar (``compare.warped_polygons``, on their evaluated meshes; a
+    mesh with custom normals shades by those: left out): Eevee shades such a polygon with
+    one normal, Cycles and the reference each of its triangles with its own, so Eevee's
+    pixels there may miss the reference, Principled's as much as Phong's."""
+    depsgraph = evaluated(scene, view_layer)
+    counted, named, total = {}, [], 0
+    for obj in objects:
+        mesh = obj.evaluated_get(depsgraph).data if obj.type == "MESH" else None
+        if mesh is None or not len(mesh.polygons):
+            continue
+        key = mesh.as_pointer()
+        if key not in counted:
+            counted[key] = 0 if mesh.has_custom_normals else _warped(mesh)
+        if counted[key]:
+            named.append(obj.name)
+            total += counted[key]
+    if not named:
+        return []
+    return [f"{name_list(named)}: {total} flat polygon(s) not planar: Eevee shades a flat "
+            "polygon with one normal, Cycles and the reference each of its triangles with its "
+            "own, so Eevee's pixels there may miss the reference (as Principled's do); a "
+            "Triangulate modifier makes the engines alike"]
+
+
+def _warped(mesh) -> int:
+    """``compare.warped_polygons`` of *mesh* (evaluated)."""
+    polygons, triangles_ = mesh.polygons, mesh.loop_triangles
+    smooth = np.zeros(len(polygons), bool)
+    polygons.foreach_get("use_smooth", smooth)
+    if smooth.all():
+        return 0
+    normals = np.zeros(len(polygons) * 3, np.float32)
+    polygons.foreach_get("normal", normals)
+    owner = np.zeros(len(triangles_), np.int32)
+    triangles_.foreach_get("polygon_index", owner)
+    tri_normals = np.zeros(len(triangles_) * 3, np.float32)
+    triangles_.foreach_get("normal", tri_normals)
+    return compare.warped_polygons(normals.reshape(-1, 3), ~smooth, tri_normals.reshape(-1, 3),
+                                   owner)
 
 
 @contextlib.contextmanager
