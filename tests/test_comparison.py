@@ -393,3 +393,53 @@ def test_the_operator_compares_a_scene_without_a_camera_and_leaves_it_so(bpy_cle
         assert bpy.ops.phong.compare_scene(directory=str(tmp_path / "op2"),
                                            engines={"CYCLES"}) == {"FINISHED"}
     assert scene.camera is None and camera.name in bpy.data.objects
+
+
+@pytest.mark.slow
+@pytest.mark.cycles
+@pytest.mark.eevee
+def test_compare_names_flat_polygons_that_are_not_planar(bpy_clean, tmp_path, capfd):
+    """A flat quad lifted at one corner by 0.3 (its two triangles turn about 6° from its own
+    normal) beside a planar one: Compare Phong Scene says, when it compares Eevee, that the
+    warped object has 1 flat polygon that is not planar (Eevee shades it with one normal,
+    Cycles each triangle with its own), in its reports and the report's notes; shaded smooth
+    or compared with Cycles alone, it says nothing of it."""
+    bpy = bpy_clean
+    scene = be.new_scene("Warped", 32, 24)
+    bpy.context.window.scene = scene
+    scene.world.phong.ambient_intensity = 0.2
+    material = be.plain_source("Card")
+    made = []
+    for name, x, lift in (("Bent card", -1.1, 0.3), ("Flat card", 1.1, 0.0)):
+        mesh = bpy.data.meshes.new(name)
+        mesh.from_pydata([(x - 1, -1, 0), (x + 1, -1, 0), (x + 1, 1, lift), (x - 1, 1, 0)], [],
+                         [(0, 1, 2, 3)])
+        mesh.materials.append(material)
+        obj = bpy.data.objects.new(name, mesh)
+        scene.collection.objects.link(obj)
+        made.append(obj)
+    sun = bpy.data.objects.new("Sun", bpy.data.lights.new("Sun", "SUN"))
+    scene.collection.objects.link(sun)
+    sun.rotation_euler = (0.4, 0.3, 0.0)
+    be.add_persp_camera(scene, (0.0, -4.0, 6.0), (0.0, 0.0, 0.0), lens=30.0)
+    with bpy.context.temp_override(scene=scene, view_layer=scene.view_layers[0]):
+        be.apply_phong(scene, made)
+
+    def compare(folder, engines):
+        capfd.readouterr()
+        with bpy.context.temp_override(scene=scene):
+            assert bpy.ops.phong.compare_scene(directory=str(tmp_path / folder),
+                                               engines=engines) == {"FINISHED"}
+        said = "".join(capfd.readouterr())
+        notes = json.loads((tmp_path / folder / "Warped" / "metrics.json").read_text()).get(
+            "notes", [])
+        return said, [n for n in notes if "not planar" in n]
+
+    said, notes = compare("both", {"CYCLES", "EEVEE"})
+    assert len(notes) == 1 and notes[0].startswith("'Bent card': 1 flat polygon(s) not planar")
+    assert "'Warped': 'Bent card': 1 flat polygon(s) not planar" in said
+    said, notes = compare("cycles", {"CYCLES"})
+    assert not notes and "not planar" not in said
+    made[0].data.polygons[0].use_smooth = True
+    said, notes = compare("smooth", {"CYCLES", "EEVEE"})
+    assert not notes and "not planar" not in said

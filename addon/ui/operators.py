@@ -395,6 +395,8 @@ class _CompareScene:
             self.report({"ERROR"}, f"{self.bl_label}: '{scene.name}': {seen['message']} "
                                    f"({sheet})")
             return {"FINISHED"}
+        for note in metrics.get("notes", []):   # what the verdicts rest on (the report's too)
+            self.report({"INFO"}, f"{self.bl_label}: '{scene.name}': {note}")
         verdicts = compare.verdict_text(metrics["verdict"])
         self.report({"INFO"} if metrics["ok"] else {"WARNING"},
                     f"Phong comparison of '{scene.name}': {verdicts} ({sheet})")
