@@ -403,3 +403,59 @@ def test_the_walk_of_collection_instances_takes_each_object_once_and_can_keep_to
     assert names([first], rendering=True) == ["a"]
     assert names([first]) == ["a", "b", "e", "c"]
     assert names([a]) == []  # a plain object instances nothing
+
+
+@pytest.mark.slow
+@pytest.mark.cycles
+@pytest.mark.eevee
+def test_apply_and_compare_name_the_images_that_are_missing(bpy_clean, tmp_path):
+    """A source whose Base Color is an image whose file is gone, and one whose Image Texture
+    node holds no image: Apply's report names both (Cycles shows a missing image magenta,
+    Eevee black), and so does the comparison with Eevee, whose picture then misses the
+    reference; once the file is there and the node has its image, neither says anything."""
+    bpy = bpy_clean
+    from phong_nodes.addon.comparison import engine  # noqa: PLC0415
+    from phong_nodes.addon.lighting import convert  # noqa: PLC0415  (needs bpy)
+
+    scene = be.new_scene("Missing", 24, 16)
+    bpy.context.window.scene = scene
+    scene.world.phong.ambient_intensity = 1.0
+    be.add_ortho_camera(scene, (0.0, 0.0), 6.0, 4.0)
+    texture_path = tmp_path / "wood.png"
+    maker = bpy.data.images.new("maker", 4, 4)
+    maker.filepath_raw, maker.file_format = str(texture_path), "PNG"
+    maker.save()
+    bpy.data.images.remove(maker)
+    content = texture_path.read_bytes()
+    image = bpy.data.images.load(str(texture_path))
+    image.name = "Wood"
+    os.remove(texture_path)
+    nodes = []
+    for index, (name, picture) in enumerate((("Wood", image), ("Blank", None))):
+        material = _principled(bpy, name, (0.5, 0.5, 0.5))
+        node = material.node_tree.nodes.new("ShaderNodeTexImage")
+        node.image = picture
+        material.node_tree.links.new(node.outputs["Color"],
+                                     material.node_tree.nodes["Principled BSDF"]
+                                     .inputs["Base Color"])
+        quad = be.add_quad(scene, f"Card {index}", -2.5 + 2.6 * index, -1.0, -0.1 + 2.6 * index,
+                           1.0, 0.0)
+        quad.data.materials.append(material)
+        nodes.append(node)
+    report = convert.apply(scene)
+    missing = [n for n in report.notes if n.startswith("missing image(s)")]
+    assert len(missing) == 1, report.notes
+    assert f"'Wood' ({texture_path})" in missing[0]
+    assert "no image in 'Image Texture' of 'Phong Blank'" in missing[0]
+    metrics = engine.run(scene, str(tmp_path / "compare"), engines=("cycles", "eevee"))
+    said = [n for n in metrics.get("notes", []) if n.startswith("missing image(s)")]
+    assert len(said) == 1 and said[0].endswith("so Eevee's picture differs there"), metrics
+
+    texture_path.write_bytes(content)  # the file is back
+    phong_blank = bpy.data.materials["Phong Blank"]
+    for node in phong_blank.node_tree.nodes:
+        if node.bl_idname == "ShaderNodeTexImage":
+            node.image = image
+    assert not convert.missing_image_notes([bpy.data.materials["Phong Wood"], phong_blank])
+    metrics = engine.run(scene, str(tmp_path / "again"), engines=("cycles", "eevee"))
+    assert not [n for n in metrics.get("notes", []) if "missing image" in n], metrics["notes"]

@@ -39,7 +39,7 @@ from ...core import browser, compare, outputs, report, threejs, x_ite
 from ...core.wording import name_list
 from .. import compat
 from ..lighting import loop as light_loop
-from ..lighting import engine_outputs, recipe, rig, shadows
+from ..lighting import convert, engine_outputs, recipe, rig, shadows
 from ..lighting import sync as sync_mod
 from ..interchange import threejs_export
 from ..scene import describe, render
@@ -294,6 +294,10 @@ def run(scene, out_dir: str, engines=compare.ENGINES, progress=None, view_layer=
             data = describe.describe(scene, layer, objects)
             if "eevee" in engines:
                 notes += describe.warped_notes(scene, layer, objects)
+                notes += convert.missing_image_notes(sorted(
+                    {slot.material for obj in objects for slot in obj.material_slots
+                     if recipe.is_phong_material(slot.material)},
+                    key=lambda m: m.name_full), compared=True)
             images, passes, terms = render_all(scene, layer, objects, engines, tmp,
                                                resolution, progress)
         timings = {"renders_s": time.perf_counter() - t0}

@@ -25,7 +25,7 @@ import numpy as np
 
 from ...core.wording import name_list
 from . import lights as lights_mod
-from . import properties, sources
+from . import properties, recipe, sources
 from . import sync as sync_mod
 
 #: Object types whose data holds materials that render as surfaces.
@@ -190,7 +190,8 @@ def apply(scene, objects=None, view_layer=None) -> Report:
             report.converted.append(obj.name)
     report.materials = list(done)
     report.lights = [o.name for o in sync.lights]
-    report.notes = notes(scene, sync.lights, world_new) + ambient_note(sync.ambient_linked)
+    report.notes = (notes(scene, sync.lights, world_new) + ambient_note(sync.ambient_linked)
+                    + missing_image_notes(bpy.data.materials.get(name) for name in done))
     for note in AFTER_APPLY:  # an upward call: scene.describe.hollow_notes (addon/__init__.py)
         report.notes += note(scene, view_layer, targets)
     report.sync = sync
@@ -233,6 +234,20 @@ def notes(scene, lights, world_new=False) -> list:
         if note:
             out.append(note)
     return out
+
+
+def missing_image_notes(materials, compared: bool = False) -> list:
+    """One line naming the images *materials* read whose files are missing
+    (``recipe.missing_images``); *compared*: worded for a comparison with Eevee, whose
+    picture differs there."""
+    missing = recipe.missing_images(materials)
+    if not missing:
+        return []
+    return [f"missing image(s): {name_list(missing, quote=False)}: Cycles shows a missing "
+            "image magenta, Eevee black" + (
+                ", so Eevee's picture differs there" if compared else
+                "; give each node its image (File > External Data > Find Missing Files "
+                "for moved files)")]
 
 
 def ambient_note(linked) -> list:
