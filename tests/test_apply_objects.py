@@ -408,11 +408,13 @@ def test_the_walk_of_collection_instances_takes_each_object_once_and_can_keep_to
 @pytest.mark.slow
 @pytest.mark.cycles
 @pytest.mark.eevee
-def test_apply_and_compare_name_the_images_that_are_missing(bpy_clean, tmp_path):
-    """A source whose Base Color is an image whose file is gone, and one whose Image Texture
-    node holds no image: Apply's report names both (Cycles shows a missing image magenta,
-    Eevee black), and so does the comparison with Eevee, whose picture then misses the
-    reference; once the file is there and the node has its image, neither says anything."""
+def test_apply_and_compare_name_what_the_engines_read_differently(bpy_clean, tmp_path):
+    """A source whose Base Color is an image whose file is gone, one whose Image Texture
+    node holds no image, one whose Attribute node has no name: Apply's report names them
+    (Cycles shows a missing image magenta and Eevee black; Cycles reads 0 for the unnamed
+    attribute and Eevee the active colour attribute), and so does the comparison with Eevee,
+    whose picture then misses the reference; once the file is there, the node has its image
+    and the attribute its name, neither says anything."""
     bpy = bpy_clean
     from phong_nodes.addon.comparison import engine  # noqa: PLC0415
     from phong_nodes.addon.lighting import convert  # noqa: PLC0415  (needs bpy)
@@ -431,14 +433,17 @@ def test_apply_and_compare_name_the_images_that_are_missing(bpy_clean, tmp_path)
     image.name = "Wood"
     os.remove(texture_path)
     nodes = []
-    for index, (name, picture) in enumerate((("Wood", image), ("Blank", None))):
+    for index, (name, picture) in enumerate((("Wood", image), ("Blank", None), ("Paint", None))):
         material = _principled(bpy, name, (0.5, 0.5, 0.5))
-        node = material.node_tree.nodes.new("ShaderNodeTexImage")
-        node.image = picture
+        if name == "Paint":  # an Attribute node of no name: Cycles 0, Eevee the active colour
+            node = material.node_tree.nodes.new("ShaderNodeAttribute")
+        else:
+            node = material.node_tree.nodes.new("ShaderNodeTexImage")
+            node.image = picture
         material.node_tree.links.new(node.outputs["Color"],
                                      material.node_tree.nodes["Principled BSDF"]
                                      .inputs["Base Color"])
-        quad = be.add_quad(scene, f"Card {index}", -2.5 + 2.6 * index, -1.0, -0.1 + 2.6 * index,
+        quad = be.add_quad(scene, f"Card {index}", -2.9 + 2.0 * index, -1.0, -1.1 + 2.0 * index,
                            1.0, 0.0)
         quad.data.materials.append(material)
         nodes.append(node)
@@ -447,15 +452,24 @@ def test_apply_and_compare_name_the_images_that_are_missing(bpy_clean, tmp_path)
     assert len(missing) == 1, report.notes
     assert f"'Wood' ({texture_path})" in missing[0]
     assert "no image in 'Image Texture' of 'Phong Blank'" in missing[0]
+    assert "Attribute node(s) without a name: 'Attribute' of 'Phong Paint': Cycles reads 0 " \
+        "there, Eevee the active colour attribute; give each the attribute's name" in report.notes
     metrics = engine.run(scene, str(tmp_path / "compare"), engines=("cycles", "eevee"))
-    said = [n for n in metrics.get("notes", []) if n.startswith("missing image(s)")]
-    assert len(said) == 1 and said[0].endswith("so Eevee's picture differs there"), metrics
+    said = [n for n in metrics.get("notes", []) if n.startswith(("missing image(s)",
+                                                                "Attribute node(s)"))]
+    assert len(said) == 2 and all(n.endswith("so Eevee's picture differs there")
+                                  for n in said), metrics
 
     texture_path.write_bytes(content)  # the file is back
     phong_blank = bpy.data.materials["Phong Blank"]
     for node in phong_blank.node_tree.nodes:
         if node.bl_idname == "ShaderNodeTexImage":
             node.image = image
-    assert not convert.missing_image_notes([bpy.data.materials["Phong Wood"], phong_blank])
+    for node in bpy.data.materials["Phong Paint"].node_tree.nodes:
+        if node.bl_idname == "ShaderNodeAttribute":
+            node.attribute_name = "Col"
+    assert not convert.engine_notes([bpy.data.materials["Phong Wood"], phong_blank,
+                                     bpy.data.materials["Phong Paint"]])
     metrics = engine.run(scene, str(tmp_path / "again"), engines=("cycles", "eevee"))
-    assert not [n for n in metrics.get("notes", []) if "missing image" in n], metrics["notes"]
+    assert not [n for n in metrics.get("notes", []) if "missing image" in n
+                or "without a name" in n], metrics["notes"]

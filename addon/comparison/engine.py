@@ -294,7 +294,7 @@ def run(scene, out_dir: str, engines=compare.ENGINES, progress=None, view_layer=
             data = describe.describe(scene, layer, objects)
             if "eevee" in engines:
                 notes += describe.warped_notes(scene, layer, objects)
-                notes += convert.missing_image_notes(sorted(
+                notes += convert.engine_notes(sorted(
                     {slot.material for obj in objects for slot in obj.material_slots
                      if recipe.is_phong_material(slot.material)},
                     key=lambda m: m.name_full), compared=True)

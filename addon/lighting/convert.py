@@ -191,7 +191,7 @@ def apply(scene, objects=None, view_layer=None) -> Report:
     report.materials = list(done)
     report.lights = [o.name for o in sync.lights]
     report.notes = (notes(scene, sync.lights, world_new) + ambient_note(sync.ambient_linked)
-                    + missing_image_notes(bpy.data.materials.get(name) for name in done))
+                    + engine_notes(bpy.data.materials.get(name) for name in done))
     for note in AFTER_APPLY:  # an upward call: scene.describe.hollow_notes (addon/__init__.py)
         report.notes += note(scene, view_layer, targets)
     report.sync = sync
@@ -236,18 +236,27 @@ def notes(scene, lights, world_new=False) -> list:
     return out
 
 
-def missing_image_notes(materials, compared: bool = False) -> list:
-    """One line naming the images *materials* read whose files are missing
-    (``recipe.missing_images``); *compared*: worded for a comparison with Eevee, whose
-    picture differs there."""
+def engine_notes(materials, compared: bool = False) -> list:
+    """Lines naming what *materials* read that Blender's engines read differently: images
+    that are missing (``recipe.missing_images``: Cycles magenta, Eevee black) and Attribute
+    nodes without a name (``recipe.unnamed_attributes``: Cycles 0, Eevee the active colour
+    attribute); *compared*: worded for a comparison with Eevee, whose picture differs there."""
+    materials = list(materials)
+    out = []
     missing = recipe.missing_images(materials)
-    if not missing:
-        return []
-    return [f"missing image(s): {name_list(missing, quote=False)}: Cycles shows a missing "
-            "image magenta, Eevee black" + (
-                ", so Eevee's picture differs there" if compared else
-                "; give each node its image (File > External Data > Find Missing Files "
-                "for moved files)")]
+    if missing:
+        out.append(f"missing image(s): {name_list(missing, quote=False)}: Cycles shows a "
+                   "missing image magenta, Eevee black" + (
+                       ", so Eevee's picture differs there" if compared else
+                       "; give each node its image (File > External Data > Find Missing "
+                       "Files for moved files)"))
+    unnamed = recipe.unnamed_attributes(materials)
+    if unnamed:
+        out.append(f"Attribute node(s) without a name: {name_list(unnamed, quote=False)}: "
+                   "Cycles reads 0 there, Eevee the active colour attribute" + (
+                       ", so Eevee's picture differs there" if compared else
+                       "; give each the attribute's name"))
+    return out
 
 
 def ambient_note(linked) -> list:

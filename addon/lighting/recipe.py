@@ -199,38 +199,55 @@ def blends(material) -> bool:
     return material.node_tree is not None and tree_blends(material.node_tree)
 
 
-def missing_images(materials) -> list:
-    """What *materials* read (an Image Texture node whose output is linked, in node groups
-    too) of images that are not there, each worded once: "'name' (its path)" for an image of
-    source File that is not packed and has no file at its path (relative to its library's
-    file where it comes from one), "no image in 'node' of 'material'" for a node without one.
-    Blender's engines differ there: Cycles shows a missing image magenta, Eevee black."""
-    import os  # noqa: PLC0415
-
-    found, seen = {}, set()
+def read_nodes(materials, kinds):
+    """(node, material name) for each node of a type in *kinds* (bl_idnames) that
+    *materials* read: in their trees and the node groups those use, not muted, an output
+    linked."""
+    seen = set()
     trees = [(m.node_tree, m.name) for m in materials if m is not None and m.node_tree]
     while trees:
-        tree, owner = trees.pop()
+        tree, owner = trees.pop(0)
         if tree.as_pointer() in seen:
             continue
         seen.add(tree.as_pointer())
         for node in tree.nodes:
             if node.bl_idname == "ShaderNodeGroup" and node.node_tree is not None:
                 trees.append((node.node_tree, owner))
-            if node.bl_idname != "ShaderNodeTexImage" or node.mute \
-                    or not any(out.is_linked for out in node.outputs):
-                continue
-            image = node.image
-            if image is None:
-                found.setdefault(f"no image in {node.name!r} of {owner!r}", None)
-                continue
-            if image.source != "FILE" or image.packed_file is not None:
-                continue
-            path = bpy.path.abspath(image.filepath, library=image.library) \
-                if image.filepath else ""
-            if not path or not os.path.isfile(path):
-                found.setdefault(f"{image.name!r} ({image.filepath or 'no path'})", None)
+            if node.bl_idname in kinds and not node.mute \
+                    and any(out.is_linked for out in node.outputs):
+                yield node, owner
+
+
+def missing_images(materials) -> list:
+    """The images *materials* read (``read_nodes``' Image Texture nodes) that are not there,
+    each worded once: "'name' (its path)" for an image of source File that is not packed and
+    has no file at its path (relative to its library's file where it comes from one), "no
+    image in 'node' of 'material'" for a node without one.  Blender's engines differ there:
+    Cycles shows a missing image magenta, Eevee black."""
+    import os  # noqa: PLC0415
+
+    found = {}
+    for node, owner in read_nodes(materials, ("ShaderNodeTexImage",)):
+        image = node.image
+        if image is None:
+            found.setdefault(f"no image in {node.name!r} of {owner!r}", None)
+            continue
+        if image.source != "FILE" or image.packed_file is not None:
+            continue
+        path = bpy.path.abspath(image.filepath, library=image.library) if image.filepath \
+            else ""
+        if not path or not os.path.isfile(path):
+            found.setdefault(f"{image.name!r} ({image.filepath or 'no path'})", None)
     return list(found)
+
+
+def unnamed_attributes(materials) -> list:
+    """"'node' of 'material'" for each Attribute node of type Geometry with no name that
+    *materials* read (``read_nodes``): Cycles reads nothing there (0), Eevee the mesh's
+    active colour attribute (glTF-Blender-IO's 24_vertex_color_and_factor.blend, bpy 5.3.0)."""
+    return [f"{node.name!r} of {owner!r}"
+            for node, owner in read_nodes(materials, ("ShaderNodeAttribute",))
+            if node.attribute_type == "GEOMETRY" and not node.attribute_name.strip()]
 
 
 def opacity_map(tree):
