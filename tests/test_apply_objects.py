@@ -473,3 +473,35 @@ def test_apply_and_compare_name_what_the_engines_read_differently(bpy_clean, tmp
     metrics = engine.run(scene, str(tmp_path / "again"), engines=("cycles", "eevee"))
     assert not [n for n in metrics.get("notes", []) if "missing image" in n
                 or "without a name" in n], metrics["notes"]
+
+
+def test_an_object_saved_in_edit_mode_renders_its_faces_for_the_comparison(bpy_clean):
+    """An object in Edit Mode (glTF-Blender-IO's 11_loose_geometry.blend is saved so) has an
+    evaluated mesh that lists no faces to Python, yet renders them: the comparison's check
+    of what renders counts it (it refused the file: "render no Phong surface") and the note
+    of warped polygons sees its faces."""
+    bpy = bpy_clean
+    from phong_nodes.addon.comparison import engine  # noqa: PLC0415
+    from phong_nodes.addon.scene import describe  # noqa: PLC0415
+
+    scene = be.new_scene("Editing", 24, 16)
+    bpy.context.window.scene = scene
+    be.add_ortho_camera(scene, (0.0, 0.0), 6.0, 4.0)
+    mesh = bpy.data.meshes.new("Bent")
+    mesh.from_pydata([(-1, -1, 0), (1, -1, 0), (1, 1, 0.4), (-1, 1, 0)], [], [(0, 1, 2, 3)])
+    mesh.materials.append(_principled(bpy, "Clay", (0.5, 0.4, 0.3)))
+    card = bpy.data.objects.new("Bent card", mesh)
+    scene.collection.objects.link(card)
+    be.apply_phong(scene, [card])
+    layer = scene.view_layers[0]
+    bpy.context.view_layer.objects.active = card
+    bpy.ops.object.mode_set(mode="EDIT")
+    try:
+        evaluated = card.evaluated_get(describe.evaluated(scene, layer)).data
+        assert card.mode == "EDIT" and not len(evaluated.polygons), "the wrapper lists faces now"
+        assert describe.rendering_phong(scene, layer, [card]) == [card]
+        engine.check(scene)  # no "render no Phong surface"
+        notes = describe.warped_notes(scene, layer, [card])
+        assert len(notes) == 1 and notes[0].startswith("'Bent card': 1 flat polygon(s)"), notes
+    finally:
+        bpy.ops.object.mode_set(mode="OBJECT")

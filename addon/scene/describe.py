@@ -124,7 +124,7 @@ def rendering_phong(scene, view_layer, objects, render: bool = True) -> list:
             if not sources:
                 continue
             seen |= sources
-            if sources <= found or (obj.type == "MESH" and not len(obj.data.polygons)):
+            if sources <= found or (obj.type == "MESH" and not _has_faces(obj.data)):
                 continue
             if any(slot.material is not None
                    and recipe.is_phong_material(slot.material.original)
@@ -136,6 +136,13 @@ def rendering_phong(scene, view_layer, objects, render: bool = True) -> list:
         evaluated(scene, view_layer)  # back to the viewport's geometry
     return [obj for obj in objects
             if obj.as_pointer() in found or obj.as_pointer() not in seen]
+
+
+def _has_faces(mesh) -> bool:
+    """Whether the evaluated *mesh* has faces; the mesh of an object in Edit Mode (a file
+    saved so: glTF-Blender-IO's 11_loose_geometry.blend) is a wrapper that lists none to
+    Python, yet renders its faces: it counts."""
+    return bool(len(mesh.polygons)) or bool(getattr(mesh, "is_editmode", False))
 
 
 def hollow_notes(scene, view_layer, objects) -> list:
@@ -220,12 +227,13 @@ def warped_notes(scene, view_layer, objects) -> list:
     depsgraph = evaluated(scene, view_layer)
     counted, named, total = {}, [], 0
     for obj in objects:
-        mesh = obj.evaluated_get(depsgraph).data if obj.type == "MESH" else None
-        if mesh is None or not len(mesh.polygons):
+        evaluated_obj = obj.evaluated_get(depsgraph) if obj.type == "MESH" else None
+        mesh = evaluated_obj.data if evaluated_obj is not None else None
+        if mesh is None or not _has_faces(mesh):
             continue
         key = mesh.as_pointer()
         if key not in counted:
-            counted[key] = 0 if mesh.has_custom_normals else _warped(mesh)
+            counted[key] = 0 if mesh.has_custom_normals else _warped_of(evaluated_obj, mesh)
         if counted[key]:
             named.append(obj.name)
             total += counted[key]
@@ -235,6 +243,21 @@ def warped_notes(scene, view_layer, objects) -> list:
             "polygon with one normal, Cycles and the reference each of its triangles with its "
             "own, so Eevee's pixels there may miss the reference (as Principled's do); a "
             "Triangulate modifier makes the engines alike"]
+
+
+def _warped_of(obj, mesh) -> int:
+    """``_warped`` of the evaluated *obj* whose mesh is *mesh*; in Edit Mode (a mesh that
+    lists no faces to Python) of a copy of what it renders."""
+    if len(mesh.polygons):
+        return _warped(mesh)
+    try:
+        copy = obj.to_mesh()
+    except RuntimeError:
+        return 0
+    try:
+        return _warped(copy) if copy is not None else 0
+    finally:
+        obj.to_mesh_clear()
 
 
 def _warped(mesh) -> int:
