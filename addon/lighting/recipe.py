@@ -128,6 +128,13 @@ def lights_key(material):
     return (scene.as_pointer(), tree.get(rig.SET_KEY))
 
 
+def lights_scene(material):
+    """The pointer of the scene whose lights group the Phong *material* uses; None for
+    another material or one whose group belongs to no scene."""
+    key = lights_key(material) if is_phong_material(material) else None
+    return key[0] if key is not None else None
+
+
 def blinn_constant(material):
     """*material*'s Blinn where it is a constant, else None: the lights node's Blinn input
     fed by the Blinn control (or by nothing), whose value no keyframe or driver changes; a

@@ -460,13 +460,9 @@ def instances_phong(scene) -> bool:
     not where the instanced materials are the scene's own), so the handler rewrites such a
     scene's groups in place."""
     here = scene.as_pointer()
-    for obj in lights_mod.instanced_objects(scene.objects):
-        for slot in obj.material_slots:
-            key = recipe.lights_key(slot.material) \
-                if recipe.is_phong_material(slot.material) else None
-            if key is not None and key[0] != here:
-                return True
-    return False
+    return any(recipe.lights_scene(slot.material) not in (None, here)
+               for obj in lights_mod.instanced_objects(scene.objects)
+               for slot in obj.material_slots)
 
 
 @persistent

@@ -96,8 +96,7 @@ def instanced_phong_objects(scene, view_layer) -> list:
                   and lights_mod.visible(obj, view_layer, collections)]
     found = [obj for obj in lights_mod.instanced_objects(instancers, rendering=True)
              if obj.as_pointer() not in direct and hasattr(obj.data, "materials")
-             and any(recipe.is_phong_material(slot.material)
-                     and (recipe.lights_key(slot.material) or (None,))[0] == here
+             and any(recipe.lights_scene(slot.material) == here
                      for slot in obj.material_slots)]
     return sorted(found, key=lambda o: o.name_full)
 
